@@ -1,0 +1,13 @@
+/* railride: lateral dynamics and ride comfort of high-speed trains.
+ * Pipeline: vehicle file -> elements (system) -> M, C, K, B (model) ->
+ * modal analysis / frequency response (PEM) / time simulation -> comfort. */
+#ifndef RAILRIDE_H
+#define RAILRIDE_H
+#include "railride/error.h"
+#include "railride/sdf.h"
+#include "railride/vehicle.h"
+#include "railride/system.h"
+#include "railride/model.h"
+#include "railride/modal.h"
+#include "railride/damper.h"
+#endif

@@ -1,0 +1,90 @@
+/* railride: vehicle parameters and vehicle files (MODEL.md sections 7 and 9).
+ * All fields are SI: kg, kg m^2, m, N/m, N s/m, N m/rad, Hz. The struct is
+ * plain data: copy it, change a field, build a new model. */
+#ifndef RAILRIDE_VEHICLE_H
+#define RAILRIDE_VEHICLE_H
+
+#include <stddef.h>
+#include "railride/error.h"
+#include "railride/sdf.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rr_vehicle {
+  char name[64];
+  /* [carbody] */
+  double carbody_mass, carbody_roll_inertia, carbody_yaw_inertia, carbody_cg_height;
+  /* [frame] */
+  double frame_mass, frame_roll_inertia, frame_yaw_inertia, frame_cg_height;
+  /* [wheelset] */
+  double wheelset_mass, wheelset_yaw_inertia, rolling_radius, contact_half_spacing;
+  /* [layout]: L (bogie centre to car centre), b (half wheelbase) */
+  double bogie_half_spacing, wheelbase_half;
+  /* [primary], per axle box */
+  double primary_kx, primary_ky, primary_kz, primary_cz, primary_half_spacing, primary_arm_length;
+  /* [secondary], per air spring; anti-roll per bogie */
+  double secondary_kx, secondary_ky, secondary_kz, secondary_cz, secondary_half_spacing,
+      secondary_height, antiroll_stiffness;
+  /* [lateral_damper], one equivalent damper per bogie */
+  double lateral_damping, lateral_series_stiffness, lateral_damper_height;
+  /* [yaw_damper], per damper (2 per bogie) */
+  double yaw_damping, yaw_series_stiffness, yaw_half_spacing, yaw_height;
+  int sdf_mode;          /* rr_sdf_mode */
+  rr_sdf_curve sdf;      /* curve; kind RR_CURVE_UNSET when none */
+  /* [contact], per wheel */
+  double f11, f22;
+  int gravity_stiffness; /* 0 or 1 */
+} rr_vehicle;
+
+/* Built-in vehicles: "type1" (the default), "type2". Each carries its Table 2
+ * SDF curve with sdf = none. Returns RR_EINVAL for an unknown name. */
+int rr_vehicle_builtin(const char *name, rr_vehicle *veh, rr_error *err);
+/* The default vehicle (Type 1). */
+void rr_vehicle_default(rr_vehicle *veh);
+/* Loads an INI vehicle file (with `base =` inheritance). */
+int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err);
+/* Loads a built-in name if `spec` is one, otherwise a file. NULL -> default. */
+int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err);
+/* Checks every value's range and finiteness. */
+int rr_vehicle_check(const rr_vehicle *veh, rr_error *err);
+
+/* Vehicle-file keys as data, so optimisers can address "section.key". */
+typedef struct rr_vehicle_key {
+  const char *section, *key;
+  const char *si_unit;   /* udunits spelling of the SI unit, "1" for dimensionless */
+  size_t offset;         /* offset of the double in rr_vehicle, or (size_t)-1 */
+  int flags;             /* RR_KEY_* */
+} rr_vehicle_key;
+enum {
+  RR_KEY_POSITIVE = 1,   /* > 0 */
+  RR_KEY_NONNEG = 2,     /* >= 0 */
+  RR_KEY_INF_OK = 4,     /* may be inf (rigid series link) */
+  RR_KEY_OPTIONAL = 8,   /* not required without a base */
+  RR_KEY_SPECIAL = 16,   /* not a plain double (enum, bool, path) */
+  RR_KEY_ANY_SIGN = 32   /* finite, any sign */
+};
+/* The key table; *n receives its length. */
+const rr_vehicle_key *rr_vehicle_keys(int *n);
+/* Finds "section.key" among the numeric keys; NULL when unknown. */
+const rr_vehicle_key *rr_vehicle_key_find(const char *section_dot_key);
+/* Pointer to the double a numeric key addresses. */
+double *rr_vehicle_field(rr_vehicle *veh, const rr_vehicle_key *key);
+
+/* Unit parsing (udunits2). A context holds the unit database; create one per
+ * thread (udunits itself is not thread-safe) or pass NULL to rr_units_parse,
+ * which then loads the database only when the text carries a unit. */
+typedef struct rr_units rr_units;
+int rr_units_new(rr_units **out, rr_error *err);
+void rr_units_free(rr_units *u);
+/* Parses "50 kN/mm" into SI for a quantity whose SI unit is si_unit.
+ * Bare numbers are SI. Non-finite values are rejected unless allow_inf
+ * (then "inf" is accepted). what names the context for messages. */
+int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf,
+                   double *out, const char *what, rr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,32 @@
+/* Status codes and the error message helper. */
+#include <stdarg.h>
+#include <stdio.h>
+#include "internal.h"
+
+const char *rr_strerror(int status)
+{
+  switch (status) {
+  case RR_OK: return "success";
+  case RR_EINVAL: return "invalid argument or value";
+  case RR_ENOMEM: return "out of memory";
+  case RR_EIO: return "cannot read file";
+  case RR_EPARSE: return "malformed input";
+  case RR_EUNIT: return "unknown unit or wrong dimension";
+  case RR_ELAPACK: return "LAPACK routine failed";
+  case RR_ENOCONV: return "iteration did not converge";
+  case RR_EUNSUP: return "unsupported combination of options";
+  default: return "unknown status";
+  }
+}
+
+int rr_seterr(rr_error *err, int code, const char *fmt, ...)
+{
+  if (err) {
+    va_list ap;
+    va_start(ap, fmt);
+    err->code = code;
+    vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+  }
+  return code;
+}

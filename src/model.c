@@ -1,0 +1,174 @@
+/* Assembly of M, C, K, B from a system, and the operating point (speed,
+ * conicity) which only touches the wheel-rail contact terms (MODEL.md 2-3). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "model_impl.h"
+#include "internal.h"
+
+static void add_outer(double *A, int n, const double *J, double s)
+{
+  for (int i = 0; i < n; i++) {
+    if (J[i] == 0) continue;
+    for (int j = 0; j < n; j++) A[i * n + j] += s * J[i] * J[j];
+  }
+}
+
+int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err)
+{
+  *out = NULL;
+  if (!sys || sys->ndof == 0) return rr_seterr(err, RR_EINVAL, "model: system has no DOFs");
+  rr_model *m = calloc(1, sizeof *m);
+  if (!m) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  int n = m->n = sys->ndof;
+  m->ni = sys->ncontacts;
+  for (int i = 0; i < n; i++) {
+    m->mdiag[i] = sys->mass[i];
+    m->M[i * n + i] = sys->mass[i];
+    m->group[i] = sys->group[i];
+    memcpy(m->dof_name[i], sys->dof_name[i], sizeof m->dof_name[i]);
+  }
+  for (int e = 0; e < sys->nelements; e++) {
+    const rr_elem *el = &sys->elements[e];
+    switch (el->law) {
+    case RR_LAW_SPRING: add_outer(m->K0, n, el->J, el->k); break;
+    case RR_LAW_DAMPER: add_outer(m->C0, n, el->J, el->c); break;
+    case RR_LAW_KC:
+      add_outer(m->K0, n, el->J, el->k);
+      add_outer(m->C0, n, el->J, el->c);
+      break;
+    case RR_LAW_MAXWELL:
+      if (el->c == 0) break;                       /* no damper: no force */
+      if (isinf(el->k) && !el->sdf) { add_outer(m->C0, n, el->J, el->c); break; }  /* rigid link */
+      if (m->nmx >= (int)(sizeof m->mx / sizeof m->mx[0])) { free(m); return rr_seterr(err, RR_EINVAL, "too many Maxwell elements"); }
+      rr_mx *x = &m->mx[m->nmx++];
+      memcpy(x->name, el->name, sizeof x->name);
+      memcpy(x->J, el->J, sizeof x->J);
+      x->k = el->k;
+      x->c = el->c;
+      x->sdf = el->sdf;
+      x->nz = 0;
+      for (int i = 0; i < n; i++)
+        if (el->J[i] != 0) x->idx[x->nz++] = i;
+      break;
+    }
+  }
+  memcpy(m->contacts, sys->contacts, (size_t)sys->ncontacts * sizeof *sys->contacts);
+  m->sdf_mode = RR_SDF_NONE;
+  int st = rr_model_set_operating(m, 1.0, 0.0, err);
+  if (st) { free(m); return st; }
+  *out = m;
+  return RR_OK;
+}
+
+void rr_model_free(rr_model *m) { free(m); }
+
+rr_model *rr_model_clone(const rr_model *m)
+{
+  rr_model *c = malloc(sizeof *c);
+  if (c) memcpy(c, m, sizeof *c);
+  return c;
+}
+
+int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
+{
+  if (!(isfinite(v) && v > 0)) return rr_seterr(err, RR_EINVAL, "speed must be finite and > 0 (got %g m/s)", v);
+  if (!(isfinite(lambda) && lambda >= 0)) return rr_seterr(err, RR_EINVAL, "conicity must be finite and >= 0 (got %g)", lambda);
+  int n = m->n, ni = m->ni;
+  m->speed = v;
+  m->conicity = lambda;
+  memcpy(m->C, m->C0, sizeof(double) * (size_t)(n * n));
+  memcpy(m->K, m->K0, sizeof(double) * (size_t)(n * n));
+  memset(m->B, 0, sizeof(double) * (size_t)(n * ni));
+  for (int i = 0; i < ni; i++) {
+    const rr_contact *c = &m->contacts[i];
+    const rr_contact_spec *s = &c->spec;
+    int y = c->dof_y, p = c->dof_psi;
+    m->C[y * n + y] += 2 * s->f22 / v;
+    m->C[p * n + p] += 2 * s->f11 * s->l0 * s->l0 / v;
+    m->K[y * n + p] += -2 * s->f22;
+    double kpy = 2 * s->f11 * s->l0 * lambda / s->r0;
+    m->K[p * n + y] += kpy;
+    m->B[p * ni + i] += kpy;
+    if (m->gravity) {
+      double W = s->axle_load;
+      m->K[y * n + y] += W * lambda / s->l0;
+      m->B[y * ni + i] += W * lambda / s->l0;
+      m->K[p * n + p] += -W * lambda * s->l0;
+    }
+  }
+  return RR_OK;
+}
+
+double rr_model_speed(const rr_model *m) { return m->speed; }
+double rr_model_conicity(const rr_model *m) { return m->conicity; }
+
+void rr_model_set_gravity_stiffness(rr_model *m, int on)
+{
+  m->gravity = on != 0;
+  rr_model_set_operating(m, m->speed, m->conicity, NULL);
+}
+
+int rr_model_set_sdf(rr_model *m, int mode, const rr_sdf_curve *curve, rr_error *err)
+{
+  if (mode < RR_SDF_NONE || mode > RR_SDF_PHYSICAL) return rr_seterr(err, RR_EINVAL, "unknown SDF mode %d", mode);
+  if (mode != RR_SDF_NONE) {
+    int st = rr_sdf_curve_check(curve, "SDF curve", err);
+    if (st) return st;
+    m->curve = *curve;
+  }
+  m->sdf_mode = mode;
+  m->nsdf = 0;
+  for (int i = 0; i < m->nmx; i++) m->nsdf += m->mx[i].sdf;
+  return RR_OK;
+}
+
+int rr_model_sdf_mode(const rr_model *m) { return m->sdf_mode; }
+const rr_sdf_curve *rr_model_sdf_curve(const rr_model *m) { return &m->curve; }
+int rr_model_ndof(const rr_model *m) { return m->n; }
+int rr_model_ninputs(const rr_model *m) { return m->ni; }
+const char *rr_model_dof_name(const rr_model *m, int i) { return (i >= 0 && i < m->n) ? m->dof_name[i] : NULL; }
+int rr_model_dof_group(const rr_model *m, int i) { return m->group[i]; }
+double rr_model_input_x(const rr_model *m, int i) { return m->contacts[i].x; }
+const double *rr_model_M(const rr_model *m) { return m->M; }
+const double *rr_model_C(const rr_model *m) { return m->C; }
+const double *rr_model_K(const rr_model *m) { return m->K; }
+const double *rr_model_B(const rr_model *m) { return m->B; }
+int rr_model_nmaxwell(const rr_model *m) { return m->nmx; }
+
+int rr_model_maxwell(const rr_model *m, int i, rr_maxwell_info *info)
+{
+  if (i < 0 || i >= m->nmx) return RR_EINVAL;
+  info->name = m->mx[i].name;
+  info->J = m->mx[i].J;
+  info->k = m->mx[i].k;
+  info->c = m->mx[i].c;
+  info->sdf = m->mx[i].sdf && m->sdf_mode != RR_SDF_NONE;
+  return RR_OK;
+}
+
+double complex rr_model_series_k(const rr_model *m, int i, double complex s, double sdf_k)
+{
+  const rr_mx *x = &m->mx[i];
+  if (!x->sdf || m->sdf_mode == RR_SDF_NONE) return x->k;
+  if (m->sdf_mode == RR_SDF_PAPER) return sdf_k > 0 ? sdf_k : rr_sdf_storage(&m->curve, fabs(cimag(s)) / (2 * RR_PI));
+  return rr_sdf_laplace(&m->curve, s);
+}
+
+void rr_model_dynamic_stiffness(const rr_model *m, double complex s, double sdf_k, double complex *D)
+{
+  int n = m->n;
+  double complex s2 = s * s;
+  for (int i = 0; i < n * n; i++) D[i] = s * m->C[i] + m->K[i];
+  for (int i = 0; i < n; i++) D[i * n + i] += s2 * m->mdiag[i];
+  for (int e = 0; e < m->nmx; e++) {
+    const rr_mx *x = &m->mx[e];
+    double complex k = rr_model_series_k(m, e, s, sdf_k);
+    double complex ke = isinf(creal(k)) ? x->c * s : k * x->c * s / (k + x->c * s);
+    for (int a = 0; a < x->nz; a++) {
+      int i = x->idx[a];
+      double complex t = ke * x->J[i];
+      for (int b = 0; b < x->nz; b++) D[i * n + x->idx[b]] += t * x->J[x->idx[b]];
+    }
+  }
+}

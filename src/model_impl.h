@@ -1,0 +1,34 @@
+/* Internal layout of rr_model, shared by the solvers. */
+#ifndef RR_MODEL_IMPL_H
+#define RR_MODEL_IMPL_H
+
+#include "railride/model.h"
+#include "system_impl.h"
+
+typedef struct rr_mx {
+  char name[48];
+  double J[RR_SYS_MAX_DOF];
+  int nz;                       /* nonzeros of J, for cheap rank-one updates */
+  int idx[RR_SYS_MAX_DOF];
+  double k, c;
+  int sdf;
+} rr_mx;
+
+struct rr_model {
+  int n, ni, nmx, nsdf;
+  double M[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];
+  double C[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF], K[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];
+  double C0[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF], K0[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];
+  double B[RR_SYS_MAX_DOF * RR_SYS_MAX_INPUTS];
+  double mdiag[RR_SYS_MAX_DOF];
+  int group[RR_SYS_MAX_DOF];
+  char dof_name[RR_SYS_MAX_DOF][32];
+  rr_mx mx[2 * RR_SYS_MAX_BODIES];
+  rr_contact contacts[RR_SYS_MAX_INPUTS];
+  double speed, conicity;
+  int gravity;
+  int sdf_mode;
+  rr_sdf_curve curve;
+};
+
+#endif

@@ -1,0 +1,142 @@
+/* Frequency-dependent series stiffness (SDF) of the yaw damper, MODEL.md section 4. */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "railride/sdf.h"
+#include "internal.h"
+
+/* Linear interpolation in log f, held constant outside the table. */
+static double table_interp(const rr_sdf_curve *c, const double *y, double f)
+{
+  if (c->n == 1 || f <= c->f_hz[0]) return y[0];
+  if (f >= c->f_hz[c->n - 1]) return y[c->n - 1];
+  int lo = 0, hi = c->n - 1;
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (c->f_hz[mid] <= f) lo = mid; else hi = mid;
+  }
+  double t = log(f / c->f_hz[lo]) / log(c->f_hz[hi] / c->f_hz[lo]);
+  return y[lo] + t * (y[hi] - y[lo]);
+}
+
+double rr_sdf_storage(const rr_sdf_curve *c, double f_hz)
+{
+  if (c->kind == RR_CURVE_TABLE) return table_interp(c, c->k_storage, fabs(f_hz));
+  double x = f_hz / c->k1_hz;
+  return c->k3 + c->k2 * x * x / (1.0 + x * x);
+}
+
+double complex rr_sdf_laplace(const rr_sdf_curve *c, double complex s)
+{
+  if (c->kind == RR_CURVE_TABLE) {
+    double f = cabs(s) / (2 * RR_PI);
+    return table_interp(c, c->k_storage, f) + I * (c->has_loss ? table_interp(c, c->k_loss, f) : 0.0);
+  }
+  double tau = 1.0 / (2 * RR_PI * c->k1_hz);
+  return c->k3 + c->k2 * (s * tau) / (1.0 + s * tau);
+}
+
+double complex rr_sdf_complex(const rr_sdf_curve *c, double w)
+{
+  return rr_sdf_laplace(c, I * w);
+}
+
+void rr_sdf_range(const rr_sdf_curve *c, double *k_lo, double *k_hi)
+{
+  if (c->kind == RR_CURVE_TABLE) {
+    double lo = c->k_storage[0], hi = lo;
+    for (int i = 1; i < c->n; i++) {
+      if (c->k_storage[i] < lo) lo = c->k_storage[i];
+      if (c->k_storage[i] > hi) hi = c->k_storage[i];
+    }
+    *k_lo = lo;
+    *k_hi = hi;
+  } else {
+    *k_lo = c->k3;
+    *k_hi = c->k3 + c->k2;
+  }
+}
+
+int rr_sdf_curve_check(const rr_sdf_curve *c, const char *what, rr_error *err)
+{
+  if (c->kind == RR_CURVE_SLS) {
+    if (!(isfinite(c->k1_hz) && c->k1_hz > 0)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k1 must be > 0", what);
+    if (!(isfinite(c->k2) && c->k2 >= 0)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k2 must be >= 0", what);
+    if (!(isfinite(c->k3) && c->k3 > 0)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k3 must be > 0", what);
+    return RR_OK;
+  }
+  if (c->kind == RR_CURVE_TABLE) {
+    if (c->n < 1) return rr_seterr(err, RR_EINVAL, "%s: empty SDF table", what);
+    for (int i = 0; i < c->n; i++) {
+      if (!(isfinite(c->f_hz[i]) && c->f_hz[i] > 0))
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequency must be > 0", what, i + 1);
+      if (i && !(c->f_hz[i] > c->f_hz[i - 1]))
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequencies must increase", what, i + 1);
+      if (!(isfinite(c->k_storage[i]) && c->k_storage[i] > 0))
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: storage stiffness must be > 0", what, i + 1);
+      if (c->has_loss && !(isfinite(c->k_loss[i]) && c->k_loss[i] >= 0))
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: loss stiffness must be >= 0", what, i + 1);
+    }
+    return RR_OK;
+  }
+  return rr_seterr(err, RR_EINVAL, "%s: no SDF curve given (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", what);
+}
+
+int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err)
+{
+  FILE *fp = fopen(path, "r");
+  if (!fp) return rr_seterr(err, RR_EIO, "%s: cannot open: %s", path, strerror(errno));
+  char line[512];
+  int lineno = 0, ncols = -1, st = RR_OK;
+  c->n = 0;
+  while (fgets(line, sizeof line, fp)) {
+    lineno++;
+    char *p = line;
+    while (isspace((unsigned char)*p)) p++;
+    if (*p == 0 || *p == '#') continue;
+    double v[4];
+    int k = 0;
+    char *q = p;
+    while (k < 4) {
+      char *end;
+      v[k] = strtod(q, &end);
+      if (end == q) break;
+      k++;
+      q = end;
+      while (isspace((unsigned char)*q)) q++;
+      if (*q == ',' || *q == ';') q++;
+      while (isspace((unsigned char)*q)) q++;
+      if (*q == 0) break;
+    }
+    if (k == 0 && c->n == 0 && ncols < 0 && isalpha((unsigned char)*p)) { ncols = 0; continue; } /* header */
+    if (*q != 0 || k < 2 || k > 3) {
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: expected 2 or 3 numbers (f_hz, k_storage[, k_loss])", path, lineno);
+      break;
+    }
+    if (ncols > 0 && k != ncols) {
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: %d columns where earlier rows have %d", path, lineno, k, ncols);
+      break;
+    }
+    ncols = k;
+    if (c->n >= RR_SDF_TABLE_MAX) {
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, lineno, RR_SDF_TABLE_MAX);
+      break;
+    }
+    for (int j = 0; j < k; j++)
+      if (!isfinite(v[j])) { st = rr_seterr(err, RR_EPARSE, "%s:%d: non-finite number", path, lineno); break; }
+    if (st) break;
+    c->f_hz[c->n] = v[0];
+    c->k_storage[c->n] = v[1];
+    c->k_loss[c->n] = k == 3 ? v[2] : 0.0;
+    c->n++;
+  }
+  fclose(fp);
+  if (st) return st;
+  if (c->n == 0) return rr_seterr(err, RR_EPARSE, "%s: no rows", path);
+  c->kind = RR_CURVE_TABLE;
+  c->has_loss = ncols == 3;
+  return rr_sdf_curve_check(c, path, err);
+}

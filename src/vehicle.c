@@ -1,0 +1,174 @@
+/* Vehicle parameters: the key table, built-in vehicles (MODEL.md section 7)
+ * and range checks. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "railride/vehicle.h"
+#include "internal.h"
+
+#define OFF(f) offsetof(rr_vehicle, f)
+#define NOFF ((size_t)-1)
+enum { P = RR_KEY_POSITIVE, N = RR_KEY_NONNEG, INF = RR_KEY_INF_OK, OPT = RR_KEY_OPTIONAL,
+       SPC = RR_KEY_SPECIAL };
+
+static const rr_vehicle_key keys[] = {
+  {"vehicle", "name", "", NOFF, SPC | OPT},
+  {"vehicle", "base", "", NOFF, SPC | OPT},
+  {"carbody", "mass", "kg", OFF(carbody_mass), P},
+  {"carbody", "roll_inertia", "kg.m2", OFF(carbody_roll_inertia), P},
+  {"carbody", "yaw_inertia", "kg.m2", OFF(carbody_yaw_inertia), P},
+  {"carbody", "cg_height", "m", OFF(carbody_cg_height), N},
+  {"frame", "mass", "kg", OFF(frame_mass), P},
+  {"frame", "roll_inertia", "kg.m2", OFF(frame_roll_inertia), P},
+  {"frame", "yaw_inertia", "kg.m2", OFF(frame_yaw_inertia), P},
+  {"frame", "cg_height", "m", OFF(frame_cg_height), N},
+  {"wheelset", "mass", "kg", OFF(wheelset_mass), P},
+  {"wheelset", "yaw_inertia", "kg.m2", OFF(wheelset_yaw_inertia), P},
+  {"wheelset", "rolling_radius", "m", OFF(rolling_radius), P},
+  {"wheelset", "contact_half_spacing", "m", OFF(contact_half_spacing), P},
+  {"layout", "bogie_half_spacing", "m", OFF(bogie_half_spacing), P},
+  {"layout", "wheelbase_half", "m", OFF(wheelbase_half), P},
+  {"primary", "longitudinal_stiffness", "N/m", OFF(primary_kx), N},
+  {"primary", "lateral_stiffness", "N/m", OFF(primary_ky), N},
+  {"primary", "vertical_stiffness", "N/m", OFF(primary_kz), N},
+  {"primary", "vertical_damping", "N.s/m", OFF(primary_cz), N},
+  {"primary", "half_spacing", "m", OFF(primary_half_spacing), P},
+  {"primary", "arm_length", "m", OFF(primary_arm_length), N},
+  {"secondary", "longitudinal_stiffness", "N/m", OFF(secondary_kx), N},
+  {"secondary", "lateral_stiffness", "N/m", OFF(secondary_ky), N},
+  {"secondary", "vertical_stiffness", "N/m", OFF(secondary_kz), N},
+  {"secondary", "vertical_damping", "N.s/m", OFF(secondary_cz), N},
+  {"secondary", "half_spacing", "m", OFF(secondary_half_spacing), P},
+  {"secondary", "height", "m", OFF(secondary_height), N},
+  {"secondary", "antiroll_stiffness", "N.m/rad", OFF(antiroll_stiffness), N},
+  {"lateral_damper", "damping", "N.s/m", OFF(lateral_damping), N},
+  {"lateral_damper", "series_stiffness", "N/m", OFF(lateral_series_stiffness), P | INF},
+  {"lateral_damper", "height", "m", OFF(lateral_damper_height), N},
+  {"yaw_damper", "damping", "N.s/m", OFF(yaw_damping), N},
+  {"yaw_damper", "series_stiffness", "N/m", OFF(yaw_series_stiffness), P | INF},
+  {"yaw_damper", "half_spacing", "m", OFF(yaw_half_spacing), P},
+  {"yaw_damper", "height", "m", OFF(yaw_height), N},
+  {"yaw_damper", "sdf", "", NOFF, SPC | OPT},
+  {"yaw_damper", "sdf_k1", "Hz", OFF(sdf.k1_hz), P | OPT},
+  {"yaw_damper", "sdf_k2", "N/m", OFF(sdf.k2), N | OPT},
+  {"yaw_damper", "sdf_k3", "N/m", OFF(sdf.k3), P | OPT},
+  {"yaw_damper", "sdf_table", "", NOFF, SPC | OPT},
+  {"contact", "longitudinal_creep", "N", OFF(f11), N},
+  {"contact", "lateral_creep", "N", OFF(f22), N},
+  {"contact", "gravity_stiffness", "", NOFF, SPC | OPT},
+};
+
+const rr_vehicle_key *rr_vehicle_keys(int *n)
+{
+  *n = (int)(sizeof keys / sizeof keys[0]);
+  return keys;
+}
+
+const rr_vehicle_key *rr_vehicle_key_find(const char *sk)
+{
+  const char *dot = strchr(sk, '.');
+  if (!dot) return NULL;
+  size_t ls = (size_t)(dot - sk);
+  for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+    if (keys[i].offset != NOFF && strlen(keys[i].section) == ls &&
+        !strncmp(keys[i].section, sk, ls) && !strcmp(keys[i].key, dot + 1))
+      return &keys[i];
+  return NULL;
+}
+
+double *rr_vehicle_field(rr_vehicle *veh, const rr_vehicle_key *key)
+{
+  if (!key || key->offset == NOFF) return NULL;
+  return (double *)((char *)veh + key->offset);
+}
+
+void rr_vehicle_default(rr_vehicle *v)
+{
+  memset(v, 0, sizeof *v);
+  snprintf(v->name, sizeof v->name, "type1");
+  /* Paper Table A1, kept as printed (roll/yaw inertia of the carbody look swapped: MODEL.md 7). */
+  v->carbody_mass = 38936;
+  v->carbody_roll_inertia = 1.67e6;
+  v->carbody_yaw_inertia = 9.61e5;
+  v->carbody_cg_height = 1.62;
+  v->frame_mass = 2328;
+  v->frame_roll_inertia = 2110;
+  v->frame_yaw_inertia = 4080;
+  v->frame_cg_height = 0.61;
+  v->wheelset_mass = 1639;
+  v->wheelset_yaw_inertia = 822;
+  v->rolling_radius = 0.46;
+  v->contact_half_spacing = 1.493 / 2;
+  v->bogie_half_spacing = 17.375 / 2;
+  v->wheelbase_half = 2.5 / 2;
+  v->primary_kx = 50e6;
+  v->primary_ky = 5e6;
+  v->primary_kz = 0.75e6;
+  v->primary_cz = 10e3;
+  v->primary_half_spacing = 1.0;
+  v->primary_arm_length = 0.48;
+  v->secondary_kx = 0.133e6;
+  v->secondary_ky = 0.133e6;
+  v->secondary_kz = 0.2e6;
+  v->secondary_cz = 10e3;
+  v->secondary_half_spacing = 1.1;
+  v->secondary_height = 0.77;
+  v->antiroll_stiffness = 4.15e6;
+  v->lateral_damping = 50e3;
+  v->lateral_series_stiffness = 10e6;
+  v->lateral_damper_height = 0.65;
+  v->yaw_damping = 4000e3;
+  v->yaw_series_stiffness = 10e6;
+  v->yaw_half_spacing = 1.35;
+  v->yaw_height = 0.61;
+  v->sdf_mode = RR_SDF_NONE;
+  v->sdf.kind = RR_CURVE_SLS;   /* paper Table 2, Type 1 */
+  v->sdf.k1_hz = 1.5;
+  v->sdf.k2 = 8e6;
+  v->sdf.k3 = 6e6;
+  v->f11 = 1e7;
+  v->f22 = 1e7;
+  v->gravity_stiffness = 0;
+}
+
+int rr_vehicle_builtin(const char *name, rr_vehicle *v, rr_error *err)
+{
+  if (!strcmp(name, "type1") || !strcmp(name, "default")) {
+    rr_vehicle_default(v);
+    return RR_OK;
+  }
+  if (!strcmp(name, "type2")) {
+    rr_vehicle_default(v);
+    snprintf(v->name, sizeof v->name, "type2");
+    v->lateral_damping = 15e3;
+    v->yaw_damping = 660e3;
+    v->sdf.k1_hz = 1.5;   /* paper Table 2, Type 2 */
+    v->sdf.k2 = 10e6;
+    v->sdf.k3 = 2e6;
+    return RR_OK;
+  }
+  return rr_seterr(err, RR_EINVAL, "unknown built-in vehicle '%s' (type1, type2)", name);
+}
+
+int rr_vehicle_check(const rr_vehicle *v, rr_error *err)
+{
+  for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+    const rr_vehicle_key *k = &keys[i];
+    if (k->offset == NOFF) continue;
+    if (!strncmp(k->key, "sdf_", 4)) continue;   /* checked with the curve */
+    double x = *(const double *)((const char *)v + k->offset);
+    if (isnan(x) || (isinf(x) && !((k->flags & INF) && x > 0)))
+      return rr_seterr(err, RR_EINVAL, "[%s] %s: value must be finite", k->section, k->key);
+    if ((k->flags & P) && !(x > 0))
+      return rr_seterr(err, RR_EINVAL, "[%s] %s: must be > 0 (got %g)", k->section, k->key, x);
+    if ((k->flags & N) && !(x >= 0))
+      return rr_seterr(err, RR_EINVAL, "[%s] %s: must be >= 0 (got %g)", k->section, k->key, x);
+  }
+  if (v->sdf_mode < RR_SDF_NONE || v->sdf_mode > RR_SDF_PHYSICAL)
+    return rr_seterr(err, RR_EINVAL, "[yaw_damper] sdf: unknown mode %d", v->sdf_mode);
+  if (v->sdf_mode != RR_SDF_NONE) {
+    int st = rr_sdf_curve_check(&v->sdf, "[yaw_damper]", err);
+    if (st) return st;
+  }
+  return RR_OK;
+}

@@ -1,0 +1,257 @@
+/* Vehicle files: INI (libinih) with `base =` inheritance, values with units
+ * (MODEL.md section 9). Every message names file, line and key. */
+#include <ctype.h>
+#include <errno.h>
+#include <ini.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "railride/vehicle.h"
+#include "internal.h"
+
+#define MAX_BASE_DEPTH 8
+#define NKEYS_MAX 64
+
+/* The reader counts lines so the handler knows where it is. */
+typedef struct reader_state {
+  FILE *fp;
+  int line;
+  int too_long;
+} reader_state;
+
+static char *count_reader(char *str, int num, void *stream)
+{
+  reader_state *rs = stream;
+  if (!fgets(str, num, rs->fp)) return NULL;
+  size_t len = strlen(str);
+  if (len == (size_t)num - 1 && str[len - 1] != '\n' && !feof(rs->fp)) {
+    /* Longer than inih's line buffer: swallow the rest and flag it. */
+    int ch;
+    while ((ch = fgetc(rs->fp)) != EOF && ch != '\n') {}
+    if (!rs->too_long) rs->too_long = rs->line + 1;
+  }
+  rs->line++;
+  return str;
+}
+
+typedef struct parse_ctx {
+  const char *path;
+  char dir[PATH_MAX];
+  reader_state rs;
+  rr_vehicle *veh;
+  rr_units *units;
+  rr_error *err;
+  int status;
+  int pass;                 /* 1: [vehicle] only; 2: everything */
+  char base[PATH_MAX];
+  char name[64];
+  int seen[NKEYS_MAX];      /* line where each key was set, 0 if not */
+  int curve_keys;           /* sdf_k1/k2/k3 given: bit mask */
+  int table_line;
+} parse_ctx;
+
+static int fail(parse_ctx *c, int code, const char *fmt, const char *a, const char *b, const char *msg)
+{
+  if (c->status == RR_OK) {
+    char buf[RR_ERROR_MSG_MAX];
+    snprintf(buf, sizeof buf, fmt, a, b, msg);
+    c->status = rr_seterr(c->err, code, "%s:%d: %s", c->path, c->rs.line, buf);
+  }
+  return 0;
+}
+
+static void trim_copy(char *dst, size_t n, const char *src)
+{
+  while (isspace((unsigned char)*src)) src++;
+  size_t len = strlen(src);
+  while (len && isspace((unsigned char)src[len - 1])) len--;
+  if (len >= n) len = n - 1;
+  memcpy(dst, src, len);
+  dst[len] = 0;
+}
+
+static void resolve_path(const parse_ctx *c, const char *rel, char *out, size_t n)
+{
+  if (rel[0] == '/' || !c->dir[0]) snprintf(out, n, "%s", rel);
+  else snprintf(out, n, "%s/%s", c->dir, rel);
+}
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+  parse_ctx *c = user;
+  if (c->status) return 1;   /* first error only */
+  if (c->pass == 1) {
+    if (!strcmp(section, "vehicle") && !strcmp(name, "base")) trim_copy(c->base, sizeof c->base, value);
+    if (!strcmp(section, "vehicle") && !strcmp(name, "name")) trim_copy(c->name, sizeof c->name, value);
+    return 1;
+  }
+  int nk;
+  const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
+  int idx = -1, section_known = 0;
+  for (int i = 0; i < nk; i++) {
+    if (strcmp(keys[i].section, section)) continue;
+    section_known = 1;
+    if (!strcmp(keys[i].key, name)) { idx = i; break; }
+  }
+  if (!section_known) return fail(c, RR_EPARSE, "[%s] %s: unknown section%s", section, name, "");
+  if (idx < 0) return fail(c, RR_EPARSE, "[%s] %s: unknown key%s", section, name, "");
+  if (c->seen[idx]) {
+    char msg[64];
+    snprintf(msg, sizeof msg, " (first set on line %d)", c->seen[idx]);
+    return fail(c, RR_EPARSE, "[%s] %s: key given twice%s", section, name, msg);
+  }
+  c->seen[idx] = c->rs.line;
+  const rr_vehicle_key *k = &keys[idx];
+  char val[PATH_MAX];
+  trim_copy(val, sizeof val, value);
+  if (k->flags & RR_KEY_SPECIAL) {
+    if (!strcmp(k->section, "vehicle")) return 1;   /* handled in pass 1 */
+    if (!strcmp(k->key, "sdf")) {
+      if (!strcmp(val, "none")) c->veh->sdf_mode = RR_SDF_NONE;
+      else if (!strcmp(val, "paper")) c->veh->sdf_mode = RR_SDF_PAPER;
+      else if (!strcmp(val, "physical")) c->veh->sdf_mode = RR_SDF_PHYSICAL;
+      else return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none, paper or physical", section, name, val);
+      return 1;
+    }
+    if (!strcmp(k->key, "gravity_stiffness")) {
+      if (!strcmp(val, "yes") || !strcmp(val, "true") || !strcmp(val, "on") || !strcmp(val, "1"))
+        c->veh->gravity_stiffness = 1;
+      else if (!strcmp(val, "no") || !strcmp(val, "false") || !strcmp(val, "off") || !strcmp(val, "0"))
+        c->veh->gravity_stiffness = 0;
+      else return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", section, name, val);
+      return 1;
+    }
+    if (!strcmp(k->key, "sdf_table")) {
+      char full[PATH_MAX + 8];
+      resolve_path(c, val, full, sizeof full);
+      rr_sdf_curve cur;
+      rr_error e2;
+      memset(&cur, 0, sizeof cur);
+      if (rr_sdf_table_load(full, &cur, &e2)) return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
+      c->veh->sdf = cur;
+      c->table_line = c->rs.line;
+      return 1;
+    }
+    return 1;
+  }
+  char what[RR_ERROR_MSG_MAX];
+  snprintf(what, sizeof what, "%s:%d: [%s] %s", c->path, c->rs.line, section, name);
+  double x;
+  int st = rr_units_parse(c->units, val, k->si_unit, (k->flags & RR_KEY_INF_OK) != 0, &x, what, c->err);
+  if (st) { c->status = st; return 0; }
+  if ((k->flags & RR_KEY_POSITIVE) && !(x > 0))
+    return fail(c, RR_EINVAL, "[%s] %s: must be > 0 (got '%s')", section, name, val);
+  if ((k->flags & RR_KEY_NONNEG) && !(x >= 0))
+    return fail(c, RR_EINVAL, "[%s] %s: must be >= 0 (got '%s')", section, name, val);
+  *rr_vehicle_field(c->veh, k) = x;
+  if (!strcmp(k->key, "sdf_k1")) c->curve_keys |= 1;
+  if (!strcmp(k->key, "sdf_k2")) c->curve_keys |= 2;
+  if (!strcmp(k->key, "sdf_k3")) c->curve_keys |= 4;
+  return 1;
+}
+
+static int run_pass(parse_ctx *c, int pass)
+{
+  FILE *fp = fopen(c->path, "r");
+  if (!fp) return rr_seterr(c->err, RR_EIO, "%s: cannot open: %s", c->path, strerror(errno));
+  c->pass = pass;
+  c->rs.fp = fp;
+  c->rs.line = 0;
+  c->rs.too_long = 0;
+  int r = ini_parse_stream(count_reader, &c->rs, handler, c);
+  int lines = c->rs.line;
+  fclose(fp);
+  if (c->status) return c->status;
+  if (c->rs.too_long)
+    return rr_seterr(c->err, RR_EPARSE, "%s:%d: line too long", c->path, c->rs.too_long);
+  if (r > 0) return rr_seterr(c->err, RR_EPARSE, "%s:%d: malformed line (expected [section] or key = value)", c->path, r);
+  if (r < 0) return rr_seterr(c->err, RR_EIO, "%s: cannot read", c->path);
+  c->rs.line = lines;
+  return RR_OK;
+}
+
+static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int depth)
+{
+  if (depth > MAX_BASE_DEPTH)
+    return rr_seterr(err, RR_EPARSE, "%s: base chain deeper than %d (a cycle?)", path, MAX_BASE_DEPTH);
+  parse_ctx *c = calloc(1, sizeof *c);
+  if (!c) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  c->path = path;
+  c->err = err;
+  const char *slash = strrchr(path, '/');
+  if (slash) snprintf(c->dir, sizeof c->dir, "%.*s", (int)(slash - path), path);
+  if (slash == path) snprintf(c->dir, sizeof c->dir, "/");
+  int st = run_pass(c, 1);
+  if (st) goto done;
+  int has_base = c->base[0] != 0;
+  if (has_base) {
+    rr_error e2;
+    if (rr_vehicle_builtin(c->base, veh, &e2) != RR_OK) {
+      char bpath[PATH_MAX + 8];
+      resolve_path(c, c->base, bpath, sizeof bpath);
+      st = load_depth(bpath, veh, err, depth + 1);
+      if (st) goto done;
+    }
+  } else {
+    memset(veh, 0, sizeof *veh);
+  }
+  const char *stem = slash ? slash + 1 : path;
+  snprintf(veh->name, sizeof veh->name, "%s", c->name[0] ? c->name : stem);
+  c->veh = veh;
+  st = rr_units_new(&c->units, err);
+  if (st) goto done;
+  st = run_pass(c, 2);
+  if (st) goto done;
+  int nk;
+  const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
+  if (!has_base) {
+    for (int i = 0; i < nk; i++)
+      if (!(keys[i].flags & RR_KEY_OPTIONAL) && !c->seen[i]) {
+        st = rr_seterr(err, RR_EPARSE, "%s:%d: [%s] %s: missing required key (no base given)",
+                       path, c->rs.line, keys[i].section, keys[i].key);
+        goto done;
+      }
+  }
+  if (c->table_line && c->curve_keys) {
+    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] sdf_table: give either sdf_table or sdf_k1/sdf_k2/sdf_k3", path, c->table_line);
+    goto done;
+  }
+  if (c->curve_keys && c->curve_keys != 7) {
+    const char *miss = !(c->curve_keys & 1) ? "sdf_k1" : !(c->curve_keys & 2) ? "sdf_k2" : "sdf_k3";
+    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] %s: sdf_k1, sdf_k2 and sdf_k3 go together", path, c->rs.line, miss);
+    goto done;
+  }
+  if (c->curve_keys) {   /* the file's curve replaces the inherited one as a whole */
+    veh->sdf.kind = RR_CURVE_SLS;
+    veh->sdf.n = 0;
+  }
+  if (veh->sdf_mode != RR_SDF_NONE && veh->sdf.kind == RR_CURVE_UNSET) {
+    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] sdf: a curve is required (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", path, c->rs.line);
+    goto done;
+  }
+  {
+    rr_error e2;
+    if ((st = rr_vehicle_check(veh, &e2))) rr_seterr(err, st, "%s: %s", path, e2.msg);
+  }
+done:
+  rr_units_free(c->units);
+  free(c);
+  return st;
+}
+
+int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err)
+{
+  if (!path || !veh) return rr_seterr(err, RR_EINVAL, "rr_vehicle_load: NULL argument");
+  rr_vehicle tmp;
+  int st = load_depth(path, &tmp, err, 0);
+  if (st == RR_OK) *veh = tmp;
+  return st;
+}
+
+int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err)
+{
+  if (!spec) { rr_vehicle_default(veh); return RR_OK; }
+  if (rr_vehicle_builtin(spec, veh, NULL) == RR_OK) return RR_OK;
+  return rr_vehicle_load(spec, veh, err);
+}
