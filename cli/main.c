@@ -1,1 +1,35 @@
-int main(void){return 0;}
+/* railride: command-line entry point and subcommand dispatch. */
+#include <string.h>
+#include "cli.h"
+
+void openblas_set_num_threads(int);
+
+static const struct { const char *name; int (*fn)(int, char **); const char *what; } cmds[] = {
+  {"summary", cmd_summary, "stability summary of a vehicle (the main job)"},
+  {"matrices", cmd_matrices, "M, C, K, B, Maxwell rows and the state matrix A"},
+  {"modes", cmd_modes, "eigenvalues, stability indices, energy shares"},
+  {"robust", cmd_robust, "robust stability indices zeta_low, zeta_high, std(zeta)"},
+  {"critical-speed", cmd_critical, "lowest speed where the stability index reaches 0"},
+  {"locus", cmd_locus, "root locus over speed or conicity (CSV)"},
+  {"map", cmd_map, "stability index over a (speed, conicity) grid (CSV)"},
+  {"damper", cmd_damper, "Maxwell damper characteristics over frequency (CSV)"},
+};
+#define NCMDS (int)(sizeof cmds / sizeof cmds[0])
+
+static void usage(FILE *fp)
+{
+  fprintf(fp, "usage: railride COMMAND [VEHICLE] [options]   (railride COMMAND --help)\n\ncommands:\n");
+  for (int i = 0; i < NCMDS; i++) fprintf(fp, "  %-15s %s\n", cmds[i].name, cmds[i].what);
+}
+
+int main(int argc, char **argv)
+{
+  /* Problems here are small (40x40): BLAS threads only cost. */
+  openblas_set_num_threads(1);
+  if (argc < 2) { usage(stderr); return EXIT_BADINPUT; }
+  if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) { usage(stdout); return 0; }
+  for (int i = 0; i < NCMDS; i++)
+    if (!strcmp(argv[1], cmds[i].name)) return cmds[i].fn(argc - 1, argv + 1);
+  fprintf(stderr, "railride: unknown command '%s' (railride --help lists them)\n", argv[1]);
+  return EXIT_BADINPUT;
+}

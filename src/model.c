@@ -81,20 +81,33 @@ int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
   memcpy(m->K, m->K0, sizeof(double) * (size_t)(n * n));
   memset(m->B, 0, sizeof(double) * (size_t)(n * ni));
   for (int i = 0; i < ni; i++) {
+    /* Contact at offset dx: lateral motion a.q = y + dx psi, yaw b.q = psi.
+       F_y = -2 f22 (a.q'/v - psi), M_z = -2 f11 l0 (l0 psi'/v + lambda (a.q - y_t)/r0),
+       generalised forces a F_y + b M_z (MODEL.md 3 with dx = 0). */
     const rr_contact *c = &m->contacts[i];
     const rr_contact_spec *s = &c->spec;
     int y = c->dof_y, p = c->dof_psi;
-    m->C[y * n + y] += 2 * s->f22 / v;
-    m->C[p * n + p] += 2 * s->f11 * s->l0 * s->l0 / v;
-    m->K[y * n + p] += -2 * s->f22;
-    double kpy = 2 * s->f11 * s->l0 * lambda / s->r0;
+    double dx = s->dx;
+    double cy = 2 * s->f22 / v, cp = 2 * s->f11 * s->l0 * s->l0 / v;
+    double kyp = -2 * s->f22, kpy = 2 * s->f11 * s->l0 * lambda / s->r0;
+    /* C += cy a a' + cp b b' */
+    m->C[y * n + y] += cy;
+    m->C[y * n + p] += cy * dx;
+    m->C[p * n + y] += cy * dx;
+    m->C[p * n + p] += cy * dx * dx + cp;
+    /* K += kyp a b' + kpy b a' */
+    m->K[y * n + p] += kyp;
+    m->K[p * n + p] += kyp * dx + kpy * dx;
     m->K[p * n + y] += kpy;
     m->B[p * ni + i] += kpy;
-    if (m->gravity) {
-      double W = s->axle_load;
-      m->K[y * n + y] += W * lambda / s->l0;
-      m->B[y * ni + i] += W * lambda / s->l0;
-      m->K[p * n + p] += -W * lambda * s->l0;
+    if (m->gravity) {   /* K += g a a' - W lambda l0 b b', B += g a */
+      double W = s->axle_load, g = W * lambda / s->l0;
+      m->K[y * n + y] += g;
+      m->K[y * n + p] += g * dx;
+      m->K[p * n + y] += g * dx;
+      m->K[p * n + p] += g * dx * dx - W * lambda * s->l0;
+      m->B[y * ni + i] += g;
+      m->B[p * ni + i] += g * dx;
     }
   }
   return RR_OK;

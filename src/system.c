@@ -152,7 +152,8 @@ int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *er
   ct->spec = *c;
   ct->dof_y = b->dof_y;
   ct->dof_psi = b->dof_psi;
-  ct->x = b->ref[0];
+  if (!isfinite(c->dx)) return -rr_seterr(err, RR_EINVAL, "contact on %s: offset must be finite", b->name);
+  ct->x = b->ref[0] + c->dx;
   return sys->ncontacts++;
 }
 

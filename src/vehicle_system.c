@@ -86,7 +86,7 @@ int rr_vehicle_system(const rr_vehicle *v, rr_system **out, rr_error *err)
   }
   double W = RR_G * (v->carbody_mass + 2 * v->frame_mass + 4 * v->wheelset_mass) / 4;
   for (int i = 0; i < 4; i++) {
-    rr_contact_spec c = {body_w[i], v->f11, v->f22, r0, v->contact_half_spacing, W};
+    rr_contact_spec c = {body_w[i], v->f11, v->f22, r0, v->contact_half_spacing, W, 0};
     TRY(rr_system_add_contact(s, &c, err));
   }
   *out = s;

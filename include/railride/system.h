@@ -55,6 +55,8 @@ typedef struct rr_contact_spec {
   double f11, f22;           /* Kalker coefficients per wheel (N) */
   double r0, l0;             /* rolling radius, half contact spacing (m) */
   double axle_load;          /* N, for the optional gravitational stiffness */
+  double dx;                 /* contact x offset from the body reference (m): a rigid
+                                bogie carries two contacts at +-b; 0 for a wheelset */
 } rr_contact_spec;
 
 rr_system *rr_system_new(void);

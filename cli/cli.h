@@ -1,0 +1,82 @@
+/* railride command line: shared helpers. The CLI is a thin layer over the
+ * public API: it parses options, calls the library, prints tables or JSON. */
+#ifndef RR_CLI_H
+#define RR_CLI_H
+
+#include <cjson/cJSON.h>
+#include <getopt.h>
+#include <stdio.h>
+#include "railride/railride.h"
+
+#define EXIT_BADINPUT 2
+#define EXIT_FAIL 1
+
+/* Options most commands share. */
+typedef struct cli_common {
+  const char *vehicle_spec;   /* NULL: built-in default */
+  rr_vehicle veh;
+  double speed_kmh, conicity;
+  int have_speed, have_conicity;
+  int json;
+  rr_modal_opts mo;
+  int sdf_override;           /* -1: keep the vehicle's */
+  int gravity;                /* -1: keep */
+} cli_common;
+
+/* Long options shared by the stability commands (ids >= 1000). */
+enum { OPT_SPEED = 1000, OPT_CONICITY, OPT_JSON, OPT_FMAX, OPT_WMIN, OPT_SDF, OPT_GRAVITY, OPT_HELP };
+#define CLI_COMMON_OPTIONS \
+  {"speed", required_argument, 0, OPT_SPEED}, {"conicity", required_argument, 0, OPT_CONICITY}, \
+  {"json", no_argument, 0, OPT_JSON}, {"fmax", required_argument, 0, OPT_FMAX}, \
+  {"wmin", required_argument, 0, OPT_WMIN}, {"sdf", required_argument, 0, OPT_SDF}, \
+  {"gravity-stiffness", no_argument, 0, OPT_GRAVITY}, {"help", no_argument, 0, OPT_HELP}
+#define CLI_COMMON_HELP \
+  "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n" \
+  "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n" \
+  "  --conicity L         equivalent conicity\n" \
+  "  --fmax HZ            highest frequency counted in the stability index (default 10)\n" \
+  "  --wmin W             minimum wheelset energy share of a hunting mode (default 1e-3)\n" \
+  "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n" \
+  "  --gravity-stiffness  add the gravitational stiffness (MODEL.md section 3)\n" \
+  "  --json               JSON output\n" \
+  "  --help               this text\n"
+
+void cli_common_init(cli_common *c);
+/* Handles a shared option; returns 1 if handled, 0 if not ours, -1 on error (printed). */
+int cli_common_option(cli_common *c, int opt, const char *arg);
+/* Loads the vehicle (positional argument) and applies overrides; prints and
+ * returns EXIT_BADINPUT on error. */
+int cli_load_vehicle(cli_common *c, int argc, char **argv);
+/* Builds a model at the common operating point (requires speed/conicity when asked). */
+int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity);
+/* Parses a number option with units into `unit`; prints the error. */
+int cli_number(const char *opt, const char *arg, const char *unit, double *out);
+/* Parses FROM:TO:N. */
+int cli_range(const char *opt, const char *arg, const char *unit, double *from, double *to, int *n);
+/* Parses a comma list of numbers (max cap). */
+int cli_list(const char *opt, const char *arg, const char *unit, double *out, int cap, int *n);
+int cli_bad(const char *fmt, ...);
+int cli_fail(const rr_error *e, int st);
+/* Prints JSON to stdout and frees it. */
+void cli_json_print(cJSON *root);
+cJSON *cli_json_matrix(const double *A, int rows, int cols);
+
+/* Subcommands. */
+int cmd_summary(int argc, char **argv);
+int cmd_matrices(int argc, char **argv);
+int cmd_modes(int argc, char **argv);
+int cmd_robust(int argc, char **argv);
+int cmd_critical(int argc, char **argv);
+int cmd_locus(int argc, char **argv);
+int cmd_map(int argc, char **argv);
+int cmd_damper(int argc, char **argv);
+
+#endif
+
+/* Runs getopt_long over argv with the shared options plus `extra` (NULL-
+ * terminated, ids < 1000 or >= 2000), calling extra_cb for those. Loads the
+ * vehicle. Returns 0 to go on, or an exit status (help printed: -1 -> 0). */
+typedef int (*cli_extra_cb)(int opt, const char *arg, void *user);
+int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+              void *user, const char *usage_text);
+#define CLI_HELP_SHOWN (-1)

@@ -1,0 +1,105 @@
+/* `railride damper`: Maxwell damper characteristics over frequency (paper eq. 5-8, Fig. 2). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+typedef struct damper_args {
+  int element;            /* 0 yaw, 1 lateral */
+  double k, c;
+  int have_k, have_c;
+  double f_from, f_to;
+  int n;
+} damper_args;
+enum { OPT_ELEMENT = 2300, OPT_K, OPT_C, OPT_FREQS };
+
+static int damper_cb(int opt, const char *arg, void *u)
+{
+  damper_args *a = u;
+  switch (opt) {
+  case OPT_ELEMENT:
+    if (!strcmp(arg, "yaw")) a->element = 0;
+    else if (!strcmp(arg, "lateral")) a->element = 1;
+    else return cli_bad("--element: 'yaw' or 'lateral' expected, got '%s'", arg);
+    return 0;
+  case OPT_K:
+    if (cli_number("k", arg, "N/m", &a->k)) return 1;
+    if (!(a->k > 0)) return cli_bad("--k: must be > 0");
+    a->have_k = 1;
+    return 0;
+  case OPT_C:
+    if (cli_number("c", arg, "N.s/m", &a->c)) return 1;
+    if (!(a->c > 0)) return cli_bad("--c: must be > 0");
+    a->have_c = 1;
+    return 0;
+  case OPT_FREQS:
+    if (cli_range("freqs", arg, "Hz", &a->f_from, &a->f_to, &a->n)) return 1;
+    if (!(a->f_from > 0 && a->f_to > a->f_from)) return cli_bad("--freqs: need 0 < FROM < TO");
+    return 0;
+  }
+  return 1;
+}
+
+int cmd_damper(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride damper [VEHICLE] [--element yaw|lateral] [--k N/M] [--c NS/M] [--freqs FROM:TO:N] [--json]\n"
+      "Dynamic stiffness k_e = k c jw / (k + c jw) of a damper c in series with a spring k\n"
+      "(with the vehicle's SDF curve for the yaw damper when sdf is on): storage (equivalent\n"
+      "stiffness), loss, equivalent damping loss/w, dissipation factor loss/storage, over\n"
+      "log-spaced frequencies (default 0.1:30:200 Hz); omega_opt = k/c maximises the loss.\n"
+      "CSV columns: freq_hz,k_series,storage,loss,eq_damping,dissipation\n" CLI_COMMON_HELP
+      "  --element E          yaw (default) or lateral damper of the vehicle\n"
+      "  --k, --c             override series stiffness (N/m) and damping (N s/m)\n"
+      "  --freqs FROM:TO:N    frequency grid, Hz\n";
+  static const struct option extra[] = {{"element", required_argument, 0, OPT_ELEMENT}, {"k", required_argument, 0, OPT_K},
+                                        {"c", required_argument, 0, OPT_C}, {"freqs", required_argument, 0, OPT_FREQS}, {0, 0, 0, 0}};
+  cli_common c;
+  damper_args a = {0, 0, 0, 0, 0, 0.1, 30, 200};
+  int r = cli_parse(argc, argv, &c, extra, damper_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
+  double k = a.element == 0 ? c.veh.yaw_series_stiffness : c.veh.lateral_series_stiffness;
+  double cd = a.element == 0 ? c.veh.yaw_damping : c.veh.lateral_damping;
+  int sdf = a.element == 0 && c.veh.sdf_mode != RR_SDF_NONE && !a.have_k;
+  if (a.have_k) k = a.k;
+  if (a.have_c) cd = a.c;
+  if (!(cd > 0)) return cli_bad("damping is 0: no damper characteristics");
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
+  if (root) {
+    cJSON_AddNumberToObject(root, "k", k);
+    cJSON_AddNumberToObject(root, "c", cd);
+    cJSON_AddNumberToObject(root, "omega_opt", rr_maxwell_omega_opt(k, cd));
+    cJSON_AddNumberToObject(root, "f_opt_hz", rr_maxwell_omega_opt(k, cd) / (2 * M_PI));
+    cJSON_AddBoolToObject(root, "sdf", sdf);
+  } else {
+    printf("# %s %s damper: c = %g N s/m, k = %g N/m%s; omega_opt = k/c = %g rad/s (%g Hz)\n", c.veh.name,
+           a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "", k / cd, k / cd / (2 * M_PI));
+    printf("freq_hz,k_series,storage,loss,eq_damping,dissipation\n");
+  }
+  for (int i = 0; i < a.n; i++) {
+    double f = a.n == 1 ? a.f_from : a.f_from * pow(a.f_to / a.f_from, (double)i / (a.n - 1));
+    double w = 2 * M_PI * f;
+    double complex ks = k;
+    if (sdf) ks = c.veh.sdf_mode == RR_SDF_PAPER ? rr_sdf_storage(&c.veh.sdf, f) : rr_sdf_complex(&c.veh.sdf, w);
+    double complex ke = rr_maxwell_stiffness(ks, cd, I * w);
+    double st = creal(ke), lo = cimag(ke);
+    if (root) {
+      cJSON *o = cJSON_CreateObject();
+      cJSON_AddNumberToObject(o, "freq_hz", f);
+      cJSON_AddNumberToObject(o, "k_series", creal(ks));
+      cJSON_AddNumberToObject(o, "storage", st);
+      cJSON_AddNumberToObject(o, "loss", lo);
+      cJSON_AddNumberToObject(o, "eq_damping", lo / w);
+      cJSON_AddNumberToObject(o, "dissipation", lo / st);
+      cJSON_AddItemToArray(arr, o);
+    } else {
+      printf("%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", f, creal(ks), st, lo, lo / w, lo / st);
+    }
+  }
+  if (root) cli_json_print(root);
+  return 0;
+}

@@ -1,0 +1,174 @@
+/* Option parsing, vehicle loading and output helpers shared by the commands. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+
+int cli_bad(const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  fputs("railride: ", stderr);
+  vfprintf(stderr, fmt, ap);
+  fputc('\n', stderr);
+  va_end(ap);
+  return EXIT_BADINPUT;
+}
+
+int cli_fail(const rr_error *e, int st)
+{
+  fprintf(stderr, "railride: %s\n", e->msg);
+  return (st == RR_ELAPACK || st == RR_ENOMEM || st == RR_ENOCONV) ? EXIT_FAIL : EXIT_BADINPUT;
+}
+
+void cli_common_init(cli_common *c)
+{
+  memset(c, 0, sizeof *c);
+  c->mo = rr_modal_opts_default();
+  c->sdf_override = -1;
+  c->gravity = -1;
+}
+
+int cli_number(const char *opt, const char *arg, const char *unit, double *out)
+{
+  rr_error e;
+  char what[128];
+  snprintf(what, sizeof what, "--%s", opt);
+  if (rr_units_parse(NULL, arg, unit, 0, out, what, &e)) {
+    cli_bad("%s", e.msg);
+    return -1;
+  }
+  return 0;
+}
+
+int cli_range(const char *opt, const char *arg, const char *unit, double *from, double *to, int *n)
+{
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", arg);
+  char *a = strtok(buf, ":"), *b = strtok(NULL, ":"), *c = strtok(NULL, ":");
+  if (!a || !b || !c || strtok(NULL, ":")) { cli_bad("--%s: expected FROM:TO:N, got '%s'", opt, arg); return -1; }
+  if (cli_number(opt, a, unit, from) || cli_number(opt, b, unit, to)) return -1;
+  char *end;
+  long k = strtol(c, &end, 10);
+  if (*end || k < 1 || k > 1000000) { cli_bad("--%s: N must be a whole number >= 1, got '%s'", opt, c); return -1; }
+  *n = (int)k;
+  return 0;
+}
+
+int cli_list(const char *opt, const char *arg, const char *unit, double *out, int cap, int *n)
+{
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", arg);
+  *n = 0;
+  for (char *t = strtok(buf, ","); t; t = strtok(NULL, ",")) {
+    if (*n >= cap) { cli_bad("--%s: more than %d values", opt, cap); return -1; }
+    if (cli_number(opt, t, unit, &out[(*n)++])) return -1;
+  }
+  if (*n == 0) { cli_bad("--%s: empty list", opt); return -1; }
+  return 0;
+}
+
+int cli_common_option(cli_common *c, int opt, const char *arg)
+{
+  switch (opt) {
+  case OPT_SPEED:
+    if (cli_number("speed", arg, "km/h", &c->speed_kmh)) return -1;
+    if (!(c->speed_kmh > 0)) { cli_bad("--speed: must be > 0 km/h (got '%s')", arg); return -1; }
+    c->have_speed = 1;
+    return 1;
+  case OPT_CONICITY:
+    if (cli_number("conicity", arg, "1", &c->conicity)) return -1;
+    if (!(c->conicity >= 0)) { cli_bad("--conicity: must be >= 0 (got '%s')", arg); return -1; }
+    c->have_conicity = 1;
+    return 1;
+  case OPT_JSON: c->json = 1; return 1;
+  case OPT_FMAX:
+    if (cli_number("fmax", arg, "Hz", &c->mo.fmax_hz)) return -1;
+    if (!(c->mo.fmax_hz > 0)) { cli_bad("--fmax: must be > 0 Hz"); return -1; }
+    return 1;
+  case OPT_WMIN:
+    if (cli_number("wmin", arg, "1", &c->mo.w_min)) return -1;
+    if (!(c->mo.w_min >= 0 && c->mo.w_min <= 1)) { cli_bad("--wmin: must be within 0..1"); return -1; }
+    return 1;
+  case OPT_SDF:
+    if (!strcmp(arg, "none")) c->sdf_override = RR_SDF_NONE;
+    else if (!strcmp(arg, "paper")) c->sdf_override = RR_SDF_PAPER;
+    else if (!strcmp(arg, "physical")) c->sdf_override = RR_SDF_PHYSICAL;
+    else { cli_bad("--sdf: '%s' is not none, paper or physical", arg); return -1; }
+    return 1;
+  case OPT_GRAVITY: c->gravity = 1; return 1;
+  }
+  return 0;
+}
+
+int cli_load_vehicle(cli_common *c, int argc, char **argv)
+{
+  if (argc - optind > 1) return cli_bad("unexpected argument '%s'", argv[optind + 1]);
+  c->vehicle_spec = optind < argc ? argv[optind] : NULL;
+  rr_error e;
+  int st = rr_vehicle_open(c->vehicle_spec, &c->veh, &e);
+  if (st) return cli_fail(&e, st);
+  if (c->sdf_override >= 0) c->veh.sdf_mode = c->sdf_override;
+  if (c->gravity >= 0) c->veh.gravity_stiffness = c->gravity;
+  if ((st = rr_vehicle_check(&c->veh, &e))) return cli_fail(&e, st);
+  return 0;
+}
+
+int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity)
+{
+  if (need_speed && !c->have_speed) return cli_bad("--speed is required");
+  if (need_conicity && !c->have_conicity) return cli_bad("--conicity is required");
+  rr_error e;
+  int st = rr_model_from_vehicle(&c->veh, m, &e);
+  if (st) return cli_fail(&e, st);
+  if ((st = rr_model_set_operating(*m, (c->have_speed ? c->speed_kmh : 350) / 3.6,
+                                   c->have_conicity ? c->conicity : 0.17, &e))) {
+    rr_model_free(*m);
+    return cli_fail(&e, st);
+  }
+  return 0;
+}
+
+void cli_json_print(cJSON *root)
+{
+  char *s = cJSON_Print(root);
+  if (s) { fputs(s, stdout); fputc('\n', stdout); }
+  free(s);
+  cJSON_Delete(root);
+}
+
+cJSON *cli_json_matrix(const double *A, int rows, int cols)
+{
+  cJSON *arr = cJSON_CreateArray();
+  for (int i = 0; i < rows; i++) cJSON_AddItemToArray(arr, cJSON_CreateDoubleArray(A + (size_t)i * cols, cols));
+  return arr;
+}
+
+int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+              void *user, const char *usage_text)
+{
+  static const struct option common[] = {CLI_COMMON_OPTIONS};
+  struct option opts[64];
+  int n = 0;
+  for (size_t i = 0; i < sizeof common / sizeof common[0]; i++) opts[n++] = common[i];
+  for (int i = 0; extra && extra[i].name && n < 63; i++) opts[n++] = extra[i];
+  memset(&opts[n], 0, sizeof opts[n]);
+  cli_common_init(c);
+  optind = 1;
+  opterr = 0;
+  int opt;
+  while ((opt = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+    if (opt == 'h' || opt == OPT_HELP) { fputs(usage_text, stdout); return CLI_HELP_SHOWN; }
+    if (opt == '?') {
+      if (optopt) return cli_bad("%s: unknown option or missing value '-%c' (see --help)", argv[0], optopt);
+      return cli_bad("%s: unknown option or missing value '%s' (see --help)", argv[0], argv[optind - 1]);
+    }
+    int r = cli_common_option(c, opt, optarg);
+    if (r < 0) return EXIT_BADINPUT;
+    if (r == 1) continue;
+    if (cb && cb(opt, optarg, user) == 0) continue;
+    return EXIT_BADINPUT;
+  }
+  return cli_load_vehicle(c, argc, argv);
+}

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# The command line's contract: JSON keys, CSV headers, and exit status 2 with
+# one line naming file, line and key on bad input.
+set -u
+RR=${RR_CLI:?RR_CLI must name the railride binary}
+SRC=${RR_SOURCE_DIR:-..}
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# JSON shape checks, in Python's json module (independent of cJSON).
+json_check() {  # json_check NAME PYTHON-EXPRESSION < json
+  if python3 -c "import json,sys; d=json.load(sys.stdin); sys.exit(0 if ($2) else 1)"; then ok; else bad "$1"; fi
+}
+
+"$RR" matrices --speed 350 --conicity 0.17 --json > "$tmp/m.json" || bad "matrices exit"
+json_check "matrices keys" "len(d['dofs'])==17 and d['dofs'][0]=='y_c' and d['dofs'][16]=='psi_w4' and all(len(d[k])==17 and all(len(r)==17 for r in d[k]) for k in 'MCK') and len(d['B'])==17 and len(d['B'][0])==4 and len(d['maxwell'])==6 and all(set(x)>={'name','J','k','c'} and len(x['J'])==17 for x in d['maxwell']) and len(d['A'])==40 and len(d['A'][0])==40" < "$tmp/m.json"
+
+"$RR" modes --speed 350 --conicity 0.17 --json > "$tmp/modes.json" || bad "modes exit"
+json_check "modes keys" "isinstance(d['stability_index'],float) and all(set(m)>={'freq_hz','real','imag','stability_index','energy'} and set(m['energy'])=={'carbody','frames','wheelsets'} and m['imag']>0 for m in d['modes']) and [m['freq_hz'] for m in d['modes']]==sorted(m['freq_hz'] for m in d['modes'])" < "$tmp/modes.json"
+json_check "modes index is the max over in_index" "abs(d['stability_index']-max(m['stability_index'] for m in d['modes'] if m['in_index']))<1e-15" < "$tmp/modes.json"
+json_check "energy shares sum to 1" "all(abs(sum(m['energy'].values())-1)<1e-12 for m in d['modes'])" < "$tmp/modes.json"
+
+"$RR" robust --json > "$tmp/r.json" || bad "robust exit"
+json_check "robust keys" "all(isinstance(d[k],float) for k in ('zeta_low','zeta_high','std_zeta'))" < "$tmp/r.json"
+"$RR" critical-speed --conicity 0.4 --json > "$tmp/c.json" || bad "critical exit"
+json_check "critical keys" "'critical_speed_kmh' in d and (d['critical_speed_kmh'] is None or 10<=d['critical_speed_kmh']<=600)" < "$tmp/c.json"
+"$RR" critical-speed --conicity 0.05 --vmax 300 --json > "$tmp/c2.json" || bad "critical exit 2"
+json_check "stable to range end" "d['critical_speed_kmh'] is None and d['stable_to_range_end']" < "$tmp/c2.json"
+
+"$RR" locus --over speed --range 100:400:4 > "$tmp/l.csv" || bad "locus exit"
+head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets' && ok || bad "locus header"
+"$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 > "$tmp/map.csv" || bad "map exit"
+[ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index' && ok || bad "map shape"
+"$RR" damper --freqs 0.1:10:5 > "$tmp/d.csv" || bad "damper exit"
+grep -q '^freq_hz,k_series,storage,loss,eq_damping,dissipation$' "$tmp/d.csv" && ok || bad "damper header"
+"$RR" summary "$SRC/examples/type2.ini" > "$tmp/s.txt" || bad "summary exit"
+grep -q "vehicle stability index" "$tmp/s.txt" && ok || bad "summary text"
+
+for c in summary matrices modes robust critical-speed locus map damper; do
+  "$RR" $c --help > /dev/null && ok || bad "$c --help"
+done
+
+# Bad input: exit status 2, one line, naming what is wrong.
+expect2() {  # expect2 NAME PATTERN CMD...
+  local name=$1 pat=$2; shift 2
+  "$@" > /dev/null 2> "$tmp/err"; local st=$?
+  if [ $st -ne 2 ]; then bad "$name: exit $st (want 2)"; return; fi
+  if [ "$(wc -l < "$tmp/err")" -ne 1 ]; then bad "$name: not one line: $(cat "$tmp/err")"; return; fi
+  grep -q -- "$pat" "$tmp/err" && ok || bad "$name: '$(cat "$tmp/err")' lacks '$pat'"
+}
+printf '[vehicle]\nbase = type1\n[primary]\nlateral_stiffness = 5 kN\n' > "$tmp/v1.ini"
+expect2 "wrong unit" "v1.ini:4: \[primary\] lateral_stiffness" "$RR" modes "$tmp/v1.ini" --speed 300 --conicity 0.2
+printf '[vehicle]\nbase = type1\n[carbody]\nmas = 5\n' > "$tmp/v2.ini"
+expect2 "unknown key" "v2.ini:4: \[carbody\] mas: unknown key" "$RR" robust "$tmp/v2.ini"
+printf '[vehicle]\nbase = type1\n[frame]\nmass = -2328 kg\n' > "$tmp/v3.ini"
+expect2 "negative mass" "v3.ini:4: \[frame\] mass" "$RR" summary "$tmp/v3.ini"
+printf '[vehicle]\nbase = type1\n[wheelset]\nyaw_inertia = nan\n' > "$tmp/v4.ini"
+expect2 "NaN" "v4.ini:4: \[wheelset\] yaw_inertia" "$RR" summary "$tmp/v4.ini"
+expect2 "missing file" "nofile.ini" "$RR" modes "$tmp/nofile.ini" --speed 300 --conicity 0.2
+expect2 "zero speed" "--speed" "$RR" modes --speed 0 --conicity 0.2
+expect2 "NaN speed" "--speed" "$RR" modes --speed nan --conicity 0.2
+expect2 "negative conicity" "--conicity" "$RR" modes --speed 300 --conicity -0.1
+expect2 "speed unit" "--speed" "$RR" modes --speed "300 kg" --conicity 0.1
+expect2 "missing speed" "--speed is required" "$RR" modes --conicity 0.1
+expect2 "unknown option" "unknown option" "$RR" modes --sped 300
+expect2 "unknown command" "unknown command" "$RR" frobnicate
+expect2 "bad range" "--range" "$RR" locus --range 1:2
+printf 'f_hz,k\n1,2e6\n0.5,3e6\n' > "$tmp/t.csv"
+printf '[vehicle]\nbase = type1\n[yaw_damper]\nsdf = paper\nsdf_table = t.csv\n' > "$tmp/v5.ini"
+expect2 "malformed table" "frequencies must increase" "$RR" modes "$tmp/v5.ini" --speed 300 --conicity 0.2
+
+echo "cli: $pass passed, $fail failed"
+[ $fail -eq 0 ]

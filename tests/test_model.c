@@ -1,0 +1,247 @@
+/* The 17-DOF model against hand-derived entries of MODEL.md, the state
+ * space against the dynamic stiffness (two routes to the same transfer
+ * function), the fast stability index against the full solve, and the
+ * paper-mode SDF roots against their definition. */
+#include <complex.h>
+#include <lapacke.h>
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "railride/railride.h"
+
+enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
+
+static void test_entries(void)
+{
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  rr_model *m;
+  rr_error e;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  const double V = 350 / 3.6, lam = 0.17;
+  rr_model_set_operating(m, V, lam, &e);
+  CHECK(rr_model_ndof(m) == 17 && rr_model_ninputs(m) == 4 && rr_model_state_size(m) == 40, "sizes");
+  const char *names[17] = {"y_c", "psi_c", "phi_c", "y_f1", "psi_f1", "phi_f1", "y_f2", "psi_f2", "phi_f2",
+                           "y_w1", "psi_w1", "y_w2", "psi_w2", "y_w3", "psi_w3", "y_w4", "psi_w4"};
+  for (int i = 0; i < 17; i++) CHECK(!strcmp(rr_model_dof_name(m, i), names[i]), "dof %d is %s", i, rr_model_dof_name(m, i));
+  const double *K = rr_model_K(m), *C = rr_model_C(m), *M = rr_model_M(m), *B = rr_model_B(m);
+#define K_(i, j) K[(i) * 17 + (j)]
+#define C_(i, j) C[(i) * 17 + (j)]
+  double L = v.bogie_half_spacing, b = v.wheelbase_half, l1 = v.primary_half_spacing, lb = v.primary_arm_length;
+  double l2 = v.secondary_half_spacing, l0 = v.contact_half_spacing, r0 = v.rolling_radius;
+  double kpx = v.primary_kx, kpy = v.primary_ky, kpz = v.primary_kz, ksx = v.secondary_kx, ksy = v.secondary_ky;
+  double ksz = v.secondary_kz, hs = v.secondary_height, hc = v.carbody_cg_height, hf = v.frame_cg_height;
+  CHECK(M[YC * 17 + YC] == 38936 && M[PC * 17 + PC] == 9.61e5 && M[RC * 17 + RC] == 1.67e6 && M[PW3 * 17 + PW3] == 822, "mass diagonal");
+  /* secondary lateral: 4 air springs; yaw: 4 k_sx l2^2 + 4 k_sy L^2 */
+  CHECK_CLOSE(K_(YC, YC), 4 * ksy, 1e-12, 0, "K y_c y_c");
+  CHECK_CLOSE(K_(PC, PC), 4 * ksx * l2 * l2 + 4 * ksy * L * L, 1e-12, 0, "K psi_c psi_c");
+  /* carbody roll: air springs lateral (h_s - h_c)^2, vertical l2^2, anti-roll bars */
+  CHECK_CLOSE(K_(RC, RC), 4 * ksy * (hs - hc) * (hs - hc) + 4 * ksz * l2 * l2 + 2 * v.antiroll_stiffness, 1e-12, 0, "K phi_c phi_c");
+  CHECK_CLOSE(K_(YC, PF1), 0, 0, 1e-9, "K y_c psi_f1");
+  CHECK_CLOSE(K_(YC, YF1), -2 * ksy, 1e-12, 0, "K y_c y_f1");
+  CHECK_CLOSE(K_(PC, YF1), -2 * ksy * L, 1e-12, 0, "K psi_c y_f1");
+  /* frame: two wheelsets' primary lateral (4 boxes) + 2 air springs */
+  CHECK_CLOSE(K_(YF1, YF1), 4 * kpy + 2 * ksy, 1e-12, 0, "K y_f1 y_f1");
+  /* frame yaw: 4 boxes k_px l1^2 + lateral arm nodes at +-(b - l_b) + air springs k_sx l2^2 */
+  CHECK_CLOSE(K_(PF1, PF1), 4 * kpx * l1 * l1 + 4 * kpy * (b - lb) * (b - lb) + 2 * ksx * l2 * l2, 1e-12, 0, "K psi_f1 psi_f1");
+  /* frame roll: primary vertical l1^2, primary lateral (r0 - h_f)^2, air springs */
+  CHECK_CLOSE(K_(RF1, RF1), 4 * kpz * l1 * l1 + 4 * kpy * (r0 - hf) * (r0 - hf) + 2 * ksy * (hs - hf) * (hs - hf) +
+              2 * ksz * l2 * l2 + v.antiroll_stiffness, 1e-12, 0, "K phi_f1 phi_f1");
+  /* wheelset: primary + contact */
+  CHECK_CLOSE(K_(YW1, YW1), 2 * kpy, 1e-12, 0, "K y_w1 y_w1");
+  CHECK_CLOSE(K_(PW1, PW1), 2 * kpx * l1 * l1 + 2 * kpy * lb * lb, 1e-12, 0, "K psi_w1 psi_w1");
+  CHECK_CLOSE(K_(YW1, PW1), -2 * v.f22 - 2 * kpy * lb, 1e-12, 0, "K y_w1 psi_w1 (front: node behind)");
+  CHECK_CLOSE(K_(YW2, PW2), -2 * v.f22 + 2 * kpy * lb, 1e-12, 0, "K y_w2 psi_w2 (rear: node ahead)");
+  CHECK_CLOSE(K_(PW1, YW1), 2 * v.f11 * l0 * lam / r0 - 2 * kpy * lb, 1e-12, 0, "K psi_w1 y_w1");
+  CHECK_CLOSE(K_(YW1, RF1), 2 * kpy * (r0 - hf), 1e-12, 0, "K y_w1 phi_f1 (frame point below the frame cg)");
+  CHECK_CLOSE(K_(YW1, PF1), -2 * kpy * (b - lb), 1e-12, 0, "K y_w1 psi_f1");
+  CHECK_CLOSE(C_(YW3, YW3), 2 * v.f22 / V, 1e-12, 0, "C y_w3");
+  CHECK_CLOSE(C_(PW3, PW3), 2 * v.f11 * l0 * l0 / V, 1e-12, 0, "C psi_w3");
+  CHECK_CLOSE(C_(RF2, RF2), 4 * v.primary_cz * l1 * l1 + 2 * v.secondary_cz * l2 * l2, 1e-12, 0, "C phi_f2");
+  CHECK_CLOSE(C_(YC, YC), 0, 0, 1e-9, "C y_c (dampers are Maxwell)");
+  for (int i = 0; i < 4; i++)
+    for (int r = 0; r < 17; r++) {
+      double want = r == PW1 + 2 * i ? 2 * v.f11 * l0 * lam / r0 : 0;
+      CHECK_CLOSE(B[r * 4 + i], want, 1e-12, 0, "B");
+    }
+  for (int i = 0; i < 17; i++)
+    for (int j = 0; j < i; j++) {
+      if (i >= YW1 && j == i - 1 && (i - YW1) % 2 == 1) continue;   /* creep terms: not symmetric */
+      CHECK_CLOSE(K_(i, j) - K_(j, i), 0, 0, 1e-6, "suspension K symmetric");
+    }
+  /* Maxwell rows */
+  CHECK(rr_model_nmaxwell(m) == 6, "6 Maxwell elements");
+  rr_maxwell_info info;
+  rr_model_maxwell(m, 0, &info);   /* yaw damper bogie 1 left: e = -l_cx (psi_c - psi_f1) */
+  CHECK_CLOSE(info.J[PC], -v.yaw_half_spacing, 1e-12, 0, "yaw damper J psi_c");
+  CHECK_CLOSE(info.J[PF1], v.yaw_half_spacing, 1e-12, 0, "yaw damper J psi_f1");
+  CHECK(info.k == 10e6 && info.c == 4000e3, "yaw damper k, c");
+  rr_model_maxwell(m, 1, &info);
+  CHECK_CLOSE(info.J[PC], v.yaw_half_spacing, 1e-12, 0, "right yaw damper J psi_c");
+  rr_model_maxwell(m, 5, &info);   /* lateral damper bogie 2 */
+  CHECK_CLOSE(info.J[YC], 1, 1e-12, 0, "lateral damper J y_c");
+  CHECK_CLOSE(info.J[PC], -L, 1e-12, 0, "lateral damper J psi_c");
+  CHECK_CLOSE(info.J[RC], -(v.lateral_damper_height - hc), 1e-12, 0, "lateral damper J phi_c");
+  CHECK_CLOSE(info.J[YF2], -1, 1e-12, 0, "lateral damper J y_f2");
+  CHECK_CLOSE(info.J[RF2], v.lateral_damper_height - hf, 1e-12, 0, "lateral damper J phi_f2");
+  /* gravitational stiffness option */
+  rr_model_set_gravity_stiffness(m, 1);
+  double W = 9.81 * (v.carbody_mass + 2 * v.frame_mass + 4 * v.wheelset_mass) / 4;
+  CHECK_CLOSE(K_(YW2, YW2), 2 * kpy + W * lam / l0, 1e-12, 0, "gravity K y_w");
+  CHECK_CLOSE(K_(PW2, PW2), 2 * kpx * l1 * l1 + 2 * kpy * lb * lb - W * lam * l0, 1e-12, 0, "gravity K psi_w");
+  CHECK_CLOSE(B[YW2 * 4 + 1], W * lam / l0, 1e-12, 0, "gravity B y_w");
+  rr_model_free(m);
+}
+
+/* q(s) for a unit input on wheelset `in`, by the state space (sI - A)^-1 Bs
+ * and by the dynamic stiffness D(s)^-1 B: the Maxwell and SDF states must
+ * reproduce the frequency-domain element laws exactly. */
+static void test_two_routes(int sdf_mode)
+{
+  rr_vehicle v;
+  rr_vehicle_builtin("type2", &v, NULL);
+  v.sdf_mode = sdf_mode;
+  rr_model *m;
+  rr_error e;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  rr_model_set_operating(m, 300 / 3.6, 0.25, &e);
+  int n = 17, N = rr_model_state_size(m);
+  CHECK(N == (sdf_mode == RR_SDF_PHYSICAL ? 44 : 40), "state size %d", N);
+  double *A = malloc(sizeof(double) * N * N), *Bs = malloc(sizeof(double) * N * 4);
+  double complex *G = malloc(sizeof(double complex) * N * N), *x = malloc(sizeof(double complex) * N);
+  double complex *D = malloc(sizeof(double complex) * n * n), *y = malloc(sizeof(double complex) * n);
+  lapack_int *ipiv = malloc(sizeof(lapack_int) * N);
+  rr_model_state_matrix(m, 0, A, &e);
+  rr_model_state_input(m, Bs, &e);
+  const double *B = rr_model_B(m);
+  double freqs[3] = {0.7, 2.9, 11.0};
+  for (int fi = 0; fi < 3; fi++) {
+    double complex s = I * 2 * M_PI * freqs[fi];
+    for (int i = 0; i < N; i++)
+      for (int j = 0; j < N; j++) G[i * N + j] = (i == j ? s : 0) - A[i * N + j];
+    for (int i = 0; i < N; i++) x[i] = Bs[i * 4 + 2];
+    LAPACKE_zgesv(LAPACK_ROW_MAJOR, N, 1, G, N, ipiv, x, 1);
+    rr_model_dynamic_stiffness(m, s, 0, D);
+    for (int i = 0; i < n; i++) y[i] = B[i * 4 + 2];
+    LAPACKE_zgesv(LAPACK_ROW_MAJOR, n, 1, D, n, ipiv, y, 1);
+    double big = 0, diff = 0;
+    for (int i = 0; i < n; i++) { big = fmax(big, cabs(y[i])); diff = fmax(diff, cabs(x[i] - y[i])); }
+    CHECK(diff <= 1e-9 * big, "state space vs dynamic stiffness at %g Hz (sdf %d): rel diff %.3g", freqs[fi], sdf_mode, diff / big);
+  }
+  free(A); free(Bs); free(G); free(x); free(D); free(y); free(ipiv);
+  rr_model_free(m);
+}
+
+static void test_fast_vs_full(void)
+{
+  const char *veh[3] = {"type1", "type2", "type2"};
+  int modes[3] = {RR_SDF_NONE, RR_SDF_NONE, RR_SDF_PHYSICAL};
+  int count = 0, bad = 0;
+  for (int k = 0; k < 3; k++) {
+    rr_vehicle v;
+    rr_vehicle_builtin(veh[k], &v, NULL);
+    v.sdf_mode = modes[k];
+    rr_model *m;
+    rr_error e;
+    rr_model_from_vehicle(&v, &m, &e);
+    rr_modal_ws *ws;
+    rr_modal_result r;
+    rr_modal_ws_new(m, &ws, &e);
+    rr_modal_result_alloc(m, &r, &e);
+    rr_modal_opts o = rr_modal_opts_default();
+    for (double sp = 100; sp <= 500; sp += 50)
+      for (double lam = 0.02; lam <= 0.6; lam += 0.07) {
+        rr_model_set_operating(m, sp / 3.6, lam, &e);
+        double z;
+        rr_modal_stability_index(m, &o, ws, &z, &e);
+        rr_modal_solve(m, &o, ws, &r, &e);
+        count++;
+        if (fabs(z - r.stability_index) > 1e-10) {
+          bad++;
+          fprintf(stderr, "  %s sdf %d v %g lam %g: fast %.12g full %.12g\n", veh[k], modes[k], sp, lam, z, r.stability_index);
+        }
+        double sum = r.modes[0].energy[0] + r.modes[0].energy[1] + r.modes[0].energy[2];
+        CHECK_CLOSE(sum, 1, 1e-12, 0, "energy shares sum to 1");
+      }
+    rr_modal_result_free(&r);
+    rr_modal_ws_free(ws);
+    rr_model_free(m);
+  }
+  CHECK(bad == 0, "fast index differs from the full solve at %d of %d points", bad, count);
+}
+
+/* The carbody roll mode of MODEL.md section 5: lightly damped, wheelsets still. */
+static void test_roll_mode_excluded(void)
+{
+  rr_model *m;
+  rr_error e;
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  rr_model_from_vehicle(&v, &m, &e);
+  rr_model_set_operating(m, 350 / 3.6, 0.17, &e);
+  rr_modal_ws *ws;
+  rr_modal_result r;
+  rr_modal_ws_new(m, &ws, &e);
+  rr_modal_result_alloc(m, &r, &e);
+  rr_modal_solve(m, NULL, ws, &r, &e);
+  const rr_mode *md = &r.modes[0];
+  CHECK(fabs(md->freq_hz - 0.23) < 0.01 && fabs(md->zeta + 0.008) < 0.001, "roll mode %g Hz zeta %g", md->freq_hz, md->zeta);
+  CHECK(md->energy[RR_GROUP_WHEELSET] < 1e-6 && !md->in_index, "roll mode is not hunting-related");
+  rr_modal_opts all = {10, 0};
+  rr_modal_solve(m, &all, ws, &r, &e);
+  CHECK_CLOSE(r.stability_index, md->zeta, 1e-12, 0, "w_min = 0 counts every mode");
+  rr_modal_result_free(&r);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+}
+
+/* Paper mode: each self-consistent mode has k = k_sdf(f) and is an
+ * eigenvalue of the constant-k model at that k. */
+static void test_paper_roots(void)
+{
+  rr_vehicle v;
+  rr_vehicle_builtin("type2", &v, NULL);
+  v.sdf_mode = RR_SDF_PAPER;
+  rr_model *m;
+  rr_error e;
+  rr_model_from_vehicle(&v, &m, &e);
+  rr_model_set_operating(m, 350 / 3.6, 0.3, &e);
+  rr_modal_ws *ws;
+  rr_modal_result r;
+  rr_modal_ws_new(m, &ws, &e);
+  rr_modal_result_alloc(m, &r, &e);
+  CHECK_OK(rr_modal_solve(m, NULL, ws, &r, &e), e);
+  int nsc = 0;
+  double complex *D = malloc(sizeof(double complex) * 17 * 17);
+  for (int i = 0; i < r.n; i++) {
+    const rr_mode *md = &r.modes[i];
+    if (!md->oscillatory || !md->self_consistent) continue;
+    nsc++;
+    double ks = rr_sdf_storage(&v.sdf, md->freq_hz);
+    CHECK(fabs(md->sdf_k - ks) <= 2e-9 * (v.sdf.k2 + v.sdf.k3) + 1e-6 * fabs(ks) * 0, "root: k %.10g vs k_sdf(f) %.10g", md->sdf_k, ks);
+    /* D(lambda) with series stiffness k is singular: smallest pivot relative to the largest */
+    rr_model_dynamic_stiffness(m, md->re + I * md->im, md->sdf_k, D);
+    lapack_int ipiv[17];
+    LAPACKE_zgetrf(LAPACK_ROW_MAJOR, 17, 17, D, 17, ipiv);
+    double mn = INFINITY, mx = 0;
+    for (int k = 0; k < 17; k++) { mn = fmin(mn, cabs(D[k * 17 + k])); mx = fmax(mx, cabs(D[k * 17 + k])); }
+    CHECK(mn < 1e-8 * mx, "mode %.4f Hz: D(lambda) not singular (%.3g)", md->freq_hz, mn / mx);
+  }
+  CHECK(nsc >= 8, "self-consistent modes found: %d", nsc);
+  CHECK(r.stability_index < 0 && r.index_mode >= 0, "paper-mode index %g", r.stability_index);
+  free(D);
+  rr_modal_result_free(&r);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+}
+
+int main(void)
+{
+  test_entries();
+  test_two_routes(RR_SDF_NONE);
+  test_two_routes(RR_SDF_PHYSICAL);
+  test_fast_vs_full();
+  test_roll_mode_excluded();
+  test_paper_roots();
+  return check_done("model");
+}

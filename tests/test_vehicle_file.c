@@ -1,0 +1,155 @@
+#define _POSIX_C_SOURCE 200809L
+/* Vehicle files and units: the shipped examples equal the built-ins, base
+ * inheritance, and every kind of bad input names file, line and key. */
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "check.h"
+#include "railride/railride.h"
+
+static char dir[256];
+
+static const char *write_file(const char *name, const char *text)
+{
+  static char path[512];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *fp = fopen(path, "w");
+  fputs(text, fp);
+  fclose(fp);
+  return path;
+}
+
+static void test_units(void)
+{
+  rr_units *u;
+  rr_error e;
+  CHECK_OK(rr_units_new(&u, &e), e);
+  double x;
+  struct { const char *text, *unit; double want; } ok[] = {
+    {"50 kN/mm", "N/m", 50e6}, {"4000 kN.s/m", "N.s/m", 4e6}, {"1.67e6 kg.m2", "kg.m2", 1.67e6},
+    {"350 km/h", "m/s", 350 / 3.6}, {"4.15 MN.m/rad", "N.m/rad", 4.15e6}, {"1.5 Hz", "Hz", 1.5},
+    {"  12.5  ", "m", 12.5}, {"2.2 m", "m", 2.2}, {"97 m/s", "km/h", 97 * 3.6}, {"10 MN/m", "N/m", 1e7},
+  };
+  for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
+    int st = rr_units_parse(u, ok[i].text, ok[i].unit, 0, &x, "v", &e);
+    CHECK_OK(st, e);
+    CHECK_CLOSE(x, ok[i].want, 1e-12, 0, ok[i].text);
+  }
+  CHECK(rr_units_parse(u, "5 kg", "N/m", 0, &x, "k", &e) == RR_EUNIT, "wrong dimension accepted");
+  CHECK(strstr(e.msg, "kg") != NULL, "message names the unit: %s", e.msg);
+  CHECK(rr_units_parse(u, "5 furlongz", "m", 0, &x, "k", &e) == RR_EUNIT, "unknown unit accepted");
+  CHECK(rr_units_parse(u, "nan", "m", 0, &x, "k", &e) == RR_EINVAL, "NaN accepted");
+  CHECK(rr_units_parse(u, "inf", "m", 0, &x, "k", &e) == RR_EINVAL, "inf accepted");
+  CHECK(rr_units_parse(u, "inf", "N/m", 1, &x, "k", &e) == RR_OK && isinf(x), "inf refused where allowed");
+  CHECK(rr_units_parse(u, "abc", "m", 0, &x, "k", &e) == RR_EINVAL, "text accepted");
+  CHECK(rr_units_parse(u, "", "m", 0, &x, "k", &e) == RR_EINVAL, "empty accepted");
+  rr_units_free(u);
+  /* without a context, bare numbers need no database */
+  CHECK(rr_units_parse(NULL, "3", "m", 0, &x, "k", &e) == RR_OK && x == 3, "bare number without context");
+  CHECK(rr_units_parse(NULL, "3 mm", "m", 0, &x, "k", &e) == RR_OK && fabs(x - 3e-3) < 1e-15, "unit without context");
+}
+
+static int same_vehicle(const rr_vehicle *a, const rr_vehicle *b)
+{
+  int n;
+  const rr_vehicle_key *k = rr_vehicle_keys(&n);
+  rr_vehicle x = *a, y = *b;
+  for (int i = 0; i < n; i++) {
+    double *p = rr_vehicle_field(&x, &k[i]), *q = rr_vehicle_field(&y, &k[i]);
+    if (p && fabs(*p - *q) > 1e-12 * fabs(*q)) {
+      fprintf(stderr, "  differs: [%s] %s %.17g vs %.17g\n", k[i].section, k[i].key, *p, *q);
+      return 0;
+    }
+  }
+  return a->sdf_mode == b->sdf_mode && a->gravity_stiffness == b->gravity_stiffness && a->sdf.kind == b->sdf.kind;
+}
+
+static void test_examples(void)
+{
+  rr_vehicle f, bi;
+  rr_error e;
+  const char *src = getenv("RR_SOURCE_DIR");
+  char path[512];
+  const char *names[2] = {"type1", "type2"};
+  for (int i = 0; i < 2; i++) {
+    snprintf(path, sizeof path, "%s/examples/%s.ini", src ? src : "..", names[i]);
+    CHECK_OK(rr_vehicle_load(path, &f, &e), e);
+    rr_vehicle_builtin(names[i], &bi, &e);
+    CHECK(same_vehicle(&f, &bi), "%s.ini differs from the built-in", names[i]);
+  }
+  rr_vehicle_builtin("type2", &bi, &e);
+  CHECK(bi.lateral_damping == 15e3 && bi.yaw_damping == 660e3 && bi.sdf.k3 == 2e6 && bi.sdf.k2 == 10e6, "type2 values");
+  snprintf(path, sizeof path, "%s/examples/type2-sdf-physical.ini", src ? src : "..");
+  CHECK_OK(rr_vehicle_load(path, &f, &e), e);
+  CHECK(f.sdf_mode == RR_SDF_PHYSICAL && f.sdf.kind == RR_CURVE_SLS && f.sdf.k3 == 2e6, "inherited curve");
+  snprintf(path, sizeof path, "%s/examples/type2-sdf-table.ini", src ? src : "..");
+  CHECK_OK(rr_vehicle_load(path, &f, &e), e);
+  CHECK(f.sdf.kind == RR_CURVE_TABLE && f.sdf.n == 6 && f.sdf.has_loss, "table curve");
+  CHECK_CLOSE(rr_sdf_storage(&f.sdf, sqrt(1.0 * 1.5)), 0.5 * (4.8e6 + 7.0e6), 1e-12, 0, "log-f interpolation midpoint");
+  CHECK(rr_sdf_storage(&f.sdf, 0.01) == 2.0e6 && rr_sdf_storage(&f.sdf, 100) == 11.8e6, "held constant outside");
+}
+
+/* Expects status st and a message containing every needle. */
+static void expect_error(const char *text, int st, const char *n1, const char *n2, const char *n3)
+{
+  const char *p = write_file("bad.ini", text);
+  rr_vehicle v;
+  rr_error e = {0, ""};
+  int got = rr_vehicle_load(p, &v, &e);
+  CHECK(got == st, "status %d (want %d) for: %s -> %s", got, st, text, e.msg);
+  const char *needles[3] = {n1, n2, n3};
+  for (int i = 0; i < 3; i++)
+    if (needles[i]) CHECK(strstr(e.msg, needles[i]) != NULL, "message '%s' lacks '%s'", e.msg, needles[i]);
+  CHECK(strchr(e.msg, '\n') == NULL, "message is one line: %s", e.msg);
+}
+
+static void test_errors(void)
+{
+  const char *B = "[vehicle]\nbase = type1\n";
+  char buf[1024];
+#define BAD(extra, st, a, b, c) do { snprintf(buf, sizeof buf, "%s%s", B, extra); expect_error(buf, st, a, b, c); } while (0)
+  BAD("[primary]\nlateral_stifness = 5 kN/mm\n", RR_EPARSE, "bad.ini:4:", "lateral_stifness", "unknown key");
+  BAD("[bogie]\nmass = 5\n", RR_EPARSE, "bad.ini:4:", "[bogie]", "unknown section");
+  BAD("[primary]\nlateral_stiffness = 5 kg\n", RR_EUNIT, "bad.ini:4:", "lateral_stiffness", "kg");
+  BAD("[carbody]\nmass = nan\n", RR_EINVAL, "bad.ini:4:", "mass", "NaN");
+  BAD("[carbody]\n\nmass = -5 kg\n", RR_EINVAL, "bad.ini:5:", "mass", "> 0");
+  BAD("[primary]\nvertical_damping = -1\n", RR_EINVAL, "bad.ini:4:", "vertical_damping", ">= 0");
+  BAD("[yaw_damper]\nseries_stiffness = 0\n", RR_EINVAL, "bad.ini:4:", "series_stiffness", "> 0");
+  BAD("[wheelset]\nrolling_radius = 0.46 x\n", RR_EUNIT, "bad.ini:4:", "rolling_radius", NULL);
+  BAD("[wheelset]\nrolling_radius = abc\n", RR_EINVAL, "bad.ini:4:", "rolling_radius", "not a number");
+  BAD("[carbody]\nmass = 1\nmass = 2\n", RR_EPARSE, "bad.ini:5:", "mass", "twice");
+  BAD("[yaw_damper]\nsdf = maybe\n", RR_EINVAL, "bad.ini:4:", "sdf", NULL);
+  BAD("[yaw_damper]\nsdf_k1 = 2 Hz\n", RR_EPARSE, "bad.ini", "sdf_k2", "together");
+  BAD("[yaw_damper]\nsdf_table = nowhere.csv\n", RR_EIO, "bad.ini:4:", "sdf_table", "nowhere.csv");
+  BAD("[contact]\ngravity_stiffness = perhaps\n", RR_EINVAL, "bad.ini:4:", "gravity_stiffness", NULL);
+  BAD("[carbody\nmass = 1\n", RR_EPARSE, "bad.ini:3:", "malformed", NULL);
+  BAD("just words\n", RR_EPARSE, "bad.ini:3:", "malformed", NULL);
+  expect_error("[carbody]\nmass = 1 kg\n", RR_EPARSE, "bad.ini", "missing required key", "roll_inertia");
+  expect_error("[vehicle]\nbase = bad.ini\n", RR_EPARSE, "bad.ini", "base chain", NULL);
+  expect_error("[vehicle]\nbase = nosuchbase.ini\n", RR_EIO, "nosuchbase.ini", NULL, NULL);
+  rr_vehicle v;
+  rr_error e;
+  CHECK(rr_vehicle_load("/nonexistent/x.ini", &v, &e) == RR_EIO && strstr(e.msg, "/nonexistent/x.ini"), "missing file: %s", e.msg);
+  /* a curve given in a file replaces the inherited one as a whole */
+  const char *p = write_file("curve.ini", "[vehicle]\nbase = type1\n[yaw_damper]\nsdf = physical\nsdf_k1 = 2 Hz\nsdf_k2 = 1 MN/m\nsdf_k3 = 3 MN/m\n");
+  CHECK_OK(rr_vehicle_load(p, &v, &e), e);
+  CHECK(v.sdf.k1_hz == 2 && v.sdf.k2 == 1e6 && v.sdf.k3 == 3e6 && v.sdf_mode == RR_SDF_PHYSICAL, "curve override");
+  /* a chain of bases: file -> file -> built-in */
+  write_file("mid.ini", "[vehicle]\nbase = type2\n[carbody]\nmass = 40 t\n");
+  p = write_file("top.ini", "[vehicle]\nname = top\nbase = mid.ini\n[primary]\nlongitudinal_stiffness = 20 kN/mm\n");
+  CHECK_OK(rr_vehicle_load(p, &v, &e), e);
+  CHECK(v.carbody_mass == 40000 && v.primary_kx == 20e6 && v.yaw_damping == 660e3 && !strcmp(v.name, "top"), "base chain values");
+}
+
+int main(void)
+{
+  snprintf(dir, sizeof dir, "/tmp/rr_test_vf_XXXXXX");
+  if (!mkdtemp(dir)) return 1;
+  test_units();
+  test_examples();
+  test_errors();
+  char cmd[300];
+  snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+  if (system(cmd)) {}
+  return check_done("vehicle_file");
+}
