@@ -31,4 +31,11 @@ struct rr_model {
   rr_sdf_curve curve;
 };
 
+/* State matrix with mirror-image Maxwell pairs merged (same k, c, SDF flag,
+ * J equal up to sign): one element with 2k, 2c (2 K2, 2 K3 in physical SDF
+ * mode) carries the pair's force exactly; the dropped combination of strokes is
+ * decoupled with real eigenvalues. Same oscillatory eigenvalues, fewer states.
+ * A must hold the full state size squared; *N receives the reduced size. */
+int rr_state_matrix_merged(const rr_model *m, double *A, int *N, rr_error *err);
+
 #endif
