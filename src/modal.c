@@ -297,7 +297,7 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
   }
   /* Eigenvalues only, of the merged state matrix, without balancing: the
      fast path (tests hold it to the full dgeev solve to 1e-10). */
-  int N, st = rr_state_matrix_merged(m, ws->A, &N, err);
+  int N, st = rr_state_matrix_merged(m, 0, ws->A, &N, err);
   if (st) return st;
   for (int i = 0; i < N; i++)
     for (int j = 0; j < N; j++) ws->At[j * N + i] = ws->A[i * N + j];

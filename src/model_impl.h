@@ -25,6 +25,8 @@ struct rr_model {
   char dof_name[RR_SYS_MAX_DOF][32];
   rr_mx mx[2 * RR_SYS_MAX_BODIES];
   rr_contact contacts[RR_SYS_MAX_INPUTS];
+  rr_body bodies[RR_SYS_MAX_BODIES];
+  int nbodies;
   double speed, conicity;
   int gravity;
   int sdf_mode;
@@ -36,6 +38,10 @@ struct rr_model {
  * mode) carries the pair's force exactly; the dropped combination of strokes is
  * decoupled with real eigenvalues. Same oscillatory eigenvalues, fewer states.
  * A must hold the full state size squared; *N receives the reduced size. */
-int rr_state_matrix_merged(const rr_model *m, double *A, int *N, rr_error *err);
+int rr_state_matrix_merged(const rr_model *m, double sdf_k, double *A, int *N, rr_error *err);
+
+/* The merged Maxwell elements: for each state slot, the element index and its
+ * multiplier (2 for a merged mirror pair). Returns the count. */
+int rr_merged_elements(const rr_model *m, int *elem, double *mult);
 
 #endif

@@ -99,29 +99,37 @@ static int mirror(const rr_mx *a, const rr_mx *b, int n)
   return same || opp;
 }
 
-int rr_state_matrix_merged(const rr_model *m, double *A, int *Nout, rr_error *err)
+int rr_merged_elements(const rr_model *m, int *elem, double *mult)
 {
-  int n = m->n, phys = m->sdf_mode == RR_SDF_PHYSICAL;
-  if (phys && m->curve.kind == RR_CURVE_TABLE)
-    return rr_seterr(err, RR_EUNSUP, "a tabulated SDF curve has no state-space form: use paper mode for modal analysis");
-  int partner[2 * RR_SYS_MAX_BODIES];
-  int nkeep = 0, ninner = 0;
+  int partner[2 * RR_SYS_MAX_BODIES], nkeep = 0;
   for (int e = 0; e < m->nmx; e++) partner[e] = -2;
   for (int e = 0; e < m->nmx; e++) {
     if (partner[e] != -2) continue;
     partner[e] = -1;
     for (int f = e + 1; f < m->nmx; f++)
-      if (partner[f] == -2 && mirror(&m->mx[e], &m->mx[f], n)) { partner[e] = f; partner[f] = e; break; }
+      if (partner[f] == -2 && mirror(&m->mx[e], &m->mx[f], m->n)) { partner[e] = f; partner[f] = e; break; }
+    elem[nkeep] = e;
+    mult[nkeep] = partner[e] >= 0 ? 2.0 : 1.0;
     nkeep++;
-    ninner += phys && m->mx[e].sdf;
   }
+  return nkeep;
+}
+
+int rr_state_matrix_merged(const rr_model *m, double sdf_k, double *A, int *Nout, rr_error *err)
+{
+  int n = m->n, phys = m->sdf_mode == RR_SDF_PHYSICAL;
+  if (phys && m->curve.kind == RR_CURVE_TABLE)
+    return rr_seterr(err, RR_EUNSUP, "a tabulated SDF curve has no state-space form: use paper mode for modal analysis");
+  int elem[2 * RR_SYS_MAX_BODIES];
+  double mult[2 * RR_SYS_MAX_BODIES];
+  int nkeep = rr_merged_elements(m, elem, mult), ninner = 0;
+  for (int i = 0; i < nkeep; i++) ninner += phys && m->mx[elem[i]].sdf;
   int N = 2 * n + nkeep + ninner;
   fill_mechanical(m, A, N);
-  int u = 2 * n, inner = 2 * n + nkeep;
-  for (int e = 0; e < m->nmx; e++) {
-    if (partner[e] >= 0 && partner[e] < e) continue;   /* merged into its partner */
-    const rr_mx *x = &m->mx[e];
-    fill_maxwell(m, x, partner[e] >= 0 ? 2.0 : 1.0, 0, u++, phys && x->sdf ? inner++ : -1, A, N);
+  int inner = 2 * n + nkeep;
+  for (int i = 0; i < nkeep; i++) {
+    const rr_mx *x = &m->mx[elem[i]];
+    fill_maxwell(m, x, mult[i], sdf_k, 2 * n + i, phys && x->sdf ? inner++ : -1, A, N);
   }
   *Nout = N;
   return RR_OK;

@@ -47,6 +47,12 @@ const double *rr_model_C(const rr_model *m);             /* n x n, contact inclu
 const double *rr_model_K(const rr_model *m);             /* n x n, contact included */
 const double *rr_model_B(const rr_model *m);             /* n x ninputs */
 
+/* Displacement row (length ndof) of a point (absolute x, y, z) fixed to the
+ * named body, along dir (enum rr_direction): u = row . q. The vehicle's
+ * bodies are "c", "f1", "f2", "w1".."w4". */
+int rr_model_point_row(const rr_model *m, const char *body, const double point[3], int dir,
+                       double *row, rr_error *err);
+
 /* Maxwell elements (c in series with finite k), in state order. */
 int rr_model_nmaxwell(const rr_model *m);
 typedef struct rr_maxwell_info {

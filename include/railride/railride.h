@@ -10,4 +10,7 @@
 #include "railride/model.h"
 #include "railride/modal.h"
 #include "railride/damper.h"
+#include "railride/spectrum.h"
+#include "railride/pem.h"
+#include "railride/comfort.h"
 #endif

@@ -1,0 +1,41 @@
+/* railride: ride indices from a one-sided acceleration PSD (MODEL.md 8).
+ * G in (m/s^2)^2/Hz on the grid f (Hz, increasing); integrals by the
+ * trapezoid rule over the grid. Each index names its method. */
+#ifndef RAILRIDE_COMFORT_H
+#define RAILRIDE_COMFORT_H
+
+#include <complex.h>
+#include "railride/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum rr_axis { RR_AXIS_LATERAL = 0, RR_AXIS_VERTICAL = 1 };
+enum rr_iso_weighting { RR_ISO_WB = 0, RR_ISO_WC = 1, RR_ISO_WD = 2, RR_ISO_WK = 3 };
+
+/* Sperling weighting filter |B(f)|: B_s vertical, 1.25 B_s lateral. */
+double rr_sperling_filter(double f_hz, int axis);
+/* GB/T 5599 frequency correction factor F(f). */
+double rr_sperling_gb_factor(double f_hz, int axis);
+/* ISO 8041 frequency weighting H(j 2 pi f), band limits included. */
+double complex rr_iso8041_weight(int weighting, double f_hz);
+
+/* RMS sqrt(integral G df) (m/s^2). */
+double rr_psd_rms(const double *f, const double *G, int n, int stride);
+/* Sperling by the weighting filter: Wz = 4.42 a_w^0.3, a_w^2 = integral |B|^2 G df. */
+int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis, double *Wz, rr_error *err);
+/* Sperling by the GB/T 5599 line method: 0.2 Hz bands from 0.5 Hz lying
+ * wholly inside the grid, A_i = sqrt(2 G(f_i) df), W = 3.57 (sum A^3 F/f)^0.1. */
+int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis, double *W, rr_error *err);
+/* ISO 2631-1 / EN 12299 frequency-weighted RMS (m/s^2). */
+int rr_weighted_rms(const double *f, const double *G, int n, int stride, int weighting, double *aw, rr_error *err);
+/* EN 12299 mean-comfort figure from one axis' Wd RMS: N = 6 a_wd (the 95th
+ * percentile of 5 s RMS values of a stationary Gaussian process is taken as
+ * its RMS: this model has no 5 s scatter). */
+double rr_en12299_comfort(double awd);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

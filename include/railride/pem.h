@@ -1,0 +1,65 @@
+/* railride: frequency response and the pseudo-excitation method (MODEL.md 6).
+ * Plan/execute: a plan fixes the frequency grid and the output points and owns
+ * all workspace; executing it on a model (after any change of design, speed or
+ * conicity) fills the complex FRFs without allocating; a spectrum then turns
+ * them into PSDs at the cost of one multiply per frequency. */
+#ifndef RAILRIDE_PEM_H
+#define RAILRIDE_PEM_H
+
+#include <complex.h>
+#include "railride/model.h"
+#include "railride/spectrum.h"
+#include "railride/vehicle.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum rr_frf_method {
+  RR_FRF_MODAL = 0,   /* modal expansion of the state-space part + SMW for the
+                         SDF elements without a state-space form (default) */
+  RR_FRF_DIRECT = 1   /* one dense n x n complex solve of D(jw) per frequency */
+};
+
+typedef struct rr_frf_opts {
+  int nfreq;               /* number of frequencies (default 400) */
+  const double *freqs_hz;  /* explicit grid, or NULL for log-spaced f_lo..f_hi */
+  double f_lo_hz, f_hi_hz; /* default 0.3, 30 */
+  int npoints;             /* output points */
+  const double *rows;      /* npoints x ndof: displacement rows; output = -w^2 rows.q + rows0.q */
+  const double *rows0;     /* npoints x ndof or NULL: rows taken without -w^2 (roll gravity) */
+  int method;              /* enum rr_frf_method */
+} rr_frf_opts;
+
+typedef struct rr_frf_plan rr_frf_plan;
+
+/* Sizes a plan for the model's DOF, input and state counts. */
+int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, rr_error *err);
+void rr_frf_plan_free(rr_frf_plan *p);
+/* Computes the FRFs for the model as it is now. Allocation-free. */
+int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err);
+int rr_frf_nfreq(const rr_frf_plan *p);
+int rr_frf_npoints(const rr_frf_plan *p);
+int rr_frf_ninputs(const rr_frf_plan *p);
+const double *rr_frf_freqs(const rr_frf_plan *p);
+/* H[(f * npoints + p) * ninputs + i]: output p (m/s^2 for acceleration rows) per
+ * unit track alignment (m) at input i, harmonic at frequency f, no time lag. */
+const double complex *rr_frf_H(const rr_frf_plan *p);
+
+/* PEM: one-sided output PSDs G[f * npoints + p] ((m/s^2)^2/Hz) for a track
+ * spectrum at the model's speed: pseudo-excitation sqrt(G_t(f)) exp(jw x_i/v)
+ * at each input, G_t(f) = G_s(f/v)/v. */
+int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G, rr_error *err);
+/* One PEM term: Gt |sum_i H_i exp(j w x_i / v)|^2. */
+double rr_pem_combine(const double complex *H, const double *x, int ninputs, double w, double v, double Gt);
+
+/* Vehicle floor points: lateral displacement rows of (x_p, 0, h_p) on the
+ * carbody; with roll_gravity, rows0 = g at phi_c (the accelerometer senses
+ * a_y + g phi_c). rows, rows0: npoints x ndof. */
+int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int npoints,
+                          double h_p, int roll_gravity, double *rows, double *rows0, rr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

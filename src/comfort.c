@@ -1,0 +1,137 @@
+/* Ride indices from the acceleration PSD (MODEL.md section 8). */
+#include <math.h>
+#include "railride/comfort.h"
+#include "internal.h"
+
+double rr_sperling_filter(double f, int axis)
+{
+  double f2 = f * f;
+  double num = 1.911 * f2 + (0.25 * f2) * (0.25 * f2);
+  double a = 1 - 0.277 * f2, b = 1.563 * f - 0.0368 * f2 * f;
+  double Bs = 0.588 * sqrt(num / (a * a + b * b));
+  return axis == RR_AXIS_LATERAL ? 1.25 * Bs : Bs;
+}
+
+double rr_sperling_gb_factor(double f, int axis)
+{
+  if (axis == RR_AXIS_LATERAL) {   /* at a breakpoint the lower range's formula applies */
+    if (f <= 5.4) return 0.8 * f * f;
+    if (f <= 26) return 650 / (f * f);
+    return 1;
+  }
+  if (f <= 5.9) return 0.325 * f * f;
+  if (f <= 20) return 400 / (f * f);
+  return 1;
+}
+
+/* ISO 8041 parameters: f1, f2, f3, f4, Q4, f5, Q5, f6, Q6, K (f5 = 0: no step). */
+static const double iso[4][10] = {
+  {0.4, 100, 16, 16, 0.55, 2.5, 0.9, 4, 0.95, 1.024},   /* Wb */
+  {0.4, 100, 8, 8, 0.63, 0, 0, 0, 0, 1},                /* Wc */
+  {0.4, 100, 2, 2, 0.63, 0, 0, 0, 0, 1},                /* Wd */
+  {0.4, 100, 12.5, 12.5, 0.63, 2.37, 0.91, 3.35, 0.91, 1}, /* Wk */
+};
+
+double complex rr_iso8041_weight(int wt, double f)
+{
+  const double *P = iso[wt];
+  double complex s = I * 2 * RR_PI * f;
+  double w1 = 2 * RR_PI * P[0], w2 = 2 * RR_PI * P[1], w3 = 2 * RR_PI * P[2], w4 = 2 * RR_PI * P[3];
+  const double Q = 1 / sqrt(2.0);
+  double complex Hh = s * s / (s * s + w1 * s / Q + w1 * w1);
+  double complex Hl = w2 * w2 / (s * s + w2 * s / Q + w2 * w2);
+  double complex Ht = P[9] * (1 + s / w3) / (1 + s / (P[4] * w4) + s * s / (w4 * w4));
+  double complex Hs = 1;
+  if (P[5] > 0) {
+    double w5 = 2 * RR_PI * P[5], w6 = 2 * RR_PI * P[7];
+    Hs = (w5 / w6) * (w5 / w6) * (1 + s / (P[6] * w5) + s * s / (w5 * w5)) / (1 + s / (P[8] * w6) + s * s / (w6 * w6));
+  }
+  return Hh * Hl * Ht * Hs;
+}
+
+static int check_grid(const double *f, int n, rr_error *err)
+{
+  if (n < 2) return rr_seterr(err, RR_EINVAL, "comfort: need at least two frequencies");
+  for (int i = 1; i < n; i++)
+    if (!(f[i] > f[i - 1])) return rr_seterr(err, RR_EINVAL, "comfort: frequencies must increase");
+  return RR_OK;
+}
+
+/* trapezoid of g(f) G(f) */
+static double trapz_weighted(const double *f, const double *G, int n, int stride, double (*g)(double, int), int arg)
+{
+  double s = 0;
+  for (int i = 0; i + 1 < n; i++) {
+    double a = G[i * stride] * (g ? g(f[i], arg) : 1), b = G[(i + 1) * stride] * (g ? g(f[i + 1], arg) : 1);
+    s += 0.5 * (a + b) * (f[i + 1] - f[i]);
+  }
+  return s;
+}
+
+double rr_psd_rms(const double *f, const double *G, int n, int stride)
+{
+  return sqrt(trapz_weighted(f, G, n, stride, NULL, 0));
+}
+
+static double sperling2(double f, int axis)
+{
+  double b = rr_sperling_filter(f, axis);
+  return b * b;
+}
+
+int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis, double *Wz, rr_error *err)
+{
+  int st = check_grid(f, n, err);
+  if (st) return st;
+  double aw = sqrt(trapz_weighted(f, G, n, stride, sperling2, axis));
+  *Wz = 4.42 * pow(aw, 0.3);
+  return RR_OK;
+}
+
+static double interp(const double *f, const double *G, int n, int stride, double x)
+{
+  int lo = 0, hi = n - 1;
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (f[mid] <= x) lo = mid; else hi = mid;
+  }
+  double t = (x - f[lo]) / (f[hi] - f[lo]);
+  return G[lo * stride] + t * (G[hi * stride] - G[lo * stride]);
+}
+
+int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis, double *W, rr_error *err)
+{
+  int st = check_grid(f, n, err);
+  if (st) return st;
+  const double df = 0.2;
+  double sum = 0;
+  int bands = 0;
+  for (int k = 0;; k++) {
+    double lo = 0.5 + df * k, hi = lo + df, fc = lo + 0.5 * df;
+    if (hi > f[n - 1] * (1 + 1e-12)) break;
+    if (lo < f[0] * (1 - 1e-12)) continue;
+    double A = sqrt(2 * interp(f, G, n, stride, fc) * df);
+    sum += A * A * A * rr_sperling_gb_factor(fc, axis) / fc;
+    bands++;
+  }
+  if (!bands) return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz", f[0], f[n - 1]);
+  *W = 3.57 * pow(sum, 0.1);
+  return RR_OK;
+}
+
+static double iso2(double f, int wt)
+{
+  double complex h = rr_iso8041_weight(wt, f);
+  return creal(h * conj(h));
+}
+
+int rr_weighted_rms(const double *f, const double *G, int n, int stride, int wt, double *aw, rr_error *err)
+{
+  if (wt < RR_ISO_WB || wt > RR_ISO_WK) return rr_seterr(err, RR_EINVAL, "comfort: unknown ISO weighting");
+  int st = check_grid(f, n, err);
+  if (st) return st;
+  *aw = sqrt(trapz_weighted(f, G, n, stride, iso2, wt));
+  return RR_OK;
+}
+
+double rr_en12299_comfort(double awd) { return 6 * awd; }

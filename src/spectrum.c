@@ -1,0 +1,321 @@
+/* Track irregularity spectra: file format, evaluation, RMS. */
+#include <ctype.h>
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "railride/spectrum.h"
+#include "railride/vehicle.h"
+#include "internal.h"
+
+#ifndef RR_SPECTRA_DIR
+#define RR_SPECTRA_DIR "/usr/local/share/railride/spectra"
+#endif
+
+typedef struct sp_ctx {
+  const char *path;
+  FILE *fp;
+  int line;
+  rr_spectrum *sp;
+  rr_error *err;
+  int status;
+  int have_form, have_freq, have_psd, have_sided;
+  double valid[2];
+  int have_valid;
+  double psd_scale;
+  int two_sided;
+  int psd_rad;            /* PSD unit per (rad/m) */
+  int too_long;
+} sp_ctx;
+
+static char *sp_reader(char *str, int num, void *stream)
+{
+  sp_ctx *c = stream;
+  if (!fgets(str, num, c->fp)) return NULL;
+  c->line++;
+  size_t len = strlen(str);
+  if (len == (size_t)num - 1 && str[len - 1] != '\n' && !feof(c->fp)) {
+    int ch;
+    while ((ch = fgetc(c->fp)) != EOF && ch != '\n') {}
+    if (!c->too_long) c->too_long = c->line;
+  }
+  return str;
+}
+
+static int sp_fail(sp_ctx *c, int code, const char *key, const char *msg)
+{
+  if (!c->status) c->status = rr_seterr(c->err, code, "%s:%d: %s: %s", c->path, c->line, key, msg);
+  return 0;
+}
+
+/* Parses exactly n numbers from text. */
+static int numbers(const char *text, double *v, int n)
+{
+  const char *p = text;
+  for (int i = 0; i < n; i++) {
+    char *end;
+    v[i] = strtod(p, &end);
+    if (end == p || !isfinite(v[i])) return -1;
+    p = end;
+  }
+  while (isspace((unsigned char)*p)) p++;
+  return *p ? -1 : 0;
+}
+
+/* "mm^2/(1/m)", "m^2/(rad/m)", "cm^2/(rad/m)", "rad^2/(1/m)" ... */
+static int parse_psd_unit(sp_ctx *c, const char *val)
+{
+  char num[64], den[64];
+  const char *slash = strstr(val, "/(");
+  if (!slash) return sp_fail(c, RR_EUNIT, "psd_unit", "expected LENGTH^2/(1/m) or LENGTH^2/(rad/m)");
+  snprintf(num, sizeof num, "%.*s", (int)(slash - val), val);
+  snprintf(den, sizeof den, "%s", slash + 2);
+  size_t ld = strlen(den);
+  if (!ld || den[ld - 1] != ')') return sp_fail(c, RR_EUNIT, "psd_unit", "missing ')'");
+  den[ld - 1] = 0;
+  if (!strcmp(den, "1/m") || !strcmp(den, "cycle/m")) c->psd_rad = 0;
+  else if (!strcmp(den, "rad/m")) c->psd_rad = 1;
+  else return sp_fail(c, RR_EUNIT, "psd_unit", "denominator must be (1/m) or (rad/m)");
+  if (!strcmp(num, "rad^2") || !strcmp(num, "rad2")) { c->psd_scale = 1; return 1; }
+  double x;
+  rr_error e;
+  char buf[80];
+  snprintf(buf, sizeof buf, "1 %s", num);
+  if (rr_units_parse(NULL, buf, "m2", 0, &x, "psd_unit", &e)) return sp_fail(c, RR_EUNIT, "psd_unit", e.msg);
+  c->psd_scale = x;
+  return 1;
+}
+
+static int sp_handler(void *user, const char *section, const char *name, const char *value)
+{
+  sp_ctx *c = user;
+  rr_spectrum *s = c->sp;
+  if (c->status) return 1;
+  if (section[0]) return sp_fail(c, RR_EPARSE, section, "spectrum files have no sections");
+  char val[256];
+  snprintf(val, sizeof val, "%s", value);
+  if (!strcmp(name, "name")) snprintf(s->name, sizeof s->name, "%s", val);
+  else if (!strcmp(name, "title")) snprintf(s->title, sizeof s->title, "%s", val);
+  else if (!strcmp(name, "source") || !strcmp(name, "note")) {}
+  else if (!strcmp(name, "direction")) {
+    if (strcmp(val, "lateral") && strcmp(val, "vertical") && strcmp(val, "crosslevel") && strcmp(val, "gauge"))
+      return sp_fail(c, RR_EINVAL, name, "lateral, vertical, crosslevel or gauge expected");
+    snprintf(s->direction, sizeof s->direction, "%s", val);
+  } else if (!strcmp(name, "form")) {
+    c->have_form = 1;
+    if (!strcmp(val, "powerlaw")) s->form = RR_FORM_POWERLAW;
+    else if (!strcmp(val, "german")) s->form = RR_FORM_GERMAN;
+    else if (!strcmp(val, "fra")) s->form = RR_FORM_FRA;
+    else if (!strcmp(val, "rational7")) s->form = RR_FORM_RATIONAL7;
+    else if (!strcmp(val, "table")) s->form = RR_FORM_TABLE;
+    else return sp_fail(c, RR_EINVAL, name, "powerlaw, german, fra, rational7 or table expected");
+  } else if (!strcmp(name, "freq_unit")) {
+    c->have_freq = 1;
+    if (!strcmp(val, "1/m") || !strcmp(val, "cycle/m")) s->rad_per_m = 0;
+    else if (!strcmp(val, "rad/m")) s->rad_per_m = 1;
+    else return sp_fail(c, RR_EUNIT, name, "1/m or rad/m expected");
+  } else if (!strcmp(name, "psd_unit")) {
+    c->have_psd = 1;
+    return parse_psd_unit(c, val);
+  } else if (!strcmp(name, "sided")) {
+    c->have_sided = 1;
+    if (!strcmp(val, "one")) c->two_sided = 0;
+    else if (!strcmp(val, "two")) c->two_sided = 1;
+    else return sp_fail(c, RR_EINVAL, name, "one or two expected");
+  } else if (!strcmp(name, "valid")) {
+    if (numbers(val, c->valid, 2) || !(c->valid[0] > 0 && c->valid[1] > c->valid[0]))
+      return sp_fail(c, RR_EINVAL, name, "two numbers 0 < lo < hi expected");
+    c->have_valid = 1;
+  } else if (!strcmp(name, "outside")) {
+    if (!strcmp(val, "extend")) s->clip = 0;
+    else if (!strcmp(val, "zero")) s->clip = 1;
+    else return sp_fail(c, RR_EINVAL, name, "extend or zero expected");
+  } else if (!strcmp(name, "segment")) {
+    double v[4];
+    if (numbers(val, v, 4) || !(v[0] > 0 && v[1] > v[0] && v[2] > 0))
+      return sp_fail(c, RR_EINVAL, name, "n_lo n_hi A k expected, 0 < n_lo < n_hi, A > 0");
+    if (s->nseg >= RR_SPECTRUM_MAX_TERMS) return sp_fail(c, RR_EINVAL, name, "too many segments");
+    if (s->nseg && fabs(v[0] - s->seg_hi[s->nseg - 1]) > 1e-12 * v[0])
+      return sp_fail(c, RR_EINVAL, name, "segments must be contiguous and increasing");
+    s->seg_lo[s->nseg] = v[0]; s->seg_hi[s->nseg] = v[1]; s->seg_A[s->nseg] = v[2]; s->seg_k[s->nseg] = v[3];
+    s->nseg++;
+  } else if (!strcmp(name, "point")) {
+    double v[2];
+    if (numbers(val, v, 2) || !(v[0] > 0 && v[1] > 0)) return sp_fail(c, RR_EINVAL, name, "n S expected, both > 0");
+    if (s->npts >= RR_SPECTRUM_MAX_TERMS * 4) return sp_fail(c, RR_EINVAL, name, "too many points");
+    if (s->npts && !(v[0] > s->tab_n[s->npts - 1])) return sp_fail(c, RR_EINVAL, name, "frequencies must increase");
+    s->tab_n[s->npts] = v[0]; s->tab_S[s->npts] = v[1];
+    s->npts++;
+  } else if (!strcmp(name, "shape")) {
+    if (!strcmp(val, "alignment")) s->shape = RR_GERMAN_ALIGNMENT;
+    else if (!strcmp(val, "vertical")) s->shape = RR_GERMAN_VERTICAL;
+    else if (!strcmp(val, "crosslevel")) s->shape = RR_GERMAN_CROSSLEVEL;
+    else if (!strcmp(val, "gauge")) s->shape = RR_GERMAN_GAUGE;
+    else return sp_fail(c, RR_EINVAL, name, "alignment, vertical, crosslevel or gauge expected");
+  } else if (!strcmp(name, "params")) {
+    if (numbers(val, s->p, 7)) return sp_fail(c, RR_EINVAL, name, "seven numbers A B C D E F G expected");
+  } else {
+    double *dst = !strcmp(name, "A") ? &s->A : !strcmp(name, "Oc") ? &s->Oc : !strcmp(name, "Or") ? &s->Or
+                : !strcmp(name, "Os") ? &s->Os : !strcmp(name, "b") ? &s->b : !strcmp(name, "k") ? &s->k : NULL;
+    if (!dst) return sp_fail(c, RR_EPARSE, name, "unknown key");
+    if (numbers(val, dst, 1) || !(*dst > 0)) return sp_fail(c, RR_EINVAL, name, "a number > 0 expected");
+  }
+  return 1;
+}
+
+int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err)
+{
+  sp_ctx c;
+  memset(&c, 0, sizeof c);
+  memset(sp, 0, sizeof *sp);
+  c.path = path;
+  c.sp = sp;
+  c.err = err;
+  c.fp = fopen(path, "r");
+  if (!c.fp) return rr_seterr(err, RR_EIO, "%s: cannot open: %s", path, strerror(errno));
+  int r = ini_parse_stream(sp_reader, &c, sp_handler, &c);
+  fclose(c.fp);
+  if (c.status) return c.status;
+  if (c.too_long) return rr_seterr(err, RR_EPARSE, "%s:%d: line too long (200 characters at most)", path, c.too_long);
+  if (r > 0) return rr_seterr(err, RR_EPARSE, "%s:%d: malformed line (expected key = value)", path, r);
+  const char *miss = !c.have_form ? "form" : !c.have_freq ? "freq_unit" : !c.have_psd ? "psd_unit" : !c.have_sided ? "sided"
+                   : !c.have_valid ? "valid" : !sp->direction[0] ? "direction" : NULL;
+  if (miss) return rr_seterr(err, RR_EPARSE, "%s: %s: missing required key", path, miss);
+  if (c.psd_rad != sp->rad_per_m)
+    return rr_seterr(err, RR_EUNIT, "%s: psd_unit: its denominator must match freq_unit", path);
+  if (!sp->name[0]) {
+    const char *b = strrchr(path, '/');
+    snprintf(sp->name, sizeof sp->name, "%s", b ? b + 1 : path);
+    char *dot = strrchr(sp->name, '.');
+    if (dot) *dot = 0;
+  }
+  double f = sp->rad_per_m ? 1.0 / (2 * RR_PI) : 1.0;   /* validity to cycles/m */
+  sp->valid_lo = c.valid[0] * f;
+  sp->valid_hi = c.valid[1] * f;
+  sp->scale = c.psd_scale * (c.two_sided ? 2.0 : 1.0) * (sp->rad_per_m ? 2 * RR_PI : 1.0);
+  switch (sp->form) {
+  case RR_FORM_POWERLAW:
+    if (!sp->nseg) return rr_seterr(err, RR_EPARSE, "%s: segment: powerlaw needs at least one segment", path);
+    break;
+  case RR_FORM_GERMAN:
+    if (!(sp->A > 0 && sp->Oc > 0 && sp->Or > 0)) return rr_seterr(err, RR_EPARSE, "%s: german form needs A, Oc, Or", path);
+    if (sp->shape >= RR_GERMAN_CROSSLEVEL && !(sp->Os > 0)) return rr_seterr(err, RR_EPARSE, "%s: Os: needed for this shape", path);
+    if (sp->shape == RR_GERMAN_CROSSLEVEL && !(sp->b > 0)) return rr_seterr(err, RR_EPARSE, "%s: b: needed for cross level", path);
+    break;
+  case RR_FORM_FRA:
+    if (!(sp->A > 0 && sp->Oc > 0 && sp->k > 0)) return rr_seterr(err, RR_EPARSE, "%s: fra form needs k, A, Oc", path);
+    break;
+  case RR_FORM_TABLE:
+    if (sp->npts < 2) return rr_seterr(err, RR_EPARSE, "%s: point: a table needs at least two points", path);
+    break;
+  case RR_FORM_RATIONAL7:
+    if (!(sp->p[0] > 0)) return rr_seterr(err, RR_EPARSE, "%s: params: seven numbers with A > 0 needed", path);
+    break;
+  }
+  /* the formula must be finite and positive across the validity range */
+  for (int i = 0; i <= 50; i++) {
+    double n = sp->valid_lo * pow(sp->valid_hi / sp->valid_lo, i / 50.0);
+    double s = rr_spectrum_eval(sp, n);
+    if (!(isfinite(s) && s > 0)) return rr_seterr(err, RR_EINVAL, "%s: PSD not finite and positive at n = %g 1/m", path, n);
+  }
+  return RR_OK;
+}
+
+const char *rr_spectrum_dir(void)
+{
+  const char *d = getenv("RAILRIDE_SPECTRA_DIR");
+  return d && *d ? d : RR_SPECTRA_DIR;
+}
+
+int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err)
+{
+  size_t len = strlen(spec);
+  if (strchr(spec, '/') || (len > 4 && !strcmp(spec + len - 4, ".txt"))) return rr_spectrum_load(spec, sp, err);
+  for (const char *p = spec; *p; p++)
+    if (!(isalnum((unsigned char)*p) || *p == '-' || *p == '_' || *p == '.'))
+      return rr_seterr(err, RR_EINVAL, "spectrum name '%s': letters, digits, '-', '_' only", spec);
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s.txt", rr_spectrum_dir(), spec);
+  FILE *fp = fopen(path, "r");
+  if (!fp) return rr_seterr(err, RR_EIO, "unknown spectrum '%s' (no file %s)", spec, path);
+  fclose(fp);
+  return rr_spectrum_load(path, sp, err);
+}
+
+/* The formula in its own variable x (n or Omega) and units. */
+static double raw(const rr_spectrum *s, double x)
+{
+  switch (s->form) {
+  case RR_FORM_POWERLAW: {
+    int i = 0;
+    while (i < s->nseg - 1 && x > s->seg_hi[i]) i++;   /* end segments extend outward */
+    return s->seg_A[i] / pow(x, s->seg_k[i]);
+  }
+  case RR_FORM_GERMAN: {
+    double w2 = x * x, c2 = s->Oc * s->Oc, r2 = s->Or * s->Or, s2 = s->Os * s->Os;
+    switch (s->shape) {
+    case RR_GERMAN_ALIGNMENT:
+    case RR_GERMAN_VERTICAL: return s->A * c2 / ((w2 + r2) * (w2 + c2));
+    case RR_GERMAN_CROSSLEVEL: return (s->A / (s->b * s->b)) * c2 * w2 / ((w2 + r2) * (w2 + c2) * (w2 + s2));
+    default: return s->A * c2 * w2 / ((w2 + r2) * (w2 + c2) * (w2 + s2));
+    }
+  }
+  case RR_FORM_FRA: return s->k * s->A * s->Oc * s->Oc / (x * x * (x * x + s->Oc * s->Oc));
+  case RR_FORM_RATIONAL7: {
+    const double *p = s->p;
+    return p[0] * (x * x + p[1] * x + p[2]) / (x * x * x * x + p[3] * x * x * x + p[4] * x * x + p[5] * x + p[6]);
+  }
+  case RR_FORM_TABLE: {
+    if (x <= s->tab_n[0]) return s->tab_S[0] * pow(x / s->tab_n[0], log(s->tab_S[1] / s->tab_S[0]) / log(s->tab_n[1] / s->tab_n[0]));
+    int lo = 0, hi = s->npts - 1;
+    if (x >= s->tab_n[hi]) lo = hi - 1;
+    else
+      while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (s->tab_n[mid] <= x) lo = mid; else hi = mid;
+      }
+    hi = lo + 1;
+    double slope = log(s->tab_S[hi] / s->tab_S[lo]) / log(s->tab_n[hi] / s->tab_n[lo]);
+    return s->tab_S[lo] * pow(x / s->tab_n[lo], slope);
+  }
+  }
+  return 0;
+}
+
+double rr_spectrum_eval(const rr_spectrum *s, double n)
+{
+  if (!(n > 0)) return 0;
+  if (s->clip && (n < s->valid_lo * (1 - 1e-12) || n > s->valid_hi * (1 + 1e-12))) return 0;
+  return s->scale * raw(s, s->rad_per_m ? 2 * RR_PI * n : n);
+}
+
+double rr_spectrum_rms(const rr_spectrum *s, double n1, double n2)
+{
+  /* integral of S(n) dn = integral of S(n) n d(ln n); Simpson on a fine log grid,
+     split at segment bounds so power-law kinks do not cost accuracy */
+  double cuts[RR_SPECTRUM_MAX_TERMS + 2];
+  int nc = 0;
+  cuts[nc++] = n1;
+  if (s->form == RR_FORM_POWERLAW)
+    for (int i = 0; i < s->nseg - 1; i++) {
+      double b = s->seg_hi[i] / (s->rad_per_m ? 2 * RR_PI : 1);
+      if (b > n1 && b < n2) cuts[nc++] = b;
+    }
+  cuts[nc++] = n2;
+  double total = 0;
+  for (int c = 0; c + 1 < nc; c++) {
+    double a = log(cuts[c]), b = log(cuts[c + 1]);
+    int m = 2000;
+    double h = (b - a) / m, sum = 0;
+    for (int i = 0; i <= m; i++) {
+      /* end samples just inside the piece: segments need not meet continuously */
+      double x = i == 0 ? cuts[c] * (1 + 1e-13) : i == m ? cuts[c + 1] * (1 - 1e-13) : exp(a + i * h);
+      double w = (i == 0 || i == m) ? 1 : (i % 2 ? 4 : 2);
+      sum += w * rr_spectrum_eval(s, x) * x;
+    }
+    total += sum * h / 3;
+  }
+  return sqrt(total);
+}
