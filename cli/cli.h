@@ -17,6 +17,9 @@ typedef struct cli_common {
   rr_vehicle veh;
   double speed_kmh, conicity;
   int have_speed, have_conicity;
+  double conicities[64];      /* --conicity L1,L2,... (list commands) */
+  int ncon;
+  int conicity_list;          /* set by commands that take a list */
   int json;
   rr_modal_opts mo;
   int sdf_override;           /* -1: keep the vehicle's */
@@ -79,4 +82,29 @@ int cmd_damper(int argc, char **argv);
 typedef int (*cli_extra_cb)(int opt, const char *arg, void *user);
 int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
               void *user, const char *usage_text);
+/* The same, with --conicity taking a comma list into c->conicities. */
+int cli_parse_list(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+                   void *user, const char *usage_text);
 #define CLI_HELP_SHOWN (-1)
+
+/* Ride evaluation shared by ride, compare and summary. */
+typedef struct ride_setup {
+  const char *spectrum;       /* name or file (default wuhan-guangzhou) */
+  double x[16];               /* floor points, m (default +L, 0, -L) */
+  int npoints;
+  double h_p;                 /* floor height (default 1.2 m) */
+  int roll_gravity;
+  double f_lo, f_hi;
+  int nfreq;
+  int method;                 /* RR_FRF_MODAL / RR_FRF_DIRECT */
+} ride_setup;
+typedef struct ride_point { double x, rms, sperling, sperling_gb, wd_rms, nmv; } ride_point;
+void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
+/* Evaluates the ride at one operating point; psd (nfreq x npoints) optional. */
+int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r, ride_point *out,
+              double *psd, double *freqs, rr_error *err);
+cJSON *ride_methods_json(void);
+
+int cmd_ride(int argc, char **argv);
+int cmd_frf(int argc, char **argv);
+int cmd_compare(int argc, char **argv);

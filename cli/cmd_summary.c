@@ -9,7 +9,8 @@ int cmd_summary(int argc, char **argv)
 {
   static const char help[] = "usage: railride summary [VEHICLE] [--speed KMH] [--conicity L] [--json]\n"
                              "Stability summary: modes at the operating point (default 350 km/h, 0.17), robust\n"
-                             "indices, critical speeds at conicities 0.05, 0.17, 0.40.\n" CLI_COMMON_HELP;
+                             "indices, critical speeds at conicities 0.05, 0.17, 0.40; ride comfort (PEM,\n"
+                             "wuhan-guangzhou spectrum) at those conicities with and without the yaw damper SDF.\n" CLI_COMMON_HELP;
   cli_common c;
   int r = cli_parse(argc, argv, &c, NULL, NULL, NULL, help);
   if (r == CLI_HELP_SHOWN) return 0;
@@ -35,6 +36,18 @@ int cmd_summary(int argc, char **argv)
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) { rr_modal_result_free(&res); return cli_fail(&e, st); }
+  /* ride table: conicities 0.05, 0.17, 0.40 with the yaw damper's series
+     stiffness constant and with its SDF curve (paper mode: k_sdf(f)) */
+  ride_setup rs;
+  ride_setup_default(&rs, &c.veh);
+  ride_point rp[2][3][3];
+  rr_vehicle vr[2] = {c.veh, c.veh};
+  vr[0].sdf_mode = RR_SDF_NONE;
+  vr[1].sdf_mode = c.veh.sdf_mode != RR_SDF_NONE ? c.veh.sdf_mode : RR_SDF_PAPER;
+  int have_curve = c.veh.sdf.kind != RR_CURVE_UNSET;
+  for (int s = 0; s < (have_curve ? 2 : 1) && !st; s++)
+    for (int i = 0; i < 3 && !st; i++) st = ride_eval(&vr[s], c.speed_kmh, lams[i], &rs, rp[s][i], NULL, NULL, &e);
+  if (st) { rr_modal_result_free(&res); return cli_fail(&e, st); }
   const char *sdf = c.veh.sdf_mode == RR_SDF_PAPER ? "paper" : c.veh.sdf_mode == RR_SDF_PHYSICAL ? "physical" : "none";
   if (c.json) {
     cJSON *root = cJSON_CreateObject();
@@ -54,6 +67,22 @@ int cmd_summary(int argc, char **argv)
       else cJSON_AddNullToObject(o, "critical_speed_kmh");
       cJSON_AddItemToArray(cs, o);
     }
+    cJSON *ride = cJSON_AddArrayToObject(root, "ride");
+    for (int s = 0; s < (have_curve ? 2 : 1); s++)
+      for (int i = 0; i < 3; i++) {
+        cJSON *o = cJSON_CreateObject(), *pa = cJSON_AddArrayToObject(o, "points");
+        cJSON_AddNumberToObject(o, "conicity", lams[i]);
+        cJSON_AddStringToObject(o, "yaw_series", s ? "sdf" : "constant");
+        for (int q = 0; q < 3; q++) {
+          cJSON *po = cJSON_CreateObject();
+          cJSON_AddNumberToObject(po, "x", rp[s][i][q].x);
+          cJSON_AddNumberToObject(po, "sperling", rp[s][i][q].sperling);
+          cJSON_AddNumberToObject(po, "sperling_gb", rp[s][i][q].sperling_gb);
+          cJSON_AddNumberToObject(po, "wd_rms", rp[s][i][q].wd_rms);
+          cJSON_AddItemToArray(pa, po);
+        }
+        cJSON_AddItemToArray(ride, o);
+      }
     cli_json_print(root);
   } else {
     printf("railride stability summary: vehicle %s (yaw damper SDF: %s)\n\n", c.veh.name, sdf);
@@ -75,6 +104,18 @@ int cmd_summary(int argc, char **argv)
       if (found[i]) printf("  conicity %.2f: %10.3f km/h\n", lams[i], vc[i] * 3.6);
       else printf("  conicity %.2f: stable to 600 km/h\n", lams[i]);
     }
+    printf("\nRide comfort at %g km/h, spectrum %s (PEM, 0.3-30 Hz), floor height %g m:\n", c.speed_kmh, rs.spectrum, rs.h_p);
+    printf("  Sperling W, weighting-filter method, at x = +L / 0 / -L; wd_rms: ISO 2631-1 Wd, worst point\n");
+    printf("  %8s  %-26s %7s %7s %7s %12s\n", "conicity", "yaw damper series spring", "W(+L)", "W(0)", "W(-L)", "wd_rms_m/s2");
+    for (int i = 0; i < 3; i++)
+      for (int s = 0; s < (have_curve ? 2 : 1); s++) {
+        const ride_point *p = rp[s][i];
+        char lab[64];
+        if (s) snprintf(lab, sizeof lab, "SDF (%s mode)", vr[1].sdf_mode == RR_SDF_PAPER ? "paper" : "physical");
+        else snprintf(lab, sizeof lab, "constant %g MN/m", c.veh.yaw_series_stiffness / 1e6);
+        printf("  %8.2f  %-26s %7.3f %7.3f %7.3f %12.5f\n", lams[i], lab, p[0].sperling, p[1].sperling, p[2].sperling,
+               fmax(p[0].wd_rms, fmax(p[1].wd_rms, p[2].wd_rms)));
+      }
   }
   rr_modal_result_free(&res);
   return 0;

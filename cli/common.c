@@ -78,8 +78,11 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
     c->have_speed = 1;
     return 1;
   case OPT_CONICITY:
-    if (cli_number("conicity", arg, "1", &c->conicity)) return -1;
-    if (!(c->conicity >= 0)) { cli_bad("--conicity: must be >= 0 (got '%s')", arg); return -1; }
+    if (cli_list("conicity", arg, "1", c->conicities, 64, &c->ncon)) return -1;
+    if (c->ncon > 1 && !c->conicity_list) { cli_bad("--conicity: one value expected, got '%s'", arg); return -1; }
+    for (int i = 0; i < c->ncon; i++)
+      if (!(c->conicities[i] >= 0)) { cli_bad("--conicity: must be >= 0 (got '%s')", arg); return -1; }
+    c->conicity = c->conicities[0];
     c->have_conicity = 1;
     return 1;
   case OPT_JSON: c->json = 1; return 1;
@@ -145,8 +148,23 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols)
   return arr;
 }
 
+static int parse_impl(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+                      void *user, const char *usage_text, int list);
+
 int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
               void *user, const char *usage_text)
+{
+  return parse_impl(argc, argv, c, extra, cb, user, usage_text, 0);
+}
+
+int cli_parse_list(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+                   void *user, const char *usage_text)
+{
+  return parse_impl(argc, argv, c, extra, cb, user, usage_text, 1);
+}
+
+static int parse_impl(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+                      void *user, const char *usage_text, int list)
 {
   static const struct option common[] = {CLI_COMMON_OPTIONS};
   struct option opts[64];
@@ -155,6 +173,7 @@ int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, 
   for (int i = 0; extra && extra[i].name && n < 63; i++) opts[n++] = extra[i];
   memset(&opts[n], 0, sizeof opts[n]);
   cli_common_init(c);
+  c->conicity_list = list;
   optind = 1;
   opterr = 0;
   int opt;

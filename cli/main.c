@@ -13,6 +13,9 @@ static const struct { const char *name; int (*fn)(int, char **); const char *wha
   {"locus", cmd_locus, "root locus over speed or conicity (CSV)"},
   {"map", cmd_map, "stability index over a (speed, conicity) grid (CSV)"},
   {"damper", cmd_damper, "Maxwell damper characteristics over frequency (CSV)"},
+  {"ride", cmd_ride, "ride comfort by PEM: acceleration PSD, Sperling, Wd RMS"},
+  {"frf", cmd_frf, "complex FRFs of carbody acceleration per wheelset input (CSV)"},
+  {"compare", cmd_compare, "SDF vs constant series stiffness: stability and Sperling over conicity"},
 };
 #define NCMDS (int)(sizeof cmds / sizeof cmds[0])
 

@@ -39,7 +39,34 @@ grep -q '^freq_hz,k_series,storage,loss,eq_damping,dissipation$' "$tmp/d.csv" &&
 "$RR" summary "$SRC/examples/type2.ini" > "$tmp/s.txt" || bad "summary exit"
 grep -q "vehicle stability index" "$tmp/s.txt" && ok || bad "summary text"
 
-for c in summary matrices modes robust critical-speed locus map damper; do
+"$RR" ride --speed 350 --conicity 0.05,0.2 --json --psd "$tmp/psd.csv" > "$tmp/ride.json" || bad "ride exit"
+json_check "ride keys" "d['spectrum']=='wuhan-guangzhou' and [r['conicity'] for r in d['results']]==[0.05,0.2] and all(len(r['points'])==3 and all(set(p)>={'x','rms','sperling','sperling_gb','wd_rms'} for p in r['points']) for r in d['results'])" < "$tmp/ride.json"
+json_check "ride methods stated" "all(k in d['methods'] for k in ('sperling','sperling_gb','wd_rms'))" < "$tmp/ride.json"
+head -1 "$tmp/psd.csv" | grep -q '^f_hz,psd_c0.05_x8.6875,psd_c0.05_x0,psd_c0.05_x-8.6875,psd_c0.2_x8.6875' && [ "$(wc -l < "$tmp/psd.csv")" -eq 401 ] && ok || bad "psd csv"
+# the PSD file integrates to the reported RMS (trapezoid), checked in Python
+python3 - "$tmp/psd.csv" "$tmp/ride.json" <<'PY' && ok || bad "psd csv integrates to rms"
+import csv, json, sys
+rows = list(csv.reader(open(sys.argv[1])))
+d = json.load(open(sys.argv[2]))
+f = [float(r[0]) for r in rows[1:]]
+g = [float(r[1]) for r in rows[1:]]
+var = sum(0.5 * (g[i] + g[i + 1]) * (f[i + 1] - f[i]) for i in range(len(f) - 1))
+sys.exit(0 if abs(var ** 0.5 - d['results'][0]['points'][0]['rms']) < 1e-6 * var ** 0.5 else 1)
+PY
+"$RR" ride type2 --speed 300 --conicity 0.3 --sdf paper --json > "$tmp/rm.json" || bad "ride modal"
+"$RR" ride type2 --speed 300 --conicity 0.3 --sdf paper --method direct --json > "$tmp/rd.json" || bad "ride direct"
+python3 -c "
+import json,sys
+a=json.load(open('$tmp/rm.json'))['results'][0]['points']; b=json.load(open('$tmp/rd.json'))['results'][0]['points']
+sys.exit(0 if all(abs(p[k]-q[k])<=1e-9*abs(q[k]) for p,q in zip(a,b) for k in ('rms','sperling','sperling_gb','wd_rms')) else 1)" && ok || bad "ride modal vs direct"
+"$RR" frf --speed 350 --conicity 0.2 --band 1:10:3 > "$tmp/frf.csv" || bad "frf exit"
+[ "$(head -1 "$tmp/frf.csv")" = "f_hz,x,input,re,im,magnitude,phase_deg" ] && [ "$(wc -l < "$tmp/frf.csv")" -eq 46 ] && ok || bad "frf csv shape"
+"$RR" compare --conicities 0.1:0.3:2 --json > "$tmp/cmp.json" || bad "compare exit"
+json_check "compare rows" "len(d['rows'])==4 and {r['vehicle'] for r in d['rows']}=={'type1','type2'} and all(set(r)>={'conicity','stability_index_const','stability_index_sdf','sperling_const','sperling_sdf'} for r in d['rows'])" < "$tmp/cmp.json"
+"$RR" summary --json > "$tmp/sum.json" || bad "summary json"
+json_check "summary ride table" "len(d['ride'])==6 and {r['yaw_series'] for r in d['ride']}=={'constant','sdf'}" < "$tmp/sum.json"
+
+for c in summary matrices modes robust critical-speed locus map damper ride frf compare; do
   "$RR" $c --help > /dev/null && ok || bad "$c --help"
 done
 
@@ -71,6 +98,12 @@ expect2 "bad range" "--range" "$RR" locus --range 1:2
 printf 'f_hz,k\n1,2e6\n0.5,3e6\n' > "$tmp/t.csv"
 printf '[vehicle]\nbase = type1\n[yaw_damper]\nsdf = paper\nsdf_table = t.csv\n' > "$tmp/v5.ini"
 expect2 "malformed table" "frequencies must increase" "$RR" modes "$tmp/v5.ini" --speed 300 --conicity 0.2
+
+expect2 "unknown spectrum" "unknown spectrum 'nope'" "$RR" ride --speed 300 --conicity 0.2 --spectrum nope
+printf 'direction = lateral\nform = powerlaw\nfreq_unit = 1/m\npsd_unit = mm^2/(1/m)\nsided = one\nvalid = 0.01 0.5\nsegment = 0.01 0.5 1 x\n' > "$tmp/sp.txt"
+expect2 "malformed spectrum" "sp.txt:7: segment" "$RR" ride --speed 300 --conicity 0.2 --spectrum "$tmp/sp.txt"
+expect2 "conicity list where one value" "one value expected" "$RR" modes --speed 300 --conicity 0.1,0.2
+expect2 "bad band" "--band" "$RR" ride --speed 300 --conicity 0.2 --band 10:1:5
 
 echo "cli: $pass passed, $fail failed"
 [ $fail -eq 0 ]

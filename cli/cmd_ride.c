@@ -1,0 +1,392 @@
+/* Ride commands: ride (PEM + comfort indices), frf (complex FRFs), compare
+ * (SDF against constant series stiffness). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+void ride_setup_default(ride_setup *r, const rr_vehicle *veh)
+{
+  memset(r, 0, sizeof *r);
+  r->spectrum = "wuhan-guangzhou";
+  r->npoints = 3;
+  r->x[0] = veh->bogie_half_spacing;
+  r->x[1] = 0;
+  r->x[2] = -veh->bogie_half_spacing;
+  r->h_p = 1.2;
+  r->f_lo = 0.3;
+  r->f_hi = 30;
+  r->nfreq = 400;
+  r->method = RR_FRF_MODAL;
+}
+
+cJSON *ride_methods_json(void)
+{
+  cJSON *m = cJSON_CreateObject();
+  cJSON_AddStringToObject(m, "rms", "unweighted RMS, trapezoid over the band");
+  cJSON_AddStringToObject(m, "sperling", "Sperling Wz, weighting-filter method: 4.42 a_w^0.3, lateral B_w = 1.25 B_s (MODEL.md 8)");
+  cJSON_AddStringToObject(m, "sperling_gb", "Sperling W, GB/T 5599 line method: 0.2 Hz bands from 0.5 Hz, lateral F(f)");
+  cJSON_AddStringToObject(m, "wd_rms", "ISO 2631-1 / EN 12299 Wd-weighted RMS (ISO 8041 Wd)");
+  cJSON_AddStringToObject(m, "en12299_nmv", "6 a_wd from the RMS, lateral axis only (stationary model: no 5 s percentile scatter)");
+  return m;
+}
+
+int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r, ride_point *out,
+              double *psd, double *freqs, rr_error *err)
+{
+  rr_model *m = NULL;
+  rr_frf_plan *plan = NULL;
+  double *rows = NULL, *rows0 = NULL, *G = NULL;
+  rr_spectrum sp;
+  int st = rr_spectrum_open(r->spectrum, &sp, err);
+  if (!st) st = rr_model_from_vehicle(veh, &m, err);
+  if (!st) st = rr_model_set_operating(m, speed_kmh / 3.6, conicity, err);
+  if (st) goto out;
+  int n = rr_model_ndof(m), np = r->npoints;
+  rows = malloc(sizeof(double) * n * np);
+  rows0 = malloc(sizeof(double) * n * np);
+  G = malloc(sizeof(double) * r->nfreq * np);
+  if (!rows || !rows0 || !G) { st = RR_ENOMEM; snprintf(err->msg, sizeof err->msg, "out of memory"); goto out; }
+  if ((st = rr_vehicle_floor_rows(m, veh, r->x, np, r->h_p, r->roll_gravity, rows, rows0, err))) goto out;
+  rr_frf_opts o = {r->nfreq, NULL, r->f_lo, r->f_hi, np, rows, r->roll_gravity ? rows0 : NULL, r->method};
+  if ((st = rr_frf_plan_new(m, &o, &plan, err))) goto out;
+  if ((st = rr_frf_plan_execute(plan, m, err))) goto out;
+  if ((st = rr_pem_psd(plan, m, &sp, G, err))) goto out;
+  const double *f = rr_frf_freqs(plan);
+  for (int q = 0; q < np && !st; q++) {
+    ride_point *p = &out[q];
+    p->x = r->x[q];
+    p->rms = rr_psd_rms(f, G + q, r->nfreq, np);
+    st = rr_sperling_filter_index(f, G + q, r->nfreq, np, RR_AXIS_LATERAL, &p->sperling, err);
+    if (!st) st = rr_sperling_gb_index(f, G + q, r->nfreq, np, RR_AXIS_LATERAL, &p->sperling_gb, err);
+    if (!st) st = rr_weighted_rms(f, G + q, r->nfreq, np, RR_ISO_WD, &p->wd_rms, err);
+    p->nmv = rr_en12299_comfort(p->wd_rms);
+  }
+  if (psd) memcpy(psd, G, sizeof(double) * r->nfreq * np);
+  if (freqs) memcpy(freqs, f, sizeof(double) * r->nfreq);
+out:
+  free(rows); free(rows0); free(G);
+  rr_frf_plan_free(plan);
+  rr_model_free(m);
+  return st;
+}
+
+typedef struct ride_args {
+  ride_setup rs;
+  double conicities[64];
+  int ncon;
+  const char *psd_path;
+} ride_args;
+enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG, OPT_BAND, OPT_PSD, OPT_METHOD, OPT_CMP_CON };
+
+static int ride_cb(int opt, const char *arg, void *u)
+{
+  ride_args *a = u;
+  switch (opt) {
+  case OPT_SPECTRUM: a->rs.spectrum = arg; return 0;
+  case OPT_POINTS: return cli_list("points", arg, "m", a->rs.x, 16, &a->rs.npoints) ? 1 : 0;
+  case OPT_HEIGHT:
+    if (cli_number("floor-height", arg, "m", &a->rs.h_p)) return 1;
+    return 0;
+  case OPT_ROLLG: a->rs.roll_gravity = 1; return 0;
+  case OPT_BAND:
+    if (cli_range("band", arg, "Hz", &a->rs.f_lo, &a->rs.f_hi, &a->rs.nfreq)) return 1;
+    if (!(a->rs.f_lo > 0 && a->rs.f_hi > a->rs.f_lo && a->rs.nfreq >= 2)) return cli_bad("--band: need 0 < LO < HI and N >= 2");
+    return 0;
+  case OPT_PSD: a->psd_path = arg; return 0;
+  case OPT_METHOD:
+    if (!strcmp(arg, "modal")) a->rs.method = RR_FRF_MODAL;
+    else if (!strcmp(arg, "direct")) a->rs.method = RR_FRF_DIRECT;
+    else return cli_bad("--method: modal or direct expected, got '%s'", arg);
+    return 0;
+  }
+  return 1;
+}
+
+#define RIDE_OPTIONS \
+  {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS}, \
+  {"floor-height", required_argument, 0, OPT_HEIGHT}, {"roll-gravity", no_argument, 0, OPT_ROLLG}, \
+  {"band", required_argument, 0, OPT_BAND}, {"method", required_argument, 0, OPT_METHOD}
+#define RIDE_HELP \
+  "  --spectrum S         track alignment spectrum: a name in spectra/ or a file (default wuhan-guangzhou)\n" \
+  "  --points X1,X2,..    floor points along the car, m (default +L, 0, -L)\n" \
+  "  --floor-height H     floor height above rail, m (default 1.2)\n" \
+  "  --roll-gravity       the accelerometer senses a_y + g phi_c\n" \
+  "  --band LO:HI:N       log-spaced frequency grid, Hz (default 0.3:30:400)\n" \
+  "  --method M           modal (default: modal expansion + SMW) or direct (a solve per frequency)\n"
+
+int cmd_ride(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride ride [VEHICLE] --speed KMH --conicity L[,L2,...] [--spectrum NAME|FILE] [--json] [--psd FILE.csv]\n"
+      "Carbody floor lateral acceleration by the pseudo-excitation method (PEM): the track\n"
+      "alignment PSD drives each wheelset with its time lag; complex responses over the band,\n"
+      "then the one-sided acceleration PSD, RMS, Sperling (filter and GB/T 5599 line methods)\n"
+      "and the Wd-weighted RMS at each floor point. The yaw damper SDF, when on, is taken at\n"
+      "each frequency (paper mode: real k_sdf(f); physical: complex).\n" CLI_COMMON_HELP RIDE_HELP
+      "  --psd FILE.csv       write f_hz and each (conicity, point) PSD\n";
+  static const struct option extra[] = {RIDE_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
+  cli_common c;
+  ride_args a;
+  memset(&a, 0, sizeof a);
+  rr_vehicle tmp;
+  rr_vehicle_default(&tmp);
+  ride_setup_default(&a.rs, &tmp);
+  int xs_given = 0;
+  for (int i = 1; i < argc; i++) if (!strncmp(argv[i], "--points", 8)) xs_given = 1;
+  int r = cli_parse_list(argc, argv, &c, extra, ride_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
+  if (!c.have_speed) return cli_bad("--speed is required");
+  if (!c.ncon) return cli_bad("--conicity is required (one value or a comma list)");
+  a.ncon = c.ncon;
+  memcpy(a.conicities, c.conicities, sizeof(double) * c.ncon);
+  if (!xs_given) { a.rs.x[0] = c.veh.bogie_half_spacing; a.rs.x[2] = -c.veh.bogie_half_spacing; }
+  int np = a.rs.npoints, nf = a.rs.nfreq;
+  ride_point *pts = malloc(sizeof(ride_point) * np * a.ncon);
+  double *psd = malloc(sizeof(double) * nf * np * a.ncon), *freqs = malloc(sizeof(double) * nf);
+  if (!pts || !psd || !freqs) { free(pts); free(psd); free(freqs); return cli_bad("out of memory"); }
+  rr_error e;
+  for (int k = 0; k < a.ncon; k++) {
+    int st = ride_eval(&c.veh, c.speed_kmh, a.conicities[k], &a.rs, pts + k * np, psd + (size_t)k * nf * np, freqs, &e);
+    if (st) { free(pts); free(psd); free(freqs); return cli_fail(&e, st); }
+  }
+  if (a.psd_path) {
+    FILE *fp = fopen(a.psd_path, "w");
+    if (!fp) { free(pts); free(psd); free(freqs); return cli_bad("--psd: cannot write %s", a.psd_path); }
+    fprintf(fp, "f_hz");
+    for (int k = 0; k < a.ncon; k++)
+      for (int q = 0; q < np; q++) fprintf(fp, ",psd_c%g_x%g", a.conicities[k], a.rs.x[q]);
+    fprintf(fp, "\n");
+    for (int i = 0; i < nf; i++) {
+      fprintf(fp, "%.10g", freqs[i]);
+      for (int k = 0; k < a.ncon; k++)
+        for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", psd[((size_t)k * nf + i) * np + q]);
+      fprintf(fp, "\n");
+    }
+    fclose(fp);
+  }
+  if (c.json) {
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "spectrum", a.rs.spectrum);
+    cJSON_AddStringToObject(root, "vehicle", c.veh.name);
+    cJSON_AddNumberToObject(root, "speed_kmh", c.speed_kmh);
+    double band[2] = {a.rs.f_lo, a.rs.f_hi};
+    cJSON_AddItemToObject(root, "band_hz", cJSON_CreateDoubleArray(band, 2));
+    cJSON_AddNumberToObject(root, "nfreq", nf);
+    cJSON_AddNumberToObject(root, "floor_height", a.rs.h_p);
+    cJSON_AddItemToObject(root, "methods", ride_methods_json());
+    cJSON *res = cJSON_AddArrayToObject(root, "results");
+    for (int k = 0; k < a.ncon; k++) {
+      cJSON *o = cJSON_CreateObject(), *pa = cJSON_AddArrayToObject(o, "points");
+      cJSON_AddNumberToObject(o, "conicity", a.conicities[k]);
+      for (int q = 0; q < np; q++) {
+        const ride_point *p = &pts[k * np + q];
+        cJSON *po = cJSON_CreateObject();
+        cJSON_AddNumberToObject(po, "x", p->x);
+        cJSON_AddNumberToObject(po, "rms", p->rms);
+        cJSON_AddNumberToObject(po, "sperling", p->sperling);
+        cJSON_AddNumberToObject(po, "sperling_gb", p->sperling_gb);
+        cJSON_AddNumberToObject(po, "wd_rms", p->wd_rms);
+        cJSON_AddNumberToObject(po, "en12299_nmv", p->nmv);
+        cJSON_AddItemToArray(pa, po);
+      }
+      cJSON_AddItemToArray(res, o);
+    }
+    cli_json_print(root);
+  } else {
+    printf("%s at %g km/h, spectrum %s, band %g-%g Hz (%d points), floor height %g m\n", c.veh.name, c.speed_kmh,
+           a.rs.spectrum, a.rs.f_lo, a.rs.f_hi, nf, a.rs.h_p);
+    printf("Sperling: weighting-filter method (W) and GB/T 5599 line method (W_gb); wd_rms: ISO 2631-1 Wd\n");
+    printf("%9s %9s %12s %9s %9s %12s\n", "conicity", "x_m", "rms_m/s2", "W", "W_gb", "wd_rms_m/s2");
+    for (int k = 0; k < a.ncon; k++)
+      for (int q = 0; q < np; q++) {
+        const ride_point *p = &pts[k * np + q];
+        printf("%9.4g %9.4g %12.5g %9.4f %9.4f %12.5g\n", a.conicities[k], p->x, p->rms, p->sperling, p->sperling_gb, p->wd_rms);
+      }
+  }
+  free(pts); free(psd); free(freqs);
+  return 0;
+}
+
+int cmd_frf(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride frf [VEHICLE] --speed KMH --conicity L [--points X,..] [--band LO:HI:N] [--json]\n"
+      "Complex FRF of carbody floor lateral acceleration per unit track alignment at each\n"
+      "wheelset (input 1..4, no time lag) and the lagged sum over the four (input 'sum').\n"
+      "CSV columns: f_hz,x,input,re,im,magnitude,phase_deg ((m/s^2)/m).\n" CLI_COMMON_HELP RIDE_HELP;
+  static const struct option extra[] = {RIDE_OPTIONS, {0, 0, 0, 0}};
+  cli_common c;
+  ride_args a;
+  memset(&a, 0, sizeof a);
+  rr_vehicle tmp;
+  rr_vehicle_default(&tmp);
+  ride_setup_default(&a.rs, &tmp);
+  int xs_given = 0;
+  for (int i = 1; i < argc; i++) if (!strncmp(argv[i], "--points", 8)) xs_given = 1;
+  int r = cli_parse(argc, argv, &c, extra, ride_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
+  if (!xs_given) { a.rs.x[0] = c.veh.bogie_half_spacing; a.rs.x[2] = -c.veh.bogie_half_spacing; }
+  rr_model *m;
+  if ((r = cli_model(&c, &m, 1, 1))) return r;
+  int n = rr_model_ndof(m), np = a.rs.npoints, ni = rr_model_ninputs(m);
+  double *rows = malloc(sizeof(double) * n * np), *rows0 = malloc(sizeof(double) * n * np);
+  rr_error e;
+  rr_frf_plan *plan = NULL;
+  int st = rr_vehicle_floor_rows(m, &c.veh, a.rs.x, np, a.rs.h_p, a.rs.roll_gravity, rows, rows0, &e);
+  rr_frf_opts o = {a.rs.nfreq, NULL, a.rs.f_lo, a.rs.f_hi, np, rows, a.rs.roll_gravity ? rows0 : NULL, a.rs.method};
+  if (!st) st = rr_frf_plan_new(m, &o, &plan, &e);
+  if (!st) st = rr_frf_plan_execute(plan, m, &e);
+  if (st) { free(rows); free(rows0); rr_frf_plan_free(plan); rr_model_free(m); return cli_fail(&e, st); }
+  const double *f = rr_frf_freqs(plan);
+  const double complex *H = rr_frf_H(plan);
+  double v = rr_model_speed(m), xin[16];
+  for (int i = 0; i < ni; i++) xin[i] = rr_model_input_x(m, i);
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "frf") : NULL;
+  if (!c.json) printf("f_hz,x,input,re,im,magnitude,phase_deg\n");
+  for (int k = 0; k < a.rs.nfreq; k++)
+    for (int q = 0; q < np; q++)
+      for (int i = 0; i <= ni; i++) {
+        double complex h;
+        if (i < ni) h = H[((size_t)k * np + q) * ni + i];
+        else {
+          h = 0;
+          for (int j = 0; j < ni; j++) h += H[((size_t)k * np + q) * ni + j] * cexp(I * 2 * M_PI * f[k] * xin[j] / v);
+        }
+        char inp[8];
+        snprintf(inp, sizeof inp, i < ni ? "%d" : "sum", i + 1);
+        if (c.json) {
+          cJSON *ob = cJSON_CreateObject();
+          cJSON_AddNumberToObject(ob, "f_hz", f[k]);
+          cJSON_AddNumberToObject(ob, "x", a.rs.x[q]);
+          cJSON_AddStringToObject(ob, "input", inp);
+          cJSON_AddNumberToObject(ob, "re", creal(h));
+          cJSON_AddNumberToObject(ob, "im", cimag(h));
+          cJSON_AddItemToArray(arr, ob);
+        } else {
+          printf("%.10g,%.6g,%s,%.10g,%.10g,%.10g,%.6f\n", f[k], a.rs.x[q], inp, creal(h), cimag(h), cabs(h), carg(h) * 180 / M_PI);
+        }
+      }
+  if (root) cli_json_print(root);
+  free(rows); free(rows0);
+  rr_frf_plan_free(plan);
+  rr_model_free(m);
+  return 0;
+}
+
+typedef struct cmp_args { ride_args ra; double c_from, c_to; int c_n; } cmp_args;
+
+static int cmp_cb(int opt, const char *arg, void *u)
+{
+  cmp_args *a = u;
+  if (opt == OPT_CMP_CON) {
+    if (cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n)) return 1;
+    if (!(a->c_from >= 0 && a->c_to >= 0)) return cli_bad("--conicities: must be >= 0");
+    return 0;
+  }
+  return ride_cb(opt, arg, &a->ra);
+}
+
+static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_args *a, int sdf_mode, cJSON *jarr)
+{
+  rr_vehicle vc = *base, vs = *base;
+  vc.sdf_mode = RR_SDF_NONE;
+  vs.sdf_mode = sdf_mode;
+  rr_error e;
+  int st;
+  if ((st = rr_vehicle_check(&vs, &e))) return cli_fail(&e, st);
+  rr_model *mc = NULL, *ms = NULL;
+  rr_modal_ws *wc = NULL, *wsd = NULL;
+  st = rr_model_from_vehicle(&vc, &mc, &e);
+  if (!st) st = rr_model_from_vehicle(&vs, &ms, &e);
+  if (!st) st = rr_modal_ws_new(mc, &wc, &e);
+  if (!st) st = rr_modal_ws_new(ms, &wsd, &e);
+  if (st) { rr_model_free(mc); rr_model_free(ms); rr_modal_ws_free(wc); return cli_fail(&e, st); }
+  ride_setup rs = a->ra.rs;
+  rs.npoints = 3;
+  rs.x[0] = base->bogie_half_spacing; rs.x[1] = 0; rs.x[2] = -base->bogie_half_spacing;
+  if (!jarr) {
+    printf("\n%s: yaw damper series stiffness constant (k = %g MN/m) vs SDF (%s mode, K1 %g Hz, K2 %g MN/m, K3 %g MN/m)\n",
+           base->name, base->yaw_series_stiffness / 1e6, sdf_mode == RR_SDF_PAPER ? "paper" : "physical", base->sdf.k1_hz,
+           base->sdf.k2 / 1e6, base->sdf.k3 / 1e6);
+    printf("at %g km/h, spectrum %s; Sperling W (filter method), max over floor points +L, 0, -L\n", c->speed_kmh, rs.spectrum);
+    printf("%9s %12s %12s %10s %10s\n", "conicity", "zeta_const", "zeta_sdf", "W_const", "W_sdf");
+  }
+  for (int i = 0; i < a->c_n && !st; i++) {
+    double lam = a->c_n == 1 ? a->c_from : a->c_from + (a->c_to - a->c_from) * i / (a->c_n - 1);
+    double zc, zs;
+    ride_point pc[3], ps[3];
+    st = rr_model_set_operating(mc, c->speed_kmh / 3.6, lam, &e);
+    if (!st) st = rr_model_set_operating(ms, c->speed_kmh / 3.6, lam, &e);
+    if (!st) st = rr_modal_stability_index(mc, &c->mo, wc, &zc, &e);
+    if (!st) st = rr_modal_stability_index(ms, &c->mo, wsd, &zs, &e);
+    if (!st) st = ride_eval(&vc, c->speed_kmh, lam, &rs, pc, NULL, NULL, &e);
+    if (!st) st = ride_eval(&vs, c->speed_kmh, lam, &rs, ps, NULL, NULL, &e);
+    if (st) break;
+    double wcmax = fmax(pc[0].sperling, fmax(pc[1].sperling, pc[2].sperling));
+    double wsmax = fmax(ps[0].sperling, fmax(ps[1].sperling, ps[2].sperling));
+    if (jarr) {
+      cJSON *o = cJSON_CreateObject();
+      cJSON_AddStringToObject(o, "vehicle", base->name);
+      cJSON_AddNumberToObject(o, "conicity", lam);
+      cJSON_AddNumberToObject(o, "stability_index_const", zc);
+      cJSON_AddNumberToObject(o, "stability_index_sdf", zs);
+      cJSON_AddNumberToObject(o, "sperling_const", wcmax);
+      cJSON_AddNumberToObject(o, "sperling_sdf", wsmax);
+      cJSON_AddItemToArray(jarr, o);
+    } else {
+      printf("%9.4f %12.6f %12.6f %10.4f %10.4f\n", lam, zc, zs, wcmax, wsmax);
+    }
+  }
+  rr_modal_ws_free(wc); rr_modal_ws_free(wsd);
+  rr_model_free(mc); rr_model_free(ms);
+  return st ? cli_fail(&e, st) : 0;
+}
+
+int cmd_compare(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride compare [VEHICLE] [--speed KMH] [--conicities FROM:TO:N] [--sdf paper|physical] [--json]\n"
+      "SDF against constant series stiffness of the yaw damper (paper Fig. 12-13): the vehicle\n"
+      "stability index and the Sperling index side by side over conicity (default 0.02:0.6:12\n"
+      "at 350 km/h). Without VEHICLE: the built-in Type 1 and Type 2, each with its Table 2 curve.\n"
+      "The SDF mode defaults to paper (self-consistent modes; k_sdf(f) in the frequency domain).\n" CLI_COMMON_HELP RIDE_HELP
+      "  --conicities FROM:TO:N  conicity grid\n";
+  static const struct option extra[] = {RIDE_OPTIONS, {"conicities", required_argument, 0, OPT_CMP_CON}, {0, 0, 0, 0}};
+  cli_common c;
+  cmp_args a;
+  memset(&a, 0, sizeof a);
+  rr_vehicle tmp;
+  rr_vehicle_default(&tmp);
+  ride_setup_default(&a.ra.rs, &tmp);
+  a.c_from = 0.02; a.c_to = 0.6; a.c_n = 12;
+  int r = cli_parse(argc, argv, &c, extra, cmp_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
+  if (!c.have_speed) c.speed_kmh = 350;
+  int mode = c.sdf_override > 0 ? c.sdf_override : RR_SDF_PAPER;
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "rows") : NULL;
+  if (root) {
+    cJSON_AddNumberToObject(root, "speed_kmh", c.speed_kmh);
+    cJSON_AddStringToObject(root, "sdf", mode == RR_SDF_PAPER ? "paper" : "physical");
+    cJSON_AddStringToObject(root, "sperling_method", "weighting filter, max over floor points +L, 0, -L");
+  }
+  if (c.vehicle_spec) r = compare_one(&c.veh, &c, &a, mode, arr);
+  else {
+    const char *names[2] = {"type1", "type2"};
+    for (int i = 0; i < 2 && !r; i++) {
+      rr_vehicle v;
+      rr_vehicle_builtin(names[i], &v, NULL);
+      if (c.gravity >= 0) v.gravity_stiffness = c.gravity;
+      r = compare_one(&v, &c, &a, mode, arr);
+    }
+  }
+  if (r) { cJSON_Delete(root); return r; }
+  if (root) cli_json_print(root);
+  return 0;
+}
