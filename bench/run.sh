@@ -10,3 +10,7 @@ echo "== railride (C) =="
 taskset -c 0 "$B/bench/bench_modal"
 echo "== numpy/scipy, same state matrix (default vehicle, 350 km/h, conicity 0.17) =="
 "$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 0 $PY bench/numpy_modal.py
+echo "== ride evaluation (C) =="
+taskset -c 0 "$B/bench/bench_ride"
+echo "== numpy, the same 400 batched 17x17 systems =="
+"$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 0 $PY bench/numpy_ride.py

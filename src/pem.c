@@ -283,13 +283,18 @@ double rr_pem_combine(const double complex *H, const double *x, int ni, double w
 
 int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G, rr_error *err)
 {
-  double v = m->speed, x[RR_SYS_MAX_INPUTS];
-  for (int i = 0; i < p->ni; i++) x[i] = m->contacts[i].x;
+  double v = m->speed;
   for (int k = 0; k < p->nf; k++) {
     double f = p->f[k], w = 2 * RR_PI * f;
     double Gt = rr_spectrum_eval(sp, f / v) / v;   /* temporal one-sided PSD, m^2/Hz */
-    for (int q = 0; q < p->np; q++)
-      G[k * p->np + q] = rr_pem_combine(p->H + ((size_t)k * p->np + q) * p->ni, x, p->ni, w, v, Gt);
+    double complex lag[RR_SYS_MAX_INPUTS];
+    for (int i = 0; i < p->ni; i++) lag[i] = cexp(I * w * m->contacts[i].x / v);
+    for (int q = 0; q < p->np; q++) {
+      const double complex *h = p->H + ((size_t)k * p->np + q) * p->ni;
+      double complex a = 0;
+      for (int i = 0; i < p->ni; i++) a += h[i] * lag[i];
+      G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
+    }
   }
   return RR_OK;
 }

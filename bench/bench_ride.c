@@ -1,0 +1,57 @@
+/* Benchmark: one ride evaluation (400 frequencies, 3 floor points, SDF on):
+ * FRF plan execute (eigendecomposition + per-frequency modal sums + SMW),
+ * PEM PSD and the Sperling index at each point; one core. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#include "railride/railride.h"
+
+void openblas_set_num_threads(int);
+
+static double now(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static void run(const char *label, int sdf, int method, int reps)
+{
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  v.sdf_mode = sdf;
+  rr_model *m;
+  rr_error e;
+  rr_spectrum sp;
+  if (rr_model_from_vehicle(&v, &m, &e) || rr_spectrum_open("wuhan-guangzhou", &sp, &e)) { fprintf(stderr, "%s\n", e.msg); exit(1); }
+  rr_model_set_operating(m, 350 / 3.6, 0.17, &e);
+  double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 17];
+  rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 0, rows, NULL, &e);
+  rr_frf_opts o = {400, NULL, 0.3, 30, 3, rows, NULL, method};
+  rr_frf_plan *p;
+  rr_frf_plan_new(m, &o, &p, &e);
+  double G[1200], W[3];
+  double t0 = now(), texec = 0;
+  for (int r = 0; r < reps; r++) {
+    double t1 = now();
+    rr_frf_plan_execute(p, m, &e);
+    texec += now() - t1;
+    rr_pem_psd(p, m, &sp, G, &e);
+    for (int q = 0; q < 3; q++) rr_sperling_filter_index(rr_frf_freqs(p), G + q, 400, 3, RR_AXIS_LATERAL, &W[q], &e);
+  }
+  double t = (now() - t0) / reps;
+  printf("ride_%s_us %.1f  (frf execute %.1f us; W = %.4f %.4f %.4f)\n", label, t * 1e6, texec / reps * 1e6, W[0], W[1], W[2]);
+  rr_frf_plan_free(p);
+  rr_model_free(m);
+}
+
+int main(void)
+{
+  openblas_set_num_threads(1);
+  run("sdf_paper_modal_smw", RR_SDF_PAPER, RR_FRF_MODAL, 300);
+  run("sdf_physical_modal", RR_SDF_PHYSICAL, RR_FRF_MODAL, 300);
+  run("no_sdf_modal", RR_SDF_NONE, RR_FRF_MODAL, 300);
+  run("sdf_paper_direct", RR_SDF_PAPER, RR_FRF_DIRECT, 30);
+  return 0;
+}
