@@ -108,3 +108,4 @@ cJSON *ride_methods_json(void);
 int cmd_ride(int argc, char **argv);
 int cmd_frf(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_validate(int argc, char **argv);

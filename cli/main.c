@@ -15,6 +15,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *wha
   {"damper", cmd_damper, "Maxwell damper characteristics over frequency (CSV)"},
   {"ride", cmd_ride, "ride comfort by PEM: acceleration PSD, Sperling, Wd RMS"},
   {"frf", cmd_frf, "complex FRFs of carbody acceleration per wheelset input (CSV)"},
+  {"validate", cmd_validate, "PEM against FFTs of a time-domain run (RMS, Sperling, band PSDs)"},
   {"compare", cmd_compare, "SDF vs constant series stiffness: stability and Sperling over conicity"},
 };
 #define NCMDS (int)(sizeof cmds / sizeof cmds[0])

@@ -66,7 +66,14 @@ json_check "compare rows" "len(d['rows'])==4 and {r['vehicle'] for r in d['rows'
 "$RR" summary --json > "$tmp/sum.json" || bad "summary json"
 json_check "summary ride table" "len(d['ride'])==6 and {r['yaw_series'] for r in d['ride']}=={'constant','sdf'}" < "$tmp/sum.json"
 
-for c in summary matrices modes robust critical-speed locus map damper ride frf compare; do
+"$RR" validate --speed 350 --conicity 0.2 --duration 32 --fs 128 --nseg 512 --json --psd "$tmp/v.csv" > "$tmp/val.json" || bad "validate exit"
+json_check "validate keys" "all(isinstance(d[k],float) for k in ('sperling_pem','sperling_time','rms_pem','rms_time','psd_band_error_max')) and len(d['points'])==3 and abs(d['rms_time']/d['rms_pem']-1)<2e-3 and abs(d['sperling_time']/d['sperling_pem']-1)<1e-3 and d['psd_band_z_max']<4" < "$tmp/val.json"
+head -1 "$tmp/v.csv" | grep -q '^f_hz,welch_x8.6875,welch_x0,welch_x-8.6875,pem_x8.6875' && ok || bad "validate psd csv"
+expect2 "validate paper mode" "paper-mode SDF has no time-domain form" "$RR" validate --speed 300 --conicity 0.2 --sdf paper --duration 16
+expect2 "validate duration" "--duration" "$RR" validate --speed 300 --conicity 0.2 --duration 0
+expect2 "validate seed" "--seed" "$RR" validate --speed 300 --conicity 0.2 --seed -4
+
+for c in summary matrices modes robust critical-speed locus map damper ride frf compare validate; do
   "$RR" $c --help > /dev/null && ok || bad "$c --help"
 done
 

@@ -13,4 +13,6 @@
 #include "railride/spectrum.h"
 #include "railride/pem.h"
 #include "railride/comfort.h"
+#include "railride/expm.h"
+#include "railride/timesim.h"
 #endif
