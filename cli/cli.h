@@ -109,3 +109,5 @@ int cmd_ride(int argc, char **argv);
 int cmd_frf(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_validate(int argc, char **argv);
+int cmd_optimise(int argc, char **argv);
+int cmd_sweep(int argc, char **argv);

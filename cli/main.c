@@ -16,6 +16,9 @@ static const struct { const char *name; int (*fn)(int, char **); const char *wha
   {"ride", cmd_ride, "ride comfort by PEM: acceleration PSD, Sperling, Wd RMS"},
   {"frf", cmd_frf, "complex FRFs of carbody acceleration per wheelset input (CSV)"},
   {"validate", cmd_validate, "PEM against FFTs of a time-domain run (RMS, Sperling, band PSDs)"},
+  {"optimise", cmd_optimise, "NSGA-II over a problem file (Pareto set and front as CSV)"},
+  {"optimize", cmd_optimise, "(same as optimise)"},
+  {"sweep", cmd_sweep, "any objective over a grid of two vehicle-file keys (CSV)"},
   {"compare", cmd_compare, "SDF vs constant series stiffness: stability and Sperling over conicity"},
 };
 #define NCMDS (int)(sizeof cmds / sizeof cmds[0])

@@ -20,7 +20,21 @@ int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err)
   if (!sys || sys->ndof == 0) return rr_seterr(err, RR_EINVAL, "model: system has no DOFs");
   rr_model *m = calloc(1, sizeof *m);
   if (!m) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  m->sdf_mode = RR_SDF_NONE;
+  int st = rr_model_assemble(m, sys, err);
+  if (st) { free(m); return st; }
+  if ((st = rr_model_set_operating(m, 1.0, 0.0, err))) { free(m); return st; }
+  *out = m;
+  return RR_OK;
+}
+
+int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err)
+{
   int n = m->n = sys->ndof;
+  m->nmx = 0;
+  memset(m->M, 0, sizeof m->M);
+  memset(m->C0, 0, sizeof m->C0);
+  memset(m->K0, 0, sizeof m->K0);
   m->ni = sys->ncontacts;
   for (int i = 0; i < n; i++) {
     m->mdiag[i] = sys->mass[i];
@@ -40,7 +54,7 @@ int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err)
     case RR_LAW_MAXWELL:
       if (el->c == 0) break;                       /* no damper: no force */
       if (isinf(el->k) && !el->sdf) { add_outer(m->C0, n, el->J, el->c); break; }  /* rigid link */
-      if (m->nmx >= (int)(sizeof m->mx / sizeof m->mx[0])) { free(m); return rr_seterr(err, RR_EINVAL, "too many Maxwell elements"); }
+      if (m->nmx >= (int)(sizeof m->mx / sizeof m->mx[0])) return rr_seterr(err, RR_EINVAL, "too many Maxwell elements");
       rr_mx *x = &m->mx[m->nmx++];
       memcpy(x->name, el->name, sizeof x->name);
       memcpy(x->J, el->J, sizeof x->J);
@@ -56,10 +70,9 @@ int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err)
   memcpy(m->contacts, sys->contacts, (size_t)sys->ncontacts * sizeof *sys->contacts);
   memcpy(m->bodies, sys->bodies, (size_t)sys->nbodies * sizeof *sys->bodies);
   m->nbodies = sys->nbodies;
-  m->sdf_mode = RR_SDF_NONE;
-  int st = rr_model_set_operating(m, 1.0, 0.0, err);
-  if (st) { free(m); return st; }
-  *out = m;
+  m->ni = sys->ncontacts;
+  m->nsdf = 0;
+  for (int i = 0; i < m->nmx; i++) m->nsdf += m->mx[i].sdf;
   return RR_OK;
 }
 

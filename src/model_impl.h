@@ -33,6 +33,15 @@ struct rr_model {
   rr_sdf_curve curve;
 };
 
+/* Assembles sys into the existing model m (no allocation). */
+int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err);
+/* Fills sys (cleared first) with the vehicle; allocation-free once sys has
+ * held a vehicle before. */
+int rr_vehicle_fill(const rr_vehicle *veh, rr_system *sys, rr_error *err);
+/* Rebuilds m in place for a changed vehicle, keeping its operating point;
+ * scratch is a system reused across calls. */
+int rr_model_rebuild(rr_model *m, const rr_vehicle *veh, rr_system *scratch, rr_error *err);
+
 /* State matrix with mirror-image Maxwell pairs merged (same k, c, SDF flag,
  * J equal up to sign): one element with 2k, 2c (2 K2, 2 K3 in physical SDF
  * mode) carries the pair's force exactly; the dropped combination of strokes is

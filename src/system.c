@@ -157,6 +157,11 @@ int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *er
   return sys->ncontacts++;
 }
 
+void rr_system_clear(rr_system *sys)
+{
+  sys->ndof = sys->nbodies = sys->nelements = sys->ncontacts = 0;
+}
+
 int rr_system_ndof(const rr_system *sys) { return sys->ndof; }
 
 const char *rr_system_dof_name(const rr_system *sys, int i)

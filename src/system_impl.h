@@ -42,4 +42,7 @@ struct rr_system {
   int ncontacts, cap_contacts;
 };
 
+/* Empties a system, keeping its storage (allocation-free refills). */
+void rr_system_clear(rr_system *sys);
+
 #endif

@@ -9,10 +9,19 @@
 int rr_vehicle_system(const rr_vehicle *v, rr_system **out, rr_error *err)
 {
   *out = NULL;
-  int st = rr_vehicle_check(v, err);
-  if (st) return st;
   rr_system *s = rr_system_new();
   if (!s) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  int st = rr_vehicle_fill(v, s, err);
+  if (st) { rr_system_free(s); return st; }
+  *out = s;
+  return RR_OK;
+}
+
+int rr_vehicle_fill(const rr_vehicle *v, rr_system *s, rr_error *err)
+{
+  int st = rr_vehicle_check(v, err);
+  if (st) return st;
+  rr_system_clear(s);
   const double L = v->bogie_half_spacing, b = v->wheelbase_half, r0 = v->rolling_radius;
   int body_c, body_f[2], body_w[4];
   rr_body_spec cb = {"c", RR_GROUP_CARBODY, v->carbody_mass, v->carbody_yaw_inertia,
@@ -89,11 +98,21 @@ int rr_vehicle_system(const rr_vehicle *v, rr_system **out, rr_error *err)
     rr_contact_spec c = {body_w[i], v->f11, v->f22, r0, v->contact_half_spacing, W, 0};
     TRY(rr_system_add_contact(s, &c, err));
   }
-  *out = s;
   return RR_OK;
 fail:
-  rr_system_free(s);
   return st;
+}
+
+int rr_model_rebuild(rr_model *m, const rr_vehicle *v, rr_system *scratch, rr_error *err)
+{
+  int st = rr_vehicle_fill(v, scratch, err);
+  if (st) return st;
+  double speed = m->speed, lam = m->conicity;
+  if ((st = rr_model_assemble(m, scratch, err))) return st;
+  m->gravity = v->gravity_stiffness;
+  m->sdf_mode = RR_SDF_NONE;
+  if (v->sdf_mode != RR_SDF_NONE && (st = rr_model_set_sdf(m, v->sdf_mode, &v->sdf, err))) return st;
+  return rr_model_set_operating(m, speed, lam, err);
 }
 
 int rr_model_from_vehicle(const rr_vehicle *v, rr_model **out, rr_error *err)

@@ -73,7 +73,31 @@ expect2 "validate paper mode" "paper-mode SDF has no time-domain form" "$RR" val
 expect2 "validate duration" "--duration" "$RR" validate --speed 300 --conicity 0.2 --duration 0
 expect2 "validate seed" "--seed" "$RR" validate --speed 300 --conicity 0.2 --seed -4
 
-for c in summary matrices modes robust critical-speed locus map damper ride frf compare validate; do
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 12 --generations 2 --threads 2 --output "$tmp/po" > "$tmp/po.txt" 2> "$tmp/po.err" || bad "optimise exit"
+head -1 "$tmp/po-pareto.csv" | grep -qx 'primary.longitudinal_stiffness,lateral_damper.damping,yaw_damper.damping,yaw_damper.series_stiffness,zeta_low,zeta_high,std_zeta' && [ "$(wc -l < "$tmp/po-pareto.csv")" -ge 2 ] && ok || bad "optimise pareto csv"
+grep -q "evals/s" "$tmp/po.err" && grep -q "hypervolume" "$tmp/po.err" && ok || bad "optimise progress"
+# the Pareto rows are mutually non-dominated and within the bounds (checked in Python)
+python3 - "$tmp/po-pareto.csv" <<'PY' && ok || bad "pareto rows non-dominated and in bounds"
+import csv, sys
+rows = [list(map(float, r)) for r in list(csv.reader(open(sys.argv[1])))[1:]]
+lo, hi = [10e6, 5e3, 100e3, 1e6], [120e6, 60e3, 4000e3, 30e6]
+ok = all(lo[j] <= r[j] <= hi[j] for r in rows for j in range(4))
+F = [r[4:] for r in rows]
+dom = lambda a, b: all(x <= y for x, y in zip(a, b)) and any(x < y for x, y in zip(a, b))
+ok = ok and not any(dom(a, b) for a in F for b in F)
+sys.exit(0 if ok else 1)
+PY
+"$RR" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:2" --objective index@350,0.17 > "$tmp/sw.csv" || bad "sweep exit"
+[ "$(head -1 "$tmp/sw.csv")" = "yaw_damper.damping,yaw_damper.series_stiffness,index@350,0.17,index_freq_hz,k_opt" ] && [ "$(wc -l < "$tmp/sw.csv")" -eq 7 ] && ok || bad "sweep csv"
+printf '[problem]\npopulation = 7\n[variables]\nprimary.longitudinal_stiffness = 10 kN/mm .. 120 kN/mm\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p1.ini"
+expect2 "odd population" "p1.ini:2: \[problem\] population" "$RR" optimise "$tmp/p1.ini"
+printf '[problem]\n[variables]\nprimary.stiffness = 1 .. 2\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p2.ini"
+expect2 "bad variable key" "p2.ini:3: \[variables\] primary.stiffness" "$RR" optimise "$tmp/p2.ini"
+printf '[problem]\n[variables]\nprimary.longitudinal_stiffness = 10 kg .. 20 kg\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p3.ini"
+expect2 "variable unit" "p3.ini:3: \[variables\] primary.longitudinal_stiffness" "$RR" optimise "$tmp/p3.ini"
+expect2 "sweep key" "--x" "$RR" sweep --x nope.key=1:2:3 --y yaw_damper.damping=1:2:2 --objective zeta_low
+
+for c in summary matrices modes robust critical-speed locus map damper ride frf compare validate optimise sweep; do
   "$RR" $c --help > /dev/null && ok || bad "$c --help"
 done
 

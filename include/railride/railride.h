@@ -15,4 +15,6 @@
 #include "railride/comfort.h"
 #include "railride/expm.h"
 #include "railride/timesim.h"
+#include "railride/design.h"
+#include "railride/nsga2.h"
 #endif

@@ -1,0 +1,377 @@
+/* Optimisation commands: optimise (NSGA-II over a problem file) and sweep
+ * (any objective over a grid of two vehicle-file keys). */
+#define _POSIX_C_SOURCE 200809L
+#include <ctype.h>
+#include <errno.h>
+#include <ini.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "cli.h"
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+typedef struct problem {
+  const char *path;
+  int line;
+  FILE *fp;
+  char vehicle[PATH_MAX];
+  int population, generations, threads;
+  unsigned long long seed;
+  char output[PATH_MAX];
+  int nvar, nobj;
+  char keys[RR_DESIGN_MAX_VARS][64];
+  double lo[RR_DESIGN_MAX_VARS], hi[RR_DESIGN_MAX_VARS];
+  char objs[RR_DESIGN_MAX_OBJS][128];
+  int maximize[RR_DESIGN_MAX_OBJS];
+  char err[RR_ERROR_MSG_MAX];
+} problem;
+
+static char *pr_reader(char *str, int num, void *stream)
+{
+  problem *p = stream;
+  if (!fgets(str, num, p->fp)) return NULL;
+  p->line++;
+  return str;
+}
+
+static int pr_fail(problem *p, const char *sec, const char *key, const char *msg)
+{
+  if (!p->err[0]) snprintf(p->err, sizeof p->err, "%s:%d: [%s] %s: %s", p->path, p->line, sec, key, msg);
+  return 0;
+}
+
+static void trim(char *s)
+{
+  char *a = s;
+  while (isspace((unsigned char)*a)) a++;
+  memmove(s, a, strlen(a) + 1);
+  size_t n = strlen(s);
+  while (n && isspace((unsigned char)s[n - 1])) s[--n] = 0;
+}
+
+static int whole(const char *v, long lo, long hi, long *out)
+{
+  char *end;
+  errno = 0;
+  long k = strtol(v, &end, 10);
+  if (end == v || *end || errno || k < lo || k > hi) return -1;
+  *out = k;
+  return 0;
+}
+
+static int pr_handler(void *user, const char *section, const char *name, const char *value)
+{
+  problem *p = user;
+  if (p->err[0]) return 1;
+  char val[512];
+  snprintf(val, sizeof val, "%s", value);
+  trim(val);
+  long k;
+  if (!strcmp(section, "problem")) {
+    if (!strcmp(name, "vehicle")) snprintf(p->vehicle, sizeof p->vehicle, "%s", val);
+    else if (!strcmp(name, "population")) {
+      if (whole(val, 4, 10000000, &k) || k % 2) return pr_fail(p, section, name, "an even whole number >= 4 expected");
+      p->population = (int)k;
+    } else if (!strcmp(name, "generations")) {
+      if (whole(val, 0, 1000000, &k)) return pr_fail(p, section, name, "a whole number >= 0 expected");
+      p->generations = (int)k;
+    } else if (!strcmp(name, "seed")) {
+      if (whole(val, 0, LONG_MAX, &k)) return pr_fail(p, section, name, "a whole number >= 0 expected");
+      p->seed = (unsigned long long)k;
+    } else if (!strcmp(name, "threads")) {
+      if (whole(val, 0, 1024, &k)) return pr_fail(p, section, name, "a whole number >= 0 expected");
+      p->threads = (int)k;
+    } else if (!strcmp(name, "output")) snprintf(p->output, sizeof p->output, "%s", val);
+    else return pr_fail(p, section, name, "unknown key");
+  } else if (!strcmp(section, "variables")) {
+    const rr_vehicle_key *key = rr_vehicle_key_find(name);
+    if (!key) return pr_fail(p, section, name, "not a numeric vehicle-file key (section.key)");
+    if (p->nvar >= RR_DESIGN_MAX_VARS) return pr_fail(p, section, name, "too many variables");
+    char *sep = strstr(val, "..");
+    if (!sep) return pr_fail(p, section, name, "expected 'FROM .. TO' with units, e.g. 10 kN/mm .. 120 kN/mm");
+    *sep = 0;
+    char a[256], b[256];
+    snprintf(a, sizeof a, "%s", val);
+    snprintf(b, sizeof b, "%s", sep + 2);
+    trim(a);
+    trim(b);
+    rr_error e;
+    char what[128];
+    snprintf(what, sizeof what, "%s:%d: [variables] %s", p->path, p->line, name);
+    double lo, hi;
+    if (rr_units_parse(NULL, a, key->si_unit, 0, &lo, what, &e) || rr_units_parse(NULL, b, key->si_unit, 0, &hi, what, &e)) {
+      snprintf(p->err, sizeof p->err, "%s", e.msg);
+      return 0;
+    }
+    if (!(hi > lo)) return pr_fail(p, section, name, "the upper bound must exceed the lower");
+    snprintf(p->keys[p->nvar], sizeof p->keys[0], "%s", name);
+    p->lo[p->nvar] = lo;
+    p->hi[p->nvar] = hi;
+    p->nvar++;
+  } else if (!strcmp(section, "objectives")) {
+    if (strcmp(name, "objective")) return pr_fail(p, section, name, "unknown key (objective = NAME minimize|maximize)");
+    if (p->nobj >= RR_DESIGN_MAX_OBJS) return pr_fail(p, section, name, "too many objectives");
+    char *sp = strrchr(val, ' ');
+    int maxi = 0;
+    if (sp && (!strcmp(sp + 1, "minimize") || !strcmp(sp + 1, "minimise"))) *sp = 0;
+    else if (sp && (!strcmp(sp + 1, "maximize") || !strcmp(sp + 1, "maximise"))) { *sp = 0; maxi = 1; }
+    trim(val);
+    snprintf(p->objs[p->nobj], sizeof p->objs[0], "%s", val);
+    p->maximize[p->nobj] = maxi;
+    p->nobj++;
+  } else {
+    return pr_fail(p, section, name, "unknown section (problem, variables, objectives)");
+  }
+  return 1;
+}
+
+static int load_problem(const char *path, problem *p)
+{
+  memset(p, 0, sizeof *p);
+  p->path = path;
+  p->population = 100;
+  p->generations = 100;
+  p->seed = 1;
+  snprintf(p->output, sizeof p->output, "pareto");
+  p->fp = fopen(path, "r");
+  if (!p->fp) return cli_bad("%s: cannot open: %s", path, strerror(errno));
+  int r = ini_parse_stream(pr_reader, p, pr_handler, p);
+  fclose(p->fp);
+  if (p->err[0]) return cli_bad("%s", p->err);
+  if (r > 0) return cli_bad("%s:%d: malformed line", path, r);
+  if (!p->nvar) return cli_bad("%s: [variables]: at least one variable is needed", path);
+  if (!p->nobj) return cli_bad("%s: [objectives]: at least one objective is needed", path);
+  /* a vehicle path is relative to the problem file */
+  if (p->vehicle[0] && strchr(p->vehicle, '/') && p->vehicle[0] != '/') {
+    const char *slash = strrchr(path, '/');
+    if (slash) {
+      char tmp[PATH_MAX * 2];
+      snprintf(tmp, sizeof tmp, "%.*s/%s", (int)(slash - path), path, p->vehicle);
+      snprintf(p->vehicle, sizeof p->vehicle, "%s", tmp);
+    }
+  }
+  return 0;
+}
+
+typedef struct eval_ctx {
+  rr_design *d;
+  int threads, nobj;
+  const int *maximize;
+} eval_ctx;
+
+static int eval_batch(void *user, int n, const double *x, double *f)
+{
+  eval_ctx *c = user;
+  rr_design_evaluate_batch(c->d, n, x, f, c->threads);
+  for (int i = 0; i < n; i++)
+    for (int k = 0; k < c->nobj; k++)
+      if (c->maximize[k]) f[i * c->nobj + k] = -f[i * c->nobj + k];
+  return 0;
+}
+
+static void progress(void *user, int gen, long evals, double secs, int front, double hv)
+{
+  int total = *(int *)user;
+  if (isnan(hv)) fprintf(stderr, "gen %4d/%d  evals %9ld  %8.0f evals/s  front %5d\n", gen, total, evals, evals / secs, front);
+  else fprintf(stderr, "gen %4d/%d  evals %9ld  %8.0f evals/s  front %5d  hypervolume %.6g\n", gen, total, evals, evals / secs, front, hv);
+}
+
+enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ };
+
+typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; } optim_args;
+
+int cmd_optimise(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride optimise PROBLEM.ini [--population N] [--generations N] [--seed N] [--threads N] [--output PREFIX]\n"
+      "NSGA-II over the problem file's variables (vehicle-file keys with bounds) and objectives;\n"
+      "writes PREFIX-pareto.csv (the non-dominated designs: variables in SI, objectives) and a\n"
+      "summary; progress on stderr (generation, evaluations/s, front size, hypervolume with the\n"
+      "initial population's worst values +10% as reference). See examples/paper-optimisation.ini.\n";
+  static const struct option opts[] = {{"population", required_argument, 0, OPT_POP}, {"generations", required_argument, 0, OPT_GEN},
+                                       {"seed", required_argument, 0, OPT_OSEED}, {"threads", required_argument, 0, OPT_THREADS},
+                                       {"output", required_argument, 0, OPT_OUT}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+  optim_args a = {-1, -1, -1, -1, NULL};
+  optind = 1;
+  opterr = 0;
+  int opt;
+  while ((opt = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+    long k;
+    switch (opt) {
+    case 'h': fputs(help, stdout); return 0;
+    case OPT_POP: if (whole(optarg, 4, 10000000, &k) || k % 2) return cli_bad("--population: an even whole number >= 4 expected"); a.pop = k; break;
+    case OPT_GEN: if (whole(optarg, 0, 1000000, &k)) return cli_bad("--generations: a whole number >= 0 expected"); a.gen = k; break;
+    case OPT_OSEED: if (whole(optarg, 0, LONG_MAX, &k)) return cli_bad("--seed: a whole number >= 0 expected"); a.seed = k; break;
+    case OPT_THREADS: if (whole(optarg, 0, 1024, &k)) return cli_bad("--threads: a whole number >= 0 expected"); a.threads = k; break;
+    case OPT_OUT: a.out = optarg; break;
+    default: return cli_bad("optimise: unknown option or missing value '%s' (see --help)", argv[optind - 1]);
+    }
+  }
+  if (optind >= argc) return cli_bad("optimise: a problem file is required (see --help)");
+  if (argc - optind > 1) return cli_bad("unexpected argument '%s'", argv[optind + 1]);
+  problem p;
+  int r = load_problem(argv[optind], &p);
+  if (r) return r;
+  if (a.pop > 0) p.population = (int)a.pop;
+  if (a.gen >= 0) p.generations = (int)a.gen;
+  if (a.seed >= 0) p.seed = (unsigned long long)a.seed;
+  if (a.threads >= 0) p.threads = (int)a.threads;
+  if (a.out) snprintf(p.output, sizeof p.output, "%s", a.out);
+  rr_vehicle v;
+  rr_error e;
+  int st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
+  if (st) return cli_fail(&e, st);
+  const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
+  for (int i = 0; i < p.nvar; i++) keys[i] = p.keys[i];
+  for (int i = 0; i < p.nobj; i++) objs[i] = p.objs[i];
+  rr_design *d;
+  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj, objs, &d, &e))) return cli_fail(&e, st);
+  eval_ctx ec = {d, p.threads, p.nobj, p.maximize};
+  rr_nsga2_opts o = rr_nsga2_opts_default();
+  o.population = p.population;
+  o.generations = p.generations;
+  o.seed = p.seed;
+  o.progress = progress;
+  o.user = &p.generations;
+  int N = p.population;
+  double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj);
+  int *rank = malloc(sizeof(int) * N);
+  if (!X || !F || !rank) { free(X); free(F); free(rank); rr_design_free(d); return cli_bad("out of memory"); }
+  struct timespec t0, t1;
+  clock_gettime(CLOCK_MONOTONIC, &t0);
+  st = rr_nsga2_run(p.nvar, p.nobj, p.lo, p.hi, eval_batch, &ec, &o, X, F, rank, &e);
+  clock_gettime(CLOCK_MONOTONIC, &t1);
+  double secs = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec);
+  rr_design_free(d);
+  if (st) { free(X); free(F); free(rank); return cli_fail(&e, st); }
+  for (int i = 0; i < N; i++)
+    for (int k = 0; k < p.nobj; k++)
+      if (p.maximize[k]) F[i * p.nobj + k] = -F[i * p.nobj + k];
+  char path[PATH_MAX + 16];
+  snprintf(path, sizeof path, "%s-pareto.csv", p.output);
+  FILE *fp = fopen(path, "w");
+  if (!fp) { free(X); free(F); free(rank); return cli_bad("cannot write %s: %s", path, strerror(errno)); }
+  for (int j = 0; j < p.nvar; j++) fprintf(fp, "%s,", p.keys[j]);
+  for (int k = 0; k < p.nobj; k++) fprintf(fp, "%s%s", p.objs[k], k + 1 < p.nobj ? "," : "\n");
+  int nfront = 0;
+  double best[RR_DESIGN_MAX_OBJS], worst[RR_DESIGN_MAX_OBJS];
+  for (int k = 0; k < p.nobj; k++) { best[k] = INFINITY; worst[k] = -INFINITY; }
+  for (int i = 0; i < N; i++) {
+    if (rank[i] != 0) continue;
+    nfront++;
+    for (int j = 0; j < p.nvar; j++) fprintf(fp, "%.10g,", X[i * p.nvar + j]);
+    for (int k = 0; k < p.nobj; k++) {
+      double fk = F[i * p.nobj + k];
+      fprintf(fp, "%.10g%s", fk, k + 1 < p.nobj ? "," : "\n");
+      double sk = p.maximize[k] ? -fk : fk;
+      if (sk < best[k]) best[k] = sk;
+      if (sk > worst[k]) worst[k] = sk;
+    }
+  }
+  fclose(fp);
+  long evals = (long)N * (p.generations + 1);
+  printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", p.path, N, p.generations, p.seed);
+  printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, secs, evals / secs);
+  printf("  Pareto front: %d designs, written to %s\n", nfront, path);
+  for (int k = 0; k < p.nobj; k++)
+    printf("  %-28s %s: best %.6g, range on the front %.6g .. %.6g\n", p.objs[k], p.maximize[k] ? "max" : "min",
+           p.maximize[k] ? -best[k] : best[k], p.maximize[k] ? -worst[k] : best[k], p.maximize[k] ? -best[k] : worst[k]);
+  free(X); free(F); free(rank);
+  return 0;
+}
+
+typedef struct sweep_args {
+  char key[2][64];
+  double from[2], to[2];
+  int n[2], have[2];
+  const char *objective;
+} sweep_args;
+
+static int parse_axis(const char *opt, const char *arg, sweep_args *a, int ax)
+{
+  const char *eq = strchr(arg, '=');
+  if (!eq) return cli_bad("--%s: expected section.key=FROM:TO:N", opt);
+  snprintf(a->key[ax], sizeof a->key[ax], "%.*s", (int)(eq - arg), arg);
+  const rr_vehicle_key *k = rr_vehicle_key_find(a->key[ax]);
+  if (!k) return cli_bad("--%s: '%s' is not a numeric vehicle-file key (section.key)", opt, a->key[ax]);
+  if (cli_range(opt, eq + 1, k->si_unit, &a->from[ax], &a->to[ax], &a->n[ax])) return EXIT_BADINPUT;
+  a->have[ax] = 1;
+  return 0;
+}
+
+static int sweep_cb(int opt, const char *arg, void *u)
+{
+  sweep_args *a = u;
+  if (opt == OPT_SX) return parse_axis("x", arg, a, 0);
+  if (opt == OPT_SY) return parse_axis("y", arg, a, 1);
+  if (opt == OPT_OBJ) { a->objective = arg; return 0; }
+  return 1;
+}
+
+int cmd_sweep(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride sweep [VEHICLE] --x section.key=FROM:TO:N --y section.key=FROM:TO:N --objective NAME[@ARGS]\n"
+      "Any objective (as in problem files: index@KMH,L, zeta_low, sperling@KMH,L[,X], critical_speed@L, ...)\n"
+      "over a grid of two vehicle-file keys, CSV: x, y, objective. For index@ objectives the\n"
+      "frequency of the mode that sets the index is added, and when one axis is\n"
+      "yaw_damper.damping the optimal-dissipation stiffness k_opt = c 2 pi f of that mode\n"
+      "(paper Fig. 10). Values with units are accepted: --x \"yaw_damper.damping=100 kN.s/m:4000 kN.s/m:20\".\n"
+      "  --x, --y AXIS        the two axes\n  --objective NAME     the objective\n  VEHICLE              vehicle file or built-in name\n";
+  static const struct option extra[] = {{"x", required_argument, 0, OPT_SX}, {"y", required_argument, 0, OPT_SY},
+                                        {"objective", required_argument, 0, OPT_OBJ}, {0, 0, 0, 0}};
+  cli_common c;
+  sweep_args a;
+  memset(&a, 0, sizeof a);
+  int r = cli_parse(argc, argv, &c, extra, sweep_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
+  if (!a.have[0] || !a.have[1] || !a.objective) return cli_bad("sweep: --x, --y and --objective are required");
+  const char *keys[2] = {a.key[0], a.key[1]}, *objs[1] = {a.objective};
+  rr_design *d;
+  rr_error e;
+  int st = rr_design_new(&c.veh, 2, keys, 1, objs, &d, &e);
+  if (st) return cli_fail(&e, st);
+  int is_index = !strncmp(a.objective, "index@", 6), damp_axis = -1;
+  double sp = 0, lam = 0;
+  if (is_index && sscanf(a.objective + 6, "%lf,%lf", &sp, &lam) != 2) is_index = 0;
+  for (int ax = 0; ax < 2; ax++) if (!strcmp(a.key[ax], "yaw_damper.damping")) damp_axis = ax;
+  printf("%s,%s,%s%s%s\n", a.key[0], a.key[1], a.objective, is_index ? ",index_freq_hz" : "", is_index && damp_axis >= 0 ? ",k_opt" : "");
+  rr_modal_ws *ws = NULL;
+  rr_modal_result res;
+  memset(&res, 0, sizeof res);
+  for (int i = 0; i < a.n[0] && !st; i++)
+    for (int j = 0; j < a.n[1] && !st; j++) {
+      double x[2] = {a.n[0] == 1 ? a.from[0] : a.from[0] + (a.to[0] - a.from[0]) * i / (a.n[0] - 1),
+                     a.n[1] == 1 ? a.from[1] : a.from[1] + (a.to[1] - a.from[1]) * j / (a.n[1] - 1)};
+      double f;
+      st = rr_design_evaluate(d, x, &f, &e);
+      if (st) break;
+      printf("%.10g,%.10g,%.10g", x[0], x[1], f);
+      if (is_index) {
+        rr_vehicle v = c.veh;
+        *rr_vehicle_field(&v, rr_vehicle_key_find(a.key[0])) = x[0];
+        *rr_vehicle_field(&v, rr_vehicle_key_find(a.key[1])) = x[1];
+        rr_model *m;
+        st = rr_model_from_vehicle(&v, &m, &e);
+        if (!st) st = rr_model_set_operating(m, sp / 3.6, lam, &e);
+        if (!st && !ws) st = rr_modal_ws_new(m, &ws, &e);
+        if (!st && !res.modes) st = rr_modal_result_alloc(m, &res, &e);
+        if (!st) st = rr_modal_solve(m, &c.mo, ws, &res, &e);
+        rr_model_free(m);
+        if (st) break;
+        double fz = res.index_mode >= 0 ? res.modes[res.index_mode].freq_hz : NAN;
+        printf(",%.10g", fz);
+        if (damp_axis >= 0) printf(",%.10g", x[damp_axis] * 2 * M_PI * fz);
+      }
+      printf("\n");
+    }
+  rr_modal_ws_free(ws);
+  rr_modal_result_free(&res);
+  rr_design_free(d);
+  return st ? cli_fail(&e, st) : 0;
+}

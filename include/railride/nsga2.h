@@ -1,0 +1,49 @@
+/* railride: NSGA-II (Deb, Pratap, Agarwal, Meyarivan, IEEE TEC 6(2), 2002):
+ * fast non-dominated sorting, crowding distance, binary tournament, SBX
+ * crossover, polynomial mutation. All objectives are minimised. Seeded and
+ * reproducible; the evaluation callback gets whole batches (parallelise there). */
+#ifndef RAILRIDE_NSGA2_H
+#define RAILRIDE_NSGA2_H
+
+#include <stdint.h>
+#include "railride/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Fills f (n x m) for x (n x d). NaN objectives count as worst. Returns 0. */
+typedef int (*rr_nsga2_eval_fn)(void *user, int n, const double *x, double *f);
+typedef void (*rr_nsga2_progress_fn)(void *user, int generation, long evaluations, double seconds, int front_size,
+                                     double hypervolume);
+
+typedef struct rr_nsga2_opts {
+  int population;          /* even (100) */
+  int generations;         /* (250) */
+  uint64_t seed;           /* (1) */
+  double p_crossover;      /* (0.9) */
+  double eta_c;            /* SBX distribution index (15) */
+  double p_mutation;       /* per variable; <= 0: 1/d */
+  double eta_m;            /* polynomial mutation index (20) */
+  int hv_every;            /* hypervolume in progress reports every k generations (10; 0: never) */
+  rr_nsga2_progress_fn progress;
+  void *user;              /* for progress */
+} rr_nsga2_opts;
+rr_nsga2_opts rr_nsga2_opts_default(void);
+
+/* Runs the optimiser; x_out (pop x d), f_out (pop x m), rank_out (pop; 0 =
+ * non-dominated) receive the final population. */
+int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval, void *eval_user,
+                 const rr_nsga2_opts *o, double *x_out, double *f_out, int *rank_out, rr_error *err);
+
+/* Non-dominated ranks of n points (m objectives, minimised); 0 = first front.
+ * Returns the number of fronts, or -1 on allocation failure. */
+int rr_nondominated_ranks(int n, int m, const double *f, int *rank);
+/* Exact hypervolume dominated by the points (m = 2 or 3) up to ref; points
+ * not strictly better than ref in every objective do not count. -1 for other m. */
+double rr_hypervolume(int n, int m, const double *f, const double *ref);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

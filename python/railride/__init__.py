@@ -1,0 +1,118 @@
+"""railride from Python: batch evaluation of vehicle designs at C speed.
+
+A thin ctypes layer over librailride's design API (include/railride/design.h):
+numpy arrays in, numpy arrays out, one C call per batch.
+
+    import numpy as np, railride
+    d = railride.Design("type1",
+                        variables=["primary.longitudinal_stiffness", "yaw_damper.series_stiffness"],
+                        objectives=["zeta_low", "zeta_high", "std_zeta"])
+    F = d.evaluate_batch(np.array([[50e6, 10e6], [30e6, 5e6]]))   # SI units
+
+The shared library is found through $RAILRIDE_LIB, next to this package in a
+build tree (../../build/librailride.so), or on the loader's path.
+"""
+import ctypes
+import os
+
+import numpy as np
+
+__all__ = ["Design", "RailrideError", "library"]
+
+
+class RailrideError(Exception):
+    """A railride call failed; the message names what was wrong."""
+
+
+def _find_library():
+    env = os.environ.get("RAILRIDE_LIB")
+    if env:
+        return env
+    here = os.path.dirname(os.path.abspath(__file__))
+    for cand in (os.path.join(here, "..", "..", "build", "librailride.so"),
+                 os.path.join(here, "librailride.so")):
+        if os.path.exists(cand):
+            return os.path.abspath(cand)
+    return "librailride.so.0"
+
+
+_lib = None
+
+
+def library():
+    """The loaded librailride (ctypes.CDLL)."""
+    global _lib
+    if _lib is None:
+        lib = ctypes.CDLL(_find_library())
+        lib.rr_design_open.restype = ctypes.c_void_p
+        lib.rr_design_open.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int]
+        lib.rr_design_free.argtypes = [ctypes.c_void_p]
+        lib.rr_design_nvar.argtypes = [ctypes.c_void_p]
+        lib.rr_design_nobj.argtypes = [ctypes.c_void_p]
+        dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
+        lib.rr_design_evaluate_batch.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr, ctypes.c_int]
+        lib.rr_design_evaluate_batch.restype = ctypes.c_int
+        try:  # BLAS threads only cost at this size, and fight OpenMP's
+            lib_blas = ctypes.CDLL("libopenblas.so.0")
+            lib_blas.openblas_set_num_threads(1)
+        except OSError:
+            pass
+        _lib = lib
+    return _lib
+
+
+class Design:
+    """A design context: base vehicle, varying keys, objectives (see design.h).
+
+    vehicle: built-in name ("type1", "type2") or a vehicle file path.
+    variables: "section.key" vehicle-file keys; values passed in SI units.
+    objectives: e.g. "zeta_low", "index@350,0.17", "critical_speed@0.4",
+                "sperling@350,0.17,8.6875;sdf=paper".
+    threads: OpenMP threads per batch (0: all cores).
+    """
+
+    def __init__(self, vehicle="type1", variables=(), objectives=("zeta_low", "zeta_high", "std_zeta"), threads=0):
+        lib = library()
+        err = ctypes.create_string_buffer(512)
+        self._h = lib.rr_design_open(vehicle.encode(), "\n".join(variables).encode(),
+                                     "\n".join(objectives).encode(), err, len(err))
+        if not self._h:
+            raise RailrideError(err.value.decode())
+        self.variables = list(variables)
+        self.objectives = list(objectives)
+        self.threads = int(threads)
+
+    @property
+    def nvar(self):
+        return len(self.variables)
+
+    @property
+    def nobj(self):
+        return len(self.objectives)
+
+    def evaluate_batch(self, x):
+        """Objectives (n x nobj) for designs x (n x nvar); failed designs give NaN rows."""
+        x = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=np.float64)))
+        if x.shape[1] != self.nvar:
+            raise ValueError("x has %d columns, the design has %d variables" % (x.shape[1], self.nvar))
+        f = np.empty((x.shape[0], self.nobj), dtype=np.float64)
+        library().rr_design_evaluate_batch(self._h, x.shape[0], x, f, self.threads)
+        return f
+
+    def evaluate(self, x):
+        """Objectives of one design (1-D array)."""
+        return self.evaluate_batch(np.asarray(x, dtype=np.float64)[None, :])[0]
+
+    def close(self):
+        if getattr(self, "_h", None):
+            library().rr_design_free(self._h)
+            self._h = None
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()

@@ -1,0 +1,53 @@
+"""The Python binding against the C library's own answers (the CLI's JSON)."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.environ["RR_SOURCE_DIR"], "python"))
+import railride  # noqa: E402
+
+cli = os.environ["RR_CLI"]
+passed = failed = 0
+
+
+def check(cond, what):
+    global passed, failed
+    if cond:
+        passed += 1
+    else:
+        failed += 1
+        print("FAIL:", what, file=sys.stderr)
+
+
+d = railride.Design("type1", ["yaw_damper.series_stiffness"], ["zeta_low", "zeta_high", "std_zeta", "index@300,0.3"])
+f = d.evaluate([10e6])
+ref = json.loads(subprocess.run([cli, "robust", "--json"], capture_output=True, check=True, text=True).stdout)
+check(abs(f[0] - ref["zeta_low"]) < 1e-13 and abs(f[1] - ref["zeta_high"]) < 1e-13 and abs(f[2] - ref["std_zeta"]) < 1e-12,
+      "robust indices equal the CLI's")
+modes = json.loads(subprocess.run([cli, "modes", "--speed", "300", "--conicity", "0.3", "--json"],
+                                  capture_output=True, check=True, text=True).stdout)
+check(abs(f[3] - modes["stability_index"]) < 1e-11, "index equals the CLI's (fast route vs full dgeev: ~1e-13 apart)")
+X = np.array([[5e6], [10e6], [20e6], [-1.0]])
+F = d.evaluate_batch(X)
+check(F.shape == (4, 4), "batch shape")
+check(np.allclose(F[1], f, rtol=0, atol=1e-14), "batch row equals single evaluation")
+check(np.all(np.isnan(F[3])), "invalid design gives NaN")
+try:
+    railride.Design("type1", ["primary.stifness"], ["zeta_low"])
+    check(False, "unknown key raises")
+except railride.RailrideError as e:
+    check("primary.stifness" in str(e), "error names the key")
+try:
+    d.evaluate_batch(np.zeros((2, 3)))
+    check(False, "wrong width raises")
+except ValueError:
+    check(True, "wrong width raises")
+for ex in ("python_loop.py", "pymoo_problem.py"):
+    r = subprocess.run([sys.executable, os.path.join(os.environ["RR_SOURCE_DIR"], "examples", ex)], capture_output=True, text=True,
+                       env=dict(os.environ, PYTHONPATH=os.path.join(os.environ["RR_SOURCE_DIR"], "python")))
+    check(r.returncode == 0 and r.stdout.strip(), "example %s runs: %s" % (ex, r.stderr[-300:]))
+print("python: %d passed, %d failed" % (passed, failed))
+sys.exit(1 if failed else 0)
