@@ -9,6 +9,7 @@
 #include "railride/modal.h"
 #include "model_impl.h"
 #include "clu.h"
+#include "hqr.h"
 #include "internal.h"
 
 #define OSC_TOL 1e-6
@@ -299,11 +300,15 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
      fast path (tests hold it to the full dgeev solve to 1e-10). */
   int N, st = rr_state_matrix_merged(m, 0, ws->A, &N, err);
   if (st) return st;
-  for (int i = 0; i < N; i++)
-    for (int j = 0; j < N; j++) ws->At[j * N + i] = ws->A[i * N + j];
-  int info = LAPACKE_dgehrd_work(LAPACK_COL_MAJOR, N, 1, N, ws->At, N, ws->wr, ws->work, ws->lwork);
-  if (!info) info = LAPACKE_dhseqr_work(LAPACK_COL_MAJOR, 'E', 'N', N, 1, N, ws->At, N, ws->wr, ws->wi, NULL, 1, ws->work, ws->lwork);
-  if (info) return rr_seterr(err, RR_ELAPACK, "dgehrd/dhseqr failed (info %d)", info);
+  memcpy(ws->At, ws->A, sizeof(double) * (size_t)N * N);
+  if (rr_eig_small(N, ws->At, ws->wr, ws->wi)) {
+    /* not converged (rare): LAPACK's Householder reduction and QR */
+    for (int i = 0; i < N; i++)
+      for (int j = 0; j < N; j++) ws->At[j * N + i] = ws->A[i * N + j];
+    int info = LAPACKE_dgehrd_work(LAPACK_COL_MAJOR, N, 1, N, ws->At, N, ws->wr, ws->work, ws->lwork);
+    if (!info) info = LAPACKE_dhseqr_work(LAPACK_COL_MAJOR, 'E', 'N', N, 1, N, ws->At, N, ws->wr, ws->wi, NULL, 1, ws->work, ws->lwork);
+    if (info) return rr_seterr(err, RR_ELAPACK, "dgehrd/dhseqr failed (info %d)", info);
+  }
   int nc = 0;
   for (int j = 0; j < N; j++) {
     double re = ws->wr[j], im = ws->wi[j];

@@ -168,6 +168,39 @@ static void test_fast_vs_full(void)
     rr_model_free(m);
   }
   CHECK(bad == 0, "fast index differs from the full solve at %d of %d points", bad, count);
+  /* designs spread over the optimiser's bounds (paper problem), both robust speeds */
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  rr_modal_opts o = rr_modal_opts_default();
+  unsigned seed = 7;
+  bad = 0;
+  for (int i = 0; i < 400; i++) {
+    double r[5];
+    for (int k = 0; k < 5; k++) { seed = seed * 1664525u + 1013904223u; r[k] = (seed >> 8) / 16777216.0; }
+    v.primary_kx = 10e6 + 110e6 * r[0];
+    v.lateral_damping = 5e3 + 55e3 * r[1];
+    v.yaw_damping = 100e3 + 3900e3 * r[2];
+    v.yaw_series_stiffness = 1e6 + 29e6 * r[3];
+    rr_model *m;
+    rr_error e;
+    rr_modal_ws *ws;
+    rr_modal_result res;
+    rr_model_from_vehicle(&v, &m, &e);
+    rr_model_set_operating(m, (i % 2 ? 350 : 250) / 3.6, 0.05 + 0.35 * r[4], &e);
+    rr_modal_ws_new(m, &ws, &e);
+    rr_modal_result_alloc(m, &res, &e);
+    double z;
+    rr_modal_stability_index(m, &o, ws, &z, &e);
+    rr_modal_solve(m, &o, ws, &res, &e);
+    if (fabs(z - res.stability_index) > 1e-9) {
+      bad++;
+      fprintf(stderr, "  design %d: fast %.12g full %.12g\n", i, z, res.stability_index);
+    }
+    rr_modal_result_free(&res);
+    rr_modal_ws_free(ws);
+    rr_model_free(m);
+  }
+  CHECK(bad == 0, "fast index differs from the full solve for %d of 400 random designs", bad);
 }
 
 /* The carbody roll mode of MODEL.md section 5: lightly damped, wheelsets still. */

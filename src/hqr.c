@@ -1,0 +1,177 @@
+/* Eigenvalues of small dense matrices: elmhes + hqr (see hqr.h). */
+#include <float.h>
+#include <math.h>
+#include "hqr.h"
+
+#define A(i, j) a[(i) * n + (j)]
+
+/* Reduction to upper Hessenberg form by stabilised elementary similarity
+ * transformations (Gaussian elimination with row interchanges). */
+static void elmhes(int n, double *a)
+{
+  for (int m = 1; m < n - 1; m++) {
+    double x = 0;
+    int piv = m;
+    for (int j = m; j < n; j++)
+      if (fabs(A(j, m - 1)) > fabs(x)) { x = A(j, m - 1); piv = j; }
+    if (piv != m) {
+      for (int j = m - 1; j < n; j++) { double t = A(piv, j); A(piv, j) = A(m, j); A(m, j) = t; }
+      for (int i = 0; i < n; i++) { double t = A(i, piv); A(i, piv) = A(i, m); A(i, m) = t; }
+    }
+    if (x == 0) continue;
+    for (int i = m + 1; i < n; i++) {
+      double y = A(i, m - 1);
+      if (y == 0) continue;
+      y /= x;
+      A(i, m - 1) = 0;
+      double *ri = &A(i, 0), *rm = &A(m, 0);
+      for (int j = m; j < n; j++) ri[j] -= y * rm[j];
+      for (int j = 0; j < n; j++) A(j, m) += y * A(j, i);
+    }
+  }
+}
+
+static double sgn(double a, double b) { return b >= 0 ? fabs(a) : -fabs(a); }
+
+/* Francis double-shift QR on the active block only (eigenvalues, no Schur form). */
+static int hqr(int n, double *a, double *wr, double *wi)
+{
+  double anorm = 0, p = 0, q = 0, r = 0, s, t = 0, w, x, y, z;
+  for (int i = 0; i < n; i++)
+    for (int j = i > 0 ? i - 1 : 0; j < n; j++) anorm += fabs(A(i, j));
+  int nn = n - 1;
+  while (nn >= 0) {
+    int its = 0, l;
+    do {
+      for (l = nn; l >= 1; l--) {
+        /* deflation test of Ahues & Tisseur (LAPACK Working Note 122), as in
+           LAPACK's dlahqr: a small subdiagonal is negligible relative to the
+           2 x 2 block it couples */
+        double h = fabs(A(l, l - 1));
+        if (h <= DBL_MIN) { A(l, l - 1) = 0; break; }
+        s = fabs(A(l - 1, l - 1)) + fabs(A(l, l));
+        if (s == 0) s = anorm;
+        if (h <= DBL_EPSILON * s) {
+          double hu = fabs(A(l - 1, l)), ab = fmax(h, hu), ba = fmin(h, hu);
+          double dd = fabs(A(l - 1, l - 1) - A(l, l)), aa = fmax(fabs(A(l, l)), dd), bb = fmin(fabs(A(l, l)), dd);
+          double ss = aa + ab;
+          if (ba * (ab / ss) <= fmax(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) { A(l, l - 1) = 0; break; }
+        }
+      }
+      x = A(nn, nn);
+      if (l == nn) {                      /* one root */
+        wr[nn] = x + t;
+        wi[nn--] = 0;
+      } else {
+        y = A(nn - 1, nn - 1);
+        w = A(nn, nn - 1) * A(nn - 1, nn);
+        if (l == nn - 1) {                /* two roots */
+          p = 0.5 * (y - x);
+          q = p * p + w;
+          z = sqrt(fabs(q));
+          x += t;
+          if (q >= 0) {
+            z = p + sgn(z, p);
+            wr[nn - 1] = wr[nn] = x + z;
+            if (z != 0) wr[nn] = x - w / z;
+            wi[nn - 1] = wi[nn] = 0;
+          } else {
+            wr[nn - 1] = wr[nn] = x + p;
+            wi[nn - 1] = -(wi[nn] = z);
+          }
+          nn -= 2;
+        } else {                          /* no root yet: a double QR step */
+          if (its == 30 * (n > 10 ? n : 10)) return -1;   /* LAPACK's limit */
+          if (its > 0 && its % 10 == 0) {                  /* exceptional shift */
+            t += x;
+            for (int i = 0; i <= nn; i++) A(i, i) -= x;
+            s = fabs(A(nn, nn - 1)) + fabs(A(nn - 1, nn - 2));
+            y = x = 0.75 * s;
+            w = -0.4375 * s * s;
+          }
+          ++its;
+          int m;
+          for (m = nn - 2; m >= l; m--) {   /* two small consecutive subdiagonals? */
+            z = A(m, m);
+            r = x - z;
+            s = y - z;
+            p = (r * s - w) / A(m + 1, m) + A(m, m + 1);
+            q = A(m + 1, m + 1) - z - r - s;
+            r = A(m + 2, m + 1);
+            s = fabs(p) + fabs(q) + fabs(r);
+            p /= s;
+            q /= s;
+            r /= s;
+            if (m == l) break;
+            double u = fabs(A(m, m - 1)) * (fabs(q) + fabs(r));
+            double v = fabs(p) * (fabs(A(m - 1, m - 1)) + fabs(z) + fabs(A(m + 1, m + 1)));
+            if (u + v == v) break;
+          }
+          for (int i = m + 2; i <= nn; i++) {
+            A(i, i - 2) = 0;
+            if (i != m + 2) A(i, i - 3) = 0;
+          }
+          for (int k = m; k <= nn - 1; k++) {
+            if (k != m) {
+              p = A(k, k - 1);
+              q = A(k + 1, k - 1);
+              r = k != nn - 1 ? A(k + 2, k - 1) : 0;
+              if ((x = fabs(p) + fabs(q) + fabs(r)) != 0) {
+                p /= x;
+                q /= x;
+                r /= x;
+              }
+            }
+            if ((s = sgn(sqrt(p * p + q * q + r * r), p)) != 0) {
+              if (k == m) {
+                if (l != m) A(k, k - 1) = -A(k, k - 1);
+              } else {
+                A(k, k - 1) = -s * x;
+              }
+              p += s;
+              x = p / s;
+              y = q / s;
+              z = r / s;
+              q /= p;
+              r /= p;
+              double *rk = &A(k, 0), *rk1 = &A(k + 1, 0);
+              if (k != nn - 1) {
+                double *rk2 = &A(k + 2, 0);
+                for (int j = k; j <= nn; j++) {
+                  double pp = rk[j] + q * rk1[j] + r * rk2[j];
+                  rk2[j] -= pp * z;
+                  rk1[j] -= pp * y;
+                  rk[j] -= pp * x;
+                }
+              } else {
+                for (int j = k; j <= nn; j++) {
+                  double pp = rk[j] + q * rk1[j];
+                  rk1[j] -= pp * y;
+                  rk[j] -= pp * x;
+                }
+              }
+              int mmin = nn < k + 3 ? nn : k + 3;
+              for (int i = l; i <= mmin; i++) {
+                double *ri = &A(i, 0);
+                double pp = x * ri[k] + y * ri[k + 1];
+                if (k != nn - 1) {
+                  pp += z * ri[k + 2];
+                  ri[k + 2] -= pp * r;
+                }
+                ri[k + 1] -= pp * q;
+                ri[k] -= pp;
+              }
+            }
+          }
+        }
+      }
+    } while (l < nn - 1);
+  }
+  return 0;
+}
+
+int rr_eig_small(int n, double *a, double *wr, double *wi)
+{
+  elmhes(n, a);
+  return hqr(n, a, wr, wi);
+}
