@@ -68,33 +68,95 @@ static void sort_idx(int *idx, int n, const double *f, int m)
   free(tmp);
 }
 
+/* Per-front staircase of (f2, f3) minima, f2 ascending and f3 descending,
+   for the O(log n) dominance query of three objectives. */
+typedef struct stair { int *id; int n, cap; } stair;
+
+static int stair_dominated(const stair *st, const double *f, const double *p)
+{
+  /* the member with the largest f2 <= p2 has the smallest f3 of all such */
+  int lo = 0, hi = st->n - 1, best = -1;
+  while (lo <= hi) {
+    int mid = (lo + hi) / 2;
+    if (f[(size_t)st->id[mid] * 3 + 1] <= p[1]) { best = mid; lo = mid + 1; } else hi = mid - 1;
+  }
+  if (best < 0) return 0;
+  const double *q = f + (size_t)st->id[best] * 3;
+  if (q[2] > p[2]) return 0;
+  /* q precedes p lexicographically: it dominates unless the two are equal */
+  return q[0] < p[0] || q[1] < p[1] || q[2] < p[2];
+}
+
+static int stair_insert(stair *st, const double *f, int id)
+{
+  const double *p = f + (size_t)id * 3;
+  int w = 0;
+  for (int i = 0; i < st->n; i++) {   /* drop members p weakly dominates in (f2, f3) */
+    const double *q = f + (size_t)st->id[i] * 3;
+    if (!(q[1] >= p[1] && q[2] >= p[2])) st->id[w++] = st->id[i];
+  }
+  st->n = w;
+  if (st->n == st->cap) {
+    int nc = st->cap ? 2 * st->cap : 16;
+    int *q = realloc(st->id, sizeof(int) * nc);
+    if (!q) return -1;
+    st->id = q;
+    st->cap = nc;
+  }
+  int pos = 0, lo = 0, hi = st->n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (f[(size_t)st->id[mid] * 3 + 1] < p[1]) lo = mid + 1; else hi = mid;
+  }
+  pos = lo;
+  memmove(st->id + pos + 1, st->id + pos, sizeof(int) * (st->n - pos));
+  st->id[pos] = id;
+  st->n++;
+  return 0;
+}
+
 int rr_nondominated_ranks(int n, int m, const double *f, int *rank)
 {
   /* ENS-SS (Zhang et al., IEEE TEC 2015): in lexicographic order no point is
      dominated by a later one, so each point joins the first front none of whose
-     members dominates it. Fronts are linked lists through next[] (newest
-     first, where a dominator is likeliest): O(n) memory. */
+     members dominates it. For two and three objectives the test is a search
+     (an earlier q dominates p iff q2 <= p2 and q3 <= p3, q != p); otherwise
+     fronts are linked lists through next[] scanned newest first. */
   int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *head = malloc(sizeof(int) * (n + 1)), *next = malloc(sizeof(int) * (n > 0 ? n : 1));
-  if (!idx || !head || !next) { free(idx); free(head); free(next); return -1; }
+  double *minf2 = malloc(sizeof(double) * (n + 1));
+  stair *st = m == 3 ? calloc((size_t)n + 1, sizeof(stair)) : NULL;
+  if (!idx || !head || !next || !minf2 || (m == 3 && !st)) { free(idx); free(head); free(next); free(minf2); free(st); return -1; }
   for (int i = 0; i < n; i++) idx[i] = i;
   sort_idx(idx, n, f, m);
-  int nf = 0;
-  for (int t = 0; t < n; t++) {
+  int nf = 0, fail = 0;
+  for (int t = 0; t < n && !fail; t++) {
     int p = idx[t];
     const double *fp = f + (size_t)p * m;
     int k = 0;
     for (; k < nf; k++) {
       int dom = 0;
-      for (int q = head[k]; q >= 0 && !dom; q = next[q]) dom = dominates(f + (size_t)q * m, fp, m);
+      if (m == 3) dom = stair_dominated(&st[k], f, fp);
+      else if (m == 2) {
+        /* the front member with the least f2 decides; equal points do not dominate */
+        const double *q = f + (size_t)head[k] * 2;
+        dom = minf2[k] <= fp[1] && (q[0] < fp[0] || minf2[k] < fp[1]);
+      } else
+        for (int q = head[k]; q >= 0 && !dom; q = next[q]) dom = dominates(f + (size_t)q * m, fp, m);
       if (!dom) break;
     }
-    if (k == nf) head[nf++] = -1;
+    if (k == nf) { head[nf] = -1; minf2[nf] = INFINITY; nf++; }
     rank[p] = k;
-    next[p] = head[k];
-    head[k] = p;
+    if (m == 2) {
+      if (fp[1] < minf2[k] || head[k] < 0) { minf2[k] = fp[1]; head[k] = p; }
+    } else {
+      next[p] = head[k];
+      head[k] = p;
+    }
+    if (m == 3 && stair_insert(&st[k], f, p)) fail = 1;
   }
-  free(idx); free(head); free(next);
-  return nf;
+  if (st) for (int k = 0; k < nf; k++) free(st[k].id);
+  free(st); free(idx); free(head); free(next); free(minf2);
+  return fail ? -1 : nf;
 }
 
 /* 2-D staircase area of points sorted by f1 ascending (f2 descending), up to ref. */
@@ -172,23 +234,36 @@ double rr_hypervolume(int n, int m, const double *f, const double *ref)
   return hv;
 }
 
-/* crowding distance of the members of one front */
-static void crowding(const int *mem, int cnt, int m, const double *f, double *cd, int *tmp)
+/* Stable merge sort of cnt indices by key[idx] (ascending, or descending). */
+static void sort_by_key(int *idx, int cnt, const double *key, int *tmp, int descending)
+{
+  for (int w = 1; w < cnt; w *= 2) {
+    for (int lo = 0; lo < cnt; lo += 2 * w) {
+      int mid = lo + w < cnt ? lo + w : cnt, hi = lo + 2 * w < cnt ? lo + 2 * w : cnt, a = lo, b = mid, k = lo;
+      while (a < mid && b < hi) {
+        int takeb = descending ? key[idx[b]] > key[idx[a]] : key[idx[b]] < key[idx[a]];
+        tmp[k++] = takeb ? idx[b++] : idx[a++];
+      }
+      while (a < mid) tmp[k++] = idx[a++];
+      while (b < hi) tmp[k++] = idx[b++];
+    }
+    memcpy(idx, tmp, sizeof(int) * cnt);
+  }
+}
+
+/* crowding distance of the members of one front; col: n doubles of scratch */
+static void crowding(const int *mem, int cnt, int m, const double *f, double *cd, int *tmp, int *tmp2, double *col, int n)
 {
   for (int i = 0; i < cnt; i++) cd[mem[i]] = 0;
   if (cnt <= 2) { for (int i = 0; i < cnt; i++) cd[mem[i]] = INFINITY; return; }
+  (void)n;
   for (int k = 0; k < m; k++) {
-    for (int i = 0; i < cnt; i++) tmp[i] = mem[i];
-    for (int i = 1; i < cnt; i++) {   /* insertion sort is fine: fronts are sorted often nearly */
-      int t = tmp[i], j = i;
-      while (j > 0 && f[(size_t)tmp[j - 1] * m + k] > f[(size_t)t * m + k]) { tmp[j] = tmp[j - 1]; j--; }
-      tmp[j] = t;
-    }
-    double lo = f[(size_t)tmp[0] * m + k], hi = f[(size_t)tmp[cnt - 1] * m + k];
+    for (int i = 0; i < cnt; i++) { tmp[i] = mem[i]; col[mem[i]] = f[(size_t)mem[i] * m + k]; }
+    sort_by_key(tmp, cnt, col, tmp2, 0);
+    double lo = col[tmp[0]], hi = col[tmp[cnt - 1]];
     cd[tmp[0]] = cd[tmp[cnt - 1]] = INFINITY;
     if (!(hi > lo)) continue;
-    for (int i = 1; i < cnt - 1; i++)
-      cd[tmp[i]] += (f[(size_t)tmp[i + 1] * m + k] - f[(size_t)tmp[i - 1] * m + k]) / (hi - lo);
+    for (int i = 1; i < cnt - 1; i++) cd[tmp[i]] += (col[tmp[i + 1]] - col[tmp[i - 1]]) / (hi - lo);
   }
 }
 
@@ -236,16 +311,19 @@ static void sanitize(double *f, int n)
   for (int i = 0; i < n; i++) if (isnan(f[i])) f[i] = INFINITY;
 }
 
-/* Ranks and crowding of a population of n. */
-static int rank_crowd(int n, int m, const double *f, int *rank, double *cd, int *mem, int *tmp)
+/* Ranks and crowding of a population of n; fronts gathered in one pass
+   (mem: the indices ordered by front, start: nf + 1 offsets). */
+static int rank_crowd(int n, int m, const double *f, int *rank, double *cd, int *mem, int *tmp, int *tmp2,
+                      int *start, double *col)
 {
   int nf = rr_nondominated_ranks(n, m, f, rank);
   if (nf < 0) return -1;
-  for (int k = 0; k < nf; k++) {
-    int c = 0;
-    for (int i = 0; i < n; i++) if (rank[i] == k) mem[c++] = i;
-    crowding(mem, c, m, f, cd, tmp);
-  }
+  for (int k = 0; k <= nf; k++) start[k] = 0;
+  for (int i = 0; i < n; i++) start[rank[i] + 1]++;
+  for (int k = 0; k < nf; k++) start[k + 1] += start[k];
+  for (int k = 0; k < nf; k++) tmp[k] = start[k];
+  for (int i = 0; i < n; i++) mem[tmp[rank[i]]++] = i;
+  for (int k = 0; k < nf; k++) crowding(mem + start[k], start[k + 1] - start[k], m, f, cd, tmp, tmp2, col, n);
   return nf;
 }
 
@@ -269,9 +347,11 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   int R = 2 * N;
   double *X = malloc(sizeof(double) * R * d), *F = malloc(sizeof(double) * R * m), *cd = malloc(sizeof(double) * R);
   double *X2 = malloc(sizeof(double) * N * d), *F2 = malloc(sizeof(double) * N * m), *ref = malloc(sizeof(double) * m);
-  int *rank = malloc(sizeof(int) * R), *mem = malloc(sizeof(int) * R), *tmp = malloc(sizeof(int) * R), *sel = malloc(sizeof(int) * N);
+  int *rank = malloc(sizeof(int) * R), *mem = malloc(sizeof(int) * R), *tmp = malloc(sizeof(int) * (R + 1)), *sel = malloc(sizeof(int) * N);
+  int *tmp2 = malloc(sizeof(int) * R), *start = malloc(sizeof(int) * (R + 1));
+  double *col = malloc(sizeof(double) * R);
   int st = RR_OK;
-  if (!X || !F || !cd || !X2 || !F2 || !ref || !rank || !mem || !tmp || !sel) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (!X || !F || !cd || !X2 || !F2 || !ref || !rank || !mem || !tmp || !sel || !tmp2 || !start || !col) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   rr_rng rng;
   rr_rng_seed(&rng, o->seed);
   double t0 = now_s();
@@ -288,7 +368,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     for (int i = 0; i < N; i++) if (isfinite(F[i * m + k])) { a = fmin(a, F[i * m + k]); b = fmax(b, F[i * m + k]); }
     ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
   }
-  if (rank_crowd(N, m, F, rank, cd, mem, tmp) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (rank_crowd(N, m, F, rank, cd, mem, tmp, tmp2, start, col) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   for (int g = 1; g <= o->generations; g++) {
     /* offspring by binary tournament, SBX and polynomial mutation */
     for (int i = 0; i < N; i++) {
@@ -313,33 +393,31 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     memcpy(X + N * d, X2, sizeof(double) * N * d);
     memcpy(F + N * m, F2, sizeof(double) * N * m);
     /* environmental selection from parents and offspring */
-    int nf = rank_crowd(R, m, F, rank, cd, mem, tmp);
+    int nf = rank_crowd(R, m, F, rank, cd, mem, tmp, tmp2, start, col);
     if (nf < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
     int taken = 0;
     int *keep = sel;   /* reuse: N entries */
     for (int k = 0; k < nf && taken < N; k++) {
-      int c = 0;
-      for (int i = 0; i < R; i++) if (rank[i] == k) mem[c++] = i;
+      int *fm = mem + start[k], c = start[k + 1] - start[k];
       if (taken + c <= N) {
-        for (int i = 0; i < c; i++) keep[taken++] = mem[i];
+        for (int i = 0; i < c; i++) keep[taken++] = fm[i];
       } else {
-        /* the last front by decreasing crowding distance */
-        for (int i = 1; i < c; i++) {
-          int t = mem[i], j = i;
-          while (j > 0 && cd[mem[j - 1]] < cd[t]) { mem[j] = mem[j - 1]; j--; }
-          mem[j] = t;
-        }
-        for (int i = 0; taken < N; i++) keep[taken++] = mem[i];
+        sort_by_key(fm, c, cd, tmp2, 1);   /* the last front by decreasing crowding distance */
+        for (int i = 0; taken < N; i++) keep[taken++] = fm[i];
       }
     }
+    /* survivors keep the ranks and crowding distances of the combined sort:
+       whole earlier fronts are kept, so no survivor's rank changes (Deb et al.) */
     for (int i = 0; i < N; i++) {
       memcpy(X2 + i * d, X + keep[i] * d, sizeof(double) * d);
       memcpy(F2 + i * m, F + keep[i] * m, sizeof(double) * m);
+      tmp[i] = rank[keep[i]];
+      col[i] = cd[keep[i]];
     }
     memcpy(X, X2, sizeof(double) * N * d);
     memcpy(F, F2, sizeof(double) * N * m);
-    int nf2 = rank_crowd(N, m, F, rank, cd, mem, tmp);
-    if (nf2 < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+    memcpy(rank, tmp, sizeof(int) * N);
+    memcpy(cd, col, sizeof(double) * N);
     if (o->progress) {
       int fs = 0;
       for (int i = 0; i < N; i++) fs += rank[i] == 0;
@@ -357,5 +435,6 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   if (rank_out) memcpy(rank_out, rank, sizeof(int) * N);
 done:
   free(X); free(F); free(cd); free(X2); free(F2); free(ref); free(rank); free(mem); free(tmp); free(sel);
+  free(tmp2); free(start); free(col);
   return st;
 }

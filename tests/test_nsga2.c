@@ -54,10 +54,10 @@ static void test_zdt(int which, double hv_true, double hv_frac)
   free(X); free(F); free(F2); free(X2);
 }
 
-static void test_sort_and_hv(void)
+static void test_sort(int m)
 {
-  /* random points: ranks against brute force peeling */
-  int n = 300, m = 3;
+  /* random points with ties: ranks against brute-force peeling */
+  int n = 300;
   double *f = malloc(sizeof(double) * n * m);
   unsigned s = 12345;
   for (int i = 0; i < n * m; i++) { s = s * 1103515245u + 12345u; f[i] = (s >> 8) % 50; }   /* ties on purpose */
@@ -84,14 +84,18 @@ static void test_sort_and_hv(void)
   CHECK(nf == k, "front count %d vs %d", nf, k);
   int same = 1;
   for (int i = 0; i < n; i++) same &= rank[i] == brute[i];
-  CHECK(same, "ranks equal brute-force peeling");
+  CHECK(same, "ranks equal brute-force peeling (m = %d)", m);
+  free(f); free(rank); free(brute); free(done);
+}
+
+static void test_hv(void)
+{
   /* hypervolume: boxes with closed-form union */
   double p3[6] = {0, 0.5, 0.5, 0.5, 0, 0.5}, r3[3] = {1, 1, 1};
   /* boxes 1 x 0.5 x 0.5 and 0.5 x 1 x 0.5 overlapping in 0.5^3 */
   CHECK_CLOSE(rr_hypervolume(2, 3, p3, r3), 0.25 + 0.25 - 0.125, 1e-12, 0, "3-D hypervolume of two boxes");
   double p2[6] = {0.2, 0.8, 0.5, 0.5, 0.8, 0.2}, r2[2] = {1, 1};
   CHECK_CLOSE(rr_hypervolume(3, 2, p2, r2), 0.8 * 0.2 + 0.5 * 0.3 + 0.2 * 0.3, 1e-12, 0, "2-D staircase");
-  free(f); free(rank); free(brute); free(done);
 }
 
 static void test_design(void)
@@ -147,7 +151,10 @@ int main(void)
   char sd[512];
   snprintf(sd, sizeof sd, "%s/spectra", src ? src : "..");
   setenv("RAILRIDE_SPECTRA_DIR", sd, 1);
-  test_sort_and_hv();
+  test_sort(2);
+  test_sort(3);
+  test_sort(4);
+  test_hv();
   /* 25,000 evaluations: NSGA-II typically reaches ~99% (ZDT1) and ~97.5%
      (ZDT2, whose concave front is harder to spread over) of the ideal */
   test_zdt(1, 2.0 / 3.0, 0.985);
