@@ -6,9 +6,13 @@
 #define A(i, j) a[(i) * n + (j)]
 
 /* Reduction to upper Hessenberg form by stabilised elementary similarity
- * transformations (Gaussian elimination with row interchanges). */
+ * transformations (Gaussian elimination with row interchanges). The step's
+ * elementary transforms L_i = I + y_i e_i e_m' commute, so it is applied as
+ * L^-1 A L in two contiguous passes: every row elimination first, then
+ * column m += A y as one dot product per row (row-major friendly). */
 static void elmhes(int n, double *a)
 {
+  double y[64];
   for (int m = 1; m < n - 1; m++) {
     double x = 0;
     int piv = m;
@@ -19,14 +23,31 @@ static void elmhes(int n, double *a)
       for (int i = 0; i < n; i++) { double t = A(i, piv); A(i, piv) = A(i, m); A(i, m) = t; }
     }
     if (x == 0) continue;
+    const double *rm = &A(m, 0);
+    int any = 0;
     for (int i = m + 1; i < n; i++) {
-      double y = A(i, m - 1);
-      if (y == 0) continue;
-      y /= x;
+      double yi = A(i, m - 1) / x;
+      y[i] = yi;
       A(i, m - 1) = 0;
-      double *ri = &A(i, 0), *rm = &A(m, 0);
-      for (int j = m; j < n; j++) ri[j] -= y * rm[j];
-      for (int j = 0; j < n; j++) A(j, m) += y * A(j, i);
+      if (yi == 0) continue;
+      any = 1;
+      double *ri = &A(i, 0);
+      for (int j = m; j < n; j++) ri[j] -= yi * rm[j];
+    }
+    if (!any) continue;
+    for (int j = 0; j < n; j++) {
+      const double *rj = &A(j, 0);
+      /* four partial sums: a single chain would wait on every add */
+      double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+      int i = m + 1;
+      for (; i + 3 < n; i += 4) {
+        a0 += rj[i] * y[i];
+        a1 += rj[i + 1] * y[i + 1];
+        a2 += rj[i + 2] * y[i + 2];
+        a3 += rj[i + 3] * y[i + 3];
+      }
+      for (; i < n; i++) a0 += rj[i] * y[i];
+      A(j, m) += (a0 + a1) + (a2 + a3);
     }
   }
 }
@@ -172,6 +193,7 @@ static int hqr(int n, double *a, double *wr, double *wi)
 
 int rr_eig_small(int n, double *a, double *wr, double *wi)
 {
+  if (n > 64) return -1;   /* elmhes' multiplier buffer; larger goes to LAPACK */
   elmhes(n, a);
   return hqr(n, a, wr, wi);
 }
