@@ -5,15 +5,8 @@
 #include <stdlib.h>
 #include <time.h>
 #include "railride/railride.h"
+#include "bench_util.h"
 
-void openblas_set_num_threads(int);
-
-static double now(void)
-{
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {
@@ -36,9 +29,9 @@ int main(int argc, char **argv)
   double rate[3] = {0, 0, 0};
   for (int t = 1; t <= 2; t++) {
     rr_design_evaluate_batch(d, 64, x, f, t);   /* warm: thread contexts */
-    double t0 = now();
+    double t0 = bench_now();
     rr_design_evaluate_batch(d, n, x, f, t);
-    rate[t] = n / (now() - t0);
+    rate[t] = n / (bench_now() - t0);
     printf("designs_per_s_%d_thread%s %.0f\n", t, t > 1 ? "s" : "", rate[t]);
   }
   printf("speedup_1_to_2_threads %.2f\n", rate[2] / rate[1]);

@@ -6,15 +6,8 @@
 #include <stdlib.h>
 #include <time.h>
 #include "railride/railride.h"
+#include "bench_util.h"
 
-void openblas_set_num_threads(int);
-
-static double now(void)
-{
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
 
 static void run(const char *label, int sdf, int method, int reps)
 {
@@ -32,15 +25,15 @@ static void run(const char *label, int sdf, int method, int reps)
   rr_frf_plan *p;
   rr_frf_plan_new(m, &o, &p, &e);
   double G[1200], W[3];
-  double t0 = now(), texec = 0;
+  double t0 = bench_now(), texec = 0;
   for (int r = 0; r < reps; r++) {
-    double t1 = now();
+    double t1 = bench_now();
     rr_frf_plan_execute(p, m, &e);
-    texec += now() - t1;
+    texec += bench_now() - t1;
     rr_pem_psd(p, m, &sp, G, &e);
     for (int q = 0; q < 3; q++) rr_sperling_filter_index(rr_frf_freqs(p), G + q, 400, 3, RR_AXIS_LATERAL, &W[q], &e);
   }
-  double t = (now() - t0) / reps;
+  double t = (bench_now() - t0) / reps;
   printf("ride_%s_us %.1f  (frf execute %.1f us; W = %.4f %.4f %.4f)\n", label, t * 1e6, texec / reps * 1e6, W[0], W[1], W[2]);
   rr_frf_plan_free(p);
   rr_model_free(m);

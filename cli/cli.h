@@ -100,6 +100,9 @@ typedef struct ride_setup {
 } ride_setup;
 typedef struct ride_point { double x, rms, sperling, sperling_gb, wd_rms, nmv; } ride_point;
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
+/* After parsing: the floor points default to +L, 0, -L of the vehicle loaded
+   (the defaults set before parsing were the built-in vehicle's). */
+void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv);
 /* Evaluates the ride at one operating point; psd (nfreq x npoints) optional. */
 int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r, ride_point *out,
               double *psd, double *freqs, rr_error *err);

@@ -23,6 +23,16 @@ void ride_setup_default(ride_setup *r, const rr_vehicle *veh)
   r->method = RR_FRF_MODAL;
 }
 
+void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv)
+{
+  for (int i = 1; i < argc; i++)
+    if (!strncmp(argv[i], "--points", 8)) return;
+  r->npoints = 3;
+  r->x[0] = veh->bogie_half_spacing;
+  r->x[1] = 0;
+  r->x[2] = -veh->bogie_half_spacing;
+}
+
 cJSON *ride_methods_json(void)
 {
   cJSON *m = cJSON_CreateObject();
@@ -135,16 +145,14 @@ int cmd_ride(int argc, char **argv)
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.rs, &tmp);
-  int xs_given = 0;
-  for (int i = 1; i < argc; i++) if (!strncmp(argv[i], "--points", 8)) xs_given = 1;
   int r = cli_parse_list(argc, argv, &c, extra, ride_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
+  ride_setup_points(&a.rs, &c.veh, argc, argv);
   if (!c.have_speed) return cli_bad("--speed is required");
   if (!c.ncon) return cli_bad("--conicity is required (one value or a comma list)");
   a.ncon = c.ncon;
   memcpy(a.conicities, c.conicities, sizeof(double) * c.ncon);
-  if (!xs_given) { a.rs.x[0] = c.veh.bogie_half_spacing; a.rs.x[2] = -c.veh.bogie_half_spacing; }
   int np = a.rs.npoints, nf = a.rs.nfreq;
   ride_point *pts = malloc(sizeof(ride_point) * np * a.ncon);
   double *psd = malloc(sizeof(double) * nf * np * a.ncon), *freqs = malloc(sizeof(double) * nf);
@@ -226,12 +234,10 @@ int cmd_frf(int argc, char **argv)
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.rs, &tmp);
-  int xs_given = 0;
-  for (int i = 1; i < argc; i++) if (!strncmp(argv[i], "--points", 8)) xs_given = 1;
   int r = cli_parse(argc, argv, &c, extra, ride_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
-  if (!xs_given) { a.rs.x[0] = c.veh.bogie_half_spacing; a.rs.x[2] = -c.veh.bogie_half_spacing; }
+  ride_setup_points(&a.rs, &c.veh, argc, argv);
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;
   int n = rr_model_ndof(m), np = a.rs.npoints, ni = rr_model_ninputs(m);

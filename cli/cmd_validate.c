@@ -75,12 +75,10 @@ int cmd_validate(int argc, char **argv)
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.rs, &tmp);
-  int xs_given = 0;
-  for (int i = 1; i < argc; i++) if (!strncmp(argv[i], "--points", 8)) xs_given = 1;
   int r = cli_parse(argc, argv, &c, extra, val_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
-  if (!xs_given) { a.rs.x[0] = c.veh.bogie_half_spacing; a.rs.x[2] = -c.veh.bogie_half_spacing; }
+  ride_setup_points(&a.rs, &c.veh, argc, argv);
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;
   rr_error e;

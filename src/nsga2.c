@@ -159,81 +159,6 @@ int rr_nondominated_ranks(int n, int m, const double *f, int *rank)
   return fail ? -1 : nf;
 }
 
-/* 2-D staircase area of points sorted by f1 ascending (f2 descending), up to ref. */
-static double area2(const double *s1, const double *s2, int k, double r1, double r2)
-{
-  double a = 0;
-  for (int i = 0; i < k; i++) {
-    double next = i + 1 < k ? s1[i + 1] : r1;
-    a += (next - s1[i]) * (r2 - s2[i]);
-  }
-  return a;
-}
-
-double rr_hypervolume(int n, int m, const double *f, const double *ref)
-{
-  if (m != 2 && m != 3) return -1;
-  int *idx = malloc(sizeof(int) * (n > 0 ? n : 1));
-  double *s1 = malloc(sizeof(double) * (n + 1)), *s2 = malloc(sizeof(double) * (n + 1));
-  if (!idx || !s1 || !s2) { free(idx); free(s1); free(s2); return -1; }
-  int k = 0;
-  for (int i = 0; i < n; i++) {
-    const double *p = f + (size_t)i * m;
-    int in = 1;
-    for (int j = 0; j < m; j++) if (!(p[j] < ref[j])) in = 0;
-    if (in) idx[k++] = i;
-  }
-  double hv = 0;
-  if (m == 2) {
-    /* insert all into one staircase */
-    int ns = 0;
-    for (int t = 0; t < k; t++) {
-      const double *p = f + (size_t)idx[t] * 2;
-      int dom = 0;
-      for (int i = 0; i < ns && !dom; i++) if (s1[i] <= p[0] && s2[i] <= p[1]) dom = 1;
-      if (dom) continue;
-      int w = 0;
-      for (int i = 0; i < ns; i++) if (!(p[0] <= s1[i] && p[1] <= s2[i])) { s1[w] = s1[i]; s2[w] = s2[i]; w++; }
-      ns = w;
-      int pos = 0;
-      while (pos < ns && s1[pos] < p[0]) pos++;
-      memmove(s1 + pos + 1, s1 + pos, sizeof(double) * (ns - pos));
-      memmove(s2 + pos + 1, s2 + pos, sizeof(double) * (ns - pos));
-      s1[pos] = p[0]; s2[pos] = p[1]; ns++;
-    }
-    hv = area2(s1, s2, ns, ref[0], ref[1]);
-  } else {
-    /* sweep f3 upward; the 2-D staircase of the points seen so far times the slab */
-    for (int i = 1; i < k; i++) {   /* sort idx by f3 */
-      int t = idx[i], j = i;
-      while (j > 0 && f[(size_t)idx[j - 1] * 3 + 2] > f[(size_t)t * 3 + 2]) { idx[j] = idx[j - 1]; j--; }
-      idx[j] = t;
-    }
-    int ns = 0;
-    double area = 0;
-    for (int t = 0; t < k; t++) {
-      const double *p = f + (size_t)idx[t] * 3;
-      int dom = 0;
-      for (int i = 0; i < ns && !dom; i++) if (s1[i] <= p[0] && s2[i] <= p[1]) dom = 1;
-      if (!dom) {
-        int w = 0;
-        for (int i = 0; i < ns; i++) if (!(p[0] <= s1[i] && p[1] <= s2[i])) { s1[w] = s1[i]; s2[w] = s2[i]; w++; }
-        ns = w;
-        int pos = 0;
-        while (pos < ns && s1[pos] < p[0]) pos++;
-        memmove(s1 + pos + 1, s1 + pos, sizeof(double) * (ns - pos));
-        memmove(s2 + pos + 1, s2 + pos, sizeof(double) * (ns - pos));
-        s1[pos] = p[0]; s2[pos] = p[1]; ns++;
-        area = area2(s1, s2, ns, ref[0], ref[1]);
-      }
-      double next = t + 1 < k ? f[(size_t)idx[t + 1] * 3 + 2] : ref[2];
-      hv += area * (next - p[2]);
-    }
-  }
-  free(idx); free(s1); free(s2);
-  return hv;
-}
-
 /* Stable merge sort of cnt indices by key[idx] (ascending, or descending). */
 static void sort_by_key(int *idx, int cnt, const double *key, int *tmp, int descending)
 {
@@ -249,6 +174,69 @@ static void sort_by_key(int *idx, int cnt, const double *key, int *tmp, int desc
     }
     memcpy(idx, tmp, sizeof(int) * cnt);
   }
+}
+
+/* 2-D staircase area of points sorted by f1 ascending (f2 descending), up to ref. */
+static double area2(const double *s1, const double *s2, int k, double r1, double r2)
+{
+  double a = 0;
+  for (int i = 0; i < k; i++) {
+    double next = i + 1 < k ? s1[i + 1] : r1;
+    a += (next - s1[i]) * (r2 - s2[i]);
+  }
+  return a;
+}
+
+/* Adds p to the 2-D staircase (s1 ascending, s2 descending) unless it is
+   dominated; drops the points it dominates. Returns 1 when added. */
+static int stair2_add(double *s1, double *s2, int *ns, const double *p)
+{
+  for (int i = 0; i < *ns; i++)
+    if (s1[i] <= p[0] && s2[i] <= p[1]) return 0;
+  int w = 0;
+  for (int i = 0; i < *ns; i++)
+    if (!(p[0] <= s1[i] && p[1] <= s2[i])) { s1[w] = s1[i]; s2[w] = s2[i]; w++; }
+  int pos = 0;
+  while (pos < w && s1[pos] < p[0]) pos++;
+  memmove(s1 + pos + 1, s1 + pos, sizeof(double) * (w - pos));
+  memmove(s2 + pos + 1, s2 + pos, sizeof(double) * (w - pos));
+  s1[pos] = p[0];
+  s2[pos] = p[1];
+  *ns = w + 1;
+  return 1;
+}
+
+double rr_hypervolume(int n, int m, const double *f, const double *ref)
+{
+  if (m != 2 && m != 3) return -1;
+  int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *tmp = malloc(sizeof(int) * (n > 0 ? n : 1));
+  double *s1 = malloc(sizeof(double) * (n + 1)), *s2 = malloc(sizeof(double) * (n + 1)), *key = calloc(n > 0 ? n : 1, sizeof(double));
+  if (!idx || !tmp || !s1 || !s2 || !key) { free(idx); free(tmp); free(s1); free(s2); free(key); return -1; }
+  int k = 0, ns = 0;
+  for (int i = 0; i < n; i++) {
+    const double *p = f + (size_t)i * m;
+    int in = 1;
+    for (int j = 0; j < m; j++) if (!(p[j] < ref[j])) in = 0;
+    if (in) idx[k++] = i;
+  }
+  double hv = 0;
+  if (m == 2) {
+    for (int t = 0; t < k; t++) stair2_add(s1, s2, &ns, f + (size_t)idx[t] * 2);
+    hv = area2(s1, s2, ns, ref[0], ref[1]);
+  } else {
+    /* sweep f3 upward: the 2-D staircase of the points seen so far times the slab */
+    for (int t = 0; t < k; t++) key[idx[t]] = f[(size_t)idx[t] * 3 + 2];
+    sort_by_key(idx, k, key, tmp, 0);
+    double area = 0;
+    for (int t = 0; t < k; t++) {
+      const double *p = f + (size_t)idx[t] * 3;
+      if (stair2_add(s1, s2, &ns, p)) area = area2(s1, s2, ns, ref[0], ref[1]);
+      double next = t + 1 < k ? f[(size_t)idx[t + 1] * 3 + 2] : ref[2];
+      hv += area * (next - p[2]);
+    }
+  }
+  free(idx); free(tmp); free(s1); free(s2); free(key);
+  return hv;
 }
 
 /* crowding distance of the members of one front; col: n doubles of scratch */
