@@ -46,3 +46,4 @@ void rr_clu_solve(const double complex *LU, int n, const int *piv, double comple
     b[k] /= LU[k * n + k];
   }
 }
+

@@ -21,6 +21,8 @@ struct rr_frf_plan {
   double *A, *At, *vl, *vr, *wr, *wi, *work;
   int lwork;
   double complex *lam, *o, *o0, *b, *u, *c;   /* per mode: np, np, ni, nU, nU */
+  double *tre, *tim;          /* per term (pair or real mode): residue entries, real and imaginary parts */
+  double *are, *aim;          /* accumulators of one frequency */
   /* direct workspace */
   double complex *D, *X;
   int *piv;
@@ -32,6 +34,7 @@ void rr_frf_plan_free(rr_frf_plan *p)
   free(p->f); free(p->rows); free(p->rows0); free(p->H);
   free(p->A); free(p->At); free(p->vl); free(p->vr); free(p->wr); free(p->wi); free(p->work);
   free(p->lam); free(p->o); free(p->o0); free(p->b); free(p->u); free(p->c);
+  free(p->tre); free(p->tim); free(p->are); free(p->aim);
   free(p->D); free(p->X); free(p->piv);
   free(p);
 }
@@ -73,10 +76,15 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->u = malloc(sizeof(double complex) * N * MAXU);
   p->c = malloc(sizeof(double complex) * N * MAXU);
   p->D = malloc(sizeof(double complex) * n * n);
+  size_t E = (size_t)2 * np * ni + (size_t)MAXU * ni + (size_t)2 * np * MAXU + (size_t)MAXU * MAXU;
+  p->tre = malloc(sizeof(double) * N * E);
+  p->tim = malloc(sizeof(double) * N * E);
+  p->are = malloc(sizeof(double) * E);
+  p->aim = malloc(sizeof(double) * E);
   p->X = malloc(sizeof(double complex) * n * (ni + MAXU));
   p->piv = malloc(sizeof(int) * n);
   if (!p->f || !p->rows || !p->rows0 || !p->H || !p->A || !p->At || !p->vl || !p->vr || !p->wr || !p->wi || !p->lam ||
-      !p->o || !p->o0 || !p->b || !p->u || !p->c || !p->D || !p->X || !p->piv) {
+      !p->o || !p->o0 || !p->b || !p->u || !p->c || !p->D || !p->X || !p->piv || !p->tre || !p->tim || !p->are || !p->aim) {
     rr_frf_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
@@ -145,27 +153,15 @@ static int smw_elements(const rr_model *m, int *elem, double *mult)
   return nu;
 }
 
-static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
+/* Residues from LAPACK's eigenvectors of the state matrix in p->A (left and
+   right): (sI - A)^-1 = sum_j x_j u_j^H / (u_j^H x_j (s - lambda_j)). */
+static int residues_dgeev(rr_frf_plan *p, const rr_model *m, int N, int nu, const int *uel, rr_error *err)
 {
   int n = p->n, ni = p->ni, np = p->np;
-  int uel[MAXU];
-  double umult[MAXU];
-  int nu = smw_elements(m, uel, umult);
-  double k_lo = 0, k_hi = 0;
-  if (nu) rr_sdf_range(&m->curve, &k_lo, &k_hi);
-  /* State-space part: SMW elements held at the reference stiffness k_lo. */
-  rr_model *mm = (rr_model *)m;
-  int mode_saved = mm->sdf_mode;
-  if (nu) mm->sdf_mode = RR_SDF_PAPER;
-  int N, st = rr_state_matrix_merged(m, k_lo, p->A, &N, err);
-  mm->sdf_mode = mode_saved;
-  if (st) return st;
-  if (N > p->Nmax) return rr_seterr(err, RR_EINVAL, "frf plan too small for this model");
   for (int i = 0; i < N; i++)
     for (int j = 0; j < N; j++) p->At[j * N + i] = p->A[i * N + j];
   int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, p->At, N, p->wr, p->wi, p->vl, N, p->vr, N, p->work, p->lwork);
   if (info) return rr_seterr(err, RR_ELAPACK, "dgeev failed (info %d)", info);
-  /* Residues: (sI - A)^-1 = sum_j x_j u_j^H / (u_j^H x_j (s - lambda_j)). */
   for (int j = 0; j < N; j++) {
     double complex lam = p->wr[j] + I * p->wi[j];
     int pair = p->wi[j] != 0, first = pair && p->wi[j] > 0;
@@ -203,37 +199,94 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
 #undef XR
 #undef UL
   }
+  return RR_OK;
+}
+
+static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
+{
+  int ni = p->ni, np = p->np;
+  int uel[MAXU];
+  double umult[MAXU];
+  int nu = smw_elements(m, uel, umult);
+  double k_lo = 0, k_hi = 0;
+  if (nu) rr_sdf_range(&m->curve, &k_lo, &k_hi);
+  /* State-space part: SMW elements held at the reference stiffness k_lo. */
+  rr_model *mm = (rr_model *)m;
+  int mode_saved = mm->sdf_mode;
+  if (nu) mm->sdf_mode = RR_SDF_PAPER;
+  int N, st = rr_state_matrix_merged(m, k_lo, p->A, &N, err);
+  if (st) { mm->sdf_mode = mode_saved; return st; }
+  if (N > p->Nmax) { mm->sdf_mode = mode_saved; return rr_seterr(err, RR_EINVAL, "frf plan too small for this model"); }
+  mm->sdf_mode = mode_saved;
+  if ((st = residues_dgeev(p, m, N, nu, uel, err))) return st;
+  /* Residue entries per term: Hq (np x ni), H0 (np x ni), Hu (nu x ni),
+     Gq (np x nu), G0 (np x nu), Z (nu x nu), each the product of a left and
+     a right projection. A conjugate pair contributes
+     R d1 + conj(R) d2 = Re(R) (d1 + d2) + Im(R) j (d1 - d2), so it is stored
+     once (the eigenvalue with Im > 0) and costs two real-times-complex
+     products per entry instead of two complex products. */
+  int nHq = np * ni, nHu = nu * ni, nGq = np * nu, nZ = nu * nu;
+  /* the roll-gravity blocks H0, G0 last, and only when asked for */
+  int oHq = 0, oHu = nHq, oGq = oHu + nHu, oZ = oGq + nGq, oH0 = oZ + nZ, oG0 = oH0 + nHq;
+  int E = p->has0 ? oG0 + nGq : oH0;
+  int nt = 0;
+  double complex tlam[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
+  int tpair[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
+  for (int j = 0; j < N; j++) {
+    if (p->wi[j] < 0) continue;   /* the conjugate of a stored pair */
+    double *tr = p->tre + (size_t)nt * E, *ti = p->tim + (size_t)nt * E;
+    const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni, *uu = p->u + j * MAXU, *cc = p->c + j * MAXU;
+#define PUT(off, val) do { double complex v_ = (val); tr[off] = creal(v_); ti[off] = cimag(v_); } while (0)
+    for (int q = 0; q < np; q++) {
+      for (int i = 0; i < ni; i++) PUT(oHq + q * ni + i, o[q] * bb[i]);
+      for (int e = 0; e < nu; e++) PUT(oGq + q * nu + e, o[q] * cc[e]);
+      if (p->has0) {
+        for (int i = 0; i < ni; i++) PUT(oH0 + q * ni + i, o0[q] * bb[i]);
+        for (int e = 0; e < nu; e++) PUT(oG0 + q * nu + e, o0[q] * cc[e]);
+      }
+    }
+    for (int e = 0; e < nu; e++) {
+      for (int i = 0; i < ni; i++) PUT(oHu + e * ni + i, uu[e] * bb[i]);
+      for (int g = 0; g < nu; g++) PUT(oZ + e * nu + g, uu[e] * cc[g]);
+    }
+#undef PUT
+    tlam[nt] = p->lam[j];
+    tpair[nt] = p->wi[j] > 0;
+    nt++;
+  }
   for (int k = 0; k < p->nf; k++) {
     double w = 2 * RR_PI * p->f[k];
     double complex s = I * w;
-    double complex Hq[16 * 16], H0[16 * 16], Hu[MAXU * 16], Gq[16 * MAXU], G0[16 * MAXU], Z[MAXU * MAXU];
-    memset(Hq, 0, sizeof(double complex) * np * ni);
-    memset(H0, 0, sizeof(double complex) * np * ni);
-    memset(Hu, 0, sizeof(double complex) * nu * ni);
-    memset(Gq, 0, sizeof(double complex) * np * nu);
-    memset(G0, 0, sizeof(double complex) * np * nu);
-    memset(Z, 0, sizeof(double complex) * nu * nu);
-    for (int j = 0; j < N; j++) {
-      double complex d = 1.0 / (s - p->lam[j]);
-      double complex db[16], dc[MAXU];
-      for (int i = 0; i < ni; i++) db[i] = d * p->b[j * ni + i];
-      for (int e = 0; e < nu; e++) dc[e] = d * p->c[j * MAXU + e];
-      for (int q = 0; q < np; q++) {
-        double complex oq = p->o[j * np + q];
-        for (int i = 0; i < ni; i++) Hq[q * ni + i] += oq * db[i];
-        for (int e = 0; e < nu; e++) Gq[q * nu + e] += oq * dc[e];
-        if (p->has0) {
-          double complex o0 = p->o0[j * np + q];
-          for (int i = 0; i < ni; i++) H0[q * ni + i] += o0 * db[i];
-          for (int e = 0; e < nu; e++) G0[q * nu + e] += o0 * dc[e];
-        }
+    double *restrict are = p->are, *restrict aim = p->aim;
+    for (int e = 0; e < E; e++) are[e] = aim[e] = 0;
+    for (int t = 0; t < nt; t++) {
+      double complex d1 = 1.0 / (s - tlam[t]), sg, dl;
+      if (tpair[t]) {
+        double complex d2 = 1.0 / (s - conj(tlam[t]));
+        sg = d1 + d2;           /* multiplies Re(R) */
+        dl = I * (d1 - d2);     /* multiplies Im(R) */
+      } else {
+        sg = d1;                /* R d1 = Re(R) d1 + Im(R) j d1 */
+        dl = I * d1;
       }
-      for (int e = 0; e < nu; e++) {
-        double complex ue = p->u[j * MAXU + e];
-        for (int i = 0; i < ni; i++) Hu[e * ni + i] += ue * db[i];
-        for (int g = 0; g < nu; g++) Z[e * nu + g] += ue * dc[g];
+      double sr = creal(sg), si = cimag(sg), dr = creal(dl), di = cimag(dl);
+      const double *restrict tr = p->tre + (size_t)t * E, *restrict ti = p->tim + (size_t)t * E;
+      for (int e = 0; e < E; e++) {
+        are[e] += tr[e] * sr + ti[e] * dr;
+        aim[e] += tr[e] * si + ti[e] * di;
       }
     }
+    double complex Hq[16 * 16], H0[16 * 16], Hu[MAXU * 16], Gq[16 * MAXU], G0[16 * MAXU], Z[MAXU * MAXU];
+    for (int e = 0; e < nHq; e++) {
+      Hq[e] = are[oHq + e] + I * aim[oHq + e];
+      H0[e] = p->has0 ? are[oH0 + e] + I * aim[oH0 + e] : 0;
+    }
+    for (int e = 0; e < nHu; e++) Hu[e] = are[oHu + e] + I * aim[oHu + e];
+    for (int e = 0; e < nGq; e++) {
+      Gq[e] = are[oGq + e] + I * aim[oGq + e];
+      G0[e] = p->has0 ? are[oG0 + e] + I * aim[oG0 + e] : 0;
+    }
+    for (int e = 0; e < nZ; e++) Z[e] = are[oZ + e] + I * aim[oZ + e];
     if (nu) {
       /* D = D0 + U dK U^T: O D^-1 B = O D0^-1 B - O D0^-1 U (I + dK Z)^-1 dK U^T D0^-1 B */
       double complex dK[MAXU], W[MAXU * MAXU], Y[MAXU * 16];
