@@ -44,6 +44,20 @@ cJSON *ride_methods_json(void)
   return m;
 }
 
+/* PEM is a steady-state method: say so when the operating point is unstable. */
+static void warn_if_unstable(rr_model *m, double speed_kmh, double conicity)
+{
+  rr_modal_ws *ws;
+  rr_modal_opts o = {1e9, 0};   /* every mode, every frequency */
+  double z;
+  if (rr_model_sdf_mode(m) == RR_SDF_PAPER) return;   /* branch tracking: too slow for a warning */
+  if (rr_modal_ws_new(m, &ws, NULL)) return;
+  if (!rr_modal_stability_index(m, &o, ws, &z, NULL) && z > 0)
+    fprintf(stderr, "railride: warning: unstable at %g km/h, conicity %g (largest zeta %.4g): the PEM response is not a steady state\n",
+            speed_kmh, conicity, z);
+  rr_modal_ws_free(ws);
+}
+
 int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r, ride_point *out,
               double *psd, double *freqs, rr_error *err)
 {
@@ -55,6 +69,7 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   if (!st) st = rr_model_from_vehicle(veh, &m, err);
   if (!st) st = rr_model_set_operating(m, speed_kmh / 3.6, conicity, err);
   if (st) goto out;
+  warn_if_unstable(m, speed_kmh, conicity);
   int n = rr_model_ndof(m), np = r->npoints;
   rows = malloc(sizeof(double) * n * np);
   rows0 = malloc(sizeof(double) * n * np);

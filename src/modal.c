@@ -2,6 +2,7 @@
  * frequency, stability index and kinetic-energy shares; the vehicle
  * stability index (MODEL.md section 5); paper-mode SDF self-consistent modes
  * by branch tracking (MODEL.md section 4). */
+#include <float.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -145,7 +146,22 @@ static int eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, in
   return RR_OK;
 }
 
-static int is_osc(double re, double im) { return im > OSC_TOL * hypot(re, im); }
+/* Eigenvalues this small are zero to working precision: a rigid-body mode
+   (free lateral drift at zero conicity) is a double, defective zero, which
+   rounding of size eps |A| splits into a pair +-sqrt(eps |A|) that may look
+   oscillatory. Exactly they are zero, hence real. */
+static int is_osc_scaled(double re, double im, double anorm)
+{
+  double mag = hypot(re, im);
+  return im > OSC_TOL * mag && mag > 100 * sqrt(DBL_EPSILON * anorm);
+}
+
+static double max_abs(const double *A, int N)
+{
+  double m = 0;
+  for (int i = 0; i < N * N; i++) m = fmax(m, fabs(A[i]));
+  return m;
+}
 
 static void energy_shares(const rr_model *m, const double complex *phi, double *e)
 {
@@ -159,7 +175,7 @@ static void energy_shares(const rr_model *m, const double complex *phi, double *
   for (int g = 0; g < RR_NGROUPS; g++) e[g] = tot > 0 ? e[g] / tot : 0;
 }
 
-static void fill_mode(rr_mode *md, double re, double im)
+static void fill_mode(rr_mode *md, double re, double im, double anorm)
 {
   memset(md, 0, sizeof *md);
   md->re = re;
@@ -167,7 +183,7 @@ static void fill_mode(rr_mode *md, double re, double im)
   md->freq_hz = im / (2 * RR_PI);
   double mag = hypot(re, im);
   md->zeta = mag > 0 ? re / mag : 0;
-  md->oscillatory = is_osc(re, im);
+  md->oscillatory = is_osc_scaled(re, im, anorm);
   md->self_consistent = 1;
 }
 
@@ -213,13 +229,14 @@ static void sort_result(rr_modal_result *res, double complex *scratch)
 static void collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_result *res)
 {
   int n = m->n;
+  double anorm = max_abs(ws->A, N);
   res->n = 0;
   res->ndof = n;
   for (int j = 0; j < N; j++) {
     double re = ws->wr[j], im = ws->wi[j];
     if (im < 0) continue;
     rr_mode *md = &res->modes[res->n];
-    fill_mode(md, re, im);
+    fill_mode(md, re, im, anorm);
     double complex *phi = res->shapes + (size_t)res->n * n;
     double nrm = 0, big = 0;
     int ib = 0;
@@ -307,9 +324,10 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
     if (info) return rr_seterr(err, RR_ELAPACK, "dgehrd/dhseqr failed (info %d)", info);
   }
   int nc = 0;
+  double anorm = max_abs(ws->A, N);
   for (int j = 0; j < N; j++) {
     double re = ws->wr[j], im = ws->wi[j];
-    if (im <= 0 || !is_osc(re, im) || im / (2 * RR_PI) > o->fmax_hz) continue;
+    if (im <= 0 || !is_osc_scaled(re, im, anorm) || im / (2 * RR_PI) > o->fmax_hz) continue;
     ws->cand[nc] = j;
     ws->candz[nc] = re / hypot(re, im);
     nc++;

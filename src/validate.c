@@ -8,6 +8,7 @@
 #include "railride/pem.h"
 #include "railride/timesim.h"
 #include "model_impl.h"
+#include "hqr.h"
 #include "internal.h"
 
 void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
@@ -110,6 +111,23 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
   if (!A || !A2 || !Bs || !ABs || !u || !du || !y || !aw || !C || !D || !E || !Gp || !fp || !r->welch_f || !r->welch_P ||
       !r->pem_P || !r->points) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   if ((st = rr_model_state_matrix(m, 0, A, err)) || (st = rr_model_state_input(m, Bs, err))) goto done;
+  {
+    /* an unstable vehicle has no steady state: neither the time run nor the
+       PEM describe anything then */
+    double *wr = malloc(sizeof(double) * N), *wi = malloc(sizeof(double) * N);
+    if (!wr || !wi) { free(wr); free(wi); st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+    memcpy(A2, A, sizeof(double) * N * N);
+    int bad = rr_eig_small(N, A2, wr, wi);
+    double remax = -INFINITY, fr = 0;
+    for (int i = 0; i < N && !bad; i++) if (wr[i] > remax) { remax = wr[i]; fr = fabs(wi[i]) / (2 * RR_PI); }
+    free(wr);
+    free(wi);
+    if (!bad && remax > 0) {
+      st = rr_seterr(err, RR_EINVAL, "validate: the vehicle is unstable at %g km/h, conicity %g (eigenvalue %.4g%+.4gi, %.3g Hz): "
+                     "no steady state to compare", m->speed * 3.6, m->conicity, remax, 2 * RR_PI * fr, fr);
+      goto done;
+    }
+  }
   cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, N, N, 1.0, A, N, A, N, 0.0, A2, N);
   cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, ni, N, 1.0, A, N, Bs, ni, 0.0, ABs, ni);
   /* a = rows . (A z + Bs u)[accelerations] + rows0 . q;

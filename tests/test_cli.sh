@@ -70,6 +70,9 @@ json_check "summary ride table" "len(d['ride'])==6 and {r['yaw_series'] for r in
 json_check "validate keys" "all(isinstance(d[k],float) for k in ('sperling_pem','sperling_time','rms_pem','rms_time','psd_band_error_max')) and len(d['points'])==3 and abs(d['rms_time']/d['rms_pem']-1)<2e-3 and abs(d['sperling_time']/d['sperling_pem']-1)<1e-3 and d['psd_band_z_max']<4" < "$tmp/val.json"
 head -1 "$tmp/v.csv" | grep -q '^f_hz,welch_x8.6875,welch_x0,welch_x-8.6875,pem_x8.6875' && ok || bad "validate psd csv"
 expect2 "validate paper mode" "paper-mode SDF has no time-domain form" "$RR" validate --speed 300 --conicity 0.2 --sdf paper --duration 16
+printf '[vehicle]\nbase = type1\n[yaw_damper]\ndamping = 0\n[lateral_damper]\ndamping = 0\n' > "$tmp/nod.ini"
+expect2 "validate unstable vehicle" "unstable at 300 km/h" "$RR" validate "$tmp/nod.ini" --speed 300 --conicity 0.2 --duration 16 --nseg 256
+"$RR" ride "$tmp/nod.ini" --speed 300 --conicity 0.2 > /dev/null 2> "$tmp/warn" && grep -q "warning: unstable" "$tmp/warn" && ok || bad "ride warns when unstable"
 expect2 "validate duration" "--duration" "$RR" validate --speed 300 --conicity 0.2 --duration 0
 expect2 "validate seed" "--seed" "$RR" validate --speed 300 --conicity 0.2 --seed -4
 

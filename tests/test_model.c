@@ -223,6 +223,19 @@ static void test_roll_mode_excluded(void)
   rr_modal_opts all = {10, 0};
   rr_modal_solve(m, &all, ws, &r, &e);
   CHECK_CLOSE(r.stability_index, md->zeta, 1e-12, 0, "w_min = 0 counts every mode");
+  /* zero conicity: free lateral drift is a double zero eigenvalue, which rounding
+     splits into a tiny complex pair; it is real, not a hunting mode */
+  rr_model_set_operating(m, 350 / 3.6, 0.0, &e);
+  rr_modal_solve(m, NULL, ws, &r, &e);
+  CHECK(r.index_mode >= 0 && r.modes[r.index_mode].freq_hz > 1, "zero conicity: index from a real mode (%g Hz)",
+        r.index_mode >= 0 ? r.modes[r.index_mode].freq_hz : -1);
+  double zf;
+  rr_modal_stability_index(m, NULL, ws, &zf, &e);
+  CHECK_CLOSE(zf, r.stability_index, 1e-10, 0, "zero conicity: fast index");
+  double vc;
+  int found;
+  rr_critical_speed(m, 0.0, NULL, NULL, ws, &vc, &found, &e);
+  CHECK(!found, "zero conicity: no critical speed (got %g km/h)", vc * 3.6);
   rr_modal_result_free(&r);
   rr_modal_ws_free(ws);
   rr_model_free(m);
