@@ -10,6 +10,18 @@ bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
+# Bad input: exit status 2, one line, naming what is wrong.
+expect2() {  # expect2 NAME PATTERN CMD...
+  local name=$1 pat=$2; shift 2
+  "$@" > /dev/null 2> "$tmp/err"; local st=$?
+  if [ $st -ne 2 ]; then bad "$name: exit $st (want 2)"; return; fi
+  if [ "$(wc -l < "$tmp/err")" -ne 1 ]; then bad "$name: not one line: $(cat "$tmp/err")"; return; fi
+  grep -q -- "$pat" "$tmp/err" && ok || bad "$name: '$(cat "$tmp/err")' lacks '$pat'"
+}
+
+# A missing helper or command must fail the suite, not pass silently.
+command_not_found_handle() { bad "command not found: $1"; return 127; }
+
 # JSON shape checks, in Python's json module (independent of cJSON).
 json_check() {  # json_check NAME PYTHON-EXPRESSION < json
   if python3 -c "import json,sys; d=json.load(sys.stdin); sys.exit(0 if ($2) else 1)"; then ok; else bad "$1"; fi
@@ -104,14 +116,6 @@ for c in summary matrices modes robust critical-speed locus map damper ride frf 
   "$RR" $c --help > /dev/null && ok || bad "$c --help"
 done
 
-# Bad input: exit status 2, one line, naming what is wrong.
-expect2() {  # expect2 NAME PATTERN CMD...
-  local name=$1 pat=$2; shift 2
-  "$@" > /dev/null 2> "$tmp/err"; local st=$?
-  if [ $st -ne 2 ]; then bad "$name: exit $st (want 2)"; return; fi
-  if [ "$(wc -l < "$tmp/err")" -ne 1 ]; then bad "$name: not one line: $(cat "$tmp/err")"; return; fi
-  grep -q -- "$pat" "$tmp/err" && ok || bad "$name: '$(cat "$tmp/err")' lacks '$pat'"
-}
 printf '[vehicle]\nbase = type1\n[primary]\nlateral_stiffness = 5 kN\n' > "$tmp/v1.ini"
 expect2 "wrong unit" "v1.ini:4: \[primary\] lateral_stiffness" "$RR" modes "$tmp/v1.ini" --speed 300 --conicity 0.2
 printf '[vehicle]\nbase = type1\n[carbody]\nmas = 5\n' > "$tmp/v2.ini"
