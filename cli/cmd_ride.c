@@ -131,6 +131,11 @@ static int ride_cb(int opt, const char *arg, void *u)
   return 1;
 }
 
+/* Parsing shared by ride and frf: defaults, options, floor points of the
+   vehicle loaded. Returns 0 to go on, or an exit status (-1 after --help). */
+static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const struct option *extra,
+                      const char *help, int conicity_list);
+
 #define RIDE_OPTIONS \
   {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS}, \
   {"floor-height", required_argument, 0, OPT_HEIGHT}, {"roll-gravity", no_argument, 0, OPT_ROLLG}, \
@@ -142,6 +147,19 @@ static int ride_cb(int opt, const char *arg, void *u)
   "  --roll-gravity       the accelerometer senses a_y + g phi_c\n" \
   "  --band LO:HI:N       log-spaced frequency grid, Hz (default 0.3:30:400)\n" \
   "  --method M           modal (default: modal expansion + SMW) or direct (a solve per frequency)\n"
+
+static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const struct option *extra,
+                      const char *help, int conicity_list)
+{
+  memset(a, 0, sizeof *a);
+  rr_vehicle tmp;
+  rr_vehicle_default(&tmp);
+  ride_setup_default(&a->rs, &tmp);
+  int r = conicity_list ? cli_parse_list(argc, argv, c, extra, ride_cb, a, help) : cli_parse(argc, argv, c, extra, ride_cb, a, help);
+  if (r) return r;
+  ride_setup_points(&a->rs, &c->veh, argc, argv);
+  return 0;
+}
 
 int cmd_ride(int argc, char **argv)
 {
@@ -156,14 +174,8 @@ int cmd_ride(int argc, char **argv)
   static const struct option extra[] = {RIDE_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
-  memset(&a, 0, sizeof a);
-  rr_vehicle tmp;
-  rr_vehicle_default(&tmp);
-  ride_setup_default(&a.rs, &tmp);
-  int r = cli_parse_list(argc, argv, &c, extra, ride_cb, &a, help);
-  if (r == CLI_HELP_SHOWN) return 0;
-  if (r) return r;
-  ride_setup_points(&a.rs, &c.veh, argc, argv);
+  int r = ride_parse(argc, argv, &c, &a, extra, help, 1);
+  if (r) return r == CLI_HELP_SHOWN ? 0 : r;
   if (!c.have_speed) return cli_bad("--speed is required");
   if (!c.ncon) return cli_bad("--conicity is required (one value or a comma list)");
   a.ncon = c.ncon;
@@ -245,14 +257,8 @@ int cmd_frf(int argc, char **argv)
   static const struct option extra[] = {RIDE_OPTIONS, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
-  memset(&a, 0, sizeof a);
-  rr_vehicle tmp;
-  rr_vehicle_default(&tmp);
-  ride_setup_default(&a.rs, &tmp);
-  int r = cli_parse(argc, argv, &c, extra, ride_cb, &a, help);
-  if (r == CLI_HELP_SHOWN) return 0;
-  if (r) return r;
-  ride_setup_points(&a.rs, &c.veh, argc, argv);
+  int r = ride_parse(argc, argv, &c, &a, extra, help, 0);
+  if (r) return r == CLI_HELP_SHOWN ? 0 : r;
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;
   int n = rr_model_ndof(m), np = a.rs.npoints, ni = rr_model_ninputs(m);

@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* The generic layer against closed-form results: free wheelset (Klingel),
  * elastically restrained wheelset (critical speed), rigid bogie (kinematic
  * wavelength), Maxwell limits and damper characteristics. */

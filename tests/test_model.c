@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* The 17-DOF model against hand-derived entries of MODEL.md, the state
  * space against the dynamic stiffness (two routes to the same transfer
  * function), the fast stability index against the full solve, and the

@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* NSGA-II against problems with known Pareto fronts (ZDT1, ZDT2) by
  * hypervolume, the non-dominated sort against brute force, the hypervolume
  * against closed forms, and the design API against the direct calls. */
@@ -147,10 +148,7 @@ static void test_design(void)
 
 int main(void)
 {
-  const char *src = getenv("RR_SOURCE_DIR");
-  char sd[512];
-  snprintf(sd, sizeof sd, "%s/spectra", src ? src : "..");
-  setenv("RAILRIDE_SPECTRA_DIR", sd, 1);
+  check_spectra_env();
   test_sort(2);
   test_sort(3);
   test_sort(4);

@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* Ride comfort in the frequency domain: spectra, FRF (modal + SMW against
  * direct solves), PEM (against the cross-spectral product and the lag
  * factor), and the comfort indices (hand-worked sinusoids, ISO 8041 tables). */
@@ -8,17 +9,7 @@
 #include "check.h"
 #include "railride/railride.h"
 
-static char dir[256];
-
-static const char *write_file(const char *name, const char *text)
-{
-  static char path[512];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *fp = fopen(path, "w");
-  fputs(text, fp);
-  fclose(fp);
-  return path;
-}
+#define write_file check_write_file
 
 static void test_spectra(void)
 {
@@ -238,18 +229,12 @@ static void test_comfort(void)
 
 int main(void)
 {
-  snprintf(dir, sizeof dir, "/tmp/rr_test_ride_XXXXXX");
-  if (!mkdtemp(dir)) return 1;
-  const char *src = getenv("RR_SOURCE_DIR");
-  char sd[512];
-  snprintf(sd, sizeof sd, "%s/spectra", src ? src : "..");
-  setenv("RAILRIDE_SPECTRA_DIR", sd, 1);
+  if (check_tmpdir("ride")) return 1;
+  check_spectra_env();
   test_spectra();
   test_modal_vs_direct();
   test_pem();
   test_comfort();
-  char cmd[300];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-  if (system(cmd)) {}
+  check_cleanup();
   return check_done("ride");
 }

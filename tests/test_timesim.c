@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* Time-domain validation pieces against closed forms, and a short
  * validation run against the PEM. */
 #define _POSIX_C_SOURCE 200809L
@@ -186,10 +187,7 @@ static void test_validation_run(void)
 
 int main(void)
 {
-  const char *src = getenv("RR_SOURCE_DIR");
-  char sd[512];
-  snprintf(sd, sizeof sd, "%s/spectra", src ? src : "..");
-  setenv("RAILRIDE_SPECTRA_DIR", sd, 1);
+  check_spectra_env();
   test_expm();
   test_hermite();
   test_track_and_welch();

@@ -7,17 +7,7 @@
 #include "check.h"
 #include "railride/railride.h"
 
-static char dir[256];
-
-static const char *write_file(const char *name, const char *text)
-{
-  static char path[512];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *fp = fopen(path, "w");
-  fputs(text, fp);
-  fclose(fp);
-  return path;
-}
+#define write_file check_write_file
 
 static void test_units(void)
 {
@@ -143,13 +133,10 @@ static void test_errors(void)
 
 int main(void)
 {
-  snprintf(dir, sizeof dir, "/tmp/rr_test_vf_XXXXXX");
-  if (!mkdtemp(dir)) return 1;
+  if (check_tmpdir("vf")) return 1;
   test_units();
   test_examples();
   test_errors();
-  char cmd[300];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-  if (system(cmd)) {}
+  check_cleanup();
   return check_done("vehicle_file");
 }
