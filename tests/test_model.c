@@ -282,9 +282,49 @@ static void test_paper_roots(void)
   rr_model_free(m);
 }
 
+/* Root loci follow mode shapes (MAC), not sort order: along a fine conicity
+   sweep every branch stays correlated step to step and continuous in
+   frequency, even where branches cross in frequency. */
+static void test_locus_tracking(void)
+{
+  rr_vehicle v;
+  rr_vehicle_builtin("type2", &v, NULL);
+  rr_model *m;
+  rr_error e;
+  rr_model_from_vehicle(&v, &m, &e);
+  rr_model_set_operating(m, 350 / 3.6, 0.1, &e);
+  enum { NP = 80 };
+  double vals[NP];
+  for (int i = 0; i < NP; i++) vals[i] = 0.02 + 0.48 * i / (NP - 1);
+  rr_locus_point *pts = malloc(sizeof(rr_locus_point) * NP * rr_model_state_size(m));
+  int nb = 0;
+  CHECK_OK(rr_locus(m, 1, vals, NP, NULL, pts, &nb, &e), e);
+  CHECK(nb >= 10, "branches %d", nb);
+  int lowmac = 0, jumps = 0, crossings = 0;
+  for (int b = 0; b < nb; b++)
+    for (int p = 1; p < NP; p++) {
+      const rr_locus_point *a = &pts[(p - 1) * nb + b], *c = &pts[p * nb + b];
+      if (c->freq_hz > 10) continue;   /* the hunting range */
+      if (c->mac < 0.9) lowmac++;
+      /* a nearly critically damped pair may turn real (f -> 0): not a jump */
+      int osc = a->freq_hz > 0 && c->freq_hz > 0 && a->zeta > -0.99 && c->zeta > -0.99;
+      if (osc && fabs(c->freq_hz - a->freq_hz) > 0.3) jumps++;
+      for (int b2 = 0; b2 < nb; b2++) {   /* branches that swap frequency order */
+        const rr_locus_point *a2 = &pts[(p - 1) * nb + b2], *c2 = &pts[p * nb + b2];
+        if (b2 != b && (a->freq_hz - a2->freq_hz) * (c->freq_hz - c2->freq_hz) < 0) crossings++;
+      }
+    }
+  CHECK(lowmac == 0, "%d steps with MAC < 0.9", lowmac);
+  CHECK(jumps == 0, "%d frequency jumps > 0.3 Hz along a branch", jumps);
+  CHECK(crossings > 0, "the sweep should contain branch crossings to be a test (%d)", crossings);
+  free(pts);
+  rr_model_free(m);
+}
+
 int main(void)
 {
   test_entries();
+  test_locus_tracking();
   test_two_routes(RR_SDF_NONE);
   test_two_routes(RR_SDF_PHYSICAL);
   test_fast_vs_full();
