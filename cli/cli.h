@@ -100,6 +100,13 @@ typedef struct ride_setup {
 } ride_setup;
 typedef struct ride_point { double x, rms, sperling, sperling_gb, wd_rms, nmv; } ride_point;
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
+/* The floor-point options every ride-type command takes. */
+enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
+#define RIDE_SETUP_OPTIONS \
+  {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS}, \
+  {"floor-height", required_argument, 0, OPT_HEIGHT}, {"roll-gravity", no_argument, 0, OPT_ROLLG}
+/* Handles one of them: 0 taken, 1 error (printed), -1 not one of them. */
+int ride_setup_option(ride_setup *r, int opt, const char *arg);
 /* After parsing: the floor points default to +L, 0, -L of the vehicle loaded
    (the defaults set before parsing were the built-in vehicle's). */
 void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv);

@@ -105,18 +105,25 @@ typedef struct ride_args {
   int ncon;
   const char *psd_path;
 } ride_args;
-enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG, OPT_BAND, OPT_PSD, OPT_METHOD, OPT_CMP_CON };
+enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON };
+
+int ride_setup_option(ride_setup *r, int opt, const char *arg)
+{
+  switch (opt) {
+  case OPT_SPECTRUM: r->spectrum = arg; return 0;
+  case OPT_POINTS: return cli_list("points", arg, "m", r->x, 16, &r->npoints) ? 1 : 0;
+  case OPT_HEIGHT: return cli_number("floor-height", arg, "m", &r->h_p) ? 1 : 0;
+  case OPT_ROLLG: r->roll_gravity = 1; return 0;
+  }
+  return -1;
+}
 
 static int ride_cb(int opt, const char *arg, void *u)
 {
   ride_args *a = u;
+  int r = ride_setup_option(&a->rs, opt, arg);
+  if (r >= 0) return r;
   switch (opt) {
-  case OPT_SPECTRUM: a->rs.spectrum = arg; return 0;
-  case OPT_POINTS: return cli_list("points", arg, "m", a->rs.x, 16, &a->rs.npoints) ? 1 : 0;
-  case OPT_HEIGHT:
-    if (cli_number("floor-height", arg, "m", &a->rs.h_p)) return 1;
-    return 0;
-  case OPT_ROLLG: a->rs.roll_gravity = 1; return 0;
   case OPT_BAND:
     if (cli_range("band", arg, "Hz", &a->rs.f_lo, &a->rs.f_hi, &a->rs.nfreq)) return 1;
     if (!(a->rs.f_lo > 0 && a->rs.f_hi > a->rs.f_lo && a->rs.nfreq >= 2)) return cli_bad("--band: need 0 < LO < HI and N >= 2");
@@ -137,8 +144,7 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const 
                       const char *help, int conicity_list);
 
 #define RIDE_OPTIONS \
-  {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS}, \
-  {"floor-height", required_argument, 0, OPT_HEIGHT}, {"roll-gravity", no_argument, 0, OPT_ROLLG}, \
+  RIDE_SETUP_OPTIONS, \
   {"band", required_argument, 0, OPT_BAND}, {"method", required_argument, 0, OPT_METHOD}
 #define RIDE_HELP \
   "  --spectrum S         track alignment spectrum: a name in spectra/ or a file (default wuhan-guangzhou)\n" \

@@ -11,7 +11,7 @@ typedef struct val_args {
   ride_setup rs;
   const char *psd_path;
 } val_args;
-enum { OPT_DURATION = 4000, OPT_SEED, OPT_FS, OPT_NSEG, OPT_VPSD, OPT_VSPEC, OPT_VPOINTS, OPT_VHEIGHT, OPT_VROLLG };
+enum { OPT_DURATION = 4000, OPT_SEED, OPT_FS, OPT_NSEG, OPT_VPSD };
 
 static int val_cb(int opt, const char *arg, void *u)
 {
@@ -39,12 +39,9 @@ static int val_cb(int opt, const char *arg, void *u)
     return 0;
   }
   case OPT_VPSD: a->psd_path = arg; return 0;
-  case OPT_VSPEC: a->rs.spectrum = arg; return 0;
-  case OPT_VPOINTS: return cli_list("points", arg, "m", a->rs.x, 16, &a->rs.npoints) ? 1 : 0;
-  case OPT_VHEIGHT: return cli_number("floor-height", arg, "m", &a->rs.h_p) ? 1 : 0;
-  case OPT_VROLLG: a->rs.roll_gravity = 1; return 0;
   }
-  return 1;
+  int r = ride_setup_option(&a->rs, opt, arg);
+  return r < 0 ? 1 : r;
 }
 
 int cmd_validate(int argc, char **argv)
@@ -65,9 +62,7 @@ int cmd_validate(int argc, char **argv)
       "  --psd FILE.csv       write f_hz and the Welch and PEM PSDs of each point\n";
   static const struct option extra[] = {{"duration", required_argument, 0, OPT_DURATION}, {"seed", required_argument, 0, OPT_SEED},
                                         {"fs", required_argument, 0, OPT_FS}, {"nseg", required_argument, 0, OPT_NSEG},
-                                        {"psd", required_argument, 0, OPT_VPSD}, {"spectrum", required_argument, 0, OPT_VSPEC},
-                                        {"points", required_argument, 0, OPT_VPOINTS}, {"floor-height", required_argument, 0, OPT_VHEIGHT},
-                                        {"roll-gravity", no_argument, 0, OPT_VROLLG}, {0, 0, 0, 0}};
+                                        {"psd", required_argument, 0, OPT_VPSD}, RIDE_SETUP_OPTIONS, {0, 0, 0, 0}};
   cli_common c;
   val_args a;
   memset(&a, 0, sizeof a);
