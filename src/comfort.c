@@ -3,13 +3,19 @@
 #include "railride/comfort.h"
 #include "internal.h"
 
-double rr_sperling_filter(double f, int axis)
+/* The Sperling weighting squared, B(f)^2 (MODEL.md section 8). */
+static double sperling2(double f, int axis)
 {
   double f2 = f * f;
   double num = 1.911 * f2 + (0.25 * f2) * (0.25 * f2);
   double a = 1 - 0.277 * f2, b = 1.563 * f - 0.0368 * f2 * f;
-  double Bs = 0.588 * sqrt(num / (a * a + b * b));
-  return axis == RR_AXIS_LATERAL ? 1.25 * Bs : Bs;
+  double B2 = (0.588 * 0.588) * num / (a * a + b * b);
+  return axis == RR_AXIS_LATERAL ? (1.25 * 1.25) * B2 : B2;
+}
+
+double rr_sperling_filter(double f, int axis)
+{
+  return sqrt(sperling2(f, axis));
 }
 
 double rr_sperling_gb_factor(double f, int axis)
@@ -60,10 +66,11 @@ static int check_grid(const double *f, int n, rr_error *err)
 /* trapezoid of g(f) G(f) */
 static double trapz_weighted(const double *f, const double *G, int n, int stride, double (*g)(double, int), int arg)
 {
-  double s = 0;
-  for (int i = 0; i + 1 < n; i++) {
-    double a = G[i * stride] * (g ? g(f[i], arg) : 1), b = G[(i + 1) * stride] * (g ? g(f[i + 1], arg) : 1);
+  double s = 0, a = n > 0 ? G[0] * (g ? g(f[0], arg) : 1) : 0;
+  for (int i = 0; i + 1 < n; i++) {   /* each point weighted once */
+    double b = G[(i + 1) * stride] * (g ? g(f[i + 1], arg) : 1);
     s += 0.5 * (a + b) * (f[i + 1] - f[i]);
+    a = b;
   }
   return s;
 }
@@ -73,11 +80,6 @@ double rr_psd_rms(const double *f, const double *G, int n, int stride)
   return sqrt(trapz_weighted(f, G, n, stride, NULL, 0));
 }
 
-static double sperling2(double f, int axis)
-{
-  double b = rr_sperling_filter(f, axis);
-  return b * b;
-}
 
 int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis, double *Wz, rr_error *err)
 {

@@ -1,16 +1,20 @@
 /* Eigenvalues of small dense matrices: elmhes + hqr (see hqr.h). */
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 #include "hqr.h"
 
 #define A(i, j) a[(i) * n + (j)]
+/* inline, unlike fmax/fmin (no NaN can reach them here) */
+#define MAX(a, b) ((a) > (b) ? (a) : (b))
+#define MIN(a, b) ((a) < (b) ? (a) : (b))
 
 /* Reduction to upper Hessenberg form by stabilised elementary similarity
  * transformations (Gaussian elimination with row interchanges). The step's
  * elementary transforms L_i = I + y_i e_i e_m' commute, so it is applied as
  * L^-1 A L in two contiguous passes: every row elimination first, then
  * column m += A y as one dot product per row (row-major friendly). */
-static void elmhes(int n, double *a)
+static void elmhes(int n, double *a, int *perm)
 {
   double y[64];
   for (int m = 1; m < n - 1; m++) {
@@ -18,6 +22,7 @@ static void elmhes(int n, double *a)
     int piv = m;
     for (int j = m; j < n; j++)
       if (fabs(A(j, m - 1)) > fabs(x)) { x = A(j, m - 1); piv = j; }
+    if (perm) perm[m] = piv;
     if (piv != m) {
       for (int j = m - 1; j < n; j++) { double t = A(piv, j); A(piv, j) = A(m, j); A(m, j) = t; }
       for (int i = 0; i < n; i++) { double t = A(i, piv); A(i, piv) = A(i, m); A(i, m) = t; }
@@ -28,7 +33,7 @@ static void elmhes(int n, double *a)
     for (int i = m + 1; i < n; i++) {
       double yi = A(i, m - 1) / x;
       y[i] = yi;
-      A(i, m - 1) = 0;
+      A(i, m - 1) = perm ? yi : 0;   /* kept for the back-transformation */
       if (yi == 0) continue;
       any = 1;
       double *ri = &A(i, 0);
@@ -54,8 +59,9 @@ static void elmhes(int n, double *a)
 
 static double sgn(double a, double b) { return b >= 0 ? fabs(a) : -fabs(a); }
 
-/* Francis double-shift QR on the active block only (eigenvalues, no Schur form). */
-static int hqr(int n, double *a, double *wr, double *wi)
+/* Francis double-shift QR on the active block only (eigenvalues, no Schur
+ * form). Reads only the Hessenberg part and the bulge it makes itself. */
+int rr_hqr(int n, double *a, double *wr, double *wi)
 {
   double anorm = 0, p = 0, q = 0, r = 0, s, t = 0, w, x, y, z;
   for (int i = 0; i < n; i++)
@@ -73,10 +79,10 @@ static int hqr(int n, double *a, double *wr, double *wi)
         s = fabs(A(l - 1, l - 1)) + fabs(A(l, l));
         if (s == 0) s = anorm;
         if (h <= DBL_EPSILON * s) {
-          double hu = fabs(A(l - 1, l)), ab = fmax(h, hu), ba = fmin(h, hu);
-          double dd = fabs(A(l - 1, l - 1) - A(l, l)), aa = fmax(fabs(A(l, l)), dd), bb = fmin(fabs(A(l, l)), dd);
+          double hu = fabs(A(l - 1, l)), ab = MAX(h, hu), ba = MIN(h, hu);
+          double dd = fabs(A(l - 1, l - 1) - A(l, l)), aa = MAX(fabs(A(l, l)), dd), bb = MIN(fabs(A(l, l)), dd);
           double ss = aa + ab;
-          if (ba * (ab / ss) <= fmax(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) { A(l, l - 1) = 0; break; }
+          if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) { A(l, l - 1) = 0; break; }
         }
       }
       x = A(nn, nn);
@@ -112,22 +118,26 @@ static int hqr(int n, double *a, double *wr, double *wi)
           }
           ++its;
           int m;
-          for (m = nn - 2; m >= l; m--) {   /* two small consecutive subdiagonals? */
+          /* Where to start the sweep: two small consecutive subdiagonals?
+             The first column of the shifted product is formed times
+             h(m+1, m), the test being scale-free: no division per row. */
+          for (m = nn - 2; m >= l; m--) {
             z = A(m, m);
             r = x - z;
             s = y - z;
-            p = (r * s - w) / A(m + 1, m) + A(m, m + 1);
-            q = A(m + 1, m + 1) - z - r - s;
-            r = A(m + 2, m + 1);
-            s = fabs(p) + fabs(q) + fabs(r);
-            p /= s;
-            q /= s;
-            r /= s;
+            double h21 = A(m + 1, m);
+            p = (r * s - w) + A(m, m + 1) * h21;
+            q = (A(m + 1, m + 1) - z - r - s) * h21;
+            r = A(m + 2, m + 1) * h21;
             if (m == l) break;
             double u = fabs(A(m, m - 1)) * (fabs(q) + fabs(r));
             double v = fabs(p) * (fabs(A(m - 1, m - 1)) + fabs(z) + fabs(A(m + 1, m + 1)));
             if (u + v == v) break;
           }
+          s = 1 / (fabs(p) + fabs(q) + fabs(r));
+          p *= s;
+          q *= s;
+          r *= s;
           for (int i = m + 2; i <= nn; i++) {
             A(i, i - 2) = 0;
             if (i != m + 2) A(i, i - 3) = 0;
@@ -137,11 +147,14 @@ static int hqr(int n, double *a, double *wr, double *wi)
               p = A(k, k - 1);
               q = A(k + 1, k - 1);
               r = k != nn - 1 ? A(k + 2, k - 1) : 0;
-              if ((x = fabs(p) + fabs(q) + fabs(r)) != 0) {
-                p /= x;
-                q /= x;
-                r /= x;
-              }
+              x = fabs(p) + fabs(q) + fabs(r);
+              /* scaled only where p^2 + q^2 + r^2 could under- or overflow */
+              if (x != 0 && (x < 1e-100 || x > 1e100)) {
+                double ix = 1 / x;
+                p *= ix;
+                q *= ix;
+                r *= ix;
+              } else x = 1;
             }
             if ((s = sgn(sqrt(p * p + q * q + r * r), p)) != 0) {
               if (k == m) {
@@ -149,12 +162,16 @@ static int hqr(int n, double *a, double *wr, double *wi)
               } else {
                 A(k, k - 1) = -s * x;
               }
+              /* reciprocals of s and p + s side by side: fewer divisions on
+                 the sweep's critical path */
+              double is = 1 / s;
               p += s;
-              x = p / s;
-              y = q / s;
-              z = r / s;
-              q /= p;
-              r /= p;
+              double ip = 1 / p;
+              x = p * is;
+              y = q * is;
+              z = r * is;
+              q *= ip;
+              r *= ip;
               double *rk = &A(k, 0), *rk1 = &A(k + 1, 0);
               if (k != nn - 1) {
                 double *rk2 = &A(k + 2, 0);
@@ -194,6 +211,11 @@ static int hqr(int n, double *a, double *wr, double *wi)
 int rr_eig_small(int n, double *a, double *wr, double *wi)
 {
   if (n > 64) return -1;   /* elmhes' multiplier buffer; larger goes to LAPACK */
-  elmhes(n, a);
-  return hqr(n, a, wr, wi);
+  elmhes(n, a, NULL);
+  return rr_hqr(n, a, wr, wi);
+}
+
+void rr_elmhes(int n, double *a, int *perm)
+{
+  elmhes(n, a, perm);
 }

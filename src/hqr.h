@@ -9,4 +9,12 @@
 /* Destroys a (n x n, row-major). Returns 0, or -1 when the QR iteration did
  * not converge (the caller falls back to LAPACK). */
 int rr_eig_small(int n, double *a, double *wr, double *wi);
+
+/* The two halves, for callers that also want eigenvectors (eigdec.c).
+ * rr_elmhes leaves the Hessenberg matrix in a's upper part and, below the
+ * subdiagonal, the multipliers: a(i, m-1) for row i > m of step m, whose row
+ * interchange is perm[m] (n <= 64). rr_hqr destroys its argument; pairs come
+ * with the negative imaginary part first. */
+void rr_elmhes(int n, double *a, int *perm);
+int rr_hqr(int n, double *a, double *wr, double *wi);
 #endif

@@ -1,6 +1,7 @@
 /* Frequency response by modal expansion (+ Sherman-Morrison-Woodbury for the
  * SDF elements that have no state-space form) or by direct solves, and the
  * pseudo-excitation method (MODEL.md section 6). */
+#include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -8,12 +9,14 @@
 #include "railride/pem.h"
 #include "model_impl.h"
 #include "clu.h"
+#include "eigdec.h"
 #include "internal.h"
 
 #define MAXU 8
+#define FCHUNK 64   /* frequencies per GEMM: the weights and sums stay in cache */
 
 struct rr_frf_plan {
-  int n, ni, np, nf, Nmax, method, has0;
+  int n, ni, np, nf, Nmax, method, has0, use_dgeev;
   double *f;                 /* nf */
   double *rows, *rows0;      /* np x n */
   double complex *H;         /* nf x np x ni */
@@ -21,8 +24,12 @@ struct rr_frf_plan {
   double *A, *At, *vl, *vr, *wr, *wi, *work;
   int lwork;
   double complex *lam, *o, *o0, *b, *u, *c;   /* per mode: np, np, ni, nU, nU */
-  double *tre, *tim;          /* per term (pair or real mode): residue entries, real and imaginary parts */
-  double *are, *aim;          /* accumulators of one frequency */
+  double *T;                  /* 2 nt x E: per term (pair or real mode) the residue entries' real parts, then imaginary parts */
+  double *Wt, *acc;           /* per frequency chunk: 2 FCHUNK x 2 nt weights, 2 FCHUNK x E sums */
+  double *ework, *V, *rhs;    /* eigdec workspace, LU of the eigenvector basis, its right-hand sides */
+  int *iwork, *vpiv;
+  double complex *lag;        /* nf x ni: exp(j w x_i / v) at lag_speed */
+  double lag_speed, lag_x[RR_SYS_MAX_INPUTS];
   /* direct workspace */
   double complex *D, *X;
   int *piv;
@@ -34,7 +41,8 @@ void rr_frf_plan_free(rr_frf_plan *p)
   free(p->f); free(p->rows); free(p->rows0); free(p->H);
   free(p->A); free(p->At); free(p->vl); free(p->vr); free(p->wr); free(p->wi); free(p->work);
   free(p->lam); free(p->o); free(p->o0); free(p->b); free(p->u); free(p->c);
-  free(p->tre); free(p->tim); free(p->are); free(p->aim);
+  free(p->T); free(p->Wt); free(p->acc); free(p->ework); free(p->V); free(p->rhs); free(p->iwork); free(p->vpiv);
+  free(p->lag);
   free(p->D); free(p->X); free(p->piv);
   free(p);
 }
@@ -48,12 +56,13 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
     double lo = o->f_lo_hz > 0 ? o->f_lo_hz : 0.3, hi = o->f_hi_hz > 0 ? o->f_hi_hz : 30;
     if (!(hi > lo) && nf > 1) return rr_seterr(err, RR_EINVAL, "frf: need 0 < f_lo < f_hi");
   }
-  if (o->method != RR_FRF_MODAL && o->method != RR_FRF_DIRECT) return rr_seterr(err, RR_EINVAL, "frf: unknown method");
+  if (o->method != RR_FRF_MODAL && o->method != RR_FRF_DIRECT && o->method != RR_FRF_MODAL_LAPACK) return rr_seterr(err, RR_EINVAL, "frf: unknown method");
   rr_frf_plan *p = calloc(1, sizeof *p);
   if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
   int n = p->n = m->n, np = p->np = o->npoints, ni = p->ni = m->ni;
   p->nf = nf;
-  p->method = o->method;
+  p->method = o->method == RR_FRF_DIRECT ? RR_FRF_DIRECT : RR_FRF_MODAL;
+  p->use_dgeev = o->method == RR_FRF_MODAL_LAPACK;
   p->has0 = o->rows0 != NULL;
   int N = p->Nmax = 2 * n + m->nmx + m->nsdf + 2;
   for (int i = 0; i < m->nmx; i++) N += m->mx[i].sdf;   /* room for physical mode */
@@ -77,14 +86,21 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->c = malloc(sizeof(double complex) * N * MAXU);
   p->D = malloc(sizeof(double complex) * n * n);
   size_t E = (size_t)2 * np * ni + (size_t)MAXU * ni + (size_t)2 * np * MAXU + (size_t)MAXU * MAXU;
-  p->tre = malloc(sizeof(double) * N * E);
-  p->tim = malloc(sizeof(double) * N * E);
-  p->are = malloc(sizeof(double) * E);
-  p->aim = malloc(sizeof(double) * E);
+  p->T = malloc(sizeof(double) * 2 * N * E);
+  p->Wt = malloc(sizeof(double) * 2 * FCHUNK * 2 * N);
+  p->acc = malloc(sizeof(double) * 2 * FCHUNK * E);
+  p->ework = malloc(sizeof(double) * RR_EIGDEC_LWORK(N));
+  p->V = malloc(sizeof(double) * NN);
+  p->rhs = malloc(sizeof(double) * N * (ni + MAXU + 4 * N));   /* also dgecon's 4N */
+  p->iwork = malloc(sizeof(int) * (RR_EIGDEC_LIWORK(N) + N));
+  p->vpiv = malloc(sizeof(int) * N);
+  p->lag = malloc(sizeof(double complex) * nf * ni);
+  p->lag_speed = -1;
   p->X = malloc(sizeof(double complex) * n * (ni + MAXU));
   p->piv = malloc(sizeof(int) * n);
   if (!p->f || !p->rows || !p->rows0 || !p->H || !p->A || !p->At || !p->vl || !p->vr || !p->wr || !p->wi || !p->lam ||
-      !p->o || !p->o0 || !p->b || !p->u || !p->c || !p->D || !p->X || !p->piv || !p->tre || !p->tim || !p->are || !p->aim) {
+      !p->o || !p->o0 || !p->b || !p->u || !p->c || !p->D || !p->X || !p->piv || !p->T || !p->Wt || !p->acc ||
+      !p->ework || !p->V || !p->rhs || !p->iwork || !p->vpiv || !p->lag) {
     rr_frf_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
@@ -149,57 +165,144 @@ static int smw_elements(const rr_model *m, int *elem, double *mult)
   double mm[2 * RR_SYS_MAX_BODIES];
   int nk = rr_merged_elements(m, all, mm);
   for (int i = 0; i < nk; i++)
-    if (m->mx[all[i]].sdf && nu < MAXU) { elem[nu] = all[i]; mult[nu] = mm[i]; nu++; }
+    if (m->mx[all[i]].sdf) {
+      if (nu == MAXU) return -1;
+      elem[nu] = all[i];
+      mult[nu] = mm[i];
+      nu++;
+    }
   return nu;
+}
+
+/* Right projections of eigenvector x (state space) for term j: output rows,
+   roll-gravity rows and the SMW elements' strokes. */
+static void right_proj(rr_frf_plan *p, const rr_model *m, int j, int nu, const int *uel, const double complex *x)
+{
+  int n = p->n, np = p->np;
+  for (int q = 0; q < np; q++) {
+    double complex a = 0, a0 = 0;
+    for (int r = 0; r < n; r++) { a += p->rows[q * n + r] * x[r]; a0 += p->rows0[q * n + r] * x[r]; }
+    p->o[j * np + q] = a;
+    p->o0[j * np + q] = a0;
+  }
+  for (int e = 0; e < nu; e++) {
+    const rr_mx *mx = &m->mx[uel[e]];
+    double complex a = 0;
+    for (int t = 0; t < mx->nz; t++) a += mx->J[mx->idx[t]] * x[mx->idx[t]];
+    p->u[j * MAXU + e] = a;
+  }
+}
+
+/* Column j of a LAPACK-layout eigenvector matrix as a complex vector. */
+static void eigvec(const double *v, const double *wi, int N, int j, double complex *x)
+{
+  int pair = wi[j] != 0, c0 = pair && wi[j] < 0 ? j - 1 : j;
+  double sg = pair && wi[j] < 0 ? -1.0 : 1.0;
+  for (int r = 0; r < N; r++) x[r] = v[(size_t)c0 * N + r] + (pair ? sg * I * v[(size_t)(c0 + 1) * N + r] : 0);
 }
 
 /* Residues from LAPACK's eigenvectors of the state matrix in p->A (left and
    right): (sI - A)^-1 = sum_j x_j u_j^H / (u_j^H x_j (s - lambda_j)). */
 static int residues_dgeev(rr_frf_plan *p, const rr_model *m, int N, int nu, const int *uel, rr_error *err)
 {
-  int n = p->n, ni = p->ni, np = p->np;
+  int n = p->n, ni = p->ni;
   for (int i = 0; i < N; i++)
     for (int j = 0; j < N; j++) p->At[j * N + i] = p->A[i * N + j];
   int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, p->At, N, p->wr, p->wi, p->vl, N, p->vr, N, p->work, p->lwork);
   if (info) return rr_seterr(err, RR_ELAPACK, "dgeev failed (info %d)", info);
+  double complex x[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES], ul[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
   for (int j = 0; j < N; j++) {
-    double complex lam = p->wr[j] + I * p->wi[j];
-    int pair = p->wi[j] != 0, first = pair && p->wi[j] > 0;
-    int c0 = pair ? (first ? j : j - 1) : j;
-    double sg = pair && !first ? -1.0 : 1.0;
-#define XR(r) (p->vr[(size_t)c0 * N + (r)] + (pair ? sg * I * p->vr[(size_t)(c0 + 1) * N + (r)] : 0))
-#define UL(r) (p->vl[(size_t)c0 * N + (r)] + (pair ? sg * I * p->vl[(size_t)(c0 + 1) * N + (r)] : 0))
+    eigvec(p->vr, p->wi, N, j, x);
+    eigvec(p->vl, p->wi, N, j, ul);
     double complex s = 0;
-    for (int r = 0; r < N; r++) s += conj(UL(r)) * XR(r);
+    for (int r = 0; r < N; r++) s += conj(ul[r]) * x[r];
     if (cabs(s) == 0) return rr_seterr(err, RR_ELAPACK, "frf: defective state matrix (use the direct method)");
     double complex is = 1.0 / s;
-    p->lam[j] = lam;
-    for (int q = 0; q < np; q++) {
-      double complex a = 0, a0 = 0;
-      for (int r = 0; r < n; r++) { a += p->rows[q * n + r] * XR(r); a0 += p->rows0[q * n + r] * XR(r); }
-      p->o[j * np + q] = a;
-      p->o0[j * np + q] = a0;
-    }
+    p->lam[j] = p->wr[j] + I * p->wi[j];
+    right_proj(p, m, j, nu, uel, x);
     for (int i = 0; i < ni; i++) {
       double complex a = 0;
-      for (int r = 0; r < n; r++) a += conj(UL(n + r)) * (m->B[r * ni + i] / m->mdiag[r]);
+      for (int r = 0; r < n; r++) a += conj(ul[n + r]) * (m->B[r * ni + i] / m->mdiag[r]);
       p->b[j * ni + i] = a * is;
     }
     for (int e = 0; e < nu; e++) {
-      const rr_mx *x = &m->mx[uel[e]];
-      double complex a = 0, cc = 0;
-      for (int t = 0; t < x->nz; t++) {
-        int r = x->idx[t];
-        a += x->J[r] * XR(r);
-        cc += conj(UL(n + r)) * (x->J[r] / m->mdiag[r]);
-      }
-      p->u[j * MAXU + e] = a;
+      const rr_mx *mx = &m->mx[uel[e]];
+      double complex cc = 0;
+      for (int t = 0; t < mx->nz; t++) cc += conj(ul[n + mx->idx[t]]) * (mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]]);
       p->c[j * MAXU + e] = cc * is;
     }
-#undef XR
-#undef UL
   }
   return RR_OK;
+}
+
+/* Below this reciprocal condition number of the eigenvector basis the
+   expansion is left to dgeev's left and right vectors. */
+#define RCOND_MIN 1e-9
+
+/* Residues from rr_eigdec's right eigenvectors V and the inverse of that same
+   basis: beta = V^-1 [B~ U~], B~ and U~ the inputs and the SMW elements in
+   state space. Consistent by construction (sum_j x_j beta_j reproduces the
+   inputs to rounding), so near-equal eigenvalues cost accuracy only through
+   cond(V), which is checked. Returns 1 when the caller should use dgeev. */
+static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const int *uel)
+{
+  int n = p->n, ni = p->ni, nr = ni + nu;
+  memcpy(p->At, p->A, sizeof(double) * N * N);
+  if (rr_eigdec(N, p->At, p->wr, p->wi, p->vr, p->ework, p->iwork)) return 1;
+  double *rhs = p->rhs;
+  memset(rhs, 0, sizeof(double) * N * nr);
+  for (int i = 0; i < ni; i++)
+    for (int r = 0; r < n; r++) rhs[(size_t)i * N + n + r] = m->B[r * ni + i] / m->mdiag[r];
+  for (int e = 0; e < nu; e++) {
+    const rr_mx *mx = &m->mx[uel[e]];
+    for (int t = 0; t < mx->nz; t++) rhs[(size_t)(ni + e) * N + n + mx->idx[t]] = mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]];
+  }
+  memcpy(p->V, p->vr, sizeof(double) * N * N);
+  double vnorm = LAPACKE_dlange_work(LAPACK_COL_MAJOR, '1', N, N, p->V, N, NULL), rcond = 0;
+  if (LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, N, N, p->V, N, p->vpiv)) return 1;
+  if (LAPACKE_dgecon_work(LAPACK_COL_MAJOR, '1', N, p->V, N, vnorm, &rcond, rhs + (size_t)N * nr, p->iwork) ||
+      !(rcond >= RCOND_MIN))
+    return 1;
+  LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', N, nr, p->V, N, p->vpiv, rhs, N);
+  double complex x[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
+  for (int j = 0; j < N; j++) {
+    if (p->wi[j] < 0) continue;   /* a pair is stored once, by its Im > 0 member */
+    int pair = p->wi[j] > 0;
+    eigvec(p->vr, p->wi, N, j, x);
+    p->lam[j] = p->wr[j] + I * p->wi[j];
+    right_proj(p, m, j, nu, uel, x);
+    /* real-basis coefficients (g_re, g_im) of the pair's columns are
+       (2 Re beta, -2 Im beta) */
+#define BETA(col) (pair ? 0.5 * (rhs[(size_t)(col) * N + j] - I * rhs[(size_t)(col) * N + j + 1]) : rhs[(size_t)(col) * N + j])
+    for (int i = 0; i < ni; i++) p->b[j * ni + i] = BETA(i);
+    for (int e = 0; e < nu; e++) p->c[j * MAXU + e] = BETA(ni + e);
+#undef BETA
+  }
+  return 0;
+}
+
+/* The nu x nu SMW matrix W: inverted in place for nu <= 2 (one
+   factorisation per frequency is most of the SMW cost), else LU. */
+static void smw_factor(double complex *W, int nu, int *piv)
+{
+  if (nu == 1) W[0] = 1 / W[0];
+  else if (nu == 2) {
+    double complex id = 1 / (W[0] * W[3] - W[1] * W[2]), w0 = W[0];
+    W[0] = W[3] * id;
+    W[1] *= -id;
+    W[2] *= -id;
+    W[3] = w0 * id;
+  } else rr_clu_factor(W, nu, piv, 1e-300);
+}
+
+static void smw_solve(const double complex *W, int nu, const int *piv, double complex *r)
+{
+  if (nu == 1) r[0] *= W[0];
+  else if (nu == 2) {
+    double complex r0 = r[0];
+    r[0] = W[0] * r0 + W[1] * r[1];
+    r[1] = W[2] * r0 + W[3] * r[1];
+  } else rr_clu_solve(W, nu, piv, r);
 }
 
 static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
@@ -208,6 +311,7 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   int uel[MAXU];
   double umult[MAXU];
   int nu = smw_elements(m, uel, umult);
+  if (nu < 0) return rr_seterr(err, RR_EINVAL, "frf: more than %d SDF dampers (use the direct method)", MAXU);
   double k_lo = 0, k_hi = 0;
   if (nu) rr_sdf_range(&m->curve, &k_lo, &k_hi);
   /* State-space part: SMW elements held at the reference stiffness k_lo. */
@@ -218,23 +322,32 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   if (st) { mm->sdf_mode = mode_saved; return st; }
   if (N > p->Nmax) { mm->sdf_mode = mode_saved; return rr_seterr(err, RR_EINVAL, "frf plan too small for this model"); }
   mm->sdf_mode = mode_saved;
-  if ((st = residues_dgeev(p, m, N, nu, uel, err))) return st;
+  if (p->use_dgeev || residues_fast(p, m, N, nu, uel))
+    if ((st = residues_dgeev(p, m, N, nu, uel, err))) return st;
   /* Residue entries per term: Hq (np x ni), H0 (np x ni), Hu (nu x ni),
      Gq (np x nu), G0 (np x nu), Z (nu x nu), each the product of a left and
      a right projection. A conjugate pair contributes
      R d1 + conj(R) d2 = Re(R) (d1 + d2) + Im(R) j (d1 - d2), so it is stored
-     once (the eigenvalue with Im > 0) and costs two real-times-complex
-     products per entry instead of two complex products. */
-  int nHq = np * ni, nHu = nu * ni, nGq = np * nu, nZ = nu * nu;
+     once (the eigenvalue with Im > 0) and costs real-times-complex products.
+     All frequencies' sums are then one real matrix product: weights
+     (2 nf x K: rows Re, Im of each frequency; columns d1 + d2 of each
+     term, then j (d1 - d2) of each pair) times entries (K x E: Re R rows,
+     then the pairs' Im R rows). */
+  int nHq = np * ni, nHu = nu * ni, nGq = np * nu, nZ = nu * nu;   /* entry counts */
   /* the roll-gravity blocks H0, G0 last, and only when asked for */
   int oHq = 0, oHu = nHq, oGq = oHu + nHu, oZ = oGq + nGq, oH0 = oZ + nZ, oG0 = oH0 + nHq;
   int E = p->has0 ? oG0 + nGq : oH0;
-  int nt = 0;
+  int nt = 0, npair = 0;
+  for (int j = 0; j < N; j++) { nt += p->wi[j] >= 0; npair += p->wi[j] > 0; }
+  /* a real mode's residues are real (real vectors): its Im row, written
+     after the pairs' Im rows, is left out of the product */
+  int K = nt + npair;
   double complex tlam[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
-  int tpair[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
-  for (int j = 0; j < N; j++) {
+  /* pairs first, then real modes: branch-free weight loops */
+  for (int j = 0, tp = 0, tr_ = npair; j < N; j++) {
     if (p->wi[j] < 0) continue;   /* the conjugate of a stored pair */
-    double *tr = p->tre + (size_t)nt * E, *ti = p->tim + (size_t)nt * E;
+    int t = p->wi[j] > 0 ? tp++ : tr_++;
+    double *tr = p->T + (size_t)t * E, *ti = p->T + (size_t)(nt + t) * E;
     const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni, *uu = p->u + j * MAXU, *cc = p->c + j * MAXU;
 #define PUT(off, val) do { double complex v_ = (val); tr[off] = creal(v_); ti[off] = cimag(v_); } while (0)
     for (int q = 0; q < np; q++) {
@@ -250,79 +363,113 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
       for (int g = 0; g < nu; g++) PUT(oZ + e * nu + g, uu[e] * cc[g]);
     }
 #undef PUT
-    tlam[nt] = p->lam[j];
-    tpair[nt] = p->wi[j] > 0;
-    nt++;
+    tlam[t] = p->lam[j];
   }
-  for (int k = 0; k < p->nf; k++) {
-    double w = 2 * RR_PI * p->f[k];
-    double complex s = I * w;
-    double *restrict are = p->are, *restrict aim = p->aim;
-    for (int e = 0; e < E; e++) are[e] = aim[e] = 0;
-    for (int t = 0; t < nt; t++) {
-      double complex d1 = 1.0 / (s - tlam[t]), sg, dl;
-      if (tpair[t]) {
-        double complex d2 = 1.0 / (s - conj(tlam[t]));
-        sg = d1 + d2;           /* multiplies Re(R) */
-        dl = I * (d1 - d2);     /* multiplies Im(R) */
-      } else {
-        sg = d1;                /* R d1 = Re(R) d1 + Im(R) j d1 */
-        dl = I * d1;
+  for (int k0 = 0; k0 < p->nf; k0 += FCHUNK) {
+    int nk = p->nf - k0 < FCHUNK ? p->nf - k0 : FCHUNK;
+    for (int kk = 0; kk < nk; kk++) {
+      double w = 2 * RR_PI * p->f[k0 + kk];
+      double *wre = p->Wt + (size_t)2 * kk * K, *wim = wre + K;
+      for (int t = 0; t < npair; t++) {
+        /* (s - l)(s - conj l) at s = jw: (b - w)(b + w) + a^2 - 2 j a w;
+           d1 + d2 = 2 (jw - a) / den, j (d1 - d2) = -2 b / den */
+        double a = creal(tlam[t]), b = cimag(tlam[t]);
+        double dr = (b - w) * (b + w) + a * a, di = -2 * a * w, inv = 2 / (dr * dr + di * di);
+        double rr = dr * inv, ri = -di * inv;
+        wre[t] = -a * rr - w * ri;
+        wim[t] = w * rr - a * ri;
+        wre[nt + t] = -b * rr;
+        wim[nt + t] = -b * ri;
       }
-      double sr = creal(sg), si = cimag(sg), dr = creal(dl), di = cimag(dl);
-      const double *restrict tr = p->tre + (size_t)t * E, *restrict ti = p->tim + (size_t)t * E;
-      for (int e = 0; e < E; e++) {
-        are[e] += tr[e] * sr + ti[e] * dr;
-        aim[e] += tr[e] * si + ti[e] * di;
+      for (int t = npair; t < nt; t++) {
+        /* d1 = 1 / (jw - a), R real */
+        double a = creal(tlam[t]), inv = 1 / (a * a + w * w);
+        wre[t] = -a * inv;
+        wim[t] = -w * inv;
       }
     }
-    double complex Hq[16 * 16], H0[16 * 16], Hu[MAXU * 16], Gq[16 * MAXU], G0[16 * MAXU], Z[MAXU * MAXU];
-    for (int e = 0; e < nHq; e++) {
-      Hq[e] = are[oHq + e] + I * aim[oHq + e];
-      H0[e] = p->has0 ? are[oH0 + e] + I * aim[oH0 + e] : 0;
-    }
-    for (int e = 0; e < nHu; e++) Hu[e] = are[oHu + e] + I * aim[oHu + e];
-    for (int e = 0; e < nGq; e++) {
-      Gq[e] = are[oGq + e] + I * aim[oGq + e];
-      G0[e] = p->has0 ? are[oG0 + e] + I * aim[oG0 + e] : 0;
-    }
-    for (int e = 0; e < nZ; e++) Z[e] = are[oZ + e] + I * aim[oZ + e];
-    if (nu) {
-      /* D = D0 + U dK U^T: O D^-1 B = O D0^-1 B - O D0^-1 U (I + dK Z)^-1 dK U^T D0^-1 B */
-      double complex dK[MAXU], W[MAXU * MAXU], Y[MAXU * 16];
-      int piv[MAXU];
-      for (int e = 0; e < nu; e++) {
-        const rr_mx *x = &m->mx[uel[e]];
-        double complex kf = rr_model_series_k(m, uel[e], s, 0);
-        double complex c = x->c;
-        dK[e] = umult[e] * (kf * c * s / (kf + c * s) - k_lo * c * s / (k_lo + c * s));
+    cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * nk, E, K, 1.0, p->Wt, K, p->T, E, 0.0, p->acc, E);
+    for (int kk = 0; kk < nk; kk++) {
+      int k = k0 + kk;
+      double w = 2 * RR_PI * p->f[k];
+      double complex s = I * w;
+      const double *are = p->acc + (size_t)2 * kk * E, *aim = are + E;
+      double complex Hq[16 * 16], H0[16 * 16], Hu[MAXU * 16], Gq[16 * MAXU], G0[16 * MAXU], Z[MAXU * MAXU];
+      for (int e = 0; e < nHq; e++) {
+        Hq[e] = are[oHq + e] + I * aim[oHq + e];
+        H0[e] = p->has0 ? are[oH0 + e] + I * aim[oH0 + e] : 0;
       }
-      for (int e = 0; e < nu; e++)
-        for (int g = 0; g < nu; g++) W[e * nu + g] = (e == g) + dK[e] * Z[e * nu + g];
-      rr_clu_factor(W, nu, piv, 1e-300);
-      for (int i = 0; i < ni; i++) {
-        double complex y[MAXU];
-        for (int e = 0; e < nu; e++) y[e] = dK[e] * Hu[e * ni + i];
-        rr_clu_solve(W, nu, piv, y);
-        for (int e = 0; e < nu; e++) Y[e * ni + i] = y[e];
+      for (int e = 0; e < nHu; e++) Hu[e] = are[oHu + e] + I * aim[oHu + e];
+      for (int e = 0; e < nGq; e++) {
+        Gq[e] = are[oGq + e] + I * aim[oGq + e];
+        G0[e] = p->has0 ? are[oG0 + e] + I * aim[oG0 + e] : 0;
       }
-      for (int q = 0; q < np; q++)
-        for (int i = 0; i < ni; i++)
-          for (int e = 0; e < nu; e++) {
-            Hq[q * ni + i] -= Gq[q * nu + e] * Y[e * ni + i];
-            H0[q * ni + i] -= G0[q * nu + e] * Y[e * ni + i];
+      for (int e = 0; e < nZ; e++) Z[e] = are[oZ + e] + I * aim[oZ + e];
+      if (nu) {
+        /* D = D0 + U dK U^T: O D^-1 B = O D0^-1 B - O D0^-1 U (I + dK Z)^-1 dK U^T D0^-1 B */
+        double complex dK[MAXU], W[MAXU * MAXU], Y[MAXU * 16];
+        int piv[MAXU];
+        /* every SMW element follows the one SDF curve */
+        double complex kf = rr_model_series_k(m, uel[0], s, 0);
+        for (int e = 0; e < nu; e++) {
+          /* kf c s / (kf + c s) - k_lo c s / (k_lo + c s), without the
+             cancellation when kf is near k_lo */
+          double complex cs = m->mx[uel[e]].c * s;
+          dK[e] = umult[e] * cs * cs * (kf - k_lo) / ((kf + cs) * (k_lo + cs));
+        }
+        for (int e = 0; e < nu; e++)
+          for (int g = 0; g < nu; g++) W[e * nu + g] = (e == g) + dK[e] * Z[e * nu + g];
+        smw_factor(W, nu, piv);
+        for (int i = 0; i < ni; i++) {
+          double complex y[MAXU];
+          for (int e = 0; e < nu; e++) y[e] = dK[e] * Hu[e * ni + i];
+          smw_solve(W, nu, piv, y);
+          for (int e = 0; e < nu; e++) Y[e * ni + i] = y[e];
+        }
+        for (int q = 0; q < np; q++)
+          for (int i = 0; i < ni; i++) {
+            double complex c = 0;
+            for (int e = 0; e < nu; e++) c += Gq[q * nu + e] * Y[e * ni + i];
+            Hq[q * ni + i] -= c;
           }
+        if (p->has0)
+          for (int q = 0; q < np; q++)
+            for (int i = 0; i < ni; i++)
+              for (int e = 0; e < nu; e++) H0[q * ni + i] -= G0[q * nu + e] * Y[e * ni + i];
+      }
+      double complex *Hk = p->H + (size_t)k * np * ni;
+      for (int t = 0; t < np * ni; t++) Hk[t] = -w * w * Hq[t] + H0[t];
     }
-    double complex *Hk = p->H + (size_t)k * np * ni;
-    for (int t = 0; t < np * ni; t++) Hk[t] = -w * w * Hq[t] + H0[t];
   }
   return RR_OK;
+}
+
+static int lags_current(const rr_frf_plan *p, const rr_model *m)
+{
+  int same = p->lag_speed == m->speed;
+  for (int i = 0; i < p->ni; i++) same &= p->lag_x[i] == m->contacts[i].x;
+  return same;
+}
+
+/* The PEM's exp(j w x_i / v), kept while the speed and the wheelset positions
+   stay (the sines and cosines were a tenth of a ride evaluation). */
+static void update_lags(rr_frf_plan *p, const rr_model *m)
+{
+  if (lags_current(p, m)) return;
+  for (int k = 0; k < p->nf; k++) {
+    double w = 2 * RR_PI * p->f[k];
+    for (int i = 0; i < p->ni; i++) p->lag[(size_t)k * p->ni + i] = cexp(I * w * m->contacts[i].x / m->speed);
+  }
+  p->lag_speed = m->speed;
+  for (int i = 0; i < p->ni; i++) p->lag_x[i] = m->contacts[i].x;
 }
 
 int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
 {
   if (m->n != p->n || m->ni != p->ni) return rr_seterr(err, RR_EINVAL, "frf: plan was made for another model size");
   if (p->np > 16 || p->ni > 16) return rr_seterr(err, RR_EINVAL, "frf: at most 16 points and 16 inputs");
+  if (m->ni > RR_SYS_MAX_INPUTS) return rr_seterr(err, RR_EINVAL, "frf: too many inputs");
+  update_lags(p, m);
   if (p->method == RR_FRF_DIRECT) return execute_direct(p, m);
   return execute_modal(p, m, err);
 }
@@ -337,11 +484,15 @@ double rr_pem_combine(const double complex *H, const double *x, int ni, double w
 int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G, rr_error *err)
 {
   double v = m->speed;
+  int cached = lags_current(p, m);
   for (int k = 0; k < p->nf; k++) {
     double f = p->f[k], w = 2 * RR_PI * f;
     double Gt = rr_spectrum_eval(sp, f / v) / v;   /* temporal one-sided PSD, m^2/Hz */
-    double complex lag[RR_SYS_MAX_INPUTS];
-    for (int i = 0; i < p->ni; i++) lag[i] = cexp(I * w * m->contacts[i].x / v);
+    double complex lagk[RR_SYS_MAX_INPUTS];
+    const double complex *lag = lagk;
+    if (cached) lag = p->lag + (size_t)k * p->ni;
+    else
+      for (int i = 0; i < p->ni; i++) lagk[i] = cexp(I * w * m->contacts[i].x / v);
     for (int q = 0; q < p->np; q++) {
       const double complex *h = p->H + ((size_t)k * p->np + q) * p->ni;
       double complex a = 0;

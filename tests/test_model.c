@@ -1,14 +1,16 @@
 #define _POSIX_C_SOURCE 200809L
 /* The 17-DOF model against hand-derived entries of MODEL.md, the state
  * space against the dynamic stiffness (two routes to the same transfer
- * function), the fast stability index against the full solve, and the
- * paper-mode SDF roots against their definition. */
+ * function), the fast stability index against the full solve, the paper-mode
+ * SDF roots against their definition, and the Hessenberg inverse-iteration
+ * eigendecomposition against its definition and dgeev. */
 #include <complex.h>
 #include <lapacke.h>
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
 #include "railride/railride.h"
+#include "eigdec.h"   /* internal: the ride evaluation's eigendecomposition */
 
 enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
 
@@ -321,8 +323,124 @@ static void test_locus_tracking(void)
   rr_model_free(m);
 }
 
+/* Residual |A V - V diag(lambda)| / (|A| |V|) of rr_eigdec's output (row-major
+   A, LAPACK-layout V), and the largest distance of its eigenvalues from
+   dgeev's, relative to |A|. */
+static void eigdec_check(int n, const double *A, double *res, double *dist)
+{
+  double *a = malloc(sizeof(double) * n * n), *vr = malloc(sizeof(double) * n * n), *wr = malloc(sizeof(double) * 4 * n),
+         *wi = wr + n, *lr = wi + n, *li = lr + n, *work = malloc(sizeof(double) * RR_EIGDEC_LWORK(n));
+  int *iwork = malloc(sizeof(int) * RR_EIGDEC_LIWORK(n));
+  memcpy(a, A, sizeof(double) * n * n);
+  *res = *dist = INFINITY;
+  if (rr_eigdec(n, a, wr, wi, vr, work, iwork) == 0) {
+    double anorm = 0, vnorm = 0, r = 0;
+    for (int i = 0; i < n * n; i++) { anorm = fmax(anorm, fabs(A[i])); vnorm = fmax(vnorm, fabs(vr[i])); }
+    for (int j = 0; j < n; j++) {
+      int pair = wi[j] != 0, c0 = pair && wi[j] < 0 ? j - 1 : j;
+      double sg = wi[j] < 0 ? -1 : 1;
+      double complex lam = wr[j] + I * wi[j];
+      for (int i = 0; i < n; i++) {
+        double complex av = 0;
+        for (int k = 0; k < n; k++) av += A[i * n + k] * (vr[c0 * n + k] + (pair ? sg * I * vr[(c0 + 1) * n + k] : 0));
+        double complex v = vr[c0 * n + i] + (pair ? sg * I * vr[(c0 + 1) * n + i] : 0);
+        r = fmax(r, cabs(av - lam * v));
+      }
+    }
+    *res = r / (anorm * vnorm * n);
+    memcpy(a, A, sizeof(double) * n * n);
+    LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, a, n, lr, li, NULL, n, NULL, n);
+    double d = 0;
+    for (int j = 0; j < n; j++) {
+      double best = INFINITY;
+      for (int k = 0; k < n; k++) best = fmin(best, cabs(wr[j] + I * wi[j] - (lr[k] + I * li[k])));
+      d = fmax(d, best);
+    }
+    *dist = d / anorm;
+  }
+  free(a); free(vr); free(wr); free(work); free(iwork);
+}
+
+static void test_eigdec(void)
+{
+  /* the state matrices of the ride evaluation: speeds x conicities x SDF */
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  double worst_res = 0, worst_dist = 0;
+  for (int sdf = 0; sdf < 2; sdf++) {
+    v.sdf_mode = sdf ? RR_SDF_PHYSICAL : RR_SDF_NONE;
+    rr_model *m;
+    rr_error e;
+    CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+    int N = rr_model_state_size(m);
+    double *A = malloc(sizeof(double) * N * N);
+    for (double kmh = 100; kmh <= 500; kmh += 200)
+      for (double lam = 0.02; lam < 0.6; lam += 0.19) {
+        CHECK_OK(rr_model_set_operating(m, kmh / 3.6, lam, &e), e);
+        CHECK_OK(rr_model_state_matrix(m, 0, A, &e), e);
+        double res, dist;
+        eigdec_check(N, A, &res, &dist);
+        worst_res = fmax(worst_res, res);
+        worst_dist = fmax(worst_dist, dist);
+      }
+    free(A);
+    rr_model_free(m);
+  }
+  CHECK(worst_res < 1e-14, "eigdec on state matrices: residual %.3g", worst_res);
+  CHECK(worst_dist < 1e-13, "eigdec on state matrices: eigenvalues differ from dgeev by %.3g |A|", worst_dist);
+  /* seeded random matrices, and one with a repeated eigenvalue pair (two
+     equal 2 x 2 rotation blocks under a random similarity): the vectors of
+     the repeated pair must still be independent */
+  unsigned long long s = 12345;
+  enum { NR = 24 };
+  double A[NR * NR], T[NR * NR], Ti[NR * NR], B[NR * NR];
+  for (int trial = 0; trial < 20; trial++) {
+    for (int i = 0; i < NR * NR; i++) {
+      s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+      A[i] = (double)(s >> 11) / 9007199254740992.0 - 0.5;
+    }
+    double res, dist;
+    eigdec_check(NR, A, &res, &dist);
+    CHECK(res < 1e-13 && dist < 1e-12, "eigdec random %d: residual %.3g, eigenvalue distance %.3g", trial, res, dist);
+  }
+  memset(B, 0, sizeof B);
+  for (int b = 0; b < NR / 2; b++) {   /* 2 x 2 blocks [a w; -w a], the first two equal */
+    double a = b < 2 ? -0.5 : -0.1 * b, w = b < 2 ? 3 : b;
+    B[(2 * b) * NR + 2 * b] = B[(2 * b + 1) * NR + 2 * b + 1] = a;
+    B[(2 * b) * NR + 2 * b + 1] = w;
+    B[(2 * b + 1) * NR + 2 * b] = -w;
+  }
+  for (int i = 0; i < NR * NR; i++) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    T[i] = (i / NR == i % NR) + 0.3 * ((double)(s >> 11) / 9007199254740992.0 - 0.5);
+  }
+  memcpy(Ti, T, sizeof T);
+  int piv[NR];
+  LAPACKE_dgetrf(LAPACK_ROW_MAJOR, NR, NR, Ti, NR, piv);
+  LAPACKE_dgetri(LAPACK_ROW_MAJOR, NR, Ti, NR, piv);
+  for (int i = 0; i < NR; i++)   /* A = T B T^-1 */
+    for (int j = 0; j < NR; j++) {
+      double acc = 0;
+      for (int k = 0; k < NR; k++)
+        for (int l = 0; l < NR; l++) acc += T[i * NR + k] * B[k * NR + l] * Ti[l * NR + j];
+      A[i * NR + j] = acc;
+    }
+  double a[NR * NR], vr[NR * NR], wr[NR], wi[NR], work[RR_EIGDEC_LWORK(NR)];
+  int iwork[RR_EIGDEC_LIWORK(NR)];
+  memcpy(a, A, sizeof A);
+  CHECK(rr_eigdec(NR, a, wr, wi, vr, work, iwork) == 0, "eigdec: repeated pair");
+  double rcond = 0, vnorm = LAPACKE_dlange(LAPACK_COL_MAJOR, '1', NR, NR, vr, NR);
+  LAPACKE_dgetrf(LAPACK_COL_MAJOR, NR, NR, vr, NR, piv);
+  LAPACKE_dgecon(LAPACK_COL_MAJOR, '1', NR, vr, NR, vnorm, &rcond);
+  CHECK(rcond > 1e-8, "eigdec: repeated pair gives a near-singular basis (rcond %.3g)", rcond);
+  double res, dist;
+  eigdec_check(NR, A, &res, &dist);
+  CHECK(res < 1e-13 && dist < 1e-7, "eigdec repeated pair: residual %.3g, eigenvalue distance %.3g", res, dist);
+}
+
 int main(void)
 {
+  test_eigdec();
   test_entries();
   test_locus_tracking();
   test_two_routes(RR_SDF_NONE);

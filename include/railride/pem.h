@@ -16,9 +16,12 @@ extern "C" {
 #endif
 
 enum rr_frf_method {
-  RR_FRF_MODAL = 0,   /* modal expansion of the state-space part + SMW for the
-                         SDF elements without a state-space form (default) */
-  RR_FRF_DIRECT = 1   /* one dense n x n complex solve of D(jw) per frequency */
+  RR_FRF_MODAL = 0,        /* modal expansion of the state-space part + SMW for the
+                              SDF elements without a state-space form (default);
+                              eigenvectors by Hessenberg inverse iteration, falling
+                              back to LAPACK's when their basis is ill-conditioned */
+  RR_FRF_DIRECT = 1,       /* one dense n x n complex solve of D(jw) per frequency */
+  RR_FRF_MODAL_LAPACK = 2  /* the modal expansion with dgeev's left and right vectors */
 };
 
 typedef struct rr_frf_opts {
