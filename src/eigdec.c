@@ -53,23 +53,13 @@ static void back_subst(int n, const double *ur, const double *ui, const double *
 {
   for (int i = n - 1; i >= 0; i--) {
     const double *ri = ur + i * n, *ii = ui + i * n;
-    double sr0 = yr[i], si0 = yi[i], sr1 = 0, si1 = 0, sr2 = 0, si2 = 0, sr3 = 0, si3 = 0;
-    int j = i + 1;
-    for (; j + 1 < n; j += 2) {   /* several partial sums: one chain would wait on every add */
-      sr0 -= ri[j] * yr[j];
-      sr1 += ii[j] * yi[j];
-      si0 -= ri[j] * yi[j];
-      si1 -= ii[j] * yr[j];
-      sr2 -= ri[j + 1] * yr[j + 1];
-      sr3 += ii[j + 1] * yi[j + 1];
-      si2 -= ri[j + 1] * yi[j + 1];
-      si3 -= ii[j + 1] * yr[j + 1];
+    double sr = yr[i], si = yi[i];
+    /* a reduction the compiler may vectorise (reassociation allowed here) */
+#pragma omp simd reduction(+ : sr, si)
+    for (int j = i + 1; j < n; j++) {
+      sr += ii[j] * yi[j] - ri[j] * yr[j];
+      si -= ri[j] * yi[j] + ii[j] * yr[j];
     }
-    if (j < n) {
-      sr0 -= ri[j] * yr[j] - ii[j] * yi[j];
-      si0 -= ri[j] * yi[j] + ii[j] * yr[j];
-    }
-    double sr = (sr0 + sr1) + (sr2 + sr3), si = (si0 + si1) + (si2 + si3);
     yr[i] = sr * dr[i] - si * di[i];
     yi[i] = sr * di[i] + si * dr[i];
   }
