@@ -7,16 +7,16 @@ B=${BUILD:-build}
 export OPENBLAS_NUM_THREADS=1
 PY=/usr/bin/python3
 echo "== railride (C) =="
-taskset -c 0 "$B/bench/bench_modal"
+taskset -c 1 "$B/bench/bench_modal"
 echo "== numpy/scipy, same state matrix (default vehicle, 350 km/h, conicity 0.17) =="
-"$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 0 $PY bench/numpy_modal.py
+"$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_modal.py
 echo "== ride evaluation (C) =="
-taskset -c 0 "$B/bench/bench_ride"
+taskset -c 1 "$B/bench/bench_ride"
 echo "== numpy, the same 400 batched 17x17 systems =="
-"$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 0 $PY bench/numpy_ride.py
+"$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_ride.py
 echo "== design batches (paper objectives: 9 eigen-solves a design) =="
 "$B/bench/bench_batch"
 echo "== the same from Python (ctypes), one thread =="
-RAILRIDE_LIB="$B/librailride.so" THREADS=1 taskset -c 0 $PY bench/python_batch.py
+RAILRIDE_LIB="$B/librailride.so" THREADS=1 taskset -c 1 $PY bench/python_batch.py
 echo "== validation: 600 s at 350 km/h simulated and analysed =="
 "$B/railride" validate --speed 350 --conicity 0.2 | tail -1

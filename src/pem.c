@@ -17,6 +17,7 @@
 
 struct rr_frf_plan {
   int n, ni, np, nf, Nmax, method, has0, use_dgeev;
+  int route;                  /* enum rr_frf_method the last execute took */
   double *f;                 /* nf */
   double *rows, *rows0;      /* np x n */
   double complex *H;         /* nf x np x ni */
@@ -125,6 +126,7 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
 }
 
 int rr_frf_nfreq(const rr_frf_plan *p) { return p->nf; }
+int rr_frf_route(const rr_frf_plan *p) { return p->route; }
 int rr_frf_npoints(const rr_frf_plan *p) { return p->np; }
 int rr_frf_ninputs(const rr_frf_plan *p) { return p->ni; }
 const double *rr_frf_freqs(const rr_frf_plan *p) { return p->f; }
@@ -235,15 +237,19 @@ static int residues_dgeev(rr_frf_plan *p, const rr_model *m, int N, int nu, cons
   return RR_OK;
 }
 
-/* Below this reciprocal condition number of the eigenvector basis the
-   expansion is left to dgeev's left and right vectors. */
-#define RCOND_MIN 1e-9
+/* Below this reciprocal condition number of the eigenvector basis the plan
+   solves directly. Near zero conicity the rigid lateral drift becomes a
+   defective double zero: with the default car the error of the expansion was
+   6e-11 at rcond 1.2e-6 (conicity 1e-5), 3e-10 at 5e-7, 1e-8 at 1.5e-8, and
+   dgeev's vectors did worse (1e-7 .. 2e-3), so the fallback is the direct
+   route, not LAPACK's vectors. Ordinary operating points have 3e-5 .. 2e-4. */
+#define RCOND_MIN 1e-6
 
 /* Residues from rr_eigdec's right eigenvectors V and the inverse of that same
    basis: beta = V^-1 [B~ U~], B~ and U~ the inputs and the SMW elements in
    state space. Consistent by construction (sum_j x_j beta_j reproduces the
    inputs to rounding), so near-equal eigenvalues cost accuracy only through
-   cond(V), which is checked. Returns 1 when the caller should use dgeev. */
+   cond(V), which is checked. Returns 1 when the caller should solve directly. */
 static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const int *uel)
 {
   int n = p->n, ni = p->ni, nr = ni + nu;
@@ -322,8 +328,12 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   if (st) { mm->sdf_mode = mode_saved; return st; }
   if (N > p->Nmax) { mm->sdf_mode = mode_saved; return rr_seterr(err, RR_EINVAL, "frf plan too small for this model"); }
   mm->sdf_mode = mode_saved;
-  if (p->use_dgeev || residues_fast(p, m, N, nu, uel))
+  if (p->use_dgeev) {
     if ((st = residues_dgeev(p, m, N, nu, uel, err))) return st;
+  } else if (residues_fast(p, m, N, nu, uel)) {
+    p->route = RR_FRF_DIRECT;
+    return execute_direct(p, m);
+  }
   /* Residue entries per term: Hq (np x ni), H0 (np x ni), Hu (nu x ni),
      Gq (np x nu), G0 (np x nu), Z (nu x nu), each the product of a left and
      a right projection. A conjugate pair contributes
@@ -470,6 +480,7 @@ int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
   if (p->np > 16 || p->ni > 16) return rr_seterr(err, RR_EINVAL, "frf: at most 16 points and 16 inputs");
   if (m->ni > RR_SYS_MAX_INPUTS) return rr_seterr(err, RR_EINVAL, "frf: too many inputs");
   update_lags(p, m);
+  p->route = p->use_dgeev ? RR_FRF_MODAL_LAPACK : p->method;
   if (p->method == RR_FRF_DIRECT) return execute_direct(p, m);
   return execute_modal(p, m, err);
 }

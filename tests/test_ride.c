@@ -123,6 +123,35 @@ static void test_modal_vs_direct(void)
   }
 }
 
+/* Near zero conicity the rigid lateral drift is a nearly defective double
+   eigenvalue: the modal plan must notice its ill-conditioned basis and solve
+   directly, and stay within 1e-10 of the direct route either way. */
+static void test_near_defective(void)
+{
+  rr_model *m = vehicle_model("type1", RR_SDF_PAPER, NULL);
+  rr_frf_plan *pm = floor_plan(m, RR_FRF_MODAL, 0), *pd = floor_plan(m, RR_FRF_DIRECT, 0);
+  const double lam[] = {1e-2, 1e-3, 1e-5, 1e-7, 1e-10, 1e-12};
+  const int route[] = {RR_FRF_MODAL, RR_FRF_MODAL, RR_FRF_MODAL, RR_FRF_DIRECT, RR_FRF_DIRECT, RR_FRF_DIRECT};
+  for (int c = 0; c < 6; c++) {
+    rr_error e;
+    CHECK_OK(rr_model_set_operating(m, 300 / 3.6, lam[c], &e), e);
+    CHECK_OK(rr_frf_plan_execute(pm, m, &e), e);
+    CHECK_OK(rr_frf_plan_execute(pd, m, &e), e);
+    CHECK(rr_frf_route(pm) == route[c], "conicity %g: route %d, expected %d", lam[c], rr_frf_route(pm), route[c]);
+    const double complex *Hm = rr_frf_H(pm), *Hd = rr_frf_H(pd);
+    double worst = 0;
+    for (int k = 0; k < 400; k++) {
+      double big = 0;
+      for (int t = 0; t < 12; t++) big = fmax(big, cabs(Hd[k * 12 + t]));
+      for (int t = 0; t < 12; t++) worst = fmax(worst, cabs(Hm[k * 12 + t] - Hd[k * 12 + t]) / big);
+    }
+    CHECK(worst < 1e-10, "conicity %g: modal plan vs direct rel diff %.3g", lam[c], worst);
+  }
+  rr_frf_plan_free(pm);
+  rr_frf_plan_free(pd);
+  rr_model_free(m);
+}
+
 static void test_pem(void)
 {
   rr_model *m = vehicle_model("type1", RR_SDF_NONE, NULL);
@@ -239,6 +268,7 @@ int main(void)
   check_spectra_env();
   test_spectra();
   test_modal_vs_direct();
+  test_near_defective();
   test_pem();
   test_comfort();
   check_cleanup();

@@ -18,10 +18,12 @@ extern "C" {
 enum rr_frf_method {
   RR_FRF_MODAL = 0,        /* modal expansion of the state-space part + SMW for the
                               SDF elements without a state-space form (default);
-                              eigenvectors by Hessenberg inverse iteration, falling
-                              back to LAPACK's when their basis is ill-conditioned */
+                              eigenvectors by Hessenberg inverse iteration; when their
+                              basis is ill-conditioned (near zero conicity: a
+                              defective rigid drift) the plan solves directly */
   RR_FRF_DIRECT = 1,       /* one dense n x n complex solve of D(jw) per frequency */
-  RR_FRF_MODAL_LAPACK = 2  /* the modal expansion with dgeev's left and right vectors */
+  RR_FRF_MODAL_LAPACK = 2  /* the modal expansion with dgeev's left and right vectors,
+                              always (a cross-check; poor near defective points) */
 };
 
 typedef struct rr_frf_opts {
@@ -42,6 +44,8 @@ void rr_frf_plan_free(rr_frf_plan *p);
 /* Computes the FRFs for the model as it is now. Allocation-free. */
 int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err);
 int rr_frf_nfreq(const rr_frf_plan *p);
+/* The method the last execute took (RR_FRF_DIRECT when a modal plan fell back). */
+int rr_frf_route(const rr_frf_plan *p);
 int rr_frf_npoints(const rr_frf_plan *p);
 int rr_frf_ninputs(const rr_frf_plan *p);
 const double *rr_frf_freqs(const rr_frf_plan *p);
