@@ -378,12 +378,17 @@ int cmd_map(int argc, char **argv)
   if (st) { rr_model_free(m); return cli_fail(&e, st); }
   cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
   if (!c.json) printf("speed_kmh,conicity,stability_index\n");
-  for (int i = 0; i < a.s_n && !st; i++)
-    for (int j = 0; j < a.c_n && !st; j++) {
-      double v = lin(a.s_from, a.s_to, i, a.s_n), l = lin(a.c_from, a.c_to, j, a.c_n), z;
-      st = rr_model_set_operating(m, v / 3.6, l, &e);
-      if (!st) st = rr_modal_stability_index(m, &c.mo, ws, &z, &e);
-      if (st) break;
+  /* one speed's conicities at a time, through the batched index */
+  double *vs = malloc(sizeof(double) * (size_t)a.c_n * 3), *ls = vs ? vs + a.c_n : NULL, *zs = ls ? ls + a.c_n : NULL;
+  if (!vs) { rr_modal_ws_free(ws); rr_model_free(m); cJSON_Delete(root); return cli_bad("out of memory"); }
+  for (int i = 0; i < a.s_n && !st; i++) {
+    for (int j = 0; j < a.c_n; j++) {
+      vs[j] = lin(a.s_from, a.s_to, i, a.s_n) / 3.6;
+      ls[j] = lin(a.c_from, a.c_to, j, a.c_n);
+    }
+    if ((st = rr_modal_stability_index_batch(m, &c.mo, ws, a.c_n, vs, ls, zs, &e))) break;
+    for (int j = 0; j < a.c_n; j++) {
+      double v = lin(a.s_from, a.s_to, i, a.s_n), l = ls[j], z = zs[j];
       if (c.json) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddNumberToObject(o, "speed_kmh", v);
@@ -394,6 +399,8 @@ int cmd_map(int argc, char **argv)
         printf("%.10g,%.10g,%.10g\n", v, l, z);
       }
     }
+  }
+  free(vs);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) { cJSON_Delete(root); return cli_fail(&e, st); }

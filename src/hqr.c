@@ -2,19 +2,43 @@
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <string.h>
 #include "hqr.h"
 
 #define A(i, j) a[(i) * n + (j)]
 /* inline, unlike fmax/fmin (no NaN can reach them here) */
 #define MAX(a, b) ((a) > (b) ? (a) : (b))
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
+/* AVX2 + FMA copies chosen at load time where the processor has them */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define RR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define RR_CLONES
+#endif
+
+/* out = sum over i0 <= i < n of r[i] y[i], for T double or a vector of
+ * lanes, in four partial sums: a single chain would wait on every add. */
+#define DOT4(T, r, y, i0, n, out)                                          \
+  do {                                                                     \
+    T a0_ = {0}, a1_ = {0}, a2_ = {0}, a3_ = {0};                          \
+    int i_ = (i0);                                                         \
+    for (; i_ + 3 < (n); i_ += 4) {                                        \
+      a0_ += (r)[i_] * (y)[i_];                                            \
+      a1_ += (r)[i_ + 1] * (y)[i_ + 1];                                    \
+      a2_ += (r)[i_ + 2] * (y)[i_ + 2];                                    \
+      a3_ += (r)[i_ + 3] * (y)[i_ + 3];                                    \
+    }                                                                      \
+    for (; i_ < (n); i_++) a0_ += (r)[i_] * (y)[i_];                       \
+    (out) = (a0_ + a1_) + (a2_ + a3_);                                     \
+  } while (0)
 
 /* Reduction to upper Hessenberg form by stabilised elementary similarity
  * transformations (Gaussian elimination with row interchanges). The step's
  * elementary transforms L_i = I + y_i e_i e_m' commute, so it is applied as
  * L^-1 A L in two contiguous passes: every row elimination first, then
  * column m += A y as one dot product per row (row-major friendly). */
-static void elmhes(int n, double *a, int *perm)
+static inline __attribute__((always_inline)) void elmhes(int n, double *a, int *perm)
 {
   double y[64];
   for (int m = 1; m < n - 1; m++) {
@@ -41,181 +65,429 @@ static void elmhes(int n, double *a, int *perm)
     }
     if (!any) continue;
     for (int j = 0; j < n; j++) {
-      const double *rj = &A(j, 0);
-      /* four partial sums: a single chain would wait on every add */
-      double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-      int i = m + 1;
-      for (; i + 3 < n; i += 4) {
-        a0 += rj[i] * y[i];
-        a1 += rj[i + 1] * y[i + 1];
-        a2 += rj[i + 2] * y[i + 2];
-        a3 += rj[i + 3] * y[i + 3];
-      }
-      for (; i < n; i++) a0 += rj[i] * y[i];
-      A(j, m) += (a0 + a1) + (a2 + a3);
+      double d;
+      DOT4(double, &A(j, 0), y, m + 1, n, d);
+      A(j, m) += d;
     }
   }
 }
 
 static double sgn(double a, double b) { return b >= 0 ? fabs(a) : -fabs(a); }
 
-/* Francis double-shift QR on the active block only (eigenvalues, no Schur
- * form). Reads only the Hessenberg part and the bulge it makes itself. */
-int rr_hqr(int n, double *a, double *wr, double *wi)
+/* ---- Francis double-shift QR, eigenvalues only ----
+ * The control (deflation, roots, shifts, where a sweep starts) runs per
+ * matrix ("lane"), on a strided view: entry (i, j) at a[(i ld + j) st]. The
+ * bulge-chasing sweep, where the time goes, exists twice: for one matrix,
+ * and for RR_QR_LANES matrices at once in SIMD lanes (rr_eig_batch). */
+#define E(i, j) a[((size_t)(i) * ld + (j)) * st]
+
+typedef struct {
+  int nn, l, m, its, status;   /* status: 0 sweep pending, 1 done, -1 no convergence */
+  double t, anorm, p, q, r;
+} qr_lane;
+
+static void lane_init(const double *a, int n, int ld, int st, qr_lane *L)
 {
-  double anorm = 0, p = 0, q = 0, r = 0, s, t = 0, w, x, y, z;
+  double anorm = 0;
   for (int i = 0; i < n; i++)
-    for (int j = i > 0 ? i - 1 : 0; j < n; j++) anorm += fabs(A(i, j));
-  int nn = n - 1;
-  while (nn >= 0) {
-    int its = 0, l;
-    do {
-      for (l = nn; l >= 1; l--) {
-        /* deflation test of Ahues & Tisseur (LAPACK Working Note 122), as in
-           LAPACK's dlahqr: a small subdiagonal is negligible relative to the
-           2 x 2 block it couples */
-        double h = fabs(A(l, l - 1));
-        if (h <= DBL_MIN) { A(l, l - 1) = 0; break; }
-        s = fabs(A(l - 1, l - 1)) + fabs(A(l, l));
-        if (s == 0) s = anorm;
-        if (h <= DBL_EPSILON * s) {
-          double hu = fabs(A(l - 1, l)), ab = MAX(h, hu), ba = MIN(h, hu);
-          double dd = fabs(A(l - 1, l - 1) - A(l, l)), aa = MAX(fabs(A(l, l)), dd), bb = MIN(fabs(A(l, l)), dd);
-          double ss = aa + ab;
-          if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) { A(l, l - 1) = 0; break; }
-        }
-      }
-      x = A(nn, nn);
-      if (l == nn) {                      /* one root */
-        wr[nn] = x + t;
-        wi[nn--] = 0;
-      } else {
-        y = A(nn - 1, nn - 1);
-        w = A(nn, nn - 1) * A(nn - 1, nn);
-        if (l == nn - 1) {                /* two roots */
-          p = 0.5 * (y - x);
-          q = p * p + w;
-          z = sqrt(fabs(q));
-          x += t;
-          if (q >= 0) {
-            z = p + sgn(z, p);
-            wr[nn - 1] = wr[nn] = x + z;
-            if (z != 0) wr[nn] = x - w / z;
-            wi[nn - 1] = wi[nn] = 0;
-          } else {
-            wr[nn - 1] = wr[nn] = x + p;
-            wi[nn - 1] = -(wi[nn] = z);
-          }
-          nn -= 2;
-        } else {                          /* no root yet: a double QR step */
-          if (its == 30 * (n > 10 ? n : 10)) return -1;   /* LAPACK's limit */
-          if (its > 0 && its % 10 == 0) {                  /* exceptional shift */
-            t += x;
-            for (int i = 0; i <= nn; i++) A(i, i) -= x;
-            s = fabs(A(nn, nn - 1)) + fabs(A(nn - 1, nn - 2));
-            y = x = 0.75 * s;
-            w = -0.4375 * s * s;
-          }
-          ++its;
-          int m;
-          /* Where to start the sweep: two small consecutive subdiagonals?
-             The first column of the shifted product is formed times
-             h(m+1, m), the test being scale-free: no division per row. */
-          for (m = nn - 2; m >= l; m--) {
-            z = A(m, m);
-            r = x - z;
-            s = y - z;
-            double h21 = A(m + 1, m);
-            p = (r * s - w) + A(m, m + 1) * h21;
-            q = (A(m + 1, m + 1) - z - r - s) * h21;
-            r = A(m + 2, m + 1) * h21;
-            if (m == l) break;
-            double u = fabs(A(m, m - 1)) * (fabs(q) + fabs(r));
-            double v = fabs(p) * (fabs(A(m - 1, m - 1)) + fabs(z) + fabs(A(m + 1, m + 1)));
-            if (u + v == v) break;
-          }
-          s = 1 / (fabs(p) + fabs(q) + fabs(r));
-          p *= s;
-          q *= s;
-          r *= s;
-          for (int i = m + 2; i <= nn; i++) {
-            A(i, i - 2) = 0;
-            if (i != m + 2) A(i, i - 3) = 0;
-          }
-          for (int k = m; k <= nn - 1; k++) {
-            if (k != m) {
-              p = A(k, k - 1);
-              q = A(k + 1, k - 1);
-              r = k != nn - 1 ? A(k + 2, k - 1) : 0;
-              x = fabs(p) + fabs(q) + fabs(r);
-              /* scaled only where p^2 + q^2 + r^2 could under- or overflow */
-              if (x != 0 && (x < 1e-100 || x > 1e100)) {
-                double ix = 1 / x;
-                p *= ix;
-                q *= ix;
-                r *= ix;
-              } else x = 1;
-            }
-            if ((s = sgn(sqrt(p * p + q * q + r * r), p)) != 0) {
-              if (k == m) {
-                if (l != m) A(k, k - 1) = -A(k, k - 1);
-              } else {
-                A(k, k - 1) = -s * x;
-              }
-              /* reciprocals of s and p + s side by side: fewer divisions on
-                 the sweep's critical path */
-              double is = 1 / s;
-              p += s;
-              double ip = 1 / p;
-              x = p * is;
-              y = q * is;
-              z = r * is;
-              q *= ip;
-              r *= ip;
-              double *rk = &A(k, 0), *rk1 = &A(k + 1, 0);
-              if (k != nn - 1) {
-                double *rk2 = &A(k + 2, 0);
-                for (int j = k; j <= nn; j++) {
-                  double pp = rk[j] + q * rk1[j] + r * rk2[j];
-                  rk2[j] -= pp * z;
-                  rk1[j] -= pp * y;
-                  rk[j] -= pp * x;
-                }
-              } else {
-                for (int j = k; j <= nn; j++) {
-                  double pp = rk[j] + q * rk1[j];
-                  rk1[j] -= pp * y;
-                  rk[j] -= pp * x;
-                }
-              }
-              int mmin = nn < k + 3 ? nn : k + 3;
-              for (int i = l; i <= mmin; i++) {
-                double *ri = &A(i, 0);
-                double pp = x * ri[k] + y * ri[k + 1];
-                if (k != nn - 1) {
-                  pp += z * ri[k + 2];
-                  ri[k + 2] -= pp * r;
-                }
-                ri[k + 1] -= pp * q;
-                ri[k] -= pp;
-              }
-            }
-          }
-        }
-      }
-    } while (l < nn - 1);
-  }
-  return 0;
+    for (int j = i > 0 ? i - 1 : 0; j < n; j++) anorm += fabs(E(i, j));
+  L->nn = n - 1;
+  L->its = 0;
+  L->t = 0;
+  L->anorm = anorm;
+  L->status = 0;
 }
 
-int rr_eig_small(int n, double *a, double *wr, double *wi)
+/* Takes the roots that have converged at the bottom of the active block and
+ * prepares the next double-shift sweep: rows l..nn, starting at row m with
+ * first column (p, q, r). Sets status 1 when every root is found. */
+static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *wr, double *wi)
+{
+  int nn = L->nn;
+  double p = 0, q = 0, r = 0, s, w, x, y, z;
+  while (nn >= 0) {
+    int l;
+    for (l = nn; l >= 1; l--) {
+      /* deflation test of Ahues & Tisseur (LAPACK Working Note 122), as in
+         LAPACK's dlahqr: a small subdiagonal is negligible relative to the
+         2 x 2 block it couples */
+      double h = fabs(E(l, l - 1));
+      if (h <= DBL_MIN) { E(l, l - 1) = 0; break; }
+      s = fabs(E(l - 1, l - 1)) + fabs(E(l, l));
+      if (s == 0) s = L->anorm;
+      if (h <= DBL_EPSILON * s) {
+        double hu = fabs(E(l - 1, l)), ab = MAX(h, hu), ba = MIN(h, hu);
+        double dd = fabs(E(l - 1, l - 1) - E(l, l)), aa = MAX(fabs(E(l, l)), dd), bb = MIN(fabs(E(l, l)), dd);
+        double ss = aa + ab;
+        if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) { E(l, l - 1) = 0; break; }
+      }
+    }
+    x = E(nn, nn);
+    if (l == nn) {                        /* one root */
+      wr[nn] = x + L->t;
+      wi[nn--] = 0;
+      L->its = 0;
+      continue;
+    }
+    y = E(nn - 1, nn - 1);
+    w = E(nn, nn - 1) * E(nn - 1, nn);
+    if (l == nn - 1) {                    /* two roots */
+      p = 0.5 * (y - x);
+      q = p * p + w;
+      z = sqrt(fabs(q));
+      x += L->t;
+      if (q >= 0) {
+        z = p + sgn(z, p);
+        wr[nn - 1] = wr[nn] = x + z;
+        if (z != 0) wr[nn] = x - w / z;
+        wi[nn - 1] = wi[nn] = 0;
+      } else {
+        wr[nn - 1] = wr[nn] = x + p;
+        wi[nn - 1] = -(wi[nn] = z);
+      }
+      nn -= 2;
+      L->its = 0;
+      continue;
+    }
+    /* no root yet: a double QR step */
+    if (L->its == 30 * (n > 10 ? n : 10)) { L->status = -1; L->nn = nn; return; }   /* LAPACK's limit */
+    if (L->its > 0 && L->its % 10 == 0) {                                            /* exceptional shift */
+      L->t += x;
+      for (int i = 0; i <= nn; i++) E(i, i) -= x;
+      s = fabs(E(nn, nn - 1)) + fabs(E(nn - 1, nn - 2));
+      y = x = 0.75 * s;
+      w = -0.4375 * s * s;
+    }
+    ++L->its;
+    int m;
+    /* Where to start the sweep: two small consecutive subdiagonals? The
+       first column of the shifted product is formed times h(m+1, m), the
+       test being scale-free: no division per row. */
+    for (m = nn - 2; m >= l; m--) {
+      z = E(m, m);
+      r = x - z;
+      s = y - z;
+      double h21 = E(m + 1, m);
+      p = (r * s - w) + E(m, m + 1) * h21;
+      q = (E(m + 1, m + 1) - z - r - s) * h21;
+      r = E(m + 2, m + 1) * h21;
+      if (m == l) break;
+      double u = fabs(E(m, m - 1)) * (fabs(q) + fabs(r));
+      double v = fabs(p) * (fabs(E(m - 1, m - 1)) + fabs(z) + fabs(E(m + 1, m + 1)));
+      if (u + v == v) break;
+    }
+    s = 1 / (fabs(p) + fabs(q) + fabs(r));
+    for (int i = m + 2; i <= nn; i++) {
+      E(i, i - 2) = 0;
+      if (i != m + 2) E(i, i - 3) = 0;
+    }
+    L->nn = nn;
+    L->l = l;
+    L->m = m;
+    L->p = p * s;
+    L->q = q * s;
+    L->r = r * s;
+    return;
+  }
+  L->nn = nn;
+  L->status = 1;
+}
+#undef E
+
+/* One sweep on one matrix (row-major, order n): rows and columns of the
+ * active block only. */
+static inline __attribute__((always_inline)) void sweep1(double *a, int n, const qr_lane *L)
+{
+  int l = L->l, m = L->m, nn = L->nn;
+  double p = L->p, q = L->q, r = L->r, s, x, y, z;
+  for (int k = m; k <= nn - 1; k++) {
+    x = 1;
+    if (k != m) {
+      p = A(k, k - 1);
+      q = A(k + 1, k - 1);
+      r = k != nn - 1 ? A(k + 2, k - 1) : 0;
+      x = fabs(p) + fabs(q) + fabs(r);
+      /* scaled only where p^2 + q^2 + r^2 could under- or overflow */
+      if (x != 0 && (x < 1e-100 || x > 1e100)) {
+        double ix = 1 / x;
+        p *= ix;
+        q *= ix;
+        r *= ix;
+      } else x = 1;
+    }
+    if ((s = sgn(sqrt(p * p + q * q + r * r), p)) == 0) continue;
+    if (k == m) {
+      if (l != m) A(k, k - 1) = -A(k, k - 1);
+    } else {
+      A(k, k - 1) = -s * x;
+    }
+    /* reciprocals of s and p + s side by side: fewer divisions on the
+       sweep's critical path */
+    double is = 1 / s;
+    p += s;
+    double ip = 1 / p;
+    x = p * is;
+    y = q * is;
+    z = r * is;
+    q *= ip;
+    r *= ip;
+    double *rk = &A(k, 0), *rk1 = &A(k + 1, 0);
+    if (k != nn - 1) {
+      double *rk2 = &A(k + 2, 0);
+      for (int j = k; j <= nn; j++) {
+        double pp = rk[j] + q * rk1[j] + r * rk2[j];
+        rk2[j] -= pp * z;
+        rk1[j] -= pp * y;
+        rk[j] -= pp * x;
+      }
+    } else {
+      for (int j = k; j <= nn; j++) {
+        double pp = rk[j] + q * rk1[j];
+        rk1[j] -= pp * y;
+        rk[j] -= pp * x;
+      }
+    }
+    int mmin = nn < k + 3 ? nn : k + 3;
+    for (int i = l; i <= mmin; i++) {
+      double *ri = &A(i, 0);
+      double pp = x * ri[k] + y * ri[k + 1];
+      if (k != nn - 1) {
+        pp += z * ri[k + 2];
+        ri[k + 2] -= pp * r;
+      }
+      ri[k + 1] -= pp * q;
+      ri[k] -= pp;
+    }
+  }
+}
+
+RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
+{
+  qr_lane L;
+  lane_init(a, n, n, 1, &L);
+  for (;;) {
+    lane_advance(a, n, n, 1, &L, wr, wi);
+    if (L.status) return L.status < 0 ? -1 : 0;
+    sweep1(a, n, &L);
+  }
+}
+
+/* ---- the same for RR_QR_LANES matrices in SIMD lanes ----
+ * Layout: entry (i, j) of lane c at b[((i ld + j) RR_QR_LANES + c], ld = n + 1;
+ * row and column n are zero padding, so that a lane whose block ends early
+ * (a 2-row reflector, r = 0) can share the 3-row arithmetic. Lanes share
+ * each sweep's loop over the union of their blocks; outside its own range a
+ * lane's reflector is the identity (x = y = z = q = r = 0), which leaves its
+ * entries exactly as they were, and the entries it does touch beyond its
+ * block are never read again for its eigenvalues. Per lane, the arithmetic
+ * is the single-matrix algorithm's. */
+typedef double vd __attribute__((vector_size(8 * RR_QR_LANES)));
+typedef long long vl __attribute__((vector_size(8 * RR_QR_LANES)));
+
+/* macros, not functions: a vector-valued function would change the ABI
+   between the clones */
+#define vsel(mask, a, b) ((vd)(((vl)(a) & (mask)) | ((vl)(b) & ~(mask))))
+#define vabs(a) ((vd)((vl)(a) & ((vl){0} + INT64_MAX)))
+static inline int vany(vl m)
+{
+  long long o = 0;
+  for (int c = 0; c < RR_QR_LANES; c++) o |= m[c];
+  return o != 0;
+}
+
+#define V(i, j) b[(size_t)(i) * ld + (j)]
+
+static inline __attribute__((always_inline)) void sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
+{
+  int kmin = ld, kmax = -1, lmin = ld, nmax = -1;
+  vd p0, q0, r0;
+  for (int c = 0; c < RR_QR_LANES; c++) {
+    if (!go[c]) { p0[c] = q0[c] = r0[c] = 0; continue; }
+    const qr_lane *L = &lanes[c];
+    kmin = MIN(kmin, L->m);
+    kmax = MAX(kmax, L->nn - 1);
+    lmin = MIN(lmin, L->l);
+    nmax = MAX(nmax, L->nn);
+    p0[c] = L->p;
+    q0[c] = L->q;
+    r0[c] = L->r;
+  }
+  const vd zero = {0}, one = zero + 1;
+  for (int k = kmin; k <= kmax; k++) {
+    vl on = {0}, first = {0}, last = {0}, negate = {0};
+    for (int c = 0; c < RR_QR_LANES; c++) {
+      const qr_lane *L = &lanes[c];
+      on[c] = go[c] && k >= L->m && k <= L->nn - 1 ? -1 : 0;
+      first[c] = go[c] && k == L->m ? -1 : 0;
+      last[c] = go[c] && k == L->nn - 1 ? -1 : 0;
+      negate[c] = go[c] && k == L->m && L->l != L->m ? -1 : 0;
+    }
+    vd p = p0, q = q0, r = r0, x = one;
+    if (k > 0) {
+      vd pb = V(k, k - 1), qb = V(k + 1, k - 1), rb = vsel(last, zero, V(k + 2, k - 1));
+      vd xb = vabs(pb) + vabs(qb) + vabs(rb);
+      vl scale = (xb != 0) & ((xb < 1e-100) | (xb > 1e100));
+      if (vany(scale & ~first)) {
+        vd ix = one / vsel(scale, xb, one);
+        pb *= ix;
+        qb *= ix;
+        rb *= ix;
+      }
+      xb = vsel(scale, xb, one);
+      p = vsel(first, p0, pb);
+      q = vsel(first, q0, qb);
+      r = vsel(first, r0, rb);
+      x = vsel(first, one, xb);
+    }
+    vd nrm = p * p + q * q + r * r;
+    for (int c = 0; c < RR_QR_LANES; c++) nrm[c] = sqrt(nrm[c]);
+    vd s = vsel(p >= 0, nrm, -nrm);
+    on &= s != 0;
+    if (k > 0) {
+      vd old = V(k, k - 1);
+      V(k, k - 1) = vsel(on & first, vsel(negate, -old, old), vsel(on, -s * x, old));
+    }
+    s = vsel(on, s, one);
+    vd is = one / s;
+    p += s;
+    vd ip = one / p;
+    x = vsel(on, p * is, zero);
+    vd y = vsel(on, q * is, zero), z = vsel(on, r * is, zero);
+    q = vsel(on, q * ip, zero);
+    r = vsel(on, r * ip, zero);
+    vd *rk = &V(k, 0), *rk1 = &V(k + 1, 0), *rk2 = &V(k + 2, 0);
+    for (int j = k; j <= nmax; j++) {
+      vd pp = rk[j] + q * rk1[j] + r * rk2[j];
+      rk2[j] -= pp * z;
+      rk1[j] -= pp * y;
+      rk[j] -= pp * x;
+    }
+    int mmin = MIN(nmax, k + 3);
+    for (int i = lmin; i <= mmin; i++) {
+      vd *ri = &V(i, k);
+      vd pp = x * ri[0] + y * ri[1] + z * ri[2];
+      ri[2] -= pp * r;
+      ri[1] -= pp * q;
+      ri[0] -= pp;
+    }
+  }
+}
+
+/* elmhes in lanes: each lane pivots on its own (row and column
+ * interchanges lane by lane, together when the lanes agree). */
+static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int ld)
+{
+  vd y[64];
+  double *s = (double *)b;
+  for (int m = 1; m < n - 1; m++) {
+    vd x = {0}, ax = {0};
+    vl piv;
+    for (int c = 0; c < RR_QR_LANES; c++) piv[c] = m;
+    for (int j = m; j < n; j++) {
+      vd v = V(j, m - 1), av = vabs(v);
+      vl gt = av > ax;
+      x = vsel(gt, v, x);
+      ax = vsel(gt, av, ax);
+      piv = (gt & ((vl){0} + j)) | (~gt & piv);
+    }
+    int same = 1;
+    for (int c = 1; c < RR_QR_LANES; c++) same &= piv[c] == piv[0];
+    if (same && piv[0] != m) {
+      int pv = (int)piv[0];
+      for (int j = m - 1; j < n; j++) { vd t = V(pv, j); V(pv, j) = V(m, j); V(m, j) = t; }
+      for (int i = 0; i < n; i++) { vd t = V(i, pv); V(i, pv) = V(i, m); V(i, m) = t; }
+    } else if (!same) {
+      for (int c = 0; c < RR_QR_LANES; c++) {
+        size_t pv = (size_t)piv[c], mm = (size_t)m, L = RR_QR_LANES;
+        if (pv == mm) continue;
+        for (size_t j = (size_t)m - 1; j < (size_t)n; j++) {
+          double t = s[(pv * ld + j) * L + c];
+          s[(pv * ld + j) * L + c] = s[(mm * ld + j) * L + c];
+          s[(mm * ld + j) * L + c] = t;
+        }
+        for (size_t i = 0; i < (size_t)n; i++) {
+          double t = s[(i * ld + pv) * L + c];
+          s[(i * ld + pv) * L + c] = s[(i * ld + mm) * L + c];
+          s[(i * ld + mm) * L + c] = t;
+        }
+      }
+    }
+    vl nz = x != 0;
+    if (!vany(nz)) continue;
+    vd rx = vsel(nz, x, (vd){0} + 1);
+    const vd *rm = &V(m, 0);
+    int any = 0;
+    for (int i = m + 1; i < n; i++) {
+      vd yi = V(i, m - 1) / rx;
+      y[i] = yi;
+      V(i, m - 1) = (vd){0};
+      if (!vany(yi != 0)) continue;
+      any = 1;
+      vd *ri = &V(i, 0);
+      for (int j = m; j < n; j++) ri[j] -= yi * rm[j];
+    }
+    if (!any) continue;
+    for (int j = 0; j < n; j++) {
+      vd d;
+      DOT4(vd, &V(j, 0), y, m + 1, n, d);
+      V(j, m) += d;
+    }
+  }
+}
+#undef V
+
+size_t rr_eig_batch_work(int n)
+{
+  return (size_t)(n + 1) * (size_t)(n + 1) * RR_QR_LANES + RR_QR_LANES;
+}
+
+RR_CLONES int rr_eig_batch(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail)
+{
+  if (n > 64 || n < 1 || nb < 1 || nb > RR_QR_LANES) return -1;
+  int ld = n + 1;
+  /* vector-aligned start inside the caller's buffer */
+  vd *b = (vd *)(((uintptr_t)work + sizeof(vd) - 1) & ~(uintptr_t)(sizeof(vd) - 1));
+  double *s = (double *)b;
+  for (int i = 0; i <= n; i++)
+    for (int j = 0; j <= n; j++)
+      for (int c = 0; c < RR_QR_LANES; c++) {
+        /* idle lanes copy lane 0: same convergence, no extra sweeps */
+        const double *src = mats[c < nb ? c : 0];
+        s[((size_t)i * ld + j) * RR_QR_LANES + c] = i < n && j < n ? src[i * n + j] : 0;
+      }
+  elmhes_lanes(n, b, ld);
+  qr_lane lanes[RR_QR_LANES];
+  int go[RR_QR_LANES];
+  double wrs[RR_QR_LANES][64], wis[RR_QR_LANES][64];
+  for (int c = 0; c < RR_QR_LANES; c++) lane_init(s + c, n, ld, RR_QR_LANES, &lanes[c]);
+  for (;;) {
+    int any = 0;
+    for (int c = 0; c < RR_QR_LANES; c++) {
+      if (c < nb && lanes[c].status == 0) lane_advance(s + c, n, ld, RR_QR_LANES, &lanes[c], wrs[c], wis[c]);
+      go[c] = c < nb && lanes[c].status == 0;
+      any |= go[c];
+    }
+    if (!any) break;
+    sweep_lanes(b, ld, lanes, go);
+  }
+  int bad = 0;
+  for (int c = 0; c < nb; c++) {
+    fail[c] = lanes[c].status < 0;
+    bad |= fail[c];
+    memcpy(wr + (size_t)c * n, wrs[c], sizeof(double) * (size_t)n);
+    memcpy(wi + (size_t)c * n, wis[c], sizeof(double) * (size_t)n);
+  }
+  return bad;
+}
+
+RR_CLONES int rr_eig_small(int n, double *a, double *wr, double *wi)
 {
   if (n > 64) return -1;   /* elmhes' multiplier buffer; larger goes to LAPACK */
   elmhes(n, a, NULL);
   return rr_hqr(n, a, wr, wi);
 }
 
-void rr_elmhes(int n, double *a, int *perm)
+RR_CLONES void rr_elmhes(int n, double *a, int *perm)
 {
   elmhes(n, a, perm);
 }

@@ -5,6 +5,7 @@
  * 40 x 40 state matrices of the stability index. */
 #ifndef RR_HQR_H
 #define RR_HQR_H
+#include <stddef.h>
 
 /* Destroys a (n x n, row-major). Returns 0, or -1 when the QR iteration did
  * not converge (the caller falls back to LAPACK). */
@@ -17,4 +18,15 @@ int rr_eig_small(int n, double *a, double *wr, double *wi);
  * with the negative imaginary part first. */
 void rr_elmhes(int n, double *a, int *perm);
 int rr_hqr(int n, double *a, double *wr, double *wi);
+
+/* Eigenvalues of nb <= RR_QR_LANES matrices of the same order n <= 64 at
+ * once, the QR sweeps of all of them in SIMD lanes (one instruction stream
+ * for several operating points of one design). mats[c]: row-major n x n,
+ * read only. Lane c's eigenvalues go to wr, wi + c n, in the order rr_hqr
+ * would give them, to rounding. work: rr_eig_batch_work(n) doubles. Returns
+ * 0, or nonzero when some lane did not converge (fail[c] = 1: the caller
+ * solves that one otherwise) or the arguments are out of range. */
+#define RR_QR_LANES 4
+size_t rr_eig_batch_work(int n);
+int rr_eig_batch(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail);
 #endif

@@ -23,6 +23,7 @@ struct rr_modal_ws {
   int *piv;
   int *cand;
   double *candz;
+  double *Ab, *wrb, *wib, *qrw;   /* batched index: RR_QR_LANES state matrices, eigenvalues, QR lanes */
   rr_modal_result trk[3];   /* paper-mode tracking scratch */
   double complex *branch;   /* paper-mode: shapes of the branches being followed */
 };
@@ -64,6 +65,7 @@ void rr_modal_ws_free(rr_modal_ws *ws)
   if (!ws) return;
   free(ws->A); free(ws->At); free(ws->wr); free(ws->wi); free(ws->vr); free(ws->work);
   free(ws->D); free(ws->x); free(ws->piv); free(ws->cand); free(ws->candz); free(ws->branch);
+  free(ws->Ab); free(ws->wrb); free(ws->wib); free(ws->qrw);
   for (int i = 0; i < 3; i++) rr_modal_result_free(&ws->trk[i]);
   free(ws);
 }
@@ -89,9 +91,13 @@ int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err)
   ws->cand = malloc((size_t)N * sizeof(int));
   ws->candz = malloc((size_t)N * sizeof(double));
   ws->branch = malloc((size_t)N * (size_t)n * sizeof(double complex));
+  ws->Ab = malloc(RR_QR_LANES * NN * sizeof(double));
+  ws->wrb = malloc(RR_QR_LANES * (size_t)N * sizeof(double));
+  ws->wib = malloc(RR_QR_LANES * (size_t)N * sizeof(double));
+  ws->qrw = malloc(rr_eig_batch_work(N) * sizeof(double));
   int st = RR_OK;
   if (!ws->A || !ws->At || !ws->vr || !ws->wr || !ws->wi || !ws->D || !ws->x || !ws->piv ||
-      !ws->cand || !ws->candz || !ws->branch) {
+      !ws->cand || !ws->candz || !ws->branch || !ws->Ab || !ws->wrb || !ws->wib || !ws->qrw) {
     st = rr_seterr(err, RR_ENOMEM, "out of memory");
     goto fail;
   }
@@ -302,11 +308,49 @@ static void null_vector(const rr_model *m, double complex s, rr_modal_ws *ws, do
   rr_clu_solve(ws->D, n, ws->piv, phi);
 }
 
+/* The index from the eigenvalues (wr, wi) of the model's state matrix at
+   its current operating point: candidates by decreasing zeta, the first
+   hunting-related one (null vector of D(lambda)) is the index. */
+static void index_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int N, const double *wr,
+                            const double *wi, double anorm, double *zeta)
+{
+  int nc = 0;
+  for (int j = 0; j < N; j++) {
+    double re = wr[j], im = wi[j];
+    if (im <= 0 || !is_osc_scaled(re, im, anorm) || im / (2 * RR_PI) > o->fmax_hz) continue;
+    ws->cand[nc] = j;
+    ws->candz[nc] = re / hypot(re, im);
+    nc++;
+  }
+  for (int i = 1; i < nc; i++) {
+    int t = ws->cand[i];
+    double z = ws->candz[i];
+    int k = i;
+    while (k > 0 && ws->candz[k - 1] < z) { ws->cand[k] = ws->cand[k - 1]; ws->candz[k] = ws->candz[k - 1]; k--; }
+    ws->cand[k] = t;
+    ws->candz[k] = z;
+  }
+  *zeta = -1;
+  for (int i = 0; i < nc; i++) {
+    int j = ws->cand[i];
+    double e[RR_NGROUPS];
+    if (o->w_min > 0) {
+      null_vector(m, wr[j] + I * wi[j], ws, ws->x);
+      energy_shares(m, ws->x, e);
+      if (e[RR_GROUP_WHEELSET] < o->w_min) continue;
+    }
+    *zeta = ws->candz[i];
+    break;
+  }
+}
+
+static int paper_sdf(const rr_model *m) { return m->sdf_mode == RR_SDF_PAPER && m->nsdf > 0; }
+
 int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, double *zeta, rr_error *err)
 {
   rr_modal_opts def = rr_modal_opts_default();
   if (!o) o = &def;
-  if (m->sdf_mode == RR_SDF_PAPER && m->nsdf > 0) {
+  if (paper_sdf(m)) {
     rr_modal_result *r = &ws->trk[2];
     int st = solve_paper(m, o, ws, r, err);
     if (st) return st;
@@ -326,37 +370,45 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
     if (!info) info = LAPACKE_dhseqr_work(LAPACK_COL_MAJOR, 'E', 'N', N, 1, N, ws->At, N, ws->wr, ws->wi, NULL, 1, ws->work, ws->lwork);
     if (info) return rr_seterr(err, RR_ELAPACK, "dgehrd/dhseqr failed (info %d)", info);
   }
-  int nc = 0;
-  double anorm = max_abs(ws->A, N);
-  for (int j = 0; j < N; j++) {
-    double re = ws->wr[j], im = ws->wi[j];
-    if (im <= 0 || !is_osc_scaled(re, im, anorm) || im / (2 * RR_PI) > o->fmax_hz) continue;
-    ws->cand[nc] = j;
-    ws->candz[nc] = re / hypot(re, im);
-    nc++;
-  }
-  /* candidates by decreasing zeta; the first hunting-related one is the index */
-  for (int i = 1; i < nc; i++) {
-    int t = ws->cand[i];
-    double z = ws->candz[i];
-    int k = i;
-    while (k > 0 && ws->candz[k - 1] < z) { ws->cand[k] = ws->cand[k - 1]; ws->candz[k] = ws->candz[k - 1]; k--; }
-    ws->cand[k] = t;
-    ws->candz[k] = z;
-  }
-  *zeta = -1;
-  for (int i = 0; i < nc; i++) {
-    int j = ws->cand[i];
-    double e[RR_NGROUPS];
-    if (o->w_min > 0) {
-      null_vector(m, ws->wr[j] + I * ws->wi[j], ws, ws->x);
-      energy_shares(m, ws->x, e);
-      if (e[RR_GROUP_WHEELSET] < o->w_min) continue;
-    }
-    *zeta = ws->candz[i];
-    break;
-  }
+  index_from_eigs(m, o, ws, N, ws->wr, ws->wi, max_abs(ws->A, N), zeta);
   return RR_OK;
+}
+
+int rr_modal_stability_index_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
+                                   const double *speed_ms, const double *conicity, double *zeta, rr_error *err)
+{
+  rr_modal_opts def = rr_modal_opts_default();
+  if (!o) o = &def;
+  double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
+  int st = RR_OK;
+  for (int p0 = 0; p0 < npts && !st; p0 += RR_QR_LANES) {
+    int nb = npts - p0 < RR_QR_LANES ? npts - p0 : RR_QR_LANES, N = 0, fail[RR_QR_LANES] = {0};
+    const double *mats[RR_QR_LANES];
+    double anorm[RR_QR_LANES];
+    size_t NN = (size_t)ws->N * (size_t)ws->N;
+    int lanes = nb > 1 && !paper_sdf(m);
+    for (int c = 0; c < nb && lanes && !st; c++) {
+      double *A = ws->Ab + (size_t)c * NN;
+      if (!(st = rr_model_set_operating(m, speed_ms[p0 + c], conicity[p0 + c], err)))
+        st = rr_state_matrix_merged(m, 0, A, &N, err);
+      mats[c] = A;
+      anorm[c] = st ? 0 : max_abs(A, N);
+    }
+    if (st) break;
+    /* one instruction stream for the group; a lane that fails, or a group
+       of one, takes the single-point route */
+    if (N > 64) lanes = 0;
+    if (lanes) rr_eig_batch(N, nb, mats, ws->wrb, ws->wib, ws->qrw, fail);
+    for (int c = 0; c < nb && !st; c++) {
+      if ((st = rr_model_set_operating(m, speed_ms[p0 + c], conicity[p0 + c], err))) break;
+      if (lanes && !fail[c])
+        index_from_eigs(m, o, ws, N, ws->wrb + (size_t)c * N, ws->wib + (size_t)c * N, anorm[c], &zeta[p0 + c]);
+      else
+        st = rr_modal_stability_index(m, o, ws, &zeta[p0 + c], err);
+    }
+  }
+  rr_model_set_operating(m, v0, l0, NULL);
+  return st;
 }
 
 /* ---- paper-mode SDF: self-consistent modes by branch tracking ---- */

@@ -19,28 +19,45 @@ static int index_at(rr_model *m, double v, double lam, const rr_modal_opts *o, r
   return rr_modal_stability_index(m, o, ws, z, err);
 }
 
+static double sweep_conicity(const rr_robust_opts *r, int i)
+{
+  int nc = r->n_conicity;
+  return nc == 1 ? r->conicity_min : r->conicity_min + (r->conicity_max - r->conicity_min) * i / (nc - 1);
+}
+
 int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r, rr_modal_ws *ws,
                       rr_robust *out, rr_error *err)
 {
   rr_robust_opts def = rr_robust_opts_default();
   if (!r) r = &def;
-  if (r->n_conicity < 1) return rr_seterr(err, RR_EINVAL, "robust: conicity count must be >= 1");
-  int st;
-  if ((st = index_at(m, r->v_low_ms, r->conicity_low, o, ws, &out->zeta_low, err))) return st;
-  if ((st = index_at(m, r->v_high_ms, r->conicity_high, o, ws, &out->zeta_high, err))) return st;
+  int nc = r->n_conicity;
+  if (nc < 1) return rr_seterr(err, RR_EINVAL, "robust: conicity count must be >= 1");
+  /* points: zeta_low's, zeta_high's, then the conicity sweep at v_high,
+     whose end point equal to zeta_high's is not solved twice; evaluated in
+     groups that share one instruction stream */
+  int reuse = sweep_conicity(r, nc - 1) == r->conicity_high;
+  int npts = 2 + nc - reuse;
   double sum = 0, sum2 = 0;
-  for (int i = 0; i < r->n_conicity; i++) {
-    double lam = r->n_conicity == 1 ? r->conicity_min
-                 : r->conicity_min + (r->conicity_max - r->conicity_min) * i / (r->n_conicity - 1);
-    double z;
-    /* the end point equal to zeta_high's operating point is not solved twice */
-    if (lam == r->conicity_high && r->v_high_ms == r->v_high_ms && i == r->n_conicity - 1) z = out->zeta_high;
-    else if ((st = index_at(m, r->v_high_ms, lam, o, ws, &z, err))) return st;
-    sum += z;
-    sum2 += z * z;
+  for (int p0 = 0; p0 < npts; p0 += 4) {
+    double v[4], lam[4], z[4];
+    int nb = npts - p0 < 4 ? npts - p0 : 4;
+    for (int c = 0; c < nb; c++) {
+      int p = p0 + c, i = p - 2;
+      v[c] = p == 0 ? r->v_low_ms : r->v_high_ms;
+      lam[c] = p == 0 ? r->conicity_low : p == 1 ? r->conicity_high : sweep_conicity(r, i);
+    }
+    int st = rr_modal_stability_index_batch(m, o, ws, nb, v, lam, z, err);
+    if (st) return st;
+    for (int c = 0; c < nb; c++) {
+      int p = p0 + c;
+      if (p == 0) out->zeta_low = z[c];
+      if (p == 1) out->zeta_high = z[c];
+      if (p >= 2) { sum += z[c]; sum2 += z[c] * z[c]; }
+    }
   }
-  double mean = sum / r->n_conicity;
-  double var = sum2 / r->n_conicity - mean * mean;
+  if (reuse) { sum += out->zeta_high; sum2 += out->zeta_high * out->zeta_high; }
+  double mean = sum / nc;
+  double var = sum2 / nc - mean * mean;
   out->std_zeta = sqrt(var > 0 ? var : 0);
   return RR_OK;
 }
@@ -65,20 +82,31 @@ int rr_critical_speed(rr_model *m, double lam, const rr_modal_opts *o, const rr_
   if (st) return st;
   if (za >= 0) { *found = 1; *v_out = va; return RR_OK; }
   int nsteps = (int)ceil((c->v_max_ms - c->v_min_ms) / c->step_ms - 1e-9);
-  for (int i = 1; i <= nsteps; i++) {
-    double vb = i == nsteps ? c->v_max_ms : c->v_min_ms + i * c->step_ms, zb;
-    if ((st = index_at(m, vb, lam, o, ws, &zb, err))) return st;
-    if (zb >= 0) {
-      while (vb - va > c->tol_ms) {
-        double vm = 0.5 * (va + vb), zm;
-        if ((st = index_at(m, vm, lam, o, ws, &zm, err))) return st;
-        if (zm >= 0) vb = vm; else va = vm;
-      }
-      *found = 1;
-      *v_out = vb;
-      return RR_OK;
+  /* the scan four speeds at a time (one instruction stream, see
+     rr_modal_stability_index_batch); the bisection one at a time */
+  for (int i0 = 1; i0 <= nsteps; i0 += 4) {
+    double vs[4], ls[4], zs[4];
+    int nb = nsteps - i0 + 1 < 4 ? nsteps - i0 + 1 : 4;
+    for (int c4 = 0; c4 < nb; c4++) {
+      int i = i0 + c4;
+      vs[c4] = i == nsteps ? c->v_max_ms : c->v_min_ms + i * c->step_ms;
+      ls[c4] = lam;
     }
-    va = vb;
+    if ((st = rr_modal_stability_index_batch(m, o, ws, nb, vs, ls, zs, err))) return st;
+    for (int c4 = 0; c4 < nb; c4++) {
+      double vb = vs[c4];
+      if (zs[c4] >= 0) {
+        while (vb - va > c->tol_ms) {
+          double vm = 0.5 * (va + vb), zm;
+          if ((st = index_at(m, vm, lam, o, ws, &zm, err))) return st;
+          if (zm >= 0) vb = vm; else va = vm;
+        }
+        *found = 1;
+        *v_out = vb;
+        return RR_OK;
+      }
+      va = vb;
+    }
   }
   return RR_OK;
 }

@@ -11,6 +11,7 @@
 #include "check.h"
 #include "railride/railride.h"
 #include "eigdec.h"   /* internal: the ride evaluation's eigendecomposition */
+#include "hqr.h"      /* internal: eigenvalues of several matrices in SIMD lanes */
 
 enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
 
@@ -438,9 +439,99 @@ static void test_eigdec(void)
   CHECK(res < 1e-13 && dist < 1e-7, "eigdec repeated pair: residual %.3g, eigenvalue distance %.3g", res, dist);
 }
 
+
+/* rr_eig_batch against rr_hqr lane by lane and against dgeev: groups of 1..4
+ * seeded random matrices, mixed with matrices that split or deflate at once
+ * (block diagonal, triangular), so that the lanes fall out of step. */
+static void test_eig_batch(void)
+{
+  enum { NR = 24 };
+  unsigned long long s = 987654321;
+  double mats[RR_QR_LANES][NR * NR], h[NR * NR], wr[RR_QR_LANES * NR], wi[RR_QR_LANES * NR], hr[NR], hi[NR],
+      lr[NR], li[NR], a[NR * NR];
+  double *work = malloc(sizeof(double) * rr_eig_batch_work(NR));
+  double worst_lane = 0, worst_geev = 0;
+  for (int trial = 0; trial < 24; trial++) {
+    int nb = 1 + trial % RR_QR_LANES, fail[RR_QR_LANES];
+    const double *mp[RR_QR_LANES];
+    for (int c = 0; c < nb; c++) {
+      int kind = (trial + c) % 5;   /* 0..2 dense, 3 block diagonal, 4 upper triangular */
+      for (int i = 0; i < NR * NR; i++) {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        double x = (double)(s >> 11) / 9007199254740992.0 - 0.5;
+        int r = i / NR, col = i % NR;
+        if (kind == 3 && (r < NR / 3) != (col < NR / 3)) x = 0;
+        if (kind == 4 && r > col) x = 0;
+        mats[c][i] = x * (kind == 2 ? 1e4 : 1);
+      }
+      mp[c] = mats[c];
+    }
+    CHECK(rr_eig_batch(NR, nb, mp, wr, wi, work, fail) == 0, "eig batch: trial %d did not converge", trial);
+    for (int c = 0; c < nb; c++) {
+      double anorm = 0;
+      for (int i = 0; i < NR * NR; i++) anorm = fmax(anorm, fabs(mats[c][i]));
+      memcpy(h, mats[c], sizeof h);
+      CHECK(rr_eig_small(NR, h, hr, hi) == 0, "eig small: trial %d lane %d", trial, c);
+      memcpy(a, mats[c], sizeof a);
+      LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', NR, a, NR, lr, li, NULL, NR, NULL, NR);
+      for (int j = 0; j < NR; j++) {
+        double complex z = wr[c * NR + j] + I * wi[c * NR + j];
+        /* same algorithm per lane: same order, same values to rounding */
+        worst_lane = fmax(worst_lane, cabs(z - (hr[j] + I * hi[j])) / anorm);
+        double best = INFINITY;
+        for (int k = 0; k < NR; k++) best = fmin(best, cabs(z - (lr[k] + I * li[k])));
+        worst_geev = fmax(worst_geev, best / anorm);
+      }
+    }
+  }
+  free(work);
+  CHECK(worst_lane < 1e-14, "eig batch differs from the single-matrix QR by %.3g |A|", worst_lane);
+  CHECK(worst_geev < 1e-12, "eig batch differs from dgeev by %.3g |A|", worst_geev);
+}
+
+/* rr_modal_stability_index_batch against the single-point index: three SDF
+ * treatments (paper mode takes the single-point route), 11 points (groups of
+ * 4, 4, 3), the operating point restored, bad input refused. */
+static void test_index_batch(void)
+{
+  int modes[3] = {RR_SDF_NONE, RR_SDF_PHYSICAL, RR_SDF_PAPER};
+  double v[11], lam[11], zb[11];
+  for (int p = 0; p < 11; p++) {
+    v[p] = (150 + 40 * p) / 3.6;
+    lam[p] = 0.03 + 0.045 * ((p * 7) % 11);
+  }
+  double worst = 0;
+  for (int k = 0; k < 3; k++) {
+    rr_vehicle veh;
+    rr_vehicle_builtin("type1", &veh, NULL);
+    veh.sdf_mode = modes[k];
+    rr_model *m;
+    rr_modal_ws *ws;
+    rr_error e;
+    CHECK_OK(rr_model_from_vehicle(&veh, &m, &e), e);
+    CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+    CHECK_OK(rr_model_set_operating(m, 300 / 3.6, 0.2, &e), e);
+    CHECK_OK(rr_modal_stability_index_batch(m, NULL, ws, 11, v, lam, zb, &e), e);
+    CHECK(rr_model_speed(m) == 300 / 3.6 && rr_model_conicity(m) == 0.2, "index batch: operating point not restored");
+    for (int p = 0; p < 11; p++) {
+      double z;
+      CHECK_OK(rr_model_set_operating(m, v[p], lam[p], &e), e);
+      CHECK_OK(rr_modal_stability_index(m, NULL, ws, &z, &e), e);
+      worst = fmax(worst, fabs(z - zb[p]));
+    }
+    double vbad[2] = {300 / 3.6, 0};
+    CHECK(rr_modal_stability_index_batch(m, NULL, ws, 2, vbad, lam, zb, &e) == RR_EINVAL, "index batch: zero speed accepted");
+    rr_modal_ws_free(ws);
+    rr_model_free(m);
+  }
+  CHECK(worst < 1e-13, "index batch differs from the single-point index by %.3g", worst);
+}
+
 int main(void)
 {
   test_eigdec();
+  test_eig_batch();
+  test_index_batch();
   test_entries();
   test_locus_tracking();
   test_two_routes(RR_SDF_NONE);

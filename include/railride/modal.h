@@ -54,6 +54,15 @@ int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
 int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
                              double *zeta, rr_error *err);
 
+/* The index at npts operating points (speeds in m/s, conicities): zeta[p]
+ * equals what rr_modal_stability_index gives there, to rounding. Groups of
+ * up to four points share one instruction stream, their QR sweeps running
+ * in SIMD lanes: about twice the throughput of one point at a time. The
+ * model's operating point is restored on return. Allocation-free. */
+int rr_modal_stability_index_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
+                                   const double *speed_ms, const double *conicity, double *zeta,
+                                   rr_error *err);
+
 /* Robust stability indices (paper Table 1). */
 typedef struct rr_robust_opts {
   double v_low_ms, conicity_low;    /* 250 km/h, 0.05 */
