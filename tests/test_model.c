@@ -484,6 +484,20 @@ static void test_eig_batch(void)
       }
     }
   }
+  /* a lane that cannot converge (a NaN entry) is reported alone; its
+     neighbours' eigenvalues are untouched */
+  {
+    const double *mp[3] = {mats[0], mats[1], mats[2]};
+    int fail[RR_QR_LANES];
+    mats[1][5 * NR + 7] = NAN;
+    CHECK(rr_eig_batch(NR, 3, mp, wr, wi, work, fail) != 0 && !fail[0] && fail[1] && !fail[2],
+          "eig batch: the NaN lane is not the one reported (%d %d %d)", fail[0], fail[1], fail[2]);
+    for (int c = 0; c < 3; c += 2) {
+      memcpy(h, mats[c], sizeof h);
+      rr_eig_small(NR, h, hr, hi);
+      for (int j = 0; j < NR; j++) worst_lane = fmax(worst_lane, cabs(wr[c * NR + j] + I * wi[c * NR + j] - (hr[j] + I * hi[j])));
+    }
+  }
   free(work);
   CHECK(worst_lane < 1e-14, "eig batch differs from the single-matrix QR by %.3g |A|", worst_lane);
   CHECK(worst_geev < 1e-12, "eig batch differs from dgeev by %.3g |A|", worst_geev);
