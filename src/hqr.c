@@ -284,16 +284,17 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
 typedef double vd __attribute__((vector_size(8 * RR_QR_LANES)));
 typedef long long vl __attribute__((vector_size(8 * RR_QR_LANES)));
 
-/* macros, not functions: a vector-valued function would change the ABI
+/* macros, not functions: a vector argument or result would change the ABI
    between the clones */
 #define vsel(mask, a, b) ((vd)(((vl)(a) & (mask)) | ((vl)(b) & ~(mask))))
 #define vabs(a) ((vd)((vl)(a) & ((vl){0} + INT64_MAX)))
-static inline int vany(vl m)
-{
-  long long o = 0;
-  for (int c = 0; c < RR_QR_LANES; c++) o |= m[c];
-  return o != 0;
-}
+#define vany(mask)                                          \
+  ({                                                        \
+    vl m_ = (mask);                                         \
+    long long o_ = 0;                                       \
+    for (int c_ = 0; c_ < RR_QR_LANES; c_++) o_ |= m_[c_];  \
+    o_ != 0;                                                \
+  })
 
 #define V(i, j) b[(size_t)(i) * ld + (j)]
 
