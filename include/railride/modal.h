@@ -57,8 +57,9 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
 /* The index at npts operating points (speeds in m/s, conicities): zeta[p]
  * equals what rr_modal_stability_index gives there, to rounding. Groups of
  * up to four points share one instruction stream, their QR sweeps running
- * in SIMD lanes: about twice the throughput of one point at a time. The
- * model's operating point is restored on return. Allocation-free. */
+ * in SIMD lanes: about twice the throughput of one point at a time
+ * (paper-mode SDF models go one point at a time). The model's operating
+ * point is restored on return. Allocation-free. */
 int rr_modal_stability_index_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
                                    const double *speed_ms, const double *conicity, double *zeta,
                                    rr_error *err);
@@ -72,7 +73,8 @@ typedef struct rr_robust_opts {
 } rr_robust_opts;
 rr_robust_opts rr_robust_opts_default(void);
 typedef struct rr_robust { double zeta_low, zeta_high, std_zeta; } rr_robust;
-/* Changes the model's operating point. */
+/* Evaluated through rr_modal_stability_index_batch (the 9 default points as
+ * 4 + 4 + 1); the model's operating point is restored. */
 int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r,
                       rr_modal_ws *ws, rr_robust *out, rr_error *err);
 
