@@ -13,8 +13,10 @@
 /* AVX2 + FMA copies chosen at load time where the processor has them */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
 #define RR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define RR_HAVE_V4 1   /* an AVX-512 copy of the 8-lane batch, used where present */
 #else
 #define RR_CLONES
+#define RR_HAVE_V4 0
 #endif
 
 /* out = sum over i0 <= i < n of r[i] y[i], for T double or a vector of
@@ -78,7 +80,7 @@ static double sgn(double a, double b) { return b >= 0 ? fabs(a) : -fabs(a); }
  * The control (deflation, roots, shifts, where a sweep starts) runs per
  * matrix ("lane"), on a strided view: entry (i, j) at a[(i ld + j) st]. The
  * bulge-chasing sweep, where the time goes, exists twice: for one matrix,
- * and for RR_QR_LANES matrices at once in SIMD lanes (rr_eig_batch). */
+ * and for 4 or 8 matrices at once in SIMD lanes (rr_eig_batch, hqr_lanes.h). */
 #define E(i, j) a[((size_t)(i) * ld + (j)) * st]
 
 typedef struct {
@@ -272,211 +274,55 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
   }
 }
 
-/* ---- the same for RR_QR_LANES matrices in SIMD lanes ----
- * Layout: entry (i, j) of lane c at b[((i ld + j) RR_QR_LANES + c], ld = n + 1;
- * row and column n are zero padding, so that a lane whose block ends early
- * (a 2-row reflector, r = 0) can share the 3-row arithmetic. Lanes share
- * each sweep's loop over the union of their blocks; outside its own range a
- * lane's reflector is the identity (x = y = z = q = r = 0), which leaves its
- * entries exactly as they were, and the entries it does touch beyond its
- * block are never read again for its eigenvalues. Per lane, the arithmetic
- * is the single-matrix algorithm's. */
-typedef double vd __attribute__((vector_size(8 * RR_QR_LANES)));
-typedef long long vl __attribute__((vector_size(8 * RR_QR_LANES)));
+/* ---- several matrices at once in SIMD lanes (hqr_lanes.h) ---- */
+#define QRW 4
+#include "hqr_lanes.h"
+#undef QRW
+#if RR_HAVE_V4
+#define QRW 8
+#include "hqr_lanes.h"
+#undef QRW
+#endif
 
-/* macros, not functions: a vector argument or result would change the ABI
-   between the clones */
-#define vsel(mask, a, b) ((vd)(((vl)(a) & (mask)) | ((vl)(b) & ~(mask))))
-#define vabs(a) ((vd)((vl)(a) & ((vl){0} + INT64_MAX)))
-#define vany(mask)                                          \
-  ({                                                        \
-    vl m_ = (mask);                                         \
-    long long o_ = 0;                                       \
-    for (int c_ = 0; c_ < RR_QR_LANES; c_++) o_ |= m_[c_];  \
-    o_ != 0;                                                \
-  })
-
-#define V(i, j) b[(size_t)(i) * ld + (j)]
-
-static inline __attribute__((always_inline)) void sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
+RR_CLONES static int eig_batch4(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail)
 {
-  int kmin = ld, kmax = -1, lmin = ld, nmax = -1;
-  vd p0, q0, r0;
-  for (int c = 0; c < RR_QR_LANES; c++) {
-    if (!go[c]) { p0[c] = q0[c] = r0[c] = 0; continue; }
-    const qr_lane *L = &lanes[c];
-    kmin = MIN(kmin, L->m);
-    kmax = MAX(kmax, L->nn - 1);
-    lmin = MIN(lmin, L->l);
-    nmax = MAX(nmax, L->nn);
-    p0[c] = L->p;
-    q0[c] = L->q;
-    r0[c] = L->r;
-  }
-  const vd zero = {0}, one = zero + 1;
-  for (int k = kmin; k <= kmax; k++) {
-    vl on = {0}, first = {0}, last = {0}, negate = {0};
-    for (int c = 0; c < RR_QR_LANES; c++) {
-      const qr_lane *L = &lanes[c];
-      on[c] = go[c] && k >= L->m && k <= L->nn - 1 ? -1 : 0;
-      first[c] = go[c] && k == L->m ? -1 : 0;
-      last[c] = go[c] && k == L->nn - 1 ? -1 : 0;
-      negate[c] = go[c] && k == L->m && L->l != L->m ? -1 : 0;
-    }
-    vd p = p0, q = q0, r = r0, x = one;
-    if (k > 0) {
-      vd pb = V(k, k - 1), qb = V(k + 1, k - 1), rb = vsel(last, zero, V(k + 2, k - 1));
-      vd xb = vabs(pb) + vabs(qb) + vabs(rb);
-      vl scale = (xb != 0) & ((xb < 1e-100) | (xb > 1e100));
-      if (vany(scale & ~first)) {
-        vd ix = one / vsel(scale, xb, one);
-        pb *= ix;
-        qb *= ix;
-        rb *= ix;
-      }
-      xb = vsel(scale, xb, one);
-      p = vsel(first, p0, pb);
-      q = vsel(first, q0, qb);
-      r = vsel(first, r0, rb);
-      x = vsel(first, one, xb);
-    }
-    vd nrm = p * p + q * q + r * r;
-    for (int c = 0; c < RR_QR_LANES; c++) nrm[c] = sqrt(nrm[c]);
-    vd s = vsel(p >= 0, nrm, -nrm);
-    on &= s != 0;
-    if (k > 0) {
-      vd old = V(k, k - 1);
-      V(k, k - 1) = vsel(on & first, vsel(negate, -old, old), vsel(on, -s * x, old));
-    }
-    s = vsel(on, s, one);
-    vd is = one / s;
-    p += s;
-    vd ip = one / p;
-    x = vsel(on, p * is, zero);
-    vd y = vsel(on, q * is, zero), z = vsel(on, r * is, zero);
-    q = vsel(on, q * ip, zero);
-    r = vsel(on, r * ip, zero);
-    vd *rk = &V(k, 0), *rk1 = &V(k + 1, 0), *rk2 = &V(k + 2, 0);
-    for (int j = k; j <= nmax; j++) {
-      vd pp = rk[j] + q * rk1[j] + r * rk2[j];
-      rk2[j] -= pp * z;
-      rk1[j] -= pp * y;
-      rk[j] -= pp * x;
-    }
-    int mmin = MIN(nmax, k + 3);
-    for (int i = lmin; i <= mmin; i++) {
-      vd *ri = &V(i, k);
-      vd pp = x * ri[0] + y * ri[1] + z * ri[2];
-      ri[2] -= pp * r;
-      ri[1] -= pp * q;
-      ri[0] -= pp;
-    }
-  }
+  return eig_lanes4(n, nb, mats, wr, wi, work, fail);
 }
 
-/* elmhes in lanes: each lane pivots on its own (row and column
- * interchanges lane by lane, together when the lanes agree). */
-static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int ld)
+#if RR_HAVE_V4
+__attribute__((target("arch=x86-64-v4"))) static int eig_batch8(int n, int nb, const double *const *mats, double *wr,
+                                                                 double *wi, double *work, int *fail)
 {
-  vd y[64];
-  double *s = (double *)b;
-  for (int m = 1; m < n - 1; m++) {
-    vd x = {0}, ax = {0};
-    vl piv;
-    for (int c = 0; c < RR_QR_LANES; c++) piv[c] = m;
-    for (int j = m; j < n; j++) {
-      vd v = V(j, m - 1), av = vabs(v);
-      vl gt = av > ax;
-      x = vsel(gt, v, x);
-      ax = vsel(gt, av, ax);
-      piv = (gt & ((vl){0} + j)) | (~gt & piv);
-    }
-    int same = 1;
-    for (int c = 1; c < RR_QR_LANES; c++) same &= piv[c] == piv[0];
-    if (same && piv[0] != m) {
-      int pv = (int)piv[0];
-      for (int j = m - 1; j < n; j++) { vd t = V(pv, j); V(pv, j) = V(m, j); V(m, j) = t; }
-      for (int i = 0; i < n; i++) { vd t = V(i, pv); V(i, pv) = V(i, m); V(i, m) = t; }
-    } else if (!same) {
-      for (int c = 0; c < RR_QR_LANES; c++) {
-        size_t pv = (size_t)piv[c], mm = (size_t)m, L = RR_QR_LANES;
-        if (pv == mm) continue;
-        for (size_t j = (size_t)m - 1; j < (size_t)n; j++) {
-          double t = s[(pv * ld + j) * L + c];
-          s[(pv * ld + j) * L + c] = s[(mm * ld + j) * L + c];
-          s[(mm * ld + j) * L + c] = t;
-        }
-        for (size_t i = 0; i < (size_t)n; i++) {
-          double t = s[(i * ld + pv) * L + c];
-          s[(i * ld + pv) * L + c] = s[(i * ld + mm) * L + c];
-          s[(i * ld + mm) * L + c] = t;
-        }
-      }
-    }
-    vl nz = x != 0;
-    if (!vany(nz)) continue;
-    vd rx = vsel(nz, x, (vd){0} + 1);
-    const vd *rm = &V(m, 0);
-    int any = 0;
-    for (int i = m + 1; i < n; i++) {
-      vd yi = V(i, m - 1) / rx;
-      y[i] = yi;
-      V(i, m - 1) = (vd){0};
-      if (!vany(yi != 0)) continue;
-      any = 1;
-      vd *ri = &V(i, 0);
-      for (int j = m; j < n; j++) ri[j] -= yi * rm[j];
-    }
-    if (!any) continue;
-    for (int j = 0; j < n; j++) {
-      vd d;
-      DOT4(vd, &V(j, 0), y, m + 1, n, d);
-      V(j, m) += d;
-    }
-  }
+  return eig_lanes8(n, nb, mats, wr, wi, work, fail);
 }
-#undef V
+#endif
+
+int rr_eig_batch_lanes(void)
+{
+#if RR_HAVE_V4
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("x86-64-v4") ? 8 : 4;
+#else
+  return 4;
+#endif
+}
 
 size_t rr_eig_batch_work(int n)
 {
-  return (size_t)(n + 1) * (size_t)(n + 1) * RR_QR_LANES + RR_QR_LANES;
+  return (size_t)(n + 1) * (size_t)(n + 1) * RR_QR_LANES_MAX + RR_QR_LANES_MAX;
 }
 
-RR_CLONES int rr_eig_batch(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail)
+int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi, double *work, int *fail)
 {
-  if (n > 64 || n < 1 || nb < 1 || nb > RR_QR_LANES) return -1;
-  int ld = n + 1;
-  /* vector-aligned start inside the caller's buffer */
-  vd *b = (vd *)(((uintptr_t)work + sizeof(vd) - 1) & ~(uintptr_t)(sizeof(vd) - 1));
-  double *s = (double *)b;
-  for (int i = 0; i <= n; i++)
-    for (int j = 0; j <= n; j++)
-      for (int c = 0; c < RR_QR_LANES; c++) {
-        /* idle lanes copy lane 0: same convergence, no extra sweeps */
-        const double *src = mats[c < nb ? c : 0];
-        s[((size_t)i * ld + j) * RR_QR_LANES + c] = i < n && j < n ? src[i * n + j] : 0;
-      }
-  elmhes_lanes(n, b, ld);
-  qr_lane lanes[RR_QR_LANES];
-  int go[RR_QR_LANES];
-  double wrs[RR_QR_LANES][64], wis[RR_QR_LANES][64];
-  for (int c = 0; c < RR_QR_LANES; c++) lane_init(s + c, n, ld, RR_QR_LANES, &lanes[c]);
-  for (;;) {
-    int any = 0;
-    for (int c = 0; c < RR_QR_LANES; c++) {
-      if (c < nb && lanes[c].status == 0) lane_advance(s + c, n, ld, RR_QR_LANES, &lanes[c], wrs[c], wis[c]);
-      go[c] = c < nb && lanes[c].status == 0;
-      any |= go[c];
-    }
-    if (!any) break;
-    sweep_lanes(b, ld, lanes, go);
-  }
+  if (n > 64 || n < 1 || nb < 1 || nb > RR_QR_LANES_MAX) return -1;
+  if (lanes <= 0 || lanes > rr_eig_batch_lanes()) lanes = rr_eig_batch_lanes();
+#if RR_HAVE_V4
+  if (lanes == 8 && nb > 4) return eig_batch8(n, nb, mats, wr, wi, work, fail);
+#endif
   int bad = 0;
-  for (int c = 0; c < nb; c++) {
-    fail[c] = lanes[c].status < 0;
-    bad |= fail[c];
-    memcpy(wr + (size_t)c * n, wrs[c], sizeof(double) * (size_t)n);
-    memcpy(wi + (size_t)c * n, wis[c], sizeof(double) * (size_t)n);
+  for (int c = 0; c < nb; c += 4) {
+    int k = nb - c < 4 ? nb - c : 4;
+    bad |= eig_batch4(n, k, mats + c, wr + (size_t)c * n, wi + (size_t)c * n, work, fail + c);
   }
   return bad;
 }

@@ -19,14 +19,17 @@ int rr_eig_small(int n, double *a, double *wr, double *wi);
 void rr_elmhes(int n, double *a, int *perm);
 int rr_hqr(int n, double *a, double *wr, double *wi);
 
-/* Eigenvalues of nb <= RR_QR_LANES matrices of the same order n <= 64 at
- * once, the QR sweeps of all of them in SIMD lanes (one instruction stream
- * for several operating points of one design). mats[c]: row-major n x n,
- * read only. Lane c's eigenvalues go to wr, wi + c n, in the order rr_hqr
- * would give them, to rounding. work: rr_eig_batch_work(n) doubles. Returns
- * 0, or nonzero when some lane did not converge (fail[c] = 1: the caller
- * solves that one otherwise) or the arguments are out of range. */
-#define RR_QR_LANES 4
+/* Eigenvalues of nb <= RR_QR_LANES_MAX matrices of the same order n <= 64 at
+ * once, the QR sweeps of several in SIMD lanes (one instruction stream for
+ * several operating points of one design): groups of 8 where the processor
+ * has AVX-512 (rr_eig_batch_lanes() == 8), else of 4. lanes: 0 for the best
+ * available, 4 to force groups of 4. mats[c]: row-major n x n, read only.
+ * Lane c's eigenvalues go to wr, wi + c n, in the order rr_hqr would give
+ * them, to rounding. work: rr_eig_batch_work(n) doubles. Returns 0, or
+ * nonzero when some lane did not converge (fail[c] = 1: the caller solves
+ * that one otherwise) or the arguments are out of range. */
+#define RR_QR_LANES_MAX 8
+int rr_eig_batch_lanes(void);
 size_t rr_eig_batch_work(int n);
-int rr_eig_batch(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail);
+int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi, double *work, int *fail);
 #endif

@@ -23,7 +23,7 @@ struct rr_modal_ws {
   int *piv;
   int *cand;
   double *candz;
-  double *Ab, *wrb, *wib, *qrw;   /* batched index: RR_QR_LANES state matrices, eigenvalues, QR lanes */
+  double *Ab, *wrb, *wib, *qrw;   /* batched index: RR_QR_LANES_MAX state matrices, eigenvalues, QR lanes */
   rr_modal_result trk[3];   /* paper-mode tracking scratch */
   double complex *branch;   /* paper-mode: shapes of the branches being followed */
 };
@@ -91,9 +91,9 @@ int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err)
   ws->cand = malloc((size_t)N * sizeof(int));
   ws->candz = malloc((size_t)N * sizeof(double));
   ws->branch = malloc((size_t)N * (size_t)n * sizeof(double complex));
-  ws->Ab = malloc(RR_QR_LANES * NN * sizeof(double));
-  ws->wrb = malloc(RR_QR_LANES * (size_t)N * sizeof(double));
-  ws->wib = malloc(RR_QR_LANES * (size_t)N * sizeof(double));
+  ws->Ab = malloc(RR_QR_LANES_MAX * NN * sizeof(double));
+  ws->wrb = malloc(RR_QR_LANES_MAX * (size_t)N * sizeof(double));
+  ws->wib = malloc(RR_QR_LANES_MAX * (size_t)N * sizeof(double));
   ws->qrw = malloc(rr_eig_batch_work(N) * sizeof(double));
   int st = RR_OK;
   if (!ws->A || !ws->At || !ws->vr || !ws->wr || !ws->wi || !ws->D || !ws->x || !ws->piv ||
@@ -381,10 +381,11 @@ int rr_modal_stability_index_batch(rr_model *m, const rr_modal_opts *o, rr_modal
   if (!o) o = &def;
   double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
   int st = RR_OK;
-  for (int p0 = 0; p0 < npts && !st; p0 += RR_QR_LANES) {
-    int nb = npts - p0 < RR_QR_LANES ? npts - p0 : RR_QR_LANES, N = 0, fail[RR_QR_LANES] = {0};
-    const double *mats[RR_QR_LANES];
-    double anorm[RR_QR_LANES];
+  int W = rr_eig_batch_lanes();   /* 8 with AVX-512, else 4 */
+  for (int p0 = 0; p0 < npts && !st; p0 += W) {
+    int nb = npts - p0 < W ? npts - p0 : W, N = 0, fail[RR_QR_LANES_MAX] = {0};
+    const double *mats[RR_QR_LANES_MAX];
+    double anorm[RR_QR_LANES_MAX];
     size_t NN = (size_t)ws->N * (size_t)ws->N;
     int lanes = nb > 1 && !paper_sdf(m);
     for (int c = 0; c < nb && lanes && !st; c++) {
@@ -398,7 +399,7 @@ int rr_modal_stability_index_batch(rr_model *m, const rr_modal_opts *o, rr_modal
     /* one instruction stream for the group; a lane that fails, or a group
        of one, takes the single-point route */
     if (N > 64) lanes = 0;
-    if (lanes) rr_eig_batch(N, nb, mats, ws->wrb, ws->wib, ws->qrw, fail);
+    if (lanes) rr_eig_batch(N, nb, W, mats, ws->wrb, ws->wib, ws->qrw, fail);
     for (int c = 0; c < nb && !st; c++) {
       if ((st = rr_model_set_operating(m, speed_ms[p0 + c], conicity[p0 + c], err))) break;
       if (lanes && !fail[c])

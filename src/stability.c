@@ -38,9 +38,10 @@ int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts 
   int reuse = sweep_conicity(r, nc - 1) == r->conicity_high;
   int npts = 2 + nc - reuse;
   double sum = 0, sum2 = 0;
-  for (int p0 = 0; p0 < npts; p0 += 4) {
-    double v[4], lam[4], z[4];
-    int nb = npts - p0 < 4 ? npts - p0 : 4;
+  enum { CHUNK = 16 };   /* points per call: the call groups them in lanes */
+  for (int p0 = 0; p0 < npts; p0 += CHUNK) {
+    double v[CHUNK], lam[CHUNK], z[CHUNK];
+    int nb = npts - p0 < CHUNK ? npts - p0 : CHUNK;
     for (int c = 0; c < nb; c++) {
       int p = p0 + c, i = p - 2;
       v[c] = p == 0 ? r->v_low_ms : r->v_high_ms;
@@ -82,11 +83,12 @@ int rr_critical_speed(rr_model *m, double lam, const rr_modal_opts *o, const rr_
   if (st) return st;
   if (za >= 0) { *found = 1; *v_out = va; return RR_OK; }
   int nsteps = (int)ceil((c->v_max_ms - c->v_min_ms) / c->step_ms - 1e-9);
-  /* the scan four speeds at a time (one instruction stream, see
+  /* the scan eight speeds at a time (SIMD lanes, see
      rr_modal_stability_index_batch); the bisection one at a time */
-  for (int i0 = 1; i0 <= nsteps; i0 += 4) {
-    double vs[4], ls[4], zs[4];
-    int nb = nsteps - i0 + 1 < 4 ? nsteps - i0 + 1 : 4;
+  enum { AHEAD = 8 };
+  for (int i0 = 1; i0 <= nsteps; i0 += AHEAD) {
+    double vs[AHEAD], ls[AHEAD], zs[AHEAD];
+    int nb = nsteps - i0 + 1 < AHEAD ? nsteps - i0 + 1 : AHEAD;
     for (int c4 = 0; c4 < nb; c4++) {
       int i = i0 + c4;
       vs[c4] = i == nsteps ? c->v_max_ms : c->v_min_ms + i * c->step_ms;

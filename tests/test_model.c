@@ -440,20 +440,21 @@ static void test_eigdec(void)
 }
 
 
-/* rr_eig_batch against rr_hqr lane by lane and against dgeev: groups of 1..4
+/* rr_eig_batch against rr_hqr lane by lane and against dgeev: groups of 1..8
  * seeded random matrices, mixed with matrices that split or deflate at once
- * (block diagonal, triangular), so that the lanes fall out of step. */
+ * (block diagonal, triangular), so that the lanes fall out of step; in groups
+ * of 4 and in the widest the processor has (8 with AVX-512). */
 static void test_eig_batch(void)
 {
-  enum { NR = 24 };
+  enum { NR = 24, W = RR_QR_LANES_MAX };
   unsigned long long s = 987654321;
-  double mats[RR_QR_LANES][NR * NR], h[NR * NR], wr[RR_QR_LANES * NR], wi[RR_QR_LANES * NR], hr[NR], hi[NR],
-      lr[NR], li[NR], a[NR * NR];
+  double mats[W][NR * NR], h[NR * NR], wr[W * NR], wi[W * NR], hr[NR], hi[NR], lr[NR], li[NR], a[NR * NR];
   double *work = malloc(sizeof(double) * rr_eig_batch_work(NR));
+  const double *mp[W];
+  int fail[W];
   double worst_lane = 0, worst_geev = 0;
-  for (int trial = 0; trial < 24; trial++) {
-    int nb = 1 + trial % RR_QR_LANES, fail[RR_QR_LANES];
-    const double *mp[RR_QR_LANES];
+  for (int trial = 0; trial < 32; trial++) {
+    int nb = 1 + trial % W;
     for (int c = 0; c < nb; c++) {
       int kind = (trial + c) % 5;   /* 0..2 dense, 3 block diagonal, 4 upper triangular */
       for (int i = 0; i < NR * NR; i++) {
@@ -466,39 +467,43 @@ static void test_eig_batch(void)
       }
       mp[c] = mats[c];
     }
-    CHECK(rr_eig_batch(NR, nb, mp, wr, wi, work, fail) == 0, "eig batch: trial %d did not converge", trial);
-    for (int c = 0; c < nb; c++) {
-      double anorm = 0;
-      for (int i = 0; i < NR * NR; i++) anorm = fmax(anorm, fabs(mats[c][i]));
-      memcpy(h, mats[c], sizeof h);
-      CHECK(rr_eig_small(NR, h, hr, hi) == 0, "eig small: trial %d lane %d", trial, c);
-      memcpy(a, mats[c], sizeof a);
-      LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', NR, a, NR, lr, li, NULL, NR, NULL, NR);
-      for (int j = 0; j < NR; j++) {
-        double complex z = wr[c * NR + j] + I * wi[c * NR + j];
-        /* same algorithm per lane: same order, same values to rounding */
-        worst_lane = fmax(worst_lane, cabs(z - (hr[j] + I * hi[j])) / anorm);
-        double best = INFINITY;
-        for (int k = 0; k < NR; k++) best = fmin(best, cabs(z - (lr[k] + I * li[k])));
-        worst_geev = fmax(worst_geev, best / anorm);
+    for (int lanes = 4; lanes >= 0; lanes -= 4) {
+      CHECK(rr_eig_batch(NR, nb, lanes, mp, wr, wi, work, fail) == 0, "eig batch: trial %d did not converge", trial);
+      for (int c = 0; c < nb; c++) {
+        double anorm = 0;
+        for (int i = 0; i < NR * NR; i++) anorm = fmax(anorm, fabs(mats[c][i]));
+        memcpy(h, mats[c], sizeof h);
+        CHECK(rr_eig_small(NR, h, hr, hi) == 0, "eig small: trial %d lane %d", trial, c);
+        memcpy(a, mats[c], sizeof a);
+        LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', NR, a, NR, lr, li, NULL, NR, NULL, NR);
+        for (int j = 0; j < NR; j++) {
+          double complex z = wr[c * NR + j] + I * wi[c * NR + j];
+          /* same algorithm per lane: same order, same values to rounding */
+          worst_lane = fmax(worst_lane, cabs(z - (hr[j] + I * hi[j])) / anorm);
+          double best = INFINITY;
+          for (int k = 0; k < NR; k++) best = fmin(best, cabs(z - (lr[k] + I * li[k])));
+          worst_geev = fmax(worst_geev, best / anorm);
+        }
       }
     }
   }
   /* a lane that cannot converge (a NaN entry) is reported alone; its
      neighbours' eigenvalues are untouched */
-  {
-    const double *mp[3] = {mats[0], mats[1], mats[2]};
-    int fail[RR_QR_LANES];
-    mats[1][5 * NR + 7] = NAN;
-    CHECK(rr_eig_batch(NR, 3, mp, wr, wi, work, fail) != 0 && !fail[0] && fail[1] && !fail[2],
-          "eig batch: the NaN lane is not the one reported (%d %d %d)", fail[0], fail[1], fail[2]);
-    for (int c = 0; c < 3; c += 2) {
+  mats[5][5 * NR + 7] = NAN;
+  for (int lanes = 4; lanes >= 0; lanes -= 4) {
+    CHECK(rr_eig_batch(NR, 7, lanes, mp, wr, wi, work, fail) != 0, "eig batch: a NaN lane went unreported");
+    for (int c = 0; c < 7; c++) {
+      CHECK(fail[c] == (c == 5), "eig batch: lane %d reported %d with the NaN in lane 5", c, fail[c]);
+      if (c == 5) continue;
+      double anorm = 0;
+      for (int i = 0; i < NR * NR; i++) anorm = fmax(anorm, fabs(mats[c][i]));
       memcpy(h, mats[c], sizeof h);
       rr_eig_small(NR, h, hr, hi);
-      for (int j = 0; j < NR; j++) worst_lane = fmax(worst_lane, cabs(wr[c * NR + j] + I * wi[c * NR + j] - (hr[j] + I * hi[j])));
+      for (int j = 0; j < NR; j++) worst_lane = fmax(worst_lane, cabs(wr[c * NR + j] + I * wi[c * NR + j] - (hr[j] + I * hi[j])) / anorm);
     }
   }
   free(work);
+  printf("  eig batch: groups of up to %d lanes here\n", rr_eig_batch_lanes());
   CHECK(worst_lane < 1e-14, "eig batch differs from the single-matrix QR by %.3g |A|", worst_lane);
   CHECK(worst_geev < 1e-12, "eig batch differs from dgeev by %.3g |A|", worst_geev);
 }
