@@ -25,12 +25,12 @@ typedef long long vl __attribute__((vector_size(8 * QRW)));
    between the clones */
 #define vsel(mask, a, b) ((vd)(((vl)(a) & (mask)) | ((vl)(b) & ~(mask))))
 #define vabs(a) ((vd)((vl)(a) & ((vl){0} + INT64_MAX)))
-#define vany(mask)                                          \
-  ({                                                        \
-    vl m_ = (mask);                                         \
-    long long o_ = 0;                                       \
+#define vany(mask)                                  \
+  ({                                                \
+    vl m_ = (mask);                                 \
+    long long o_ = 0;                               \
     for (int c_ = 0; c_ < QRW; c_++) o_ |= m_[c_];  \
-    o_ != 0;                                                \
+    o_ != 0;                                        \
   })
 
 #define V(i, j) b[(size_t)(i) * ld + (j)]
@@ -184,7 +184,8 @@ static inline __attribute__((always_inline)) int eig_lanes(int n, int nb, const 
   for (int i = 0; i <= n; i++)
     for (int j = 0; j <= n; j++)
       for (int c = 0; c < QRW; c++) {
-        /* idle lanes copy lane 0: same convergence, no extra sweeps */
+        /* idle lanes (never swept) copy lane 0, so that their pivots agree
+           and elmhes' interchanges stay whole vectors */
         const double *src = mats[c < nb ? c : 0];
         s[((size_t)i * ld + j) * QRW + c] = i < n && j < n ? src[i * n + j] : 0;
       }
