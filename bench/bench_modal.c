@@ -31,10 +31,11 @@ int main(void)
   for (int i = 0; i < reps / 3; i++) rr_modal_solve(m, NULL, ws, &r, &e);
   printf("full_modal_solve_us %.1f\n", (bench_now() - t0) / (reps / 3) * 1e6);
   /* eight conicities at 350 km/h through the batched index (two groups of four lanes) */
-  double vb[8], lb[8], zb[8];
+  double vb[8], lb[8];
+  rr_stability zb[8];
   for (int i = 0; i < 8; i++) { vb[i] = 350 / 3.6; lb[i] = 0.05 * (i + 1); }
   t0 = bench_now();
-  for (int i = 0; i < reps / 8; i++) rr_modal_stability_index_batch(m, NULL, ws, 8, vb, lb, zb, &e);
+  for (int i = 0; i < reps / 8; i++) rr_modal_stability_batch(m, NULL, ws, 8, vb, lb, zb, &e);
   printf("stability_index_batch_per_point_us %.1f\n", (bench_now() - t0) / (reps / 8) / 8 * 1e6);
   rr_robust rb;
   t0 = bench_now();

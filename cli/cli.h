@@ -8,6 +8,10 @@
 #include <stdio.h>
 #include "railride/railride.h"
 
+/* The operating point commands use when none is given (the paper's). */
+#define CLI_SPEED_DEFAULT_KMH 350.0
+#define CLI_CONICITY_DEFAULT 0.17
+
 #define EXIT_BADINPUT 2
 #define EXIT_FAIL 1
 
@@ -27,20 +31,22 @@ typedef struct cli_common {
 } cli_common;
 
 /* Long options shared by the stability commands (ids >= 1000). */
-enum { OPT_SPEED = 1000, OPT_CONICITY, OPT_JSON, OPT_FMAX, OPT_WMIN, OPT_SDF, OPT_GRAVITY, OPT_HELP };
+enum { OPT_SPEED = 1000, OPT_CONICITY, OPT_JSON, OPT_FMAX, OPT_WMIN, OPT_RMAX, OPT_SDF, OPT_GRAVITY, OPT_HELP };
 #define CLI_COMMON_OPTIONS \
   {"speed", required_argument, 0, OPT_SPEED}, {"conicity", required_argument, 0, OPT_CONICITY}, \
   {"json", no_argument, 0, OPT_JSON}, {"fmax", required_argument, 0, OPT_FMAX}, \
-  {"wmin", required_argument, 0, OPT_WMIN}, {"sdf", required_argument, 0, OPT_SDF}, \
+  {"wmin", required_argument, 0, OPT_WMIN}, {"rmax", required_argument, 0, OPT_RMAX}, \
+  {"sdf", required_argument, 0, OPT_SDF}, \
   {"gravity-stiffness", no_argument, 0, OPT_GRAVITY}, {"help", no_argument, 0, OPT_HELP}
 #define CLI_COMMON_HELP \
   "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n" \
   "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n" \
   "  --conicity L         equivalent conicity\n" \
   "  --fmax HZ            highest frequency counted in the stability index (default 10)\n" \
-  "  --wmin W             minimum wheelset energy share of a hunting mode (default 1e-3)\n" \
+  "  --wmin W             least wheelset energy share of a hunting mode (default 1e-3)\n" \
+  "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n" \
   "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n" \
-  "  --gravity-stiffness  add the gravitational stiffness (MODEL.md section 3)\n" \
+  "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n" \
   "  --json               JSON output\n" \
   "  --help               this text\n"
 
@@ -63,6 +69,12 @@ int cli_fail(const rr_error *e, int st);
 /* Prints JSON to stdout and frees it. */
 void cli_json_print(cJSON *root);
 cJSON *cli_json_matrix(const double *A, int rows, int cols);
+/* One CSV field, quoted (RFC 4180) when it holds a comma, quote or newline,
+   then the separator sep. */
+void cli_csv_field(FILE *fp, const char *text, char sep);
+
+/* A mode as JSON (paper: with the SDF root fields). */
+cJSON *cli_mode_json(const rr_mode *md, int paper);
 
 /* Subcommands. */
 int cmd_summary(int argc, char **argv);

@@ -3,9 +3,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 typedef struct damper_args {
   int element;            /* 0 yaw, 1 lateral */
@@ -73,16 +70,16 @@ int cmd_damper(int argc, char **argv)
     cJSON_AddNumberToObject(root, "k", k);
     cJSON_AddNumberToObject(root, "c", cd);
     cJSON_AddNumberToObject(root, "omega_opt", rr_maxwell_omega_opt(k, cd));
-    cJSON_AddNumberToObject(root, "f_opt_hz", rr_maxwell_omega_opt(k, cd) / (2 * M_PI));
+    cJSON_AddNumberToObject(root, "f_opt_hz", rr_maxwell_omega_opt(k, cd) / (2 * RR_PI));
     cJSON_AddBoolToObject(root, "sdf", sdf);
   } else {
     printf("# %s %s damper: c = %g N s/m, k = %g N/m%s; omega_opt = k/c = %g rad/s (%g Hz)\n", c.veh.name,
-           a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "", k / cd, k / cd / (2 * M_PI));
+           a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "", k / cd, k / cd / (2 * RR_PI));
     printf("freq_hz,k_series,storage,loss,eq_damping,dissipation\n");
   }
   for (int i = 0; i < a.n; i++) {
     double f = a.n == 1 ? a.f_from : a.f_from * pow(a.f_to / a.f_from, (double)i / (a.n - 1));
-    double w = 2 * M_PI * f;
+    double w = 2 * RR_PI * f;
     double complex ks = k;
     if (sdf) ks = c.veh.sdf_mode == RR_SDF_PAPER ? rr_sdf_storage(&c.veh.sdf, f) : rr_sdf_complex(&c.veh.sdf, w);
     double complex ke = rr_maxwell_stiffness(ks, cd, I * w);

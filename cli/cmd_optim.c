@@ -10,9 +10,6 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 typedef struct problem {
   const char *path;
@@ -255,8 +252,8 @@ int cmd_optimise(int argc, char **argv)
   snprintf(path, sizeof path, "%s-pareto.csv", p.output);
   FILE *fp = fopen(path, "w");
   if (!fp) { free(X); free(F); free(rank); return cli_bad("cannot write %s: %s", path, strerror(errno)); }
-  for (int j = 0; j < p.nvar; j++) fprintf(fp, "%s,", p.keys[j]);
-  for (int k = 0; k < p.nobj; k++) fprintf(fp, "%s%s", p.objs[k], k + 1 < p.nobj ? "," : "\n");
+  for (int j = 0; j < p.nvar; j++) cli_csv_field(fp, p.keys[j], ',');
+  for (int k = 0; k < p.nobj; k++) cli_csv_field(fp, p.objs[k], k + 1 < p.nobj ? ',' : '\n');
   int nfront = 0;
   double best[RR_DESIGN_MAX_OBJS], worst[RR_DESIGN_MAX_OBJS];
   for (int k = 0; k < p.nobj; k++) { best[k] = INFINITY; worst[k] = -INFINITY; }
@@ -335,43 +332,29 @@ int cmd_sweep(int argc, char **argv)
   rr_design *d;
   rr_error e;
   int st = rr_design_new(&c.veh, 2, keys, 1, objs, &d, &e);
-  if (st) return cli_fail(&e, st);
-  int is_index = !strncmp(a.objective, "index@", 6), damp_axis = -1;
-  double sp = 0, lam = 0;
-  if (is_index && sscanf(a.objective + 6, "%lf,%lf", &sp, &lam) != 2) is_index = 0;
-  for (int ax = 0; ax < 2; ax++) if (!strcmp(a.key[ax], "yaw_damper.damping")) damp_axis = ax;
-  printf("%s,%s,%s%s%s\n", a.key[0], a.key[1], a.objective, is_index ? ",index_freq_hz" : "", is_index && damp_axis >= 0 ? ",k_opt" : "");
-  rr_modal_ws *ws = NULL;
-  rr_modal_result res;
-  memset(&res, 0, sizeof res);
+  if (!st) st = rr_design_set_modal_opts(d, &c.mo, &e);
+  if (st) { rr_design_free(d); return cli_fail(&e, st); }
+  /* the mode behind the value: its frequency, and on a yaw-damping axis the
+     optimal-dissipation stiffness k = c 2 pi f of that mode (paper Fig. 10) */
+  int has_freq = !strncmp(a.objective, "index@", 6) || !strncmp(a.objective, "critical_speed@", 15), damp_axis = -1;
+  for (int ax = 0; ax < 2; ax++)
+    if (!strcmp(a.key[ax], "yaw_damper.damping")) damp_axis = ax;
+  cli_csv_field(stdout, a.key[0], ',');
+  cli_csv_field(stdout, a.key[1], ',');
+  cli_csv_field(stdout, a.objective, has_freq ? ',' : '\n');
+  if (has_freq) printf("mode_freq_hz%s\n", damp_axis >= 0 ? ",k_opt_n_per_m" : "");
   for (int i = 0; i < a.n[0] && !st; i++)
     for (int j = 0; j < a.n[1] && !st; j++) {
       double x[2] = {a.n[0] == 1 ? a.from[0] : a.from[0] + (a.to[0] - a.from[0]) * i / (a.n[0] - 1),
                      a.n[1] == 1 ? a.from[1] : a.from[1] + (a.to[1] - a.from[1]) * j / (a.n[1] - 1)};
       double f;
-      st = rr_design_evaluate(d, x, &f, &e);
-      if (st) break;
+      if ((st = rr_design_evaluate(d, x, &f, &e))) break;
       printf("%.10g,%.10g,%.10g", x[0], x[1], f);
-      if (is_index) {
-        rr_vehicle v = c.veh;
-        *rr_vehicle_field(&v, rr_vehicle_key_find(a.key[0])) = x[0];
-        *rr_vehicle_field(&v, rr_vehicle_key_find(a.key[1])) = x[1];
-        rr_model *m;
-        st = rr_model_from_vehicle(&v, &m, &e);
-        if (!st) st = rr_model_set_operating(m, sp / 3.6, lam, &e);
-        if (!st && !ws) st = rr_modal_ws_new(m, &ws, &e);
-        if (!st && !res.modes) st = rr_modal_result_alloc(m, &res, &e);
-        if (!st) st = rr_modal_solve(m, &c.mo, ws, &res, &e);
-        rr_model_free(m);
-        if (st) break;
-        double fz = res.index_mode >= 0 ? res.modes[res.index_mode].freq_hz : NAN;
-        printf(",%.10g", fz);
-        if (damp_axis >= 0) printf(",%.10g", x[damp_axis] * 2 * M_PI * fz);
-      }
+      double fz = rr_design_mode_freq(d, 0);
+      if (has_freq) printf(",%.10g", fz);
+      if (has_freq && damp_axis >= 0) printf(",%.10g", x[damp_axis] * 2 * RR_PI * fz);
       printf("\n");
     }
-  rr_modal_ws_free(ws);
-  rr_modal_result_free(&res);
   rr_design_free(d);
   return st ? cli_fail(&e, st) : 0;
 }

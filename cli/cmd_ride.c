@@ -4,9 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh)
 {
@@ -44,17 +41,16 @@ cJSON *ride_methods_json(void)
   return m;
 }
 
-/* PEM is a steady-state method: say so when the operating point is unstable. */
+/* PEM is a steady-state method: say so when the operating point is unstable
+   (some oscillatory mode, of any frequency and shape, with zeta >= 0). */
 static void warn_if_unstable(rr_model *m, double speed_kmh, double conicity)
 {
   rr_modal_ws *ws;
-  rr_modal_opts o = {1e9, 0};   /* every mode, every frequency */
-  double z;
-  if (rr_model_sdf_mode(m) == RR_SDF_PAPER) return;   /* branch tracking: too slow for a warning */
+  rr_stability s;
   if (rr_modal_ws_new(m, &ws, NULL)) return;
-  if (!rr_modal_stability_index(m, &o, ws, &z, NULL) && z > 0)
-    fprintf(stderr, "railride: warning: unstable at %g km/h, conicity %g (largest zeta %.4g): the PEM response is not a steady state\n",
-            speed_kmh, conicity, z);
+  if (!rr_modal_stability(m, NULL, ws, &s, NULL) && !rr_modal_stable(s.zeta_max))
+    fprintf(stderr, "railride: warning: unstable at %g km/h, conicity %g (a mode at %.4g Hz has zeta %.4g): the PEM "
+            "response is not a steady state\n", speed_kmh, conicity, s.max_freq_hz, s.zeta_max);
   rr_modal_ws_free(ws);
 }
 
@@ -67,7 +63,7 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   rr_spectrum sp;
   int st = rr_spectrum_open(r->spectrum, &sp, err);
   if (!st) st = rr_model_from_vehicle(veh, &m, err);
-  if (!st) st = rr_model_set_operating(m, speed_kmh / 3.6, conicity, err);
+  if (!st) st = rr_model_set_operating(m, speed_kmh / RR_KMH, conicity, err);
   if (st) goto out;
   warn_if_unstable(m, speed_kmh, conicity);
   int n = rr_model_ndof(m), np = r->npoints;
@@ -289,7 +285,7 @@ int cmd_frf(int argc, char **argv)
         if (i < ni) h = H[((size_t)k * np + q) * ni + i];
         else {
           h = 0;
-          for (int j = 0; j < ni; j++) h += H[((size_t)k * np + q) * ni + j] * cexp(I * 2 * M_PI * f[k] * xin[j] / v);
+          for (int j = 0; j < ni; j++) h += H[((size_t)k * np + q) * ni + j] * cexp(I * 2 * RR_PI * f[k] * xin[j] / v);
         }
         char inp[8];
         snprintf(inp, sizeof inp, i < ni ? "%d" : "sum", i + 1);
@@ -302,7 +298,7 @@ int cmd_frf(int argc, char **argv)
           cJSON_AddNumberToObject(ob, "im", cimag(h));
           cJSON_AddItemToArray(arr, ob);
         } else {
-          printf("%.10g,%.6g,%s,%.10g,%.10g,%.10g,%.6f\n", f[k], a.rs.x[q], inp, creal(h), cimag(h), cabs(h), carg(h) * 180 / M_PI);
+          printf("%.10g,%.6g,%s,%.10g,%.10g,%.10g,%.6f\n", f[k], a.rs.x[q], inp, creal(h), cimag(h), cabs(h), carg(h) * 180 / RR_PI);
         }
       }
   if (root) cli_json_print(root);
@@ -354,8 +350,8 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
     double lam = a->c_n == 1 ? a->c_from : a->c_from + (a->c_to - a->c_from) * i / (a->c_n - 1);
     double zc, zs;
     ride_point pc[3], ps[3];
-    st = rr_model_set_operating(mc, c->speed_kmh / 3.6, lam, &e);
-    if (!st) st = rr_model_set_operating(ms, c->speed_kmh / 3.6, lam, &e);
+    st = rr_model_set_operating(mc, c->speed_kmh / RR_KMH, lam, &e);
+    if (!st) st = rr_model_set_operating(ms, c->speed_kmh / RR_KMH, lam, &e);
     if (!st) st = rr_modal_stability_index(mc, &c->mo, wc, &zc, &e);
     if (!st) st = rr_modal_stability_index(ms, &c->mo, wsd, &zs, &e);
     if (!st) st = ride_eval(&vc, c->speed_kmh, lam, &rs, pc, NULL, NULL, &e);

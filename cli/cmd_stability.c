@@ -76,23 +76,34 @@ int cmd_matrices(int argc, char **argv)
   return 0;
 }
 
-static cJSON *mode_json(const rr_mode *md, int paper)
+cJSON *cli_mode_json(const rr_mode *md, int paper)
 {
   cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "name", md->name);
   cJSON_AddNumberToObject(o, "freq_hz", md->freq_hz);
   cJSON_AddNumberToObject(o, "real", md->re);
   cJSON_AddNumberToObject(o, "imag", md->im);
   cJSON_AddNumberToObject(o, "stability_index", md->zeta);
   cJSON *en = cJSON_AddObjectToObject(o, "energy");
   for (int g = 0; g < RR_NGROUPS; g++) cJSON_AddNumberToObject(en, energy_names[g], md->energy[g]);
+  cJSON_AddNumberToObject(o, "roll_share", md->roll_share);
   cJSON_AddBoolToObject(o, "oscillatory", md->oscillatory);
-  cJSON_AddBoolToObject(o, "hunting", md->hunting);
+  cJSON_AddBoolToObject(o, "hunting_related", md->hunting);
   cJSON_AddBoolToObject(o, "in_index", md->in_index);
   if (paper) {
     cJSON_AddBoolToObject(o, "self_consistent", md->self_consistent);
     cJSON_AddNumberToObject(o, "sdf_k", md->sdf_k);
   }
   return o;
+}
+
+/* The verdict line (docs/model.md: any oscillatory mode with zeta >= 0). */
+static void print_verdict(const rr_modal_result *res)
+{
+  if (res->max_mode < 0) { printf("verdict: stable (no oscillatory mode)\n"); return; }
+  const rr_mode *md = &res->modes[res->max_mode];
+  printf("verdict: %s (least damped mode: %s at %.4f Hz, zeta %.6f)\n", rr_modal_stable(res->zeta_max) ? "stable" : "UNSTABLE",
+         md->name, md->freq_hz, md->zeta);
 }
 
 /* Solves the modes of a model; caller frees res. */
@@ -107,12 +118,53 @@ static int solve_modes(rr_model *m, const rr_modal_opts *mo, rr_modal_result *re
   return st ? cli_fail(&e, st) : 0;
 }
 
+static void modes_json(const cli_common *c, const rr_modal_result *res, int paper)
+{
+  cJSON *root = cJSON_CreateObject();
+  if (res->index_mode >= 0) cJSON_AddNumberToObject(root, "stability_index", res->stability_index);
+  else cJSON_AddNullToObject(root, "stability_index");
+  cJSON_AddBoolToObject(root, "stable", rr_modal_stable(res->zeta_max));
+  cJSON_AddNumberToObject(root, "zeta_max", res->zeta_max);
+  cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
+  cJSON_AddNumberToObject(root, "conicity", c->conicity);
+  cJSON_AddNumberToObject(root, "fmax_hz", c->mo.fmax_hz);
+  cJSON_AddNumberToObject(root, "w_min", c->mo.w_min);
+  cJSON_AddNumberToObject(root, "r_max", c->mo.r_max);
+  cJSON *arr = cJSON_AddArrayToObject(root, "modes");
+  for (int i = 0; i < res->n; i++)
+    if (res->modes[i].im > 0) cJSON_AddItemToArray(arr, cli_mode_json(&res->modes[i], paper));
+  cli_json_print(root);
+}
+
+static void modes_table(const cli_common *c, const rr_modal_result *res, int paper)
+{
+  printf("%s at %.6g km/h, conicity %.6g%s\n", c->veh.name, c->speed_kmh, c->conicity,
+         paper ? " (SDF paper mode: self-consistent modes)" : c->veh.sdf_mode == RR_SDF_PHYSICAL ? " (SDF physical mode)" : "");
+  printf("%10s %12s %12s %10s %9s %9s %9s %9s  %-30s %s\n", "freq_hz", "real", "imag", "zeta", "E_car", "E_frame",
+         "E_wheel", "roll", "mode", "flags");
+  for (int i = 0; i < res->n; i++) {
+    const rr_mode *md = &res->modes[i];
+    if (md->im <= 0) continue;
+    printf("%10.4f %12.5g %12.5g %10.5f %9.2e %9.2e %9.2e %9.2e  %-30s %s%s%s\n", md->freq_hz, md->re, md->im, md->zeta,
+           md->energy[0], md->energy[1], md->energy[2], md->roll_share, md->name, md->in_index ? "index " : "",
+           md->hunting ? "hunting" : "", md->self_consistent ? "" : " not-self-consistent");
+  }
+  if (res->index_mode >= 0)
+    printf("vehicle stability index: %.6f (%s at %.4f Hz)\n", res->stability_index, res->modes[res->index_mode].name,
+           res->modes[res->index_mode].freq_hz);
+  else
+    printf("vehicle stability index: none (no hunting-related oscillatory mode below %g Hz)\n", c->mo.fmax_hz);
+  print_verdict(res);
+}
+
 int cmd_modes(int argc, char **argv)
 {
   static const char help[] = "usage: railride modes [VEHICLE] --speed KMH --conicity L [--fmax HZ] [--json]\n"
                              "Eigenvalues of the state matrix: frequency, stability index zeta = Re/|lambda|\n"
-                             "(negative is stable), kinetic-energy shares; the vehicle stability index is the\n"
-                             "largest zeta over hunting-related modes (wheelset share >= wmin) below fmax.\n" CLI_COMMON_HELP;
+                             "(negative is stable), kinetic-energy shares, roll share and a name by dominant\n"
+                             "motion. The vehicle stability index is the largest zeta over hunting-related modes\n"
+                             "(wheelset share >= wmin, roll share < rmax) below fmax; the verdict counts every\n"
+                             "oscillatory mode, of any frequency and shape.\n" CLI_COMMON_HELP;
   cli_common c;
   rr_model *m;
   RUN_PARSE(NULL, NULL, NULL, help);
@@ -121,34 +173,8 @@ int cmd_modes(int argc, char **argv)
   rr_modal_result res;
   if ((r = solve_modes(m, &c.mo, &res))) { rr_model_free(m); return r; }
   int paper = c.veh.sdf_mode == RR_SDF_PAPER;
-  if (c.json) {
-    cJSON *root = cJSON_CreateObject();
-    if (res.index_mode >= 0) cJSON_AddNumberToObject(root, "stability_index", res.stability_index);
-    else cJSON_AddNullToObject(root, "stability_index");
-    cJSON_AddNumberToObject(root, "speed_kmh", c.speed_kmh);
-    cJSON_AddNumberToObject(root, "conicity", c.conicity);
-    cJSON_AddNumberToObject(root, "fmax_hz", c.mo.fmax_hz);
-    cJSON_AddNumberToObject(root, "w_min", c.mo.w_min);
-    cJSON *arr = cJSON_AddArrayToObject(root, "modes");
-    for (int i = 0; i < res.n; i++)
-      if (res.modes[i].im > 0) cJSON_AddItemToArray(arr, mode_json(&res.modes[i], paper));
-    cli_json_print(root);
-  } else {
-    printf("%s at %.6g km/h, conicity %.6g%s\n", c.veh.name, c.speed_kmh, c.conicity,
-           paper ? " (SDF paper mode: self-consistent modes)" : c.veh.sdf_mode == RR_SDF_PHYSICAL ? " (SDF physical mode)" : "");
-    printf("%10s %12s %12s %10s %9s %9s %9s  %s\n", "freq_hz", "real", "imag", "zeta", "E_car", "E_frame", "E_wheel", "flags");
-    for (int i = 0; i < res.n; i++) {
-      const rr_mode *md = &res.modes[i];
-      if (md->im <= 0) continue;
-      printf("%10.4f %12.5g %12.5g %10.5f %9.2e %9.2e %9.2e  %s%s%s\n", md->freq_hz, md->re, md->im, md->zeta,
-             md->energy[0], md->energy[1], md->energy[2], md->in_index ? "index " : "",
-             md->hunting ? "hunting" : "", md->self_consistent ? "" : " not-self-consistent");
-    }
-    if (res.index_mode >= 0)
-      printf("vehicle stability index: %.6f (mode at %.4f Hz)\n", res.stability_index, res.modes[res.index_mode].freq_hz);
-    else
-      printf("vehicle stability index: none (no hunting-related oscillatory mode below %g Hz)\n", c.mo.fmax_hz);
-  }
+  if (c.json) modes_json(&c, &res, paper);
+  else modes_table(&c, &res, paper);
   rr_modal_result_free(&res);
   rr_model_free(m);
   return 0;
@@ -192,46 +218,87 @@ int cmd_robust(int argc, char **argv)
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) return cli_fail(&e, st);
+  int stable = rb.n_unstable == 0;
   if (c.json) {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "zeta_low", rb.zeta_low);
     cJSON_AddNumberToObject(root, "zeta_high", rb.zeta_high);
     cJSON_AddNumberToObject(root, "std_zeta", rb.std_zeta);
     cJSON_AddNumberToObject(root, "n_conicity", a.ro.n_conicity);
+    cJSON_AddBoolToObject(root, "stable", stable);
+    cJSON_AddNumberToObject(root, "zeta_max", rb.zeta_max);
+    cJSON_AddNumberToObject(root, "n_unstable_points", rb.n_unstable);
     cli_json_print(root);
   } else {
     printf("%s robust stability indices (negative is stable)\n", c.veh.name);
     printf("  zeta_low  (250 km/h, conicity 0.05): %10.6f\n", rb.zeta_low);
     printf("  zeta_high (350 km/h, conicity 0.40): %10.6f\n", rb.zeta_high);
     printf("  std_zeta  (350 km/h, %d conicities 0.05-0.40): %10.6f\n", a.ro.n_conicity, rb.std_zeta);
+    if (stable) printf("verdict: stable at every point (largest zeta of any mode %.6f)\n", rb.zeta_max);
+    else printf("verdict: UNSTABLE at %d of the points (first: %g km/h, conicity %g; largest zeta %.6f)\n", rb.n_unstable,
+                rb.unstable_speed_ms * RR_KMH, rb.unstable_conicity, rb.zeta_max);
   }
   return 0;
 }
 
-typedef struct crit_args { double vmin, vmax, step; } crit_args;
-enum { OPT_VMIN = 2100, OPT_VMAX, OPT_STEP };
+typedef struct crit_args { double vmin, vmax, step; int index_modes; } crit_args;
+enum { OPT_VMIN = 2100, OPT_VMAX, OPT_STEP, OPT_INDEX_MODES };
 
 static int crit_cb(int opt, const char *arg, void *u)
 {
   crit_args *a = u;
+  if (opt == OPT_INDEX_MODES) { a->index_modes = 1; return 0; }
   double *dst = opt == OPT_VMIN ? &a->vmin : opt == OPT_VMAX ? &a->vmax : opt == OPT_STEP ? &a->step : NULL;
   if (!dst) return 1;
   const char *name = opt == OPT_VMIN ? "vmin" : opt == OPT_VMAX ? "vmax" : "step";
   if (cli_number(name, arg, "km/h", dst)) return 1;
-  if (!(*dst > 0)) return cli_bad("--%s: must be > 0 km/h", name);
+  if (!(*dst > 0 && *dst <= RR_SPEED_MAX_MS * RR_KMH))
+    return cli_bad("--%s: must be within (0, %g] km/h", name, RR_SPEED_MAX_MS * RR_KMH);
   return 0;
+}
+
+static void critical_json(const cli_common *c, const crit_args *a, const rr_critical *cr, int paper)
+{
+  cJSON *root = cJSON_CreateObject();
+  if (cr->found) cJSON_AddNumberToObject(root, "critical_speed_kmh", cr->speed_ms * RR_KMH);
+  else cJSON_AddNullToObject(root, "critical_speed_kmh");
+  cJSON_AddBoolToObject(root, "stable_to_range_end", !cr->found);
+  cJSON_AddNumberToObject(root, "conicity", c->conicity);
+  cJSON_AddStringToObject(root, "rule", a->index_modes ? "index modes" : "any oscillatory mode");
+  double range[2] = {a->vmin, a->vmax};
+  cJSON_AddItemToObject(root, "range_kmh", cJSON_CreateDoubleArray(range, 2));
+  if (cr->found) cJSON_AddItemToObject(root, "mode", cli_mode_json(&cr->mode, paper));
+  else cJSON_AddNullToObject(root, "mode");
+  cli_json_print(root);
+}
+
+static void critical_text(const cli_common *c, const crit_args *a, const rr_critical *cr)
+{
+  const rr_mode *md = &cr->mode;
+  if (!cr->found) {
+    printf("%s at conicity %g: stable to the range's end (%g km/h)\n", c->veh.name, c->conicity, a->vmax);
+    return;
+  }
+  printf("%s critical speed at conicity %g: %.3f km/h\n", c->veh.name, c->conicity, cr->speed_ms * RR_KMH);
+  printf("  unstable mode: %s at %.4f Hz (energy carbody %.3f, frames %.3f, wheelsets %.3f; roll %.3f; %s)\n",
+         md->name, md->freq_hz, md->energy[0], md->energy[1], md->energy[2], md->roll_share,
+         md->hunting ? "hunting-related" : "not hunting-related");
 }
 
 int cmd_critical(int argc, char **argv)
 {
-  static const char help[] = "usage: railride critical-speed [VEHICLE] --conicity L [--vmin KMH] [--vmax KMH] [--step KMH] [--json]\n"
-                             "Lowest speed in [vmin, vmax] (default 10-600 km/h) at which the vehicle stability\n"
-                             "index reaches 0: a scan at --step (default 1 km/h), then bisection to 1e-3 km/h.\n" CLI_COMMON_HELP
-                             "  --vmin, --vmax KMH   speed range\n  --step KMH           scan step\n";
+  static const char help[] =
+      "usage: railride critical-speed [VEHICLE] --conicity L [--vmin KMH] [--vmax KMH] [--step KMH] [--index-modes] [--json]\n"
+      "Lowest speed in [vmin, vmax] (default 10-600 km/h) at which some oscillatory mode, of any\n"
+      "frequency and shape, has zeta >= 0: a scan at --step (default 1 km/h), then bisection to\n"
+      "1e-3 km/h. Reports the mode that goes unstable.\n" CLI_COMMON_HELP
+      "  --vmin, --vmax KMH   speed range\n  --step KMH           scan step\n"
+      "  --index-modes        only the stability index's modes count (the index reaching 0)\n";
   static const struct option extra[] = {{"vmin", required_argument, 0, OPT_VMIN}, {"vmax", required_argument, 0, OPT_VMAX},
-                                        {"step", required_argument, 0, OPT_STEP}, {0, 0, 0, 0}};
+                                        {"step", required_argument, 0, OPT_STEP},
+                                        {"index-modes", no_argument, 0, OPT_INDEX_MODES}, {0, 0, 0, 0}};
   cli_common c;
-  crit_args a = {10, 600, 1};
+  crit_args a = {.vmin = 10, .vmax = 600, .step = 1, .index_modes = 0};
   RUN_PARSE(extra, crit_cb, &a, help);
   if (!c.have_conicity) return cli_bad("--conicity is required");
   if (!(a.vmax > a.vmin)) return cli_bad("--vmax must exceed --vmin");
@@ -240,28 +307,16 @@ int cmd_critical(int argc, char **argv)
   if (r) return r;
   rr_error e;
   rr_modal_ws *ws;
-  rr_critical_opts co = {a.vmin / 3.6, a.vmax / 3.6, a.step / 3.6, 1e-3 / 3.6};
-  double v;
-  int found = 0;
+  rr_critical_opts co = {.v_min_ms = a.vmin / RR_KMH, .v_max_ms = a.vmax / RR_KMH, .step_ms = a.step / RR_KMH,
+                         .tol_ms = 1e-3 / RR_KMH, .index_modes = a.index_modes};
+  rr_critical cr;
   int st = rr_modal_ws_new(m, &ws, &e);
-  if (!st) st = rr_critical_speed(m, c.conicity, &c.mo, &co, ws, &v, &found, &e);
+  if (!st) st = rr_critical_speed(m, c.conicity, &c.mo, &co, ws, &cr, &e);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) return cli_fail(&e, st);
-  if (c.json) {
-    cJSON *root = cJSON_CreateObject();
-    if (found) cJSON_AddNumberToObject(root, "critical_speed_kmh", v * 3.6);
-    else cJSON_AddNullToObject(root, "critical_speed_kmh");
-    cJSON_AddBoolToObject(root, "stable_to_range_end", !found);
-    cJSON_AddNumberToObject(root, "conicity", c.conicity);
-    double range[2] = {a.vmin, a.vmax};
-    cJSON_AddItemToObject(root, "range_kmh", cJSON_CreateDoubleArray(range, 2));
-    cli_json_print(root);
-  } else if (found) {
-    printf("%s critical speed at conicity %g: %.3f km/h\n", c.veh.name, c.conicity, v * 3.6);
-  } else {
-    printf("%s at conicity %g: stable to the range's end (%g km/h)\n", c.veh.name, c.conicity, a.vmax);
-  }
+  if (c.json) critical_json(&c, &a, &cr, c.veh.sdf_mode == RR_SDF_PAPER);
+  else critical_text(&c, &a, &cr);
   return 0;
 }
 
@@ -319,19 +374,21 @@ int cmd_locus(int argc, char **argv)
   double *vals = malloc(sizeof(double) * (size_t)a.n);
   rr_locus_point *pts = malloc(sizeof(rr_locus_point) * (size_t)a.n * (size_t)rr_model_state_size(m));
   if (!vals || !pts) { free(vals); free(pts); rr_model_free(m); return cli_bad("out of memory"); }
-  for (int i = 0; i < a.n; i++) vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? 3.6 : 1.0);
+  for (int i = 0; i < a.n; i++) vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? RR_KMH : 1.0);
   rr_error e;
   int nb = 0;
-  int st = rr_locus(m, a.param, vals, a.n, &c.mo, pts, &nb, &e);
-  double v0 = rr_model_speed(m) * 3.6, l0 = rr_model_conicity(m);
+  int st = rr_locus(m, (rr_locus_param)a.param, vals, a.n, &c.mo, pts, &nb, &e);
+  double v0 = rr_model_speed(m) * RR_KMH, l0 = rr_model_conicity(m);
   rr_model_free(m);
   if (st) { free(vals); free(pts); return cli_fail(&e, st); }
   cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
-  if (!c.json) printf("branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets\n");
+  if (!c.json)
+    printf("branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets,"
+           "roll_share,hunting_related\n");
   for (int b = 0; b < nb; b++)
     for (int p = 0; p < a.n; p++) {
       const rr_locus_point *lp = &pts[(size_t)p * nb + b];
-      double sp = a.param == 0 ? lp->param * 3.6 : v0, co = a.param == 1 ? lp->param : l0;
+      double sp = a.param == 0 ? lp->param * RR_KMH : v0, co = a.param == 1 ? lp->param : l0;
       if (c.json) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddNumberToObject(o, "branch", b);
@@ -342,10 +399,12 @@ int cmd_locus(int argc, char **argv)
         cJSON_AddNumberToObject(o, "imag", lp->im);
         cJSON_AddNumberToObject(o, "stability_index", lp->zeta);
         cJSON_AddNumberToObject(o, "mac", lp->mac);
+        cJSON_AddNumberToObject(o, "roll_share", lp->roll_share);
+        cJSON_AddBoolToObject(o, "hunting_related", lp->hunting);
         cJSON_AddItemToArray(arr, o);
       } else {
-        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g\n", b, sp, co, lp->freq_hz, lp->re, lp->im,
-               lp->zeta, lp->mac, lp->energy[0], lp->energy[1], lp->energy[2]);
+        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", b, sp, co, lp->freq_hz, lp->re,
+               lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1], lp->energy[2], lp->roll_share, lp->hunting);
       }
     }
   if (root) cli_json_print(root);
@@ -354,18 +413,35 @@ int cmd_locus(int argc, char **argv)
   return 0;
 }
 
+static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
+{
+  int stable = rr_modal_stable(z->zeta_max);
+  if (!arr) {
+    printf("%.10g,%.10g,%.10g,%.10g,%.10g,%d\n", v, l, z->index, z->index_freq_hz, z->zeta_max, stable);
+    return;
+  }
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "speed_kmh", v);
+  cJSON_AddNumberToObject(o, "conicity", l);
+  cJSON_AddNumberToObject(o, "stability_index", z->index);
+  cJSON_AddNumberToObject(o, "index_freq_hz", z->index_freq_hz);
+  cJSON_AddNumberToObject(o, "zeta_max", z->zeta_max);
+  cJSON_AddBoolToObject(o, "stable", stable);
+  cJSON_AddItemToArray(arr, o);
+}
+
 int cmd_map(int argc, char **argv)
 {
-  static const char help[] = "usage: railride map [VEHICLE] [--speeds FROM:TO:N] [--conicities FROM:TO:N] [--json]\n"
-                             "Vehicle stability index over a speed x conicity grid (paper Fig. 7); defaults\n"
-                             "100:500:41 km/h and 0.02:0.5:25. CSV columns: speed_kmh,conicity,stability_index\n" CLI_COMMON_HELP
-                             "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n";
+  static const char help[] =
+      "usage: railride map [VEHICLE] [--speeds FROM:TO:N] [--conicities FROM:TO:N] [--json]\n"
+      "Vehicle stability index over a speed x conicity grid (paper Fig. 7); defaults\n"
+      "100:500:41 km/h and 0.02:0.5:25. CSV columns:\n"
+      "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n"
+      "(zeta_max: the largest zeta of any oscillatory mode; stable: 1 when it is < 0).\n" CLI_COMMON_HELP
+      "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n";
   static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS}, {"conicities", required_argument, 0, OPT_CONICITIES}, {0, 0, 0, 0}};
   cli_common c;
-  grid_args a;
-  memset(&a, 0, sizeof a);
-  a.s_from = 100; a.s_to = 500; a.s_n = 41;
-  a.c_from = 0.02; a.c_to = 0.5; a.c_n = 25;
+  grid_args a = {.s_from = 100, .s_to = 500, .s_n = 41, .c_from = 0.02, .c_to = 0.5, .c_n = 25};
   RUN_PARSE(extra, grid_cb, &a, help);
   if (!(a.s_from > 0 && a.s_to > 0)) return cli_bad("--speeds: must be > 0");
   if (!(a.c_from >= 0 && a.c_to >= 0)) return cli_bad("--conicities: must be >= 0");
@@ -377,30 +453,21 @@ int cmd_map(int argc, char **argv)
   int st = rr_modal_ws_new(m, &ws, &e);
   if (st) { rr_model_free(m); return cli_fail(&e, st); }
   cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
-  if (!c.json) printf("speed_kmh,conicity,stability_index\n");
+  if (!c.json) printf("speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n");
   /* one speed's conicities at a time, through the batched index */
-  double *vs = malloc(sizeof(double) * (size_t)a.c_n * 3), *ls = vs ? vs + a.c_n : NULL, *zs = ls ? ls + a.c_n : NULL;
-  if (!vs) { rr_modal_ws_free(ws); rr_model_free(m); cJSON_Delete(root); return cli_bad("out of memory"); }
+  double *vs = malloc(sizeof(double) * (size_t)a.c_n * 2), *ls = vs ? vs + a.c_n : NULL;
+  rr_stability *zs = malloc(sizeof *zs * (size_t)a.c_n);
+  if (!vs || !zs) { free(vs); free(zs); rr_modal_ws_free(ws); rr_model_free(m); cJSON_Delete(root); return cli_bad("out of memory"); }
   for (int i = 0; i < a.s_n && !st; i++) {
     for (int j = 0; j < a.c_n; j++) {
-      vs[j] = lin(a.s_from, a.s_to, i, a.s_n) / 3.6;
+      vs[j] = lin(a.s_from, a.s_to, i, a.s_n) / RR_KMH;
       ls[j] = lin(a.c_from, a.c_to, j, a.c_n);
     }
-    if ((st = rr_modal_stability_index_batch(m, &c.mo, ws, a.c_n, vs, ls, zs, &e))) break;
-    for (int j = 0; j < a.c_n; j++) {
-      double v = lin(a.s_from, a.s_to, i, a.s_n), l = ls[j], z = zs[j];
-      if (c.json) {
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddNumberToObject(o, "speed_kmh", v);
-        cJSON_AddNumberToObject(o, "conicity", l);
-        cJSON_AddNumberToObject(o, "stability_index", z);
-        cJSON_AddItemToArray(arr, o);
-      } else {
-        printf("%.10g,%.10g,%.10g\n", v, l, z);
-      }
-    }
+    if ((st = rr_modal_stability_batch(m, &c.mo, ws, a.c_n, vs, ls, zs, &e))) break;
+    for (int j = 0; j < a.c_n; j++) map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), ls[j], &zs[j]);
   }
   free(vs);
+  free(zs);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) { cJSON_Delete(root); return cli_fail(&e, st); }

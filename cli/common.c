@@ -94,6 +94,10 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
     if (cli_number("wmin", arg, "1", &c->mo.w_min)) return -1;
     if (!(c->mo.w_min >= 0 && c->mo.w_min <= 1)) { cli_bad("--wmin: must be within 0..1"); return -1; }
     return 1;
+  case OPT_RMAX:
+    if (cli_number("rmax", arg, "1", &c->mo.r_max)) return -1;
+    if (!(c->mo.r_max >= 0 && c->mo.r_max <= 1)) { cli_bad("--rmax: must be within 0..1"); return -1; }
+    return 1;
   case OPT_SDF:
     if (!strcmp(arg, "none")) c->sdf_override = RR_SDF_NONE;
     else if (!strcmp(arg, "paper")) c->sdf_override = RR_SDF_PAPER;
@@ -125,8 +129,8 @@ int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity)
   rr_error e;
   int st = rr_model_from_vehicle(&c->veh, m, &e);
   if (st) return cli_fail(&e, st);
-  if ((st = rr_model_set_operating(*m, (c->have_speed ? c->speed_kmh : 350) / 3.6,
-                                   c->have_conicity ? c->conicity : 0.17, &e))) {
+  if ((st = rr_model_set_operating(*m, (c->have_speed ? c->speed_kmh : CLI_SPEED_DEFAULT_KMH) / RR_KMH,
+                                   c->have_conicity ? c->conicity : CLI_CONICITY_DEFAULT, &e))) {
     rr_model_free(*m);
     return cli_fail(&e, st);
   }
@@ -190,4 +194,18 @@ static int parse_impl(int argc, char **argv, cli_common *c, const struct option 
     return EXIT_BADINPUT;
   }
   return cli_load_vehicle(c, argc, argv);
+}
+
+void cli_csv_field(FILE *fp, const char *text, char sep)
+{
+  if (!strpbrk(text, ",\"\r\n")) {
+    fprintf(fp, "%s%c", text, sep);
+    return;
+  }
+  fputc('"', fp);
+  for (const char *p = text; *p; p++) {
+    if (*p == '"') fputc('"', fp);
+    fputc(*p, fp);
+  }
+  fprintf(fp, "\"%c", sep);
 }

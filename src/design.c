@@ -1,4 +1,5 @@
 /* Design contexts: allocation-free evaluation of objectives for optimisers. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,10 +10,16 @@
 #include "railride/comfort.h"
 #include "railride/design.h"
 #include "railride/modal.h"
+#include "railride/stability.h"
 #include "railride/pem.h"
 #include "railride/spectrum.h"
 #include "model_impl.h"
 #include "internal.h"
+
+/* One model per SDF variant an objective asks for: the vehicle's own, none,
+   paper, physical. */
+#define MAX_MODELS 4
+enum { MO_FMAX = 1, MO_WMIN = 2, MO_RMAX = 4 };
 
 enum obj_kind { OBJ_ZETA_LOW, OBJ_ZETA_HIGH, OBJ_STD_ZETA, OBJ_INDEX, OBJ_CRITICAL, OBJ_SPERLING, OBJ_SPERLING_GB,
                 OBJ_WD_RMS, OBJ_RMS };
@@ -22,6 +29,10 @@ typedef struct objective {
   int kind, sdf;             /* sdf: -1 keeps the vehicle's */
   double speed_ms, conicity, x;
   char spectrum[64];
+  rr_modal_opts mo;          /* the index's rule; fields set by modifiers flagged in mo_set */
+  unsigned mo_set;
+  int index_modes;           /* critical_speed: only the index's modes count */
+  double freq_hz;            /* frequency of the mode behind the last value (NaN if none) */
   int model;                 /* index into the design's models */
   /* ride resources */
   rr_frf_plan *plan;
@@ -36,65 +47,115 @@ struct rr_design {
   const rr_vehicle_key *key[RR_DESIGN_MAX_VARS];
   char objtext[RR_DESIGN_MAX_OBJS][128];
   objective obj[RR_DESIGN_MAX_OBJS];
+  rr_modal_opts mo;          /* the rule of objectives without modifiers */
   int nmodels;
-  int model_sdf[3];          /* sdf mode of each model (-1: the vehicle's) */
-  rr_model *model[3];
-  rr_modal_ws *ws[3];
+  int model_sdf[MAX_MODELS]; /* sdf mode of each model (-1: the vehicle's) */
+  rr_model *model[MAX_MODELS];
+  rr_modal_ws *ws[MAX_MODELS];
   rr_system *scratch;
   int nclones;
   rr_design **clones;
 };
 
+static const struct objective_name {
+  const char *name;
+  int kind, nargs_min, nargs_max;
+} objective_names[] = {
+  {"zeta_low", OBJ_ZETA_LOW, 0, 0},   {"zeta_high", OBJ_ZETA_HIGH, 0, 0}, {"std_zeta", OBJ_STD_ZETA, 0, 0},
+  {"index", OBJ_INDEX, 2, 2},         {"critical_speed", OBJ_CRITICAL, 1, 1}, {"sperling", OBJ_SPERLING, 2, 3},
+  {"sperling_gb", OBJ_SPERLING_GB, 2, 3}, {"wd_rms", OBJ_WD_RMS, 2, 3},   {"rms", OBJ_RMS, 2, 3},
+};
+#define NOBJ_NAMES (int)(sizeof objective_names / sizeof objective_names[0])
+
+static int is_ride(int kind) { return kind >= OBJ_SPERLING; }
+static int is_stability(int kind) { return !is_ride(kind); }
+
+/* A finite number, the whole token. */
+static int number(const char *t, double *v)
+{
+  char *end;
+  *v = strtod(t, &end);
+  return end != t && !*end && isfinite(*v) ? 0 : -1;
+}
+
+static int parse_args(char *at, const struct objective_name *nm, objective *o, rr_error *err)
+{
+  double a[3] = {0, 0, 0};
+  int na = 0;
+  char *sv;
+  for (char *t = at ? strtok_r(at, ",", &sv) : NULL; t; t = strtok_r(NULL, ",", &sv)) {
+    if (na >= 3) return rr_seterr(err, RR_EINVAL, "objective '%s': too many arguments", o->text);
+    if (number(t, &a[na++])) return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' is not a number", o->text, t);
+  }
+  if (na < nm->nargs_min || na > nm->nargs_max)
+    return rr_seterr(err, RR_EINVAL, "objective '%s': %d to %d arguments expected after '@'", o->text,
+                     nm->nargs_min, nm->nargs_max);
+  if (o->kind == OBJ_CRITICAL) o->conicity = a[0];
+  else if (na >= 2) { o->speed_ms = a[0] / RR_KMH; o->conicity = a[1]; o->x = na == 3 ? a[2] : 0; }
+  if (na >= 2 && !(o->speed_ms > 0 && o->speed_ms <= RR_SPEED_MAX_MS))
+    return rr_seterr(err, RR_EINVAL, "objective '%s': speed must be within (0, %g] km/h", o->text,
+                     RR_SPEED_MAX_MS * RR_KMH);
+  if (!(o->conicity >= 0 && o->conicity <= RR_CONICITY_MAX))
+    return rr_seterr(err, RR_EINVAL, "objective '%s': conicity must be within [0, %g]", o->text, RR_CONICITY_MAX);
+  return RR_OK;
+}
+
+static int parse_rule(const char *t, objective *o, rr_error *err)
+{
+  double v;
+  const char *eq = strchr(t, '=');
+  if (!eq || number(eq + 1, &v)) return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' needs a number", o->text, t);
+  size_t k = (size_t)(eq - t);
+  if (k == 4 && !strncmp(t, "fmax", 4) && v > 0) { o->mo.fmax_hz = v; o->mo_set |= MO_FMAX; }
+  else if (k == 4 && !strncmp(t, "wmin", 4) && v >= 0 && v <= 1) { o->mo.w_min = v; o->mo_set |= MO_WMIN; }
+  else if (k == 4 && !strncmp(t, "rmax", 4) && v >= 0 && v <= 1) { o->mo.r_max = v; o->mo_set |= MO_RMAX; }
+  else return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' out of range (fmax > 0 Hz, wmin and rmax in 0..1)",
+                        o->text, t);
+  return RR_OK;
+}
+
+static int parse_option(const char *t, objective *o, rr_error *err)
+{
+  if (!strncmp(t, "sdf=", 4)) {
+    if (!strcmp(t + 4, "none")) o->sdf = RR_SDF_NONE;
+    else if (!strcmp(t + 4, "paper")) o->sdf = RR_SDF_PAPER;
+    else if (!strcmp(t + 4, "physical")) o->sdf = RR_SDF_PHYSICAL;
+    else return rr_seterr(err, RR_EINVAL, "objective '%s': sdf must be none, paper or physical", o->text);
+    return RR_OK;
+  }
+  if (!strncmp(t, "spectrum=", 9) && is_ride(o->kind)) {
+    snprintf(o->spectrum, sizeof o->spectrum, "%s", t + 9);
+    return RR_OK;
+  }
+  if (!strcmp(t, "index_modes") && o->kind == OBJ_CRITICAL) { o->index_modes = 1; return RR_OK; }
+  if (is_stability(o->kind) && (!strncmp(t, "fmax=", 5) || !strncmp(t, "wmin=", 5) || !strncmp(t, "rmax=", 5)))
+    return parse_rule(t, o, err);
+  return rr_seterr(err, RR_EINVAL, "objective '%s': unknown option '%s' for this objective", o->text, t);
+}
+
 static int parse_objective(const char *text, objective *o, rr_error *err)
 {
-  memset(o, 0, sizeof *o);
+  *o = (objective){.sdf = -1, .mo = rr_modal_opts_default(), .freq_hz = NAN};
   snprintf(o->text, sizeof o->text, "%s", text);
-  o->sdf = -1;
   snprintf(o->spectrum, sizeof o->spectrum, "wuhan-guangzhou");
+  if (strlen(text) >= sizeof o->text) return rr_seterr(err, RR_EINVAL, "objective '%.40s...': too long", text);
   char buf[128];
   snprintf(buf, sizeof buf, "%s", text);
   char *opts = strchr(buf, ';');
   if (opts) *opts++ = 0;
   char *at = strchr(buf, '@');
   if (at) *at++ = 0;
-  static const struct { const char *name; int kind, nargs_min, nargs_max; } names[] = {
-    {"zeta_low", OBJ_ZETA_LOW, 0, 0}, {"zeta_high", OBJ_ZETA_HIGH, 0, 0}, {"std_zeta", OBJ_STD_ZETA, 0, 0},
-    {"index", OBJ_INDEX, 2, 2}, {"critical_speed", OBJ_CRITICAL, 1, 1}, {"sperling", OBJ_SPERLING, 2, 3},
-    {"sperling_gb", OBJ_SPERLING_GB, 2, 3}, {"wd_rms", OBJ_WD_RMS, 2, 3}, {"rms", OBJ_RMS, 2, 3},
-  };
-  int k = -1;
-  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-    if (!strcmp(buf, names[i].name)) k = (int)i;
-  if (k < 0) return rr_seterr(err, RR_EINVAL, "objective '%s': unknown name (zeta_low, zeta_high, std_zeta, index@, critical_speed@, sperling@, sperling_gb@, wd_rms@, rms@)", text);
-  o->kind = names[k].kind;
-  double a[3] = {0, 0, 0};
-  int na = 0;
-  if (at) {
-    for (char *t = strtok(at, ","); t; t = strtok(NULL, ",")) {
-      if (na >= 3) return rr_seterr(err, RR_EINVAL, "objective '%s': too many arguments", text);
-      char *end;
-      a[na] = strtod(t, &end);
-      if (end == t || *end || !isfinite(a[na])) return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' is not a number", text, t);
-      na++;
-    }
-  }
-  if (na < names[k].nargs_min || na > names[k].nargs_max)
-    return rr_seterr(err, RR_EINVAL, "objective '%s': %d to %d arguments expected after '@'", text, names[k].nargs_min, names[k].nargs_max);
-  if (o->kind == OBJ_CRITICAL) o->conicity = a[0];
-  else if (na >= 2) { o->speed_ms = a[0] / 3.6; o->conicity = a[1]; o->x = na == 3 ? a[2] : 0; }
-  if (na >= 2 && !(o->speed_ms > 0)) return rr_seterr(err, RR_EINVAL, "objective '%s': speed must be > 0 km/h", text);
-  if (o->conicity < 0) return rr_seterr(err, RR_EINVAL, "objective '%s': conicity must be >= 0", text);
-  for (char *t = opts ? strtok(opts, ";") : NULL; t; t = strtok(NULL, ";")) {
-    if (!strncmp(t, "sdf=", 4)) {
-      if (!strcmp(t + 4, "none")) o->sdf = RR_SDF_NONE;
-      else if (!strcmp(t + 4, "paper")) o->sdf = RR_SDF_PAPER;
-      else if (!strcmp(t + 4, "physical")) o->sdf = RR_SDF_PHYSICAL;
-      else return rr_seterr(err, RR_EINVAL, "objective '%s': sdf must be none, paper or physical", text);
-    } else if (!strncmp(t, "spectrum=", 9)) {
-      snprintf(o->spectrum, sizeof o->spectrum, "%s", t + 9);
-    } else return rr_seterr(err, RR_EINVAL, "objective '%s': unknown option '%s'", text, t);
-  }
-  return RR_OK;
+  const struct objective_name *nm = NULL;
+  for (int i = 0; i < NOBJ_NAMES; i++)
+    if (!strcmp(buf, objective_names[i].name)) nm = &objective_names[i];
+  if (!nm)
+    return rr_seterr(err, RR_EINVAL, "objective '%s': unknown name (railride objectives lists them)", text);
+  o->kind = nm->kind;
+  int st = parse_args(at, nm, o, err);
+  char *sv;
+  for (char *t = opts && !st ? strtok_r(opts, ";", &sv) : NULL; t && !st; t = strtok_r(NULL, ";", &sv))
+    st = parse_option(t, o, err);
+  return st;
 }
 
 void rr_design_free(rr_design *d)
@@ -108,8 +169,6 @@ void rr_design_free(rr_design *d)
   free(d);
 }
 
-static int is_ride(int kind) { return kind >= OBJ_SPERLING; }
-
 /* The vehicle as a model variant sees it. */
 static void variant(const rr_design *d, int sdf, rr_vehicle *v)
 {
@@ -117,12 +176,57 @@ static void variant(const rr_design *d, int sdf, rr_vehicle *v)
   if (sdf >= 0) v->sdf_mode = sdf;
 }
 
-int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj, const char *const *objectives,
-                  rr_design **out, rr_error *err)
+/* The model slot of an SDF variant, made on first use. */
+static int model_slot(rr_design *d, int sdf, const char *text, int *slot, rr_error *err)
+{
+  for (int j = 0; j < d->nmodels; j++)
+    if (d->model_sdf[j] == sdf) { *slot = j; return RR_OK; }
+  if (d->nmodels >= MAX_MODELS) return rr_seterr(err, RR_EINVAL, "objective '%s': too many SDF variants", text);
+  rr_vehicle v;
+  variant(d, sdf, &v);
+  if (v.sdf_mode != RR_SDF_NONE && v.sdf.kind == RR_CURVE_UNSET)
+    return rr_seterr(err, RR_EINVAL, "objective '%s': the vehicle has no SDF curve", text);
+  int m = d->nmodels++, st;
+  d->model_sdf[m] = sdf;
+  if ((st = rr_model_from_vehicle(&v, &d->model[m], err))) return st;
+  if ((st = rr_modal_ws_new(d->model[m], &d->ws[m], err))) return st;
+  *slot = m;
+  return RR_OK;
+}
+
+/* Models, workspaces and frequency-response plans for the parsed objectives
+   (the spectra are already in them). */
+static int build(rr_design *d, rr_error *err)
+{
+  int st;
+  d->scratch = rr_system_new();
+  if (!d->scratch) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  for (int i = 0; i < d->nobj; i++) {
+    objective *o = &d->obj[i];
+    if ((st = model_slot(d, o->sdf, o->text, &o->model, err))) return st;
+    if (!is_ride(o->kind)) continue;
+    double row[RR_SYS_MAX_DOF], pt[1] = {o->x};
+    rr_model *mm = d->model[o->model];
+    if ((st = rr_vehicle_floor_rows(mm, &d->cur, pt, 1, RR_FLOOR_HEIGHT_DEFAULT, 0, row, NULL, err))) return st;
+    rr_frf_opts fo = rr_frf_opts_default();
+    fo.npoints = 1;
+    fo.rows = row;
+    if ((st = rr_frf_plan_new(mm, &fo, &o->plan, err))) return st;
+    o->G = malloc(sizeof(double) * (size_t)fo.nfreq);
+    if (!o->G) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
+  return RR_OK;
+}
+
+/* A context with the base vehicle and keys set and nothing built. */
+static int context(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj, rr_design **out,
+                   rr_error *err)
 {
   *out = NULL;
-  if (nvar < 0 || nvar > RR_DESIGN_MAX_VARS) return rr_seterr(err, RR_EINVAL, "design: 0 to %d variables", RR_DESIGN_MAX_VARS);
-  if (nobj < 1 || nobj > RR_DESIGN_MAX_OBJS) return rr_seterr(err, RR_EINVAL, "design: 1 to %d objectives", RR_DESIGN_MAX_OBJS);
+  if (nvar < 0 || nvar > RR_DESIGN_MAX_VARS)
+    return rr_seterr(err, RR_EINVAL, "design: 0 to %d variables", RR_DESIGN_MAX_VARS);
+  if (nobj < 1 || nobj > RR_DESIGN_MAX_OBJS)
+    return rr_seterr(err, RR_EINVAL, "design: 1 to %d objectives", RR_DESIGN_MAX_OBJS);
   int st = rr_vehicle_check(base, err);
   if (st) return st;
   rr_design *d = calloc(1, sizeof *d);
@@ -130,65 +234,162 @@ int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys,
   d->base = d->cur = *base;
   d->nvar = nvar;
   d->nobj = nobj;
-  for (int i = 0; i < nvar; i++) {
-    snprintf(d->keys[i], sizeof d->keys[i], "%s", var_keys[i]);
-    d->key[i] = rr_vehicle_key_find(var_keys[i]);
-    if (!d->key[i]) { st = rr_seterr(err, RR_EINVAL, "design variable '%s': not a numeric vehicle-file key (section.key)", var_keys[i]); goto fail; }
-  }
-  for (int i = 0; i < nobj; i++) {
-    snprintf(d->objtext[i], sizeof d->objtext[i], "%s", objectives[i]);
-    if ((st = parse_objective(objectives[i], &d->obj[i], err))) goto fail;
-  }
-  d->scratch = rr_system_new();
-  if (!d->scratch) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto fail; }
-  for (int i = 0; i < nobj; i++) {
-    objective *o = &d->obj[i];
-    int m = -1;
-    for (int j = 0; j < d->nmodels; j++)
-      if (d->model_sdf[j] == o->sdf) m = j;
-    if (m < 0) {
-      m = d->nmodels++;
-      d->model_sdf[m] = o->sdf;
-      rr_vehicle v;
-      variant(d, o->sdf, &v);
-      if (v.sdf_mode != RR_SDF_NONE && v.sdf.kind == RR_CURVE_UNSET) {
-        st = rr_seterr(err, RR_EINVAL, "objective '%s': the vehicle has no SDF curve", o->text);
-        goto fail;
-      }
-      /* room for every SDF state whatever the variables do */
-      rr_vehicle vm = v;
-      if ((st = rr_model_from_vehicle(&vm, &d->model[m], err))) goto fail;
-      if ((st = rr_modal_ws_new(d->model[m], &d->ws[m], err))) goto fail;
-    }
-    o->model = m;
-    if (is_ride(o->kind)) {
-      if ((st = rr_spectrum_open(o->spectrum, &o->sp, err))) goto fail;
-      double row[RR_SYS_MAX_DOF], pt[1] = {o->x};
-      rr_model *mm = d->model[m];
-      if ((st = rr_vehicle_floor_rows(mm, &d->cur, pt, 1, 1.2, 0, row, NULL, err))) goto fail;
-      rr_frf_opts fo = {400, NULL, 0.3, 30, 1, row, NULL, RR_FRF_MODAL};
-      if ((st = rr_frf_plan_new(mm, &fo, &o->plan, err))) goto fail;
-      o->G = malloc(sizeof(double) * 400);
-      if (!o->G) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto fail; }
-    }
-  }
+  d->mo = rr_modal_opts_default();
   *out = d;
+  for (int i = 0; i < nvar; i++) {
+    d->key[i] = rr_vehicle_key_find(var_keys[i]);
+    if (!d->key[i])
+      return rr_seterr(err, RR_EINVAL, "design variable '%s': not a numeric vehicle-file key (section.key)",
+                       var_keys[i]);
+    for (int j = 0; j < i; j++)
+      if (d->key[j] == d->key[i]) return rr_seterr(err, RR_EINVAL, "design variable '%s': listed twice", var_keys[i]);
+    snprintf(d->keys[i], sizeof d->keys[i], "%s", var_keys[i]);
+  }
   return RR_OK;
-fail:
-  rr_design_free(d);
-  return st;
 }
 
+int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj,
+                  const char *const *objectives, rr_design **out, rr_error *err)
+{
+  rr_design *d;
+  int st = context(base, nvar, var_keys, nobj, &d, err);
+  for (int i = 0; i < nobj && !st; i++) {
+    snprintf(d->objtext[i], sizeof d->objtext[i], "%s", objectives[i]);
+    if ((st = parse_objective(objectives[i], &d->obj[i], err))) break;
+    if (is_ride(d->obj[i].kind)) st = rr_spectrum_open(d->obj[i].spectrum, &d->obj[i].sp, err);
+  }
+  if (!st) st = build(d, err);
+  if (st) { rr_design_free(d); return st; }
+  *out = d;
+  return RR_OK;
+}
+
+/* A copy of what the parent parsed (objectives, spectra, rule): no file is
+   read again. */
 int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
 {
-  const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
+  const char *keys[RR_DESIGN_MAX_VARS];
   for (int i = 0; i < d->nvar; i++) keys[i] = d->keys[i];
-  for (int i = 0; i < d->nobj; i++) objs[i] = d->objtext[i];
-  return rr_design_new(&d->base, d->nvar, keys, d->nobj, objs, out, err);
+  rr_design *c;
+  int st = context(&d->base, d->nvar, keys, d->nobj, &c, err);
+  if (!st) {
+    c->mo = d->mo;
+    for (int i = 0; i < d->nobj; i++) {
+      memcpy(c->objtext[i], d->objtext[i], sizeof c->objtext[i]);
+      c->obj[i] = d->obj[i];
+      c->obj[i].plan = NULL;
+      c->obj[i].G = NULL;
+    }
+    st = build(c, err);
+  }
+  if (st) { rr_design_free(c); return st; }
+  *out = c;
+  return RR_OK;
+}
+
+int rr_design_set_modal_opts(rr_design *d, const rr_modal_opts *o, rr_error *err)
+{
+  if (!(o->fmax_hz > 0 && o->w_min >= 0 && o->w_min <= 1 && o->r_max >= 0 && o->r_max <= 1))
+    return rr_seterr(err, RR_EINVAL, "design: fmax must be > 0, w_min and r_max within 0..1");
+  d->mo = *o;
+  for (int i = 0; i < d->nclones; i++) d->clones[i]->mo = *o;
+  return RR_OK;
 }
 
 int rr_design_nvar(const rr_design *d) { return d->nvar; }
 int rr_design_nobj(const rr_design *d) { return d->nobj; }
+
+double rr_design_mode_freq(const rr_design *d, int i)
+{
+  return i >= 0 && i < d->nobj ? d->obj[i].freq_hz : NAN;
+}
+
+/* The rule an objective uses: the context's, with its own modifiers. */
+static rr_modal_opts rule_of(const rr_design *d, const objective *o)
+{
+  rr_modal_opts mo = d->mo;
+  if (o->mo_set & MO_FMAX) mo.fmax_hz = o->mo.fmax_hz;
+  if (o->mo_set & MO_WMIN) mo.w_min = o->mo.w_min;
+  if (o->mo_set & MO_RMAX) mo.r_max = o->mo.r_max;
+  return mo;
+}
+
+static int same_rule(const rr_modal_opts *a, const rr_modal_opts *b)
+{
+  return a->fmax_hz == b->fmax_hz && a->w_min == b->w_min && a->r_max == b->r_max && a->tracking == b->tracking;
+}
+
+/* Robust indices, shared by the objectives of one model and rule. */
+typedef struct robust_cache {
+  int n, model[RR_DESIGN_MAX_OBJS];
+  rr_modal_opts mo[RR_DESIGN_MAX_OBJS];
+  rr_robust rb[RR_DESIGN_MAX_OBJS];
+} robust_cache;
+
+static int robust_value(rr_design *d, const objective *o, const rr_modal_opts *mo, robust_cache *rc, double *f,
+                        rr_error *err)
+{
+  int k = 0;
+  while (k < rc->n && !(rc->model[k] == o->model && same_rule(&rc->mo[k], mo))) k++;
+  if (k == rc->n) {
+    int st = rr_robust_indices(d->model[o->model], mo, NULL, d->ws[o->model], &rc->rb[k], err);
+    if (st) return st;
+    rc->model[k] = o->model;
+    rc->mo[k] = *mo;
+    rc->n++;
+  }
+  const rr_robust *rb = &rc->rb[k];
+  *f = o->kind == OBJ_ZETA_LOW ? rb->zeta_low : o->kind == OBJ_ZETA_HIGH ? rb->zeta_high : rb->std_zeta;
+  return RR_OK;
+}
+
+static int ride_value(objective *o, rr_model *m, double *f, rr_error *err)
+{
+  int st;
+  if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
+  if ((st = rr_frf_plan_execute(o->plan, m, err))) return st;
+  if ((st = rr_pem_psd(o->plan, m, &o->sp, o->G, err))) return st;
+  const double *fr = rr_frf_freqs(o->plan);
+  int nf = rr_frf_nfreq(o->plan);
+  switch (o->kind) {
+  case OBJ_SPERLING: return rr_sperling_filter_index(fr, o->G, nf, 1, RR_AXIS_LATERAL, f, err);
+  case OBJ_SPERLING_GB: return rr_sperling_gb_index(fr, o->G, nf, 1, RR_AXIS_LATERAL, f, err);
+  case OBJ_WD_RMS: return rr_weighted_rms(fr, o->G, nf, 1, RR_ISO_WD, f, err);
+  default: *f = rr_psd_rms(fr, o->G, nf, 1); return RR_OK;
+  }
+}
+
+static int objective_value(rr_design *d, objective *o, robust_cache *rc, double *f, rr_error *err)
+{
+  rr_model *m = d->model[o->model];
+  rr_modal_ws *ws = d->ws[o->model];
+  rr_modal_opts mo = rule_of(d, o);
+  int st;
+  o->freq_hz = NAN;
+  switch (o->kind) {
+  case OBJ_ZETA_LOW:
+  case OBJ_ZETA_HIGH:
+  case OBJ_STD_ZETA: return robust_value(d, o, &mo, rc, f, err);
+  case OBJ_INDEX: {
+    rr_stability s;
+    if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
+    if ((st = rr_modal_stability(m, &mo, ws, &s, err))) return st;
+    *f = s.index;
+    o->freq_hz = s.index_freq_hz;
+    return RR_OK;
+  }
+  case OBJ_CRITICAL: {
+    rr_critical_opts co = rr_critical_opts_default();
+    rr_critical cr;
+    co.index_modes = o->index_modes;
+    if ((st = rr_critical_speed(m, o->conicity, &mo, &co, ws, &cr, err))) return st;
+    *f = cr.found ? cr.speed_ms * RR_KMH : co.v_max_ms * RR_KMH;
+    o->freq_hz = cr.found ? cr.mode.freq_hz : NAN;
+    return RR_OK;
+  }
+  default: return ride_value(o, m, f, err);
+  }
+}
 
 int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
 {
@@ -200,49 +401,15 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
     *rr_vehicle_field(&d->cur, d->key[i]) = x[i];
   }
   if ((st = rr_vehicle_check(&d->cur, err))) return st;
-  for (int m = 0; m < d->nmodels; m++) {
+  for (int m = 0; m < d->nmodels && !st; m++) {
     rr_vehicle v;
     variant(d, d->model_sdf[m], &v);
-    if ((st = rr_model_rebuild(d->model[m], &v, d->scratch, err))) return st;
+    st = rr_model_rebuild(d->model[m], &v, d->scratch, err);
   }
-  int robust_done[3] = {0, 0, 0};
-  rr_robust rb[3];
-  rr_modal_opts mo = rr_modal_opts_default();
-  for (int i = 0; i < d->nobj && !st; i++) {
-    objective *o = &d->obj[i];
-    rr_model *m = d->model[o->model];
-    rr_modal_ws *ws = d->ws[o->model];
-    switch (o->kind) {
-    case OBJ_ZETA_LOW:
-    case OBJ_ZETA_HIGH:
-    case OBJ_STD_ZETA:
-      if (!robust_done[o->model]) {
-        if ((st = rr_robust_indices(m, &mo, NULL, ws, &rb[o->model], err))) break;
-        robust_done[o->model] = 1;
-      }
-      f[i] = o->kind == OBJ_ZETA_LOW ? rb[o->model].zeta_low : o->kind == OBJ_ZETA_HIGH ? rb[o->model].zeta_high : rb[o->model].std_zeta;
-      break;
-    case OBJ_INDEX:
-      if (!(st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) st = rr_modal_stability_index(m, &mo, ws, &f[i], err);
-      break;
-    case OBJ_CRITICAL: {
-      double v;
-      int found;
-      if (!(st = rr_critical_speed(m, o->conicity, &mo, NULL, ws, &v, &found, err))) f[i] = found ? v * 3.6 : 600;
-      break;
-    }
-    default: {
-      if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) break;
-      if ((st = rr_frf_plan_execute(o->plan, m, err))) break;
-      if ((st = rr_pem_psd(o->plan, m, &o->sp, o->G, err))) break;
-      const double *fr = rr_frf_freqs(o->plan);
-      if (o->kind == OBJ_SPERLING) st = rr_sperling_filter_index(fr, o->G, 400, 1, RR_AXIS_LATERAL, &f[i], err);
-      else if (o->kind == OBJ_SPERLING_GB) st = rr_sperling_gb_index(fr, o->G, 400, 1, RR_AXIS_LATERAL, &f[i], err);
-      else if (o->kind == OBJ_WD_RMS) st = rr_weighted_rms(fr, o->G, 400, 1, RR_ISO_WD, &f[i], err);
-      else f[i] = rr_psd_rms(fr, o->G, 400, 1);
-    }
-    }
-  }
+  robust_cache rc = {.n = 0};
+  for (int i = 0; i < d->nobj && !st; i++) st = objective_value(d, &d->obj[i], &rc, &f[i], err);
+  for (int i = 0; i < d->nobj && !st; i++)
+    if (!isfinite(f[i])) st = rr_seterr(err, RR_ENOCONV, "objective '%s' is not finite", d->obj[i].text);
   if (st)
     for (int i = 0; i < d->nobj; i++) f[i] = NAN;
   return st;
@@ -294,8 +461,9 @@ rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *
   int nk = 0, no = 0;
   snprintf(kb, sizeof kb, "%s", keys_nl ? keys_nl : "");
   snprintf(ob, sizeof ob, "%s", objectives_nl ? objectives_nl : "");
-  for (char *t = strtok(kb, "\n"); t && nk < RR_DESIGN_MAX_VARS; t = strtok(NULL, "\n")) keys[nk++] = t;
-  for (char *t = strtok(ob, "\n"); t && no < RR_DESIGN_MAX_OBJS; t = strtok(NULL, "\n")) objs[no++] = t;
+  char *sv;
+  for (char *t = strtok_r(kb, "\n", &sv); t && nk < RR_DESIGN_MAX_VARS; t = strtok_r(NULL, "\n", &sv)) keys[nk++] = t;
+  for (char *t = strtok_r(ob, "\n", &sv); t && no < RR_DESIGN_MAX_OBJS; t = strtok_r(NULL, "\n", &sv)) objs[no++] = t;
   int st = rr_vehicle_open(vehicle && *vehicle ? vehicle : NULL, &v, &e);
   if (!st) st = rr_design_new(&v, nk, keys, no, objs, &d, &e);
   if (st && errbuf && errlen > 0) snprintf(errbuf, (size_t)errlen, "%s", e.msg);

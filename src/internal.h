@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 #include "railride/error.h"
+#include "railride/model.h"
 
 #if defined(__GNUC__)
 #define RR_PRINTF(a, b) __attribute__((format(printf, a, b)))
@@ -14,7 +15,6 @@
 /* Fills err (when non-NULL) and returns code. */
 int rr_seterr(rr_error *err, int code, const char *fmt, ...) RR_PRINTF(3, 4);
 
-#define RR_PI 3.14159265358979323846
 #define RR_G 9.81
 
 #endif

@@ -87,8 +87,10 @@ rr_model *rr_model_clone(const rr_model *m)
 
 int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
 {
-  if (!(isfinite(v) && v > 0)) return rr_seterr(err, RR_EINVAL, "speed must be finite and > 0 (got %g m/s)", v);
-  if (!(isfinite(lambda) && lambda >= 0)) return rr_seterr(err, RR_EINVAL, "conicity must be finite and >= 0 (got %g)", lambda);
+  if (!(v > 0 && v <= RR_SPEED_MAX_MS))
+    return rr_seterr(err, RR_EINVAL, "speed %g km/h outside (0, %g] km/h", v * RR_KMH, RR_SPEED_MAX_MS * RR_KMH);
+  if (!(lambda >= 0 && lambda <= RR_CONICITY_MAX))
+    return rr_seterr(err, RR_EINVAL, "conicity %g outside [0, %g]", lambda, RR_CONICITY_MAX);
   int n = m->n, ni = m->ni;
   m->speed = v;
   m->conicity = lambda;

@@ -48,13 +48,20 @@ void rr_frf_plan_free(rr_frf_plan *p)
   free(p);
 }
 
+rr_frf_opts rr_frf_opts_default(void)
+{
+  return (rr_frf_opts){.nfreq = RR_FRF_NFREQ_DEFAULT, .freqs_hz = NULL, .f_lo_hz = RR_FRF_F_LO_DEFAULT,
+                       .f_hi_hz = RR_FRF_F_HI_DEFAULT, .npoints = 0, .rows = NULL, .rows0 = NULL,
+                       .method = RR_FRF_MODAL};
+}
+
 int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, rr_error *err)
 {
   *out = NULL;
   if (!o || o->npoints < 1 || !o->rows) return rr_seterr(err, RR_EINVAL, "frf: at least one output row is needed");
-  int nf = o->nfreq > 0 ? o->nfreq : 400;
+  int nf = o->nfreq > 0 ? o->nfreq : RR_FRF_NFREQ_DEFAULT;
   if (!o->freqs_hz) {
-    double lo = o->f_lo_hz > 0 ? o->f_lo_hz : 0.3, hi = o->f_hi_hz > 0 ? o->f_hi_hz : 30;
+    double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT, hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
     if (!(hi > lo) && nf > 1) return rr_seterr(err, RR_EINVAL, "frf: need 0 < f_lo < f_hi");
   }
   if (o->method != RR_FRF_MODAL && o->method != RR_FRF_DIRECT && o->method != RR_FRF_MODAL_LAPACK) return rr_seterr(err, RR_EINVAL, "frf: unknown method");
@@ -108,7 +115,7 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   for (int i = 0; i < nf; i++) {
     if (o->freqs_hz) p->f[i] = o->freqs_hz[i];
     else {
-      double lo = o->f_lo_hz > 0 ? o->f_lo_hz : 0.3, hi = o->f_hi_hz > 0 ? o->f_hi_hz : 30;
+      double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT, hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
       p->f[i] = nf == 1 ? lo : lo * pow(hi / lo, (double)i / (nf - 1));
     }
     if (!(isfinite(p->f[i]) && p->f[i] > 0)) { rr_frf_plan_free(p); return rr_seterr(err, RR_EINVAL, "frf: frequencies must be > 0"); }

@@ -3,26 +3,30 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "railride/modal.h"
+#include "railride/stability.h"
+#include "modal_impl.h"
 #include "internal.h"
 
 rr_robust_opts rr_robust_opts_default(void)
 {
-  rr_robust_opts r = {250 / 3.6, 0.05, 350 / 3.6, 0.40, 0.05, 0.40, 8};
-  return r;
-}
-
-static int index_at(rr_model *m, double v, double lam, const rr_modal_opts *o, rr_modal_ws *ws, double *z, rr_error *err)
-{
-  int st = rr_model_set_operating(m, v, lam, err);
-  if (st) return st;
-  return rr_modal_stability_index(m, o, ws, z, err);
+  return (rr_robust_opts){.v_low_ms = 250 / RR_KMH, .conicity_low = 0.05, .v_high_ms = 350 / RR_KMH,
+                          .conicity_high = 0.40, .conicity_min = 0.05, .conicity_max = 0.40, .n_conicity = 8};
 }
 
 static double sweep_conicity(const rr_robust_opts *r, int i)
 {
   int nc = r->n_conicity;
   return nc == 1 ? r->conicity_min : r->conicity_min + (r->conicity_max - r->conicity_min) * i / (nc - 1);
+}
+
+/* The verdict over the robust points (any oscillatory mode, docs/model.md). */
+static void robust_verdict(rr_robust *out, const rr_stability *s, double v, double lam)
+{
+  if (s->zeta_max > out->zeta_max) out->zeta_max = s->zeta_max;
+  if (!rr_modal_stable(s->zeta_max) && out->n_unstable++ == 0) {
+    out->unstable_speed_ms = v;
+    out->unstable_conicity = lam;
+  }
 }
 
 int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r, rr_modal_ws *ws,
@@ -38,22 +42,25 @@ int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts 
   int reuse = sweep_conicity(r, nc - 1) == r->conicity_high;
   int npts = 2 + nc - reuse;
   double sum = 0, sum2 = 0;
+  *out = (rr_robust){.zeta_max = -1, .unstable_speed_ms = NAN, .unstable_conicity = NAN};
   enum { CHUNK = 16 };   /* points per call: the call groups them in lanes */
   for (int p0 = 0; p0 < npts; p0 += CHUNK) {
-    double v[CHUNK], lam[CHUNK], z[CHUNK];
+    double v[CHUNK], lam[CHUNK];
+    rr_stability z[CHUNK];
     int nb = npts - p0 < CHUNK ? npts - p0 : CHUNK;
     for (int c = 0; c < nb; c++) {
-      int p = p0 + c, i = p - 2;
+      int p = p0 + c;
       v[c] = p == 0 ? r->v_low_ms : r->v_high_ms;
-      lam[c] = p == 0 ? r->conicity_low : p == 1 ? r->conicity_high : sweep_conicity(r, i);
+      lam[c] = p == 0 ? r->conicity_low : p == 1 ? r->conicity_high : sweep_conicity(r, p - 2);
     }
-    int st = rr_modal_stability_index_batch(m, o, ws, nb, v, lam, z, err);
+    int st = rr_modal_stability_batch(m, o, ws, nb, v, lam, z, err);
     if (st) return st;
     for (int c = 0; c < nb; c++) {
       int p = p0 + c;
-      if (p == 0) out->zeta_low = z[c];
-      if (p == 1) out->zeta_high = z[c];
-      if (p >= 2) { sum += z[c]; sum2 += z[c] * z[c]; }
+      if (p == 0) out->zeta_low = z[c].index;
+      if (p == 1) out->zeta_high = z[c].index;
+      if (p >= 2) { sum += z[c].index; sum2 += z[c].index * z[c].index; }
+      robust_verdict(out, &z[c], v[c], lam[c]);
     }
   }
   if (reuse) { sum += out->zeta_high; sum2 += out->zeta_high * out->zeta_high; }
@@ -65,55 +72,110 @@ int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts 
 
 rr_critical_opts rr_critical_opts_default(void)
 {
-  rr_critical_opts c = {10 / 3.6, 600 / 3.6, 1 / 3.6, 1e-3 / 3.6};
-  return c;
+  return (rr_critical_opts){.v_min_ms = 10 / RR_KMH, .v_max_ms = 600 / RR_KMH, .step_ms = 1 / RR_KMH,
+                            .tol_ms = 1e-3 / RR_KMH, .index_modes = 0};
+}
+
+static double rule_value(const rr_stability *s, const rr_critical_opts *c)
+{
+  return c->index_modes ? s->index : s->zeta_max;
+}
+
+static int unstable_at(rr_model *m, double v, double lam, const rr_modal_opts *o, const rr_critical_opts *c,
+                       rr_modal_ws *ws, int *yes, rr_error *err)
+{
+  rr_stability s;
+  int st = rr_model_set_operating(m, v, lam, err);
+  if (!st) st = rr_modal_stability(m, o, ws, &s, err);
+  if (!st) *yes = rule_value(&s, c) >= 0;
+  return st;
+}
+
+/* The mode that goes unstable at v: the index mode or the least damped one. */
+static int unstable_mode(rr_model *m, double v, double lam, const rr_modal_opts *o, const rr_critical_opts *c,
+                         rr_modal_ws *ws, rr_critical *out, rr_error *err)
+{
+  rr_modal_result *r = &ws->trk[3];
+  int st = rr_model_set_operating(m, v, lam, err);
+  if (!st) st = rr_modal_solve(m, o, ws, r, err);
+  if (st) return st;
+  int i = c->index_modes ? r->index_mode : r->max_mode;
+  out->found = 1;
+  out->speed_ms = v;
+  if (i >= 0) out->mode = r->modes[i];
+  return RR_OK;
+}
+
+static int check_opts(const rr_critical_opts *c, rr_error *err)
+{
+  if (!(c->v_min_ms > 0 && c->v_max_ms > c->v_min_ms && c->step_ms > 0 && c->tol_ms > 0 && isfinite(c->v_max_ms)))
+    return rr_seterr(err, RR_EINVAL, "critical speed: need 0 < v_min < v_max (finite), step > 0, tol > 0");
+  double steps = (c->v_max_ms - c->v_min_ms) / c->step_ms;
+  if (!(steps <= RR_CRITICAL_MAX_STEPS))
+    return rr_seterr(err, RR_EINVAL, "critical speed: a scan of %.3g steps exceeds the limit of %d (raise the step)",
+                     steps, RR_CRITICAL_MAX_STEPS);
+  return RR_OK;
+}
+
+/* Bisection of [va, vb] (stable at va, not at vb) to tol. */
+static int bisect_speed(rr_model *m, double lam, const rr_modal_opts *o, const rr_critical_opts *c,
+                        rr_modal_ws *ws, double va, double *vb, rr_error *err)
+{
+  while (*vb - va > c->tol_ms) {
+    double vm = 0.5 * (va + *vb);
+    int yes, st = unstable_at(m, vm, lam, o, c, ws, &yes, err);
+    if (st) return st;
+    if (yes) *vb = vm;
+    else va = vm;
+  }
+  return RR_OK;
 }
 
 int rr_critical_speed(rr_model *m, double lam, const rr_modal_opts *o, const rr_critical_opts *c,
-                      rr_modal_ws *ws, double *v_out, int *found, rr_error *err)
+                      rr_modal_ws *ws, rr_critical *out, rr_error *err)
 {
   rr_critical_opts def = rr_critical_opts_default();
+  rr_modal_opts mdef = rr_modal_opts_default();
   if (!c) c = &def;
-  if (!(c->v_min_ms > 0 && c->v_max_ms > c->v_min_ms && c->step_ms > 0 && c->tol_ms > 0))
-    return rr_seterr(err, RR_EINVAL, "critical speed: need 0 < v_min < v_max, step > 0, tol > 0");
-  *found = 0;
-  *v_out = NAN;
-  double va = c->v_min_ms, za;
-  int st = index_at(m, va, lam, o, ws, &za, err);
+  if (!o) o = &mdef;
+  *out = (rr_critical){.found = 0, .speed_ms = NAN};
+  int st = check_opts(c, err), yes;
   if (st) return st;
-  if (za >= 0) { *found = 1; *v_out = va; return RR_OK; }
-  int nsteps = (int)ceil((c->v_max_ms - c->v_min_ms) / c->step_ms - 1e-9);
-  /* the scan eight speeds at a time (SIMD lanes, see
-     rr_modal_stability_index_batch); the bisection one at a time */
+  double va = c->v_min_ms;
+  if ((st = unstable_at(m, va, lam, o, c, ws, &yes, err))) return st;
+  if (yes) return unstable_mode(m, va, lam, o, c, ws, out, err);
+  long nsteps = (long)ceil((c->v_max_ms - c->v_min_ms) / c->step_ms - 1e-9);
+  /* the scan eight speeds at a time (SIMD lanes, rr_modal_stability_batch);
+     the bisection one at a time */
   enum { AHEAD = 8 };
-  for (int i0 = 1; i0 <= nsteps; i0 += AHEAD) {
-    double vs[AHEAD], ls[AHEAD], zs[AHEAD];
-    int nb = nsteps - i0 + 1 < AHEAD ? nsteps - i0 + 1 : AHEAD;
-    for (int c4 = 0; c4 < nb; c4++) {
-      int i = i0 + c4;
-      vs[c4] = i == nsteps ? c->v_max_ms : c->v_min_ms + i * c->step_ms;
-      ls[c4] = lam;
+  for (long i0 = 1; i0 <= nsteps; i0 += AHEAD) {
+    double vs[AHEAD], ls[AHEAD];
+    rr_stability zs[AHEAD];
+    int nb = nsteps - i0 + 1 < AHEAD ? (int)(nsteps - i0 + 1) : AHEAD;
+    for (int j = 0; j < nb; j++) {
+      long i = i0 + j;
+      vs[j] = i == nsteps ? c->v_max_ms : c->v_min_ms + (double)i * c->step_ms;
+      ls[j] = lam;
     }
-    if ((st = rr_modal_stability_index_batch(m, o, ws, nb, vs, ls, zs, err))) return st;
-    for (int c4 = 0; c4 < nb; c4++) {
-      double vb = vs[c4];
-      if (zs[c4] >= 0) {
-        while (vb - va > c->tol_ms) {
-          double vm = 0.5 * (va + vb), zm;
-          if ((st = index_at(m, vm, lam, o, ws, &zm, err))) return st;
-          if (zm >= 0) vb = vm; else va = vm;
-        }
-        *found = 1;
-        *v_out = vb;
-        return RR_OK;
-      }
-      va = vb;
+    if ((st = rr_modal_stability_batch(m, o, ws, nb, vs, ls, zs, err))) return st;
+    for (int j = 0; j < nb; j++) {
+      if (rule_value(&zs[j], c) < 0) { va = vs[j]; continue; }
+      double vb = vs[j];
+      if ((st = bisect_speed(m, lam, o, c, ws, va, &vb, err))) return st;
+      return unstable_mode(m, vb, lam, o, c, ws, out, err);
     }
   }
   return RR_OK;
 }
 
-int rr_locus(rr_model *m, int param, const double *values, int npts, const rr_modal_opts *o,
+static rr_locus_point locus_point(double param, const rr_mode *md, double mac)
+{
+  return (rr_locus_point){.param = param, .re = md->re, .im = md->im, .freq_hz = md->freq_hz, .zeta = md->zeta,
+                          .mac = mac, .energy = {md->energy[0], md->energy[1], md->energy[2]},
+                          .roll_share = md->roll_share, .hunting = md->hunting};
+}
+
+int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts, const rr_modal_opts *o,
              rr_locus_point *out, int *nbranch, rr_error *err)
 {
   double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
@@ -126,7 +188,7 @@ int rr_locus(rr_model *m, int param, const double *values, int npts, const rr_mo
   double complex *prev = NULL;
   int *used = NULL;
   for (int p = 0; p < npts; p++) {
-    st = param == 0 ? rr_model_set_operating(m, values[p], l0, err) : rr_model_set_operating(m, v0, values[p], err);
+    st = param == RR_LOCUS_SPEED ? rr_model_set_operating(m, values[p], l0, err) : rr_model_set_operating(m, v0, values[p], err);
     if (st) goto out;
     if ((st = rr_modal_solve(m, o, ws, &res, err))) goto out;
     if (p == 0) {
@@ -138,9 +200,7 @@ int rr_locus(rr_model *m, int param, const double *values, int npts, const rr_mo
       for (int i = 0; i < res.n; i++) {
         if (!res.modes[i].oscillatory) continue;
         memcpy(prev + (size_t)b * n, res.shapes + (size_t)i * n, (size_t)n * sizeof *prev);
-        rr_mode *md = &res.modes[i];
-        rr_locus_point lp = {values[p], md->re, md->im, md->freq_hz, md->zeta, 1.0, {md->energy[0], md->energy[1], md->energy[2]}};
-        out[b++] = lp;
+        out[b++] = locus_point(values[p], &res.modes[i], 1.0);
       }
       continue;
     }
@@ -162,15 +222,14 @@ int rr_locus(rr_model *m, int param, const double *values, int npts, const rr_mo
       if (bb < 0) break;
       done[bb] = 1;
       used[bi] = 1;
-      rr_mode *md = &res.modes[bi];
-      rr_locus_point lp = {values[p], md->re, md->im, md->freq_hz, md->zeta, bestmac, {md->energy[0], md->energy[1], md->energy[2]}};
-      out[(size_t)p * nb + bb] = lp;
+      out[(size_t)p * nb + bb] = locus_point(values[p], &res.modes[bi], bestmac);
       memcpy(prev + (size_t)bb * n, res.shapes + (size_t)bi * n, (size_t)n * sizeof *prev);
     }
     for (int b = 0; b < nb; b++)
       if (!done[b]) {
-        rr_locus_point lp = {values[p], NAN, NAN, NAN, NAN, 0, {NAN, NAN, NAN}};
-        out[(size_t)p * nb + b] = lp;
+        out[(size_t)p * nb + b] = (rr_locus_point){.param = values[p], .re = NAN, .im = NAN, .freq_hz = NAN,
+                                                   .zeta = NAN, .mac = 0, .energy = {NAN, NAN, NAN},
+                                                   .roll_share = NAN, .hunting = 0};
       }
     free(done);
   }

@@ -43,9 +43,9 @@ json_check "critical keys" "'critical_speed_kmh' in d and (d['critical_speed_kmh
 json_check "stable to range end" "d['critical_speed_kmh'] is None and d['stable_to_range_end']" < "$tmp/c2.json"
 
 "$RR" locus --over speed --range 100:400:4 > "$tmp/l.csv" || bad "locus exit"
-head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets' && ok || bad "locus header"
+head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets,roll_share,hunting_related' && ok || bad "locus header"
 "$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 > "$tmp/map.csv" || bad "map exit"
-[ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index' && ok || bad "map shape"
+[ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable' && ok || bad "map shape"
 "$RR" damper --freqs 0.1:10:5 > "$tmp/d.csv" || bad "damper exit"
 grep -q '^freq_hz,k_series,storage,loss,eq_damping,dissipation$' "$tmp/d.csv" && ok || bad "damper header"
 "$RR" summary "$SRC/examples/type2.ini" > "$tmp/s.txt" || bad "summary exit"
@@ -103,7 +103,7 @@ ok = ok and not any(dom(a, b) for a in F for b in F)
 sys.exit(0 if ok else 1)
 PY
 "$RR" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:2" --objective index@350,0.17 > "$tmp/sw.csv" || bad "sweep exit"
-[ "$(head -1 "$tmp/sw.csv")" = "yaw_damper.damping,yaw_damper.series_stiffness,index@350,0.17,index_freq_hz,k_opt" ] && [ "$(wc -l < "$tmp/sw.csv")" -eq 7 ] && ok || bad "sweep csv"
+[ "$(head -1 "$tmp/sw.csv")" = 'yaw_damper.damping,yaw_damper.series_stiffness,"index@350,0.17",mode_freq_hz,k_opt_n_per_m' ] && [ "$(wc -l < "$tmp/sw.csv")" -eq 7 ] && ok || bad "sweep csv"
 printf '[problem]\npopulation = 7\n[variables]\nprimary.longitudinal_stiffness = 10 kN/mm .. 120 kN/mm\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p1.ini"
 expect2 "odd population" "p1.ini:2: \[problem\] population" "$RR" optimise "$tmp/p1.ini"
 printf '[problem]\n[variables]\nprimary.stiffness = 1 .. 2\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p2.ini"

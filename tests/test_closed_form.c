@@ -45,7 +45,7 @@ static void least_damped(rr_model *m, double *re, double *f)
   rr_modal_result r;
   rr_modal_ws_new(m, &ws, &e);
   rr_modal_result_alloc(m, &r, &e);
-  rr_modal_opts o = {1e9, 0};
+  rr_modal_opts o = {.fmax_hz = 1e9, .w_min = 0, .r_max = 1};
   rr_modal_solve(m, &o, ws, &r, &e);
   *re = -INFINITY;
   *f = NAN;
@@ -64,7 +64,7 @@ static void test_klingel(void)
     rr_model_set_operating(m, v, lam, &e);
     double re, f;
     least_damped(m, &re, &f);
-    double fk = v / (2 * M_PI) * sqrt(lam / (r0 * l0));
+    double fk = v / (2 * RR_PI) * sqrt(lam / (r0 * l0));
     CHECK_CLOSE(f, fk, 1e-4, 0, "Klingel frequency");
   }
   rr_model_free(m);
@@ -82,13 +82,13 @@ static void test_restrained_critical_speed(void)
   rr_error e;
   rr_modal_ws *ws;
   rr_modal_ws_new(mod, &ws, &e);
-  rr_modal_opts o = {1e9, 0};
-  rr_critical_opts co = {1, 400, 0.5, 1e-9};
-  double v;
-  int found;
-  int st = rr_critical_speed(mod, lam, &o, &co, ws, &v, &found, &e);
+  rr_modal_opts o = {.fmax_hz = 1e9, .w_min = 0, .r_max = 1};
+  rr_critical_opts co = {.v_min_ms = 1, .v_max_ms = 400, .step_ms = 0.5, .tol_ms = 1e-9};
+  rr_critical cr;
+  int st = rr_critical_speed(mod, lam, &o, &co, ws, &cr, &e);
+  double v = cr.speed_ms;
   CHECK_OK(st, e);
-  CHECK(found, "restrained wheelset: no critical speed found");
+  CHECK(cr.found, "restrained wheelset: no critical speed found");
   CHECK_CLOSE(v, vc, 1e-7, 0, "restrained wheelset critical speed (m/s)");
   /* the least-damped mode's real part changes sign across vc */
   double re, f;
@@ -117,7 +117,7 @@ static void test_rigid_bogie(void)
   rr_model *m;
   CHECK_OK(rr_model_new(s, &m, &e), e);
   rr_system_free(s);
-  double Lw = 2 * M_PI * sqrt((r0 * l0 / lam) * (1 + (f22 / f11) * b * b / (l0 * l0)));
+  double Lw = 2 * RR_PI * sqrt((r0 * l0 / lam) * (1 + (f22 / f11) * b * b / (l0 * l0)));
   for (double v = 10; v <= 50; v += 20) {
     rr_model_set_operating(m, v, lam, &e);
     double re, f;
@@ -149,7 +149,7 @@ static void test_maxwell_limit(void)
   }
   CHECK_CLOSE(idx[1], idx[0], 1e-5, 0, "stiff Maxwell vs plain damper index");
   /* Damper characteristics: at w = k/c, storage = loss = k/2; limits. */
-  double k = 10e6, c = 4e6, f = k / c / (2 * M_PI);
+  double k = 10e6, c = 4e6, f = k / c / (2 * RR_PI);
   rr_damper_point p = rr_maxwell_point(k, c, f);
   CHECK_CLOSE(p.storage, k / 2, 1e-12, 0, "storage at omega_opt");
   CHECK_CLOSE(p.loss, k / 2, 1e-12, 0, "loss at omega_opt");
@@ -158,7 +158,7 @@ static void test_maxwell_limit(void)
   CHECK_CLOSE(p.eq_damping, c, 1e-6, 0, "low-frequency equivalent damping");
   p = rr_maxwell_point(k, c, 1e4);
   CHECK_CLOSE(p.storage, k, 1e-6, 0, "high-frequency storage");
-  double w = 2 * M_PI * 3.0;
+  double w = 2 * RR_PI * 3.0;
   p = rr_maxwell_point(k, c, 3.0);
   CHECK_CLOSE(p.storage, k * c * c * w * w / (k * k + c * c * w * w), 1e-12, 0, "storage formula");
   CHECK_CLOSE(p.eq_damping, k * k * c / (k * k + c * c * w * w), 1e-12, 0, "equivalent damping formula");

@@ -58,7 +58,7 @@ static void test_hermite(void)
 {
   /* x' = -a x + b u, u = sin(w t): periodic response |H| sin(w t + arg H), H = b / (j w + a) */
   rr_error e;
-  double a = 3, b = 2, w = 2 * M_PI * 2, fs = 64;
+  double a = 3, b = 2, w = 2 * RR_PI * 2, fs = 64;
   int ns = 64 * 4;   /* 8 periods of the input */
   double A = -a, B = b, C = 1, D = 0;
   rr_lti_disc d;
@@ -118,7 +118,7 @@ static void test_track_and_welch(void)
   /* Welch: a sinusoid of amplitude A on a bin integrates to A^2/2 */
   int n = 16384, nseg = 1024, navg;
   double *s = malloc(sizeof(double) * n), f[513], P[513], Amp = 0.7, f0 = 10 * fs / nseg;
-  for (int k = 0; k < n; k++) s[k] = Amp * sin(2 * M_PI * f0 * k / fs + 0.3);
+  for (int k = 0; k < n; k++) s[k] = Amp * sin(2 * RR_PI * f0 * k / fs + 0.3);
   CHECK_OK(rr_welch_psd(s, n, fs, nseg, f, P, &navg, &e), e);
   double tot = 0;
   for (int k = 0; k < 513; k++) tot += P[k] * fs / nseg;
@@ -135,7 +135,7 @@ static void test_sperling_filter(void)
     rr_sperling_filter_ss(axis, A, B, C);
     for (double f = 0.2; f < 40; f *= 1.9) {
       /* C (j w I - A)^-1 B for the companion form: N(s) / D(s) */
-      double complex s = I * 2 * M_PI * f;
+      double complex s = I * 2 * RR_PI * f;
       double complex H = (C[2] * s * s + C[1] * s + C[0]) / (s * s * s - A[8] * s * s - A[7] * s - A[6]);
       CHECK_CLOSE(cabs(H), rr_sperling_filter(f, axis), 1e-12, 0, "Sperling filter modulus");
     }

@@ -7,6 +7,7 @@
 #ifndef RAILRIDE_DESIGN_H
 #define RAILRIDE_DESIGN_H
 
+#include "railride/modal.h"
 #include "railride/vehicle.h"
 
 #ifdef __cplusplus
@@ -22,8 +23,12 @@ extern "C" {
  *   critical_speed@L                    km/h (10-600 range; 600 when stable to the end)
  *   sperling@KMH,L[,X]                  Sperling W (filter method) at floor point x = X m (default 0)
  *   sperling_gb@..., wd_rms@..., rms@...  other ride indices, same arguments
- * each optionally followed by ";sdf=none|paper|physical" and, for ride
- * indices, ";spectrum=NAME" (default wuhan-guangzhou). */
+ * each optionally followed by modifiers, ';'-separated:
+ *   sdf=none|paper|physical             the yaw damper's SDF for this objective
+ *   spectrum=NAME                       ride indices: track spectrum (default wuhan-guangzhou)
+ *   fmax=HZ, wmin=W, rmax=R             stability objectives: the index's rule
+ *   index_modes                         critical_speed: only the index's modes count
+ * e.g. "index@350,0.17;fmax=20;wmin=0;rmax=1". */
 typedef struct rr_design rr_design;
 
 /* var_keys: "section.key" numeric vehicle-file keys; values are SI. */
@@ -32,6 +37,13 @@ int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys,
 void rr_design_free(rr_design *d);
 /* An independent copy (for another thread). */
 int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err);
+/* The index rule for objectives without their own fmax/wmin/rmax (default
+ * rr_modal_opts_default()). */
+int rr_design_set_modal_opts(rr_design *d, const rr_modal_opts *o, rr_error *err);
+/* After an evaluation: the frequency (Hz) of the mode behind objective i's
+ * value (index: the index mode; critical_speed: the mode that goes unstable),
+ * NaN for other objectives or when there is none. */
+double rr_design_mode_freq(const rr_design *d, int i);
 int rr_design_nvar(const rr_design *d);
 int rr_design_nobj(const rr_design *d);
 /* Fills f[nobj] for variables x[nvar]. On an invalid design (e.g. a negative

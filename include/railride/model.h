@@ -17,6 +17,15 @@ extern "C" {
 
 typedef struct rr_model rr_model;
 
+/* Speeds: v_kmh = v_ms * RR_KMH. */
+#define RR_KMH 3.6
+#define RR_PI 3.14159265358979323846
+/* The operating range a model accepts: speed in (0, RR_SPEED_MAX_MS] m/s
+   (2000 km/h), equivalent conicity in [0, RR_CONICITY_MAX] (a wheel's
+   conicity stays below ~1; the margin leaves room for studies). */
+#define RR_SPEED_MAX_MS (2000 / RR_KMH)
+#define RR_CONICITY_MAX 5.0
+
 /* Assembles a model from a generic system (SDF off). */
 int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err);
 /* Builds the 17-DOF vehicle system of MODEL.md section 2-3 (caller frees). */
@@ -26,7 +35,7 @@ int rr_model_from_vehicle(const rr_vehicle *veh, rr_model **out, rr_error *err);
 void rr_model_free(rr_model *m);
 rr_model *rr_model_clone(const rr_model *m);
 
-/* Operating point: speed (m/s, > 0) and equivalent conicity (>= 0). */
+/* Operating point: speed (m/s) and equivalent conicity, within the range above. */
 int rr_model_set_operating(rr_model *m, double speed_ms, double conicity, rr_error *err);
 double rr_model_speed(const rr_model *m);
 double rr_model_conicity(const rr_model *m);

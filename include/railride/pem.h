@@ -26,6 +26,13 @@ enum rr_frf_method {
                               always (a cross-check; poor near defective points) */
 };
 
+/* The paper's ride evaluation: 400 log-spaced frequencies 0.3-30 Hz, floor
+   points 1.2 m above the rail (an assumption: the paper does not say). */
+#define RR_FRF_NFREQ_DEFAULT 400
+#define RR_FRF_F_LO_DEFAULT 0.3
+#define RR_FRF_F_HI_DEFAULT 30.0
+#define RR_FLOOR_HEIGHT_DEFAULT 1.2
+
 typedef struct rr_frf_opts {
   int nfreq;               /* number of frequencies (default 400) */
   const double *freqs_hz;  /* explicit grid, or NULL for log-spaced f_lo..f_hi */
@@ -35,6 +42,9 @@ typedef struct rr_frf_opts {
   const double *rows0;     /* npoints x ndof or NULL: rows taken without -w^2 (roll gravity) */
   int method;              /* enum rr_frf_method */
 } rr_frf_opts;
+
+/* The defaults above, modal method, no output rows yet. */
+rr_frf_opts rr_frf_opts_default(void);
 
 typedef struct rr_frf_plan rr_frf_plan;
 

@@ -9,6 +9,7 @@
 #include "railride/system.h"
 #include "railride/model.h"
 #include "railride/modal.h"
+#include "railride/stability.h"
 #include "railride/damper.h"
 #include "railride/spectrum.h"
 #include "railride/pem.h"

@@ -1,0 +1,51 @@
+/* Internal layout of the modal workspace and the helpers the modal sources
+ * share (modal.c: modes and index; sdf_modes.c: paper-mode SDF tracking). */
+#ifndef RR_MODAL_IMPL_H
+#define RR_MODAL_IMPL_H
+
+#include "railride/modal.h"
+#include "model_impl.h"
+
+#define RR_OSC_TOL 1e-6
+
+struct rr_modal_ws {
+  int N, n;
+  double *A, *At, *wr, *wi, *vr, *work;   /* dgeev and the single-point QR */
+  int lwork;
+  double complex *D, *x;                  /* 17 x 17 dynamic stiffness, vectors */
+  int *piv;
+  int *cand;                              /* index candidates by decreasing zeta */
+  double *candz;
+  double *Ab, *wrb, *wib, *qrw;           /* batched index: state matrices, eigenvalues, QR lanes */
+  rr_modal_result trk[4];                 /* paper mode: start, current, result; critical-speed modes */
+  double complex *branch;                 /* paper mode: shapes being followed; sort scratch */
+  double complex *tv;                     /* fast tracking: vectors (12 n) */
+};
+
+/* Eigenvalues this small are zero to working precision (see modal.c). */
+int rr_modal_is_osc(double re, double im, double anorm);
+double rr_modal_max_abs(const double *A, int N);
+/* Eigen-solve of the full state matrix into ws (wr, wi, and vr with vectors). */
+int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, int *N, rr_error *err);
+/* Modes of the last rr_modal_eig with vectors, unsorted, shapes normalised. */
+void rr_modal_collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_result *res);
+/* Eigenvalue, frequency, zeta, oscillation flag of a mode. */
+void rr_mode_fill(rr_mode *md, double re, double im, double anorm);
+/* Energy and roll shares and the name of a mode from its q shape. */
+void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md);
+/* Unit norm, largest component real and positive. */
+void rr_shape_normalise(double complex *phi, int n);
+/* Sorts, classifies against o, and sets the index and zeta_max. */
+void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double complex *scratch);
+/* Null vector of D(s) by one inverse-iteration step (q part of a mode). */
+void rr_modal_null_vector(const rr_model *m, double complex s, rr_modal_ws *ws, double complex *phi);
+
+/* Paper-mode SDF: the self-consistent modes of m into res (o->tracking). */
+int rr_sdf_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,
+                 rr_error *err);
+/* The same from eigenvalues only (no dgeev vectors): oscillatory modes only,
+   for the stability index. */
+int rr_sdf_modes_fast_osc(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+                          rr_modal_result *res, rr_error *err);
+
+#endif
