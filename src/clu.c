@@ -47,3 +47,40 @@ void rr_clu_solve(const double complex *LU, int n, const int *piv, double comple
   }
 }
 
+
+/* Exact zeros stay zeros: the dynamic stiffness of a multibody model is
+   sparse (a wheelset couples to its frame only), and with DOFs ordered
+   leaves first (wheelsets, frames, carbody) elimination creates little
+   fill. Each pivot row's nonzero columns are listed once, and only rows
+   with a nonzero multiplier are updated, on those columns alone. */
+int rr_clu_factor_sparse(double complex *A, int n, int *piv, double tiny)
+{
+  int replaced = 0, cols[RR_CLU_MAX];
+  for (int k = 0; k < n; k++) {
+    int p = k;
+    double best = abs1(A[k * n + k]);
+    for (int i = k + 1; i < n; i++) {
+      double v = abs1(A[i * n + k]);
+      if (v > best) { best = v; p = i; }
+    }
+    piv[k] = p;
+    if (p != k)
+      for (int j = 0; j < n; j++) {
+        double complex t = A[k * n + j];
+        A[k * n + j] = A[p * n + j];
+        A[p * n + j] = t;
+      }
+    if (best <= tiny) { A[k * n + k] = tiny; replaced++; }
+    int nc = 0;
+    for (int j = k + 1; j < n; j++)
+      if (A[k * n + j] != 0) cols[nc++] = j;
+    double complex inv = 1.0 / A[k * n + k];
+    for (int i = k + 1; i < n; i++) {
+      if (A[i * n + k] == 0) continue;
+      double complex l = A[i * n + k] * inv;
+      A[i * n + k] = l;
+      for (int c = 0; c < nc; c++) A[i * n + cols[c]] -= l * A[k * n + cols[c]];
+    }
+  }
+  return replaced;
+}

@@ -10,6 +10,7 @@
 #include <string.h>
 #include "modal_impl.h"
 #include "clu.h"
+#include "dyn_solver.h"
 #include "hqr.h"
 #include "internal.h"
 
@@ -60,8 +61,8 @@ void rr_modal_ws_free(rr_modal_ws *ws)
 {
   if (!ws) return;
   free(ws->A); free(ws->At); free(ws->wr); free(ws->wi); free(ws->vr); free(ws->work);
-  free(ws->D); free(ws->x); free(ws->piv); free(ws->cand); free(ws->candz); free(ws->branch);
-  free(ws->Ab); free(ws->wrb); free(ws->wib); free(ws->qrw); free(ws->tv);
+  free(ws->D); free(ws->Dp); free(ws->x); free(ws->piv); free(ws->cand); free(ws->candz); free(ws->branch);
+  free(ws->Ab); free(ws->wrb); free(ws->wib); free(ws->qrw); free(ws->tv); free(ws->ds); free(ws->dsi); free(ws->dsz);
   for (int i = 0; i < 4; i++) rr_modal_result_free(&ws->trk[i]);
   free(ws);
 }
@@ -75,8 +76,12 @@ static int ws_alloc(rr_modal_ws *ws)
   ws->wr = malloc(N * sizeof(double));
   ws->wi = malloc(N * sizeof(double));
   ws->D = malloc(n * n * sizeof(double complex));
+  ws->Dp = malloc(n * n * sizeof(double complex));
   ws->x = malloc(2 * n * sizeof(double complex));
   ws->tv = malloc(12 * n * sizeof(double complex));
+  ws->ds = malloc(sizeof *ws->ds);
+  ws->dsi = malloc(RR_DSOLVER_IWORK(n) * sizeof(int));
+  ws->dsz = malloc(RR_DSOLVER_ZWORK(n) * sizeof(double complex));
   ws->piv = malloc(n * sizeof(int));
   ws->cand = malloc(N * sizeof(int));
   ws->candz = malloc(N * sizeof(double));
@@ -85,7 +90,7 @@ static int ws_alloc(rr_modal_ws *ws)
   ws->wrb = malloc(RR_QR_LANES_MAX * N * sizeof(double));
   ws->wib = malloc(RR_QR_LANES_MAX * N * sizeof(double));
   ws->qrw = malloc(rr_eig_batch_work(ws->N) * sizeof(double));
-  int ok = ws->A && ws->At && ws->vr && ws->wr && ws->wi && ws->D && ws->x && ws->tv && ws->piv &&
+  int ok = ws->A && ws->At && ws->vr && ws->wr && ws->wi && ws->D && ws->Dp && ws->x && ws->tv && ws->ds && ws->dsi && ws->dsz && ws->piv &&
            ws->cand && ws->candz && ws->branch && ws->Ab && ws->wrb && ws->wib && ws->qrw;
   for (int i = 0; i < 4 && ok; i++) ok = result_init(&ws->trk[i], ws->N, ws->n) == RR_OK;
   return ok ? RR_OK : RR_ENOMEM;

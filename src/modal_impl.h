@@ -12,7 +12,7 @@ struct rr_modal_ws {
   int N, n;
   double *A, *At, *wr, *wi, *vr, *work;   /* dgeev and the single-point QR */
   int lwork;
-  double complex *D, *x;                  /* 17 x 17 dynamic stiffness, vectors */
+  double complex *D, *Dp, *x;             /* 17 x 17 dynamic stiffness (and reordered), vectors */
   int *piv;
   int *cand;                              /* index candidates by decreasing zeta */
   double *candz;
@@ -20,6 +20,9 @@ struct rr_modal_ws {
   rr_modal_result trk[4];                 /* paper mode: start, current, result; critical-speed modes */
   double complex *branch;                 /* paper mode: shapes being followed; sort scratch */
   double complex *tv;                     /* fast tracking: vectors (12 n) */
+  struct rr_dsolver *ds;                  /* fast tracking: sparse D(s) solves */
+  int *dsi;
+  double complex *dsz;
 };
 
 /* Eigenvalues this small are zero to working precision (see modal.c). */

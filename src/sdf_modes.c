@@ -20,16 +20,20 @@
 #include <stdlib.h>
 #include <string.h>
 #include "modal_impl.h"
-#include "clu.h"
+#include "dyn_solver.h"
 #include "hqr.h"
 #include "internal.h"
 
 #define MAC_MIN 0.9          /* consecutive shapes on a branch correlate at least this */
+#define MAC_SURE 0.995       /* above, no other mode can be the better match in practice */
 #define FIRST_STEPS 32       /* first step (k_hi - k_lo) / 32 */
 #define ROOT_TOL 1e-9        /* bisection to |dk| <= 1e-9 k_hi */
 #define STEP_MIN 1e-12       /* a branch is lost below steps of 1e-12 k_hi */
-#define NEWTON_MAXIT 12
-#define NEWTON_TOL_GRID 1e-7 /* relative eigenvalue update at which a grid solve stops */
+#define NEWTON_MAXIT 30
+#define NEWTON_TOL_GRID 1e-4 /* relative eigenvalue update at which a grid solve stops: the
+                                update taken, the error is ~1e-8 relative, ample for MAC
+                                and for the sign of h away from its root */
+#define H_SURE 1e-5          /* |h| / k_hi above which a grid solve's sign of h is certain */
 #define NEWTON_TOL_ROOT 1e-10
 
 static double h_of(const rr_model *m, double k, double im)
@@ -156,30 +160,10 @@ typedef struct point { double k; double complex s; } point;
 typedef struct tracker {
   const rr_model *m;
   rr_modal_ws *ws;
+  rr_dsolver *ds;             /* vectors below are in its DOF order */
   double k_lo, k_hi, anorm;
-  double complex *phi, *xn, *t, *phia, *phib, *xc, *v;
+  double complex *phi, *xn, *t, *phia, *phib, *xc, *v, *tmp;
 } tracker;
-
-/* D'(s) x = (2 s M + C + sum_e J_e J_e' dk_e/ds) x, k_e = k c s / (k + c s). */
-static void dyn_deriv(const rr_model *m, double complex s, double k_sdf, const double complex *x, double complex *y)
-{
-  int n = m->n;
-  for (int i = 0; i < n; i++) {
-    double complex acc = 2.0 * s * m->mdiag[i] * x[i];
-    const double *c = m->C + (size_t)i * n;
-    for (int j = 0; j < n; j++) acc += c[j] * x[j];
-    y[i] = acc;
-  }
-  for (int e = 0; e < m->nmx; e++) {
-    const rr_mx *mx = &m->mx[e];
-    double complex k = mx->sdf ? k_sdf : mx->k, d;
-    if (isinf(creal(k))) d = mx->c;
-    else { double complex q = k + mx->c * s; d = k * k * mx->c / (q * q); }
-    double complex jx = 0;
-    for (int a = 0; a < mx->nz; a++) jx += mx->J[mx->idx[a]] * x[mx->idx[a]];
-    for (int a = 0; a < mx->nz; a++) y[mx->idx[a]] += d * mx->J[mx->idx[a]] * jx;
-  }
-}
 
 /* Eigenpair of D(s, k) x = 0 near (*s, x) by nonlinear inverse iteration
    (Ruhe 1973): y = D(s)^-1 D'(s) x, s <- s - (v'x)/(v'y), x <- y / (v'y), with
@@ -188,20 +172,15 @@ static void dyn_deriv(const rr_model *m, double complex s, double k_sdf, const d
    LU. Returns 0 when converged. */
 static int newton(const tracker *tr, double k, double complex *s, double complex *x, double tol)
 {
-  const rr_model *m = tr->m;
-  rr_modal_ws *ws = tr->ws;
-  int n = m->n;
+  int n = tr->m->n;
   double nx = 0;
   for (int i = 0; i < n; i++) nx += creal(x[i] * conj(x[i]));
   if (!(nx > 0) || !isfinite(nx)) return -1;
   for (int i = 0; i < n; i++) { x[i] /= nx; tr->v[i] = x[i] * nx; }   /* v'x = 1 */
   for (int it = 0; it < NEWTON_MAXIT; it++) {
-    rr_model_dynamic_stiffness(m, *s, k, ws->D);
-    double nrm = 0;
-    for (int i = 0; i < n * n; i++) nrm += fabs(creal(ws->D[i])) + fabs(cimag(ws->D[i]));
-    rr_clu_factor(ws->D, n, ws->piv, 1e-15 * nrm / n);
-    dyn_deriv(m, *s, k, x, tr->t);
-    rr_clu_solve(ws->D, n, ws->piv, tr->t);
+    rr_dsolver_factor(tr->ds, *s, k);
+    rr_dsolver_deriv(tr->ds, *s, k, x, tr->t);
+    rr_dsolver_solve(tr->ds, tr->t, tr->tmp);
     double complex mu = 0;
     for (int i = 0; i < n; i++) mu += conj(tr->v[i]) * tr->t[i];
     if (!(cabs(mu) > 0) || !isfinite(cabs(mu))) return -1;
@@ -223,6 +202,45 @@ static double complex predict(const point *h, int nh, double k)
   const point *c = &h[nh - 3];
   double complex d1 = (a->s - b->s) / (a->k - b->k), d2 = (b->s - c->s) / (b->k - c->k);
   return lin + (d1 - d2) / (a->k - c->k) * (k - a->k) * (k - b->k);
+}
+
+/* The reference's choice at k: among all modes (eigenvalues by our QR, shapes
+   by one inverse-iteration step each), the one whose shape best matches ref.
+   Taken where the continued mode's match is not beyond doubt (a veering or a
+   nearly degenerate pair). Returns its MAC (0 when the QR fails). */
+static double best_of_all(const tracker *tr, double k, const double complex *ref, double complex *s,
+                          double complex *x)
+{
+  const rr_model *m = tr->m;
+  rr_modal_ws *ws = tr->ws;
+  int n = m->n, N;
+  if (rr_state_matrix_merged(m, k, ws->A, &N, NULL)) return 0;
+  memcpy(ws->At, ws->A, sizeof(double) * (size_t)N * N);
+  if (rr_eig_small(N, ws->At, ws->wr, ws->wi)) return 0;
+  double best = -1;
+  for (int j = 0; j < N; j++) {
+    if (ws->wi[j] < 0) continue;
+    double complex sj = ws->wr[j] + I * ws->wi[j];
+    rr_dsolver_factor(tr->ds, sj, k);
+    for (int i = 0; i < n; i++) tr->t[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
+    rr_dsolver_solve(tr->ds, tr->t, tr->tmp);
+    double mac = rr_mac(ref, tr->t, n);
+    if (mac > best) { best = mac; *s = sj; copy_shape(x, tr->t, n); }
+  }
+  return best;
+}
+
+/* The mode at k that continues the shape ref, from the guess (*s, x):
+   Newton, then the reference's best match where that is in doubt. Returns
+   the MAC to ref (0 when nothing converged). */
+static double continue_to(const tracker *tr, double k, const double complex *ref, double complex *s, double complex *x,
+                          double tol)
+{
+  double mac = newton(tr, k, s, x, tol) ? 0 : rr_mac(ref, x, tr->m->n);
+  if (mac >= MAC_SURE) return mac;
+  mac = best_of_all(tr, k, ref, s, x);
+  if (mac >= MAC_MIN && rr_modal_is_osc(creal(*s), cimag(*s), tr->anorm) && newton(tr, k, s, x, tol)) return 0;
+  return mac;
 }
 
 static void push(point *h, int *nh, double k, double complex s)
@@ -250,13 +268,16 @@ static int walk(const tracker *tr, double complex s0, bracket *br, point *last)
     double kn = fmin(k + step, tr->k_hi);
     double complex sn = predict(hist, nh, kn);
     copy_shape(tr->xn, tr->phi, n);
-    if (newton(tr, kn, &sn, tr->xn, NEWTON_TOL_GRID) || rr_mac(tr->phi, tr->xn, n) < MAC_MIN) {
+    if (continue_to(tr, kn, tr->phi, &sn, tr->xn, NEWTON_TOL_GRID) < MAC_MIN) {
       step *= 0.5;
       if (step < STEP_MIN * tr->k_hi) break;
       continue;
     }
     if (!rr_modal_is_osc(creal(sn), cimag(sn), tr->anorm)) break;
-    if (h_of(tr->m, kn, cimag(sn)) >= 0) {
+    double hn = h_of(tr->m, kn, cimag(sn));
+    if (fabs(hn) < H_SURE * tr->k_hi && newton(tr, kn, &sn, tr->xn, NEWTON_TOL_ROOT) == 0)
+      hn = h_of(tr->m, kn, cimag(sn));
+    if (hn >= 0) {
       *br = (bracket){.ka = k, .kb = kn, .sa = s, .sb = sn};
       copy_shape(tr->phia, tr->phi, n);
       copy_shape(tr->phib, tr->xn, n);
@@ -276,9 +297,11 @@ static int walk(const tracker *tr, double complex s0, bracket *br, point *last)
 static int solve_between(const tracker *tr, double k, const point *a, const point *b, double tol, double complex *s)
 {
   double w = (k - a->k) / (b->k - a->k);
+  const double complex *ref = w < 0.5 ? tr->phia : tr->phib;
   *s = a->s + (b->s - a->s) * w;
-  copy_shape(tr->xc, w < 0.5 ? tr->phia : tr->phib, tr->m->n);
-  return newton(tr, k, s, tr->xc, tol);
+  copy_shape(tr->xc, ref, tr->m->n);
+  if (continue_to(tr, k, ref, s, tr->xc, tol) < MAC_MIN) return -1;
+  return rr_modal_is_osc(creal(*s), cimag(*s), tr->anorm) ? 0 : -1;
 }
 
 /* Narrows [a, b] (h(a) < 0 <= h(b)) around the root by the Illinois method
@@ -337,7 +360,7 @@ static void report(const tracker *tr, double k, double complex s, const double c
 {
   int n = tr->m->n;
   rr_mode_fill(rep, creal(s), cimag(s), tr->anorm);
-  copy_shape(shape, x, n);
+  rr_dsolver_from(tr->ds, x, shape);
   rr_shape_normalise(shape, n);
   rr_mode_shares(tr->m, shape, rep);
   rep->self_consistent = ok;
@@ -350,7 +373,11 @@ static void fast_branch(const tracker *tr, double complex s0, rr_mode *rep, doub
   if (h_of(tr->m, tr->k_lo, cimag(s0)) >= 0) { report(tr, tr->k_lo, s0, tr->phi, 1, rep, shape); return; }
   bracket br;
   point last;
-  if (!walk(tr, s0, &br, &last)) { report(tr, last.k, last.s, tr->phi, 0, rep, shape); return; }
+  if (!walk(tr, s0, &br, &last)) {   /* lost: the last point on the branch, to full accuracy */
+    newton(tr, last.k, &last.s, tr->phi, NEWTON_TOL_ROOT);
+    report(tr, last.k, last.s, tr->phi, 0, rep, shape);
+    return;
+  }
   point a = {.k = br.ka, .s = br.sa}, b = {.k = br.kb, .s = br.sb};
   double k;
   double complex s;
@@ -364,8 +391,9 @@ static void fast_branch(const tracker *tr, double complex s0, rr_mode *rep, doub
 static void tracker_init(tracker *tr, const rr_model *m, rr_modal_ws *ws, double anorm)
 {
   int n = m->n;
-  *tr = (tracker){.m = m, .ws = ws, .anorm = anorm};
+  *tr = (tracker){.m = m, .ws = ws, .ds = ws->ds, .anorm = anorm};
   rr_sdf_range(&m->curve, &tr->k_lo, &tr->k_hi);
+  rr_dsolver_init(tr->ds, m, ws->dsi, ws->dsz);
   double complex *t = ws->tv;
   tr->phi = t;
   tr->xn = t + n;
@@ -374,10 +402,28 @@ static void tracker_init(tracker *tr, const rr_model *m, rr_modal_ws *ws, double
   tr->phib = t + 4 * n;
   tr->xc = t + 5 * n;
   tr->v = t + 6 * n;
+  tr->tmp = t + 7 * n;
 }
 
-/* Tracks r0's oscillatory modes into res (res must not alias r0). */
-static void fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_result *res)
+/* Two branches that end on the same mode: one of them jumped to a nearly
+   degenerate partner (a pair of frame-roll modes 0.001 Hz apart, say), which
+   the reference's best match among all modes would not have done. */
+static int same_root(const rr_mode *a, const rr_mode *b, double k_hi)
+{
+  return a->oscillatory && b->oscillatory && a->self_consistent && b->self_consistent &&
+         fabs(a->sdf_k - b->sdf_k) <= 1e-6 * k_hi &&
+         cabs((a->re - b->re) + I * (a->im - b->im)) <= 1e-9 * hypot(a->re, a->im);
+}
+
+static rr_modal_result *scratch_result(rr_modal_ws *ws, const rr_modal_result *r0, const rr_modal_result *res)
+{
+  for (int i = 0;; i++)
+    if (&ws->trk[i] != r0 && &ws->trk[i] != res) return &ws->trk[i];
+}
+
+/* Tracks r0's oscillatory modes into res (res must not alias r0); branches
+   that collide are tracked again by the reference method. */
+static int fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_result *res, rr_error *err)
 {
   int n = tr->m->n;
   for (int b = 0; b < r0->n; b++) {
@@ -389,11 +435,23 @@ static void fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_re
       copy_shape(shape, r0->shapes + (size_t)b * n, n);
       continue;
     }
-    copy_shape(tr->phi, r0->shapes + (size_t)b * n, n);
+    rr_dsolver_to(tr->ds, r0->shapes + (size_t)b * n, tr->phi);
     fast_branch(tr, r0->modes[b].re + I * r0->modes[b].im, rep, shape);
   }
   res->n = r0->n;
   res->ndof = n;
+  rr_modal_result *rb = scratch_result(tr->ws, r0, res);
+  for (int a = 0; a < r0->n; a++)
+    for (int b = a + 1; b < r0->n; b++) {
+      if (!same_root(&res->modes[a], &res->modes[b], tr->k_hi)) continue;
+      int pair[2] = {a, b};
+      for (int q = 0; q < 2; q++) {
+        int st = ref_branch(tr->m, tr->ws, r0, pair[q], rb, &res->modes[pair[q]], tr->ws->branch, err);
+        if (st) return st;
+        copy_shape(res->shapes + (size_t)pair[q] * n, tr->ws->branch, n);
+      }
+    }
+  return RR_OK;
 }
 
 static int fast_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,
@@ -406,7 +464,7 @@ static int fast_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws
   if (st) return st;
   rr_modal_collect(m, N, ws, r0);
   tr.anorm = rr_modal_max_abs(ws->A, N);
-  fast_track(&tr, r0, res);
+  if ((st = fast_track(&tr, r0, res, err))) return st;
   rr_modal_finish(res, o, ws->branch);
   return RR_OK;
 }
@@ -427,9 +485,10 @@ static int osc_start(const tracker *tr, int N, rr_modal_result *r0)
   for (int j = 0; j < N; j++) {
     double re = tr->ws->wr[j], im = tr->ws->wi[j];
     if (im <= 0 || !rr_modal_is_osc(re, im, tr->anorm)) continue;
-    double complex s = re + I * im, *x = r0->shapes + (size_t)r0->n * n;
+    double complex s = re + I * im, *x = tr->xn;
     for (int i = 0; i < n; i++) x[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
     if (newton(tr, tr->k_lo, &s, x, NEWTON_TOL_ROOT)) s = re + I * im;
+    rr_dsolver_from(tr->ds, x, r0->shapes + (size_t)r0->n * n);
     rr_mode_fill(&r0->modes[r0->n], creal(s), cimag(s), tr->anorm);
     r0->n++;
   }
@@ -449,7 +508,7 @@ int rr_sdf_modes_fast_osc(const rr_model *m, const rr_modal_opts *o, rr_modal_ws
   tr.anorm = rr_modal_max_abs(ws->A, N);
   rr_modal_result *r0 = res == &ws->trk[0] ? &ws->trk[1] : &ws->trk[0];
   osc_start(&tr, N, r0);
-  fast_track(&tr, r0, res);
+  if ((st = fast_track(&tr, r0, res, err))) return st;
   rr_modal_finish(res, o, ws->branch);
   return RR_OK;
 }
