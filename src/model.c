@@ -73,6 +73,7 @@ int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err)
   m->ni = sys->ncontacts;
   m->nsdf = 0;
   for (int i = 0; i < m->nmx; i++) m->nsdf += m->mx[i].sdf;
+  rr_model_sparsity(m);
   return RR_OK;
 }
 

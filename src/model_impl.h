@@ -14,6 +14,20 @@ typedef struct rr_mx {
   int sdf;
 } rr_mx;
 
+/* The structural nonzeros of the dynamic stiffness D(s) = s^2 M + s C + K +
+   sum J' k_e J, fixed by the assembly (every operating point's contact terms
+   included), in the sparse solver's DOF order: leaves first (wheelsets,
+   frames, carbody), so that elimination creates little fill. */
+typedef struct rr_sparsity {
+  int perm[RR_SYS_MAX_DOF], inv[RR_SYS_MAX_DOF];   /* solver index <-> model DOF */
+  int nnz;
+  int pos[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];         /* i n + j, solver order */
+  int src[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];         /* a n + b, model order */
+  unsigned char pi[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF], pj[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];  /* i, j */
+  int nkeep, elem[2 * RR_SYS_MAX_BODIES];           /* Maxwell elements, mirror pairs merged */
+  double mult[2 * RR_SYS_MAX_BODIES];
+} rr_sparsity;
+
 struct rr_model {
   int n, ni, nmx, nsdf;
   double M[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];
@@ -31,8 +45,11 @@ struct rr_model {
   int gravity;
   int sdf_mode;
   rr_sdf_curve curve;
+  rr_sparsity sp;               /* the pattern of D(s), for the sparse solver */
 };
 
+/* Fills m->sp from the assembled model (dyn_solver.c). */
+void rr_model_sparsity(rr_model *m);
 /* Assembles sys into the existing model m (no allocation). */
 int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err);
 /* Fills sys (cleared first) with the vehicle; allocation-free once sys has
