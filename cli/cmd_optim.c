@@ -142,8 +142,9 @@ static int load_problem(const char *path, problem *p)
   if (r > 0) return cli_bad("%s:%d: malformed line", path, r);
   if (!p->nvar) return cli_bad("%s: [variables]: at least one variable is needed", path);
   if (!p->nobj) return cli_bad("%s: [objectives]: at least one objective is needed", path);
-  /* a vehicle path is relative to the problem file */
-  if (p->vehicle[0] && strchr(p->vehicle, '/') && p->vehicle[0] != '/') {
+  /* a vehicle file (not a built-in name) is relative to the problem file */
+  rr_vehicle probe;
+  if (p->vehicle[0] && p->vehicle[0] != '/' && rr_vehicle_builtin(p->vehicle, &probe, NULL)) {
     const char *slash = strrchr(path, '/');
     if (slash) {
       char tmp[PATH_MAX * 2];

@@ -59,6 +59,7 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
 {
   rr_model *m = NULL;
   rr_frf_plan *plan = NULL;
+  rr_comfort_plan *cp = NULL;
   double *rows = NULL, *rows0 = NULL, *G = NULL;
   rr_spectrum sp;
   int st = rr_spectrum_open(r->spectrum, &sp, err);
@@ -77,19 +78,18 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   if ((st = rr_frf_plan_execute(plan, m, err))) goto out;
   if ((st = rr_pem_psd(plan, m, &sp, G, err))) goto out;
   const double *f = rr_frf_freqs(plan);
+  if ((st = rr_comfort_plan_new(f, r->nfreq, RR_AXIS_LATERAL, &cp, err))) goto out;
   for (int q = 0; q < np && !st; q++) {
-    ride_point *p = &out[q];
-    p->x = r->x[q];
-    p->rms = rr_psd_rms(f, G + q, r->nfreq, np);
-    st = rr_sperling_filter_index(f, G + q, r->nfreq, np, RR_AXIS_LATERAL, &p->sperling, err);
-    if (!st) st = rr_sperling_gb_index(f, G + q, r->nfreq, np, RR_AXIS_LATERAL, &p->sperling_gb, err);
-    if (!st) st = rr_weighted_rms(f, G + q, r->nfreq, np, RR_ISO_WD, &p->wd_rms, err);
-    p->nmv = rr_en12299_comfort(p->wd_rms);
+    rr_comfort c;
+    if ((st = rr_comfort_execute(cp, G + q, np, &c, err))) break;
+    out[q] = (ride_point){.x = r->x[q], .rms = c.rms, .sperling = c.sperling, .sperling_gb = c.sperling_gb,
+                          .wd_rms = c.wd_rms, .nmv = rr_en12299_comfort(c.wd_rms)};
   }
   if (psd) memcpy(psd, G, sizeof(double) * r->nfreq * np);
   if (freqs) memcpy(freqs, f, sizeof(double) * r->nfreq);
 out:
   free(rows); free(rows0); free(G);
+  rr_comfort_plan_free(cp);
   rr_frf_plan_free(plan);
   rr_model_free(m);
   return st;

@@ -1,5 +1,6 @@
 /* Ride indices from the acceleration PSD (MODEL.md section 8). */
 #include <math.h>
+#include <stdlib.h>
 #include "railride/comfort.h"
 #include "internal.h"
 
@@ -63,6 +64,44 @@ static int check_grid(const double *f, int n, rr_error *err)
   return RR_OK;
 }
 
+/* The GB/T 5599 bands: 0.2 Hz wide from 0.5 Hz, those lying wholly inside
+   the grid; each taken at its centre fc, G interpolated linearly in f. At
+   most RR_GB_BANDS_MAX (grids up to ~20 kHz). */
+#define RR_GB_BANDS_MAX 100000
+#define GB_DF 0.2
+typedef struct gb_band { double fc, t, ff; int lo; } gb_band;
+
+/* Band k: 1 inside the grid (b filled), 0 below its start, -1 past its end. */
+static int gb_band_at(const double *f, int n, int axis, int k, gb_band *b)
+{
+  double lo = 0.5 + GB_DF * k, hi = lo + GB_DF, fc = lo + 0.5 * GB_DF;
+  if (hi > f[n - 1] * (1 + 1e-12)) return -1;
+  if (lo < f[0] * (1 - 1e-12)) return 0;
+  int a = 0, z = n - 1;
+  while (z - a > 1) {
+    int mid = (a + z) / 2;
+    if (f[mid] <= fc) a = mid; else z = mid;
+  }
+  *b = (gb_band){.fc = fc, .t = (fc - f[a]) / (f[z] - f[a]), .ff = rr_sperling_gb_factor(fc, axis) / fc, .lo = a};
+  return 1;
+}
+
+/* A_i^3 F(f_i) / f_i of one band, A_i = sqrt(2 G(f_i) df). */
+static double gb_term(const gb_band *b, const double *G, int stride)
+{
+  const double *g = G + (size_t)b->lo * stride;
+  double A = sqrt(2 * (g[0] + b->t * (g[stride] - g[0])) * GB_DF);
+  return A * A * A * b->ff;
+}
+
+static int gb_grid_check(const double *f, int n, rr_error *err)
+{
+  if (f[n - 1] > 0.5 + GB_DF * RR_GB_BANDS_MAX)
+    return rr_seterr(err, RR_EINVAL, "comfort: grid to %g Hz: the GB/T 5599 method takes grids up to %g Hz", f[n - 1],
+                     0.5 + GB_DF * RR_GB_BANDS_MAX);
+  return RR_OK;
+}
+
 /* trapezoid of g(f) G(f) */
 static double trapz_weighted(const double *f, const double *G, int n, int stride, double (*g)(double, int), int arg)
 {
@@ -90,32 +129,16 @@ int rr_sperling_filter_index(const double *f, const double *G, int n, int stride
   return RR_OK;
 }
 
-static double interp(const double *f, const double *G, int n, int stride, double x)
-{
-  int lo = 0, hi = n - 1;
-  while (hi - lo > 1) {
-    int mid = (lo + hi) / 2;
-    if (f[mid] <= x) lo = mid; else hi = mid;
-  }
-  double t = (x - f[lo]) / (f[hi] - f[lo]);
-  return G[lo * stride] + t * (G[hi * stride] - G[lo * stride]);
-}
-
 int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis, double *W, rr_error *err)
 {
   int st = check_grid(f, n, err);
+  if (!st) st = gb_grid_check(f, n, err);
   if (st) return st;
-  const double df = 0.2;
   double sum = 0;
   int bands = 0;
-  for (int k = 0;; k++) {
-    double lo = 0.5 + df * k, hi = lo + df, fc = lo + 0.5 * df;
-    if (hi > f[n - 1] * (1 + 1e-12)) break;
-    if (lo < f[0] * (1 - 1e-12)) continue;
-    double A = sqrt(2 * interp(f, G, n, stride, fc) * df);
-    sum += A * A * A * rr_sperling_gb_factor(fc, axis) / fc;
-    bands++;
-  }
+  gb_band b;
+  for (int k = 0, r; k < RR_GB_BANDS_MAX && (r = gb_band_at(f, n, axis, k, &b)) >= 0; k++)
+    if (r) { sum += gb_term(&b, G, stride); bands++; }
   if (!bands) return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz", f[0], f[n - 1]);
   *W = 3.57 * pow(sum, 0.1);
   return RR_OK;
@@ -137,3 +160,78 @@ int rr_weighted_rms(const double *f, const double *G, int n, int stride, int wt,
 }
 
 double rr_en12299_comfort(double awd) { return 6 * awd; }
+
+/* ---- the plan ---- */
+
+struct rr_comfort_plan {
+  int n, axis, nb;
+  double *f, *gs, *gw;   /* grid, |B|^2, |W|^2 at each point */
+  gb_band *band;
+};
+
+void rr_comfort_plan_free(rr_comfort_plan *p)
+{
+  if (!p) return;
+  free(p->f);
+  free(p->gs);
+  free(p->gw);
+  free(p->band);
+  free(p);
+}
+
+int rr_comfort_plan_new(const double *f, int n, int axis, rr_comfort_plan **out, rr_error *err)
+{
+  *out = NULL;
+  if (axis != RR_AXIS_LATERAL && axis != RR_AXIS_VERTICAL) return rr_seterr(err, RR_EINVAL, "comfort: unknown axis");
+  int st = check_grid(f, n, err);
+  if (!st) st = gb_grid_check(f, n, err);
+  if (st) return st;
+  gb_band b;
+  int nb = 0;
+  for (int k = 0, r; k < RR_GB_BANDS_MAX && (r = gb_band_at(f, n, axis, k, &b)) >= 0; k++) nb += r;
+  if (!nb) return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz", f[0], f[n - 1]);
+  rr_comfort_plan *p = calloc(1, sizeof *p);
+  if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  p->n = n;
+  p->axis = axis;
+  p->nb = nb;
+  p->f = malloc(sizeof(double) * (size_t)n);
+  p->gs = malloc(sizeof(double) * (size_t)n);
+  p->gw = malloc(sizeof(double) * (size_t)n);
+  p->band = malloc(sizeof *p->band * (size_t)nb);
+  if (!p->f || !p->gs || !p->gw || !p->band) { rr_comfort_plan_free(p); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  int wt = axis == RR_AXIS_LATERAL ? RR_ISO_WD : RR_ISO_WB;
+  for (int i = 0; i < n; i++) {
+    p->f[i] = f[i];
+    p->gs[i] = sperling2(f[i], axis);
+    p->gw[i] = iso2(f[i], wt);
+  }
+  for (int k = 0, j = 0, r; j < nb && (r = gb_band_at(f, n, axis, k, &b)) >= 0; k++)
+    if (r) p->band[j++] = b;
+  *out = p;
+  return RR_OK;
+}
+
+/* trapezoid of g G with g tabulated on the plan's grid (g NULL: 1) */
+static double trapz_tab(const double *f, const double *G, int n, int stride, const double *g)
+{
+  double s = 0, a = G[0] * (g ? g[0] : 1);
+  for (int i = 0; i + 1 < n; i++) {
+    double b = G[(i + 1) * stride] * (g ? g[i + 1] : 1);
+    s += 0.5 * (a + b) * (f[i + 1] - f[i]);
+    a = b;
+  }
+  return s;
+}
+
+int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride, rr_comfort *out, rr_error *err)
+{
+  double sum = 0;
+  for (int k = 0; k < p->nb; k++) sum += gb_term(&p->band[k], G, stride);
+  *out = (rr_comfort){.rms = sqrt(trapz_tab(p->f, G, p->n, stride, NULL)),
+                      .sperling = 4.42 * pow(sqrt(trapz_tab(p->f, G, p->n, stride, p->gs)), 0.3),
+                      .sperling_gb = 3.57 * pow(sum, 0.1),
+                      .wd_rms = sqrt(trapz_tab(p->f, G, p->n, stride, p->gw))};
+  if (isfinite(out->rms) && isfinite(out->sperling) && isfinite(out->sperling_gb) && isfinite(out->wd_rms)) return RR_OK;
+  return rr_seterr(err, RR_EINVAL, "comfort: the PSD is not finite");
+}

@@ -36,6 +36,7 @@ typedef struct objective {
   int model;                 /* index into the design's models */
   /* ride resources */
   rr_frf_plan *plan;
+  rr_comfort_plan *cplan;
   rr_spectrum sp;
   double *G;
 } objective;
@@ -161,7 +162,11 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
 void rr_design_free(rr_design *d)
 {
   if (!d) return;
-  for (int i = 0; i < d->nobj; i++) { rr_frf_plan_free(d->obj[i].plan); free(d->obj[i].G); }
+  for (int i = 0; i < d->nobj; i++) {
+    rr_frf_plan_free(d->obj[i].plan);
+    rr_comfort_plan_free(d->obj[i].cplan);
+    free(d->obj[i].G);
+  }
   for (int i = 0; i < d->nmodels; i++) { rr_model_free(d->model[i]); rr_modal_ws_free(d->ws[i]); }
   rr_system_free(d->scratch);
   for (int i = 0; i < d->nclones; i++) rr_design_free(d->clones[i]);
@@ -212,6 +217,7 @@ static int build(rr_design *d, rr_error *err)
     fo.npoints = 1;
     fo.rows = row;
     if ((st = rr_frf_plan_new(mm, &fo, &o->plan, err))) return st;
+    if ((st = rr_comfort_plan_new(rr_frf_freqs(o->plan), fo.nfreq, RR_AXIS_LATERAL, &o->cplan, err))) return st;
     o->G = malloc(sizeof(double) * (size_t)fo.nfreq);
     if (!o->G) return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
@@ -278,6 +284,7 @@ int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
       memcpy(c->objtext[i], d->objtext[i], sizeof c->objtext[i]);
       c->obj[i] = d->obj[i];
       c->obj[i].plan = NULL;
+      c->obj[i].cplan = NULL;
       c->obj[i].G = NULL;
     }
     st = build(c, err);
@@ -346,17 +353,14 @@ static int robust_value(rr_design *d, const objective *o, const rr_modal_opts *m
 static int ride_value(objective *o, rr_model *m, double *f, rr_error *err)
 {
   int st;
+  rr_comfort c;
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
   if ((st = rr_frf_plan_execute(o->plan, m, err))) return st;
   if ((st = rr_pem_psd(o->plan, m, &o->sp, o->G, err))) return st;
-  const double *fr = rr_frf_freqs(o->plan);
-  int nf = rr_frf_nfreq(o->plan);
-  switch (o->kind) {
-  case OBJ_SPERLING: return rr_sperling_filter_index(fr, o->G, nf, 1, RR_AXIS_LATERAL, f, err);
-  case OBJ_SPERLING_GB: return rr_sperling_gb_index(fr, o->G, nf, 1, RR_AXIS_LATERAL, f, err);
-  case OBJ_WD_RMS: return rr_weighted_rms(fr, o->G, nf, 1, RR_ISO_WD, f, err);
-  default: *f = rr_psd_rms(fr, o->G, nf, 1); return RR_OK;
-  }
+  if ((st = rr_comfort_execute(o->cplan, o->G, 1, &c, err))) return st;
+  *f = o->kind == OBJ_SPERLING ? c.sperling : o->kind == OBJ_SPERLING_GB ? c.sperling_gb
+     : o->kind == OBJ_WD_RMS ? c.wd_rms : c.rms;
+  return RR_OK;
 }
 
 static int objective_value(rr_design *d, objective *o, robust_cache *rc, double *f, rr_error *err)
