@@ -4,13 +4,14 @@
 #include <string.h>
 #include "eigdec.h"
 #include "hqr.h"
+#include "internal.h"
 
 /* LU of the Hessenberg matrix H - mu I with partial pivoting: row k+1 is the
  * only candidate at step k. U overwrites (ur, ui) (row-major, real and
  * imaginary parts apart so that the row updates vectorise); lr, li, sw hold
  * step k's multiplier and interchange, dr, di the reciprocal pivots. A zero pivot (mu an exact eigenvalue)
  * becomes eps3, as in LAPACK's dlaein. */
-static void hess_lu(int n, const double *h, double mr, double mi, double eps3, double *ur, double *ui, double *lr,
+RR_INLINE void hess_lu(int n, const double *h, double mr, double mi, double eps3, double *ur, double *ui, double *lr,
                     double *li, int *sw, double *dr, double *di)
 {
   for (int i = 0; i < n; i++) {
@@ -48,7 +49,7 @@ static void hess_lu(int n, const double *h, double mr, double mi, double eps3, d
 
 /* U y = y in place; (dr, di) = 1 / diag(U), so that no division sits in the
  * recurrence. */
-static void back_subst(int n, const double *ur, const double *ui, const double *dr, const double *di, double *yr,
+RR_INLINE void back_subst(int n, const double *ur, const double *ui, const double *dr, const double *di, double *yr,
                        double *yi)
 {
   for (int i = n - 1; i >= 0; i--) {
@@ -66,7 +67,7 @@ static void back_subst(int n, const double *ur, const double *ui, const double *
 }
 
 /* Scales y to largest component 1 (1-norm of each component). */
-static void normalise(int n, double *yr, double *yi)
+RR_INLINE void normalise(int n, double *yr, double *yi)
 {
   int big = 0;
   double b = 0;
@@ -113,7 +114,7 @@ static void balance(int n, double *a, double *d)
   }
 }
 
-int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork)
+RR_CLONES int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork)
 {
   if (n > 64 || n < 1) return -1;
   int *perm = iwork, *sw = iwork + n;

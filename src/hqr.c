@@ -5,19 +5,12 @@
 #include <stdint.h>
 #include <string.h>
 #include "hqr.h"
+#include "internal.h"
 
 #define A(i, j) a[(i) * n + (j)]
 /* inline, unlike fmax/fmin (no NaN can reach them here) */
 #define MAX(a, b) ((a) > (b) ? (a) : (b))
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
-/* AVX2 + FMA copies chosen at load time where the processor has them */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define RR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#define RR_HAVE_V4 1   /* an AVX-512 copy of the 8-lane batch, used where present */
-#else
-#define RR_CLONES
-#define RR_HAVE_V4 0
-#endif
 
 /* out = sum over i0 <= i < n of r[i] y[i], for T double or a vector of
  * lanes, in four partial sums: a single chain would wait on every add. */

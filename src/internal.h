@@ -12,6 +12,22 @@
 #define RR_PRINTF(a, b)
 #endif
 
+/* AVX2 + FMA copies of a hot function, chosen at load time where the
+   processor has them; the kernels it calls must be always_inline (RR_INLINE)
+   so that they are compiled into each copy. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define RR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define RR_HAVE_V4 1   /* an AVX-512 copy of the 8-lane batch, used where present */
+#else
+#define RR_CLONES
+#define RR_HAVE_V4 0
+#endif
+#if defined(__GNUC__)
+#define RR_INLINE static inline __attribute__((always_inline))
+#else
+#define RR_INLINE static inline
+#endif
+
 /* Fills err (when non-NULL) and returns code. */
 int rr_seterr(rr_error *err, int code, const char *fmt, ...) RR_PRINTF(3, 4);
 

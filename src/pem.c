@@ -318,15 +318,111 @@ static void smw_solve(const double complex *W, int nu, const int *piv, double co
   } else rr_clu_solve(W, nu, piv, r);
 }
 
+/* The SDF elements handled by SMW and where their blocks sit among the
+   residue entries (execute_modal's layout). */
+typedef struct smw_set {
+  int nu, uel[MAXU];
+  double umult[MAXU], k_lo;
+  int oHq, oHu, oGq, oZ, oH0, oG0;
+} smw_set;
+
+/* M2 = (I + dK Z)^-1 diag(dK), nu x nu: the SMW correction is then
+   O D^-1 B = O D0^-1 B - (O D0^-1 U) M2 (U^T D0^-1 B). Closed form for the
+   usual one or two dampers (one merged pair per bogie). */
+RR_INLINE void smw_matrix(const double complex *dK, const double complex *Z, int nu, double complex *M2)
+{
+  if (nu == 1) { M2[0] = dK[0] / (1 + dK[0] * Z[0]); return; }
+  if (nu == 2) {
+    double complex w0 = 1 + dK[0] * Z[0], w1 = dK[0] * Z[1], w2 = dK[1] * Z[2], w3 = 1 + dK[1] * Z[3];
+    double complex id = 1 / (w0 * w3 - w1 * w2);
+    M2[0] = w3 * id * dK[0];
+    M2[1] = -w1 * id * dK[1];
+    M2[2] = -w2 * id * dK[0];
+    M2[3] = w0 * id * dK[1];
+    return;
+  }
+  double complex W[MAXU * MAXU];
+  int piv[MAXU];
+  for (int e = 0; e < nu; e++)
+    for (int g = 0; g < nu; g++) W[e * nu + g] = (e == g) + dK[e] * Z[e * nu + g];
+  smw_factor(W, nu, piv);
+  for (int g = 0; g < nu; g++) {   /* column g of W^-1 diag(dK) */
+    double complex col[MAXU];
+    for (int e = 0; e < nu; e++) col[e] = e == g ? dK[g] : 0;
+    smw_solve(W, nu, piv, col);
+    for (int e = 0; e < nu; e++) M2[e * nu + g] = col[e];
+  }
+}
+
+/* H -= (G M2) Hu for one output block (G: np x nu entries at og of the
+   modal sums; Hu at ou; H in real and imaginary parts apart, so that the
+   loop over the inputs vectorises). */
+RR_INLINE void smw_correct(const double *are, const double *aim, int og, int ou, int np, int ni, int nu,
+                           const double complex *M2, double *Hr, double *Hi)
+{
+  const double *ur = are + ou, *ui = aim + ou;
+  for (int q = 0; q < np; q++) {
+    for (int e = 0; e < nu; e++) {
+      double complex g = 0;
+      for (int h = 0; h < nu; h++) g += (are[og + q * nu + h] + I * aim[og + q * nu + h]) * M2[h * nu + e];
+      double gr = creal(g), gi = cimag(g);
+      double *hr = Hr + q * ni, *hi = Hi + q * ni;
+      const double *xr = ur + e * ni, *xi = ui + e * ni;
+#pragma omp simd
+      for (int i = 0; i < ni; i++) {
+        hr[i] -= gr * xr[i] - gi * xi[i];
+        hi[i] -= gr * xi[i] + gi * xr[i];
+      }
+    }
+  }
+}
+
+/* Frequency k's FRFs from its modal sums (are, aim: the real and imaginary
+   parts of the residue entries): the SMW correction for the SDF elements,
+   then the acceleration -w^2 Hq (+ the roll-gravity H0). */
+RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k, const double *are,
+                                       const double *aim)
+{
+  int ni = p->ni, np = p->np, nu = u->nu, nH = np * ni;
+  double w = 2 * RR_PI * p->f[k];
+  double Hr[16 * 16], Hi[16 * 16], Zr[16 * 16], Zi[16 * 16];
+  memcpy(Hr, are + u->oHq, sizeof(double) * nH);
+  memcpy(Hi, aim + u->oHq, sizeof(double) * nH);
+  if (p->has0) {
+    memcpy(Zr, are + u->oH0, sizeof(double) * nH);
+    memcpy(Zi, aim + u->oH0, sizeof(double) * nH);
+  }
+  if (nu) {
+    double complex s = I * w, dK[MAXU], Z[MAXU * MAXU], M2[MAXU * MAXU];
+    double complex kf = rr_model_series_k(m, u->uel[0], s, 0);   /* every SMW element follows the one curve */
+    for (int e = 0; e < nu; e++) {
+      /* kf c s / (kf + c s) - k_lo c s / (k_lo + c s), without the
+         cancellation when kf is near k_lo */
+      double complex cs = m->mx[u->uel[e]].c * s;
+      dK[e] = u->umult[e] * cs * cs * (kf - u->k_lo) / ((kf + cs) * (u->k_lo + cs));
+    }
+    for (int e = 0; e < nu * nu; e++) Z[e] = are[u->oZ + e] + I * aim[u->oZ + e];
+    smw_matrix(dK, Z, nu, M2);
+    smw_correct(are, aim, u->oGq, u->oHu, np, ni, nu, M2, Hr, Hi);
+    if (p->has0) smw_correct(are, aim, u->oG0, u->oHu, np, ni, nu, M2, Zr, Zi);
+  }
+  double complex *Hk = p->H + (size_t)k * nH;
+  double w2 = w * w;
+  for (int t = 0; t < nH; t++) Hk[t] = -w2 * Hr[t] - I * (w2 * Hi[t]);
+  if (p->has0)
+    for (int t = 0; t < nH; t++) Hk[t] += Zr[t] + I * Zi[t];
+}
+
 static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
 {
   int ni = p->ni, np = p->np;
-  int uel[MAXU];
-  double umult[MAXU];
-  int nu = smw_elements(m, uel, umult);
+  smw_set su = {.nu = 0};
+  int nu = su.nu = smw_elements(m, su.uel, su.umult);
+  int *uel = su.uel;
   if (nu < 0) return rr_seterr(err, RR_EINVAL, "frf: more than %d SDF dampers (use the direct method)", MAXU);
   double k_lo = 0, k_hi = 0;
   if (nu) rr_sdf_range(&m->curve, &k_lo, &k_hi);
+  su.k_lo = k_lo;
   /* State-space part: SMW elements held at the reference stiffness k_lo. */
   rr_model *mm = (rr_model *)m;
   int mode_saved = mm->sdf_mode;
@@ -354,6 +450,7 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   /* the roll-gravity blocks H0, G0 last, and only when asked for */
   int oHq = 0, oHu = nHq, oGq = oHu + nHu, oZ = oGq + nGq, oH0 = oZ + nZ, oG0 = oH0 + nHq;
   int E = p->has0 ? oG0 + nGq : oH0;
+  su.oHq = oHq; su.oHu = oHu; su.oGq = oGq; su.oZ = oZ; su.oH0 = oH0; su.oG0 = oG0;
   int nt = 0, npair = 0;
   for (int j = 0; j < N; j++) { nt += p->wi[j] >= 0; npair += p->wi[j] > 0; }
   /* a real mode's residues are real (real vectors): its Im row, written
@@ -407,55 +504,8 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
     }
     cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * nk, E, K, 1.0, p->Wt, K, p->T, E, 0.0, p->acc, E);
     for (int kk = 0; kk < nk; kk++) {
-      int k = k0 + kk;
-      double w = 2 * RR_PI * p->f[k];
-      double complex s = I * w;
-      const double *are = p->acc + (size_t)2 * kk * E, *aim = are + E;
-      double complex Hq[16 * 16], H0[16 * 16], Hu[MAXU * 16], Gq[16 * MAXU], G0[16 * MAXU], Z[MAXU * MAXU];
-      for (int e = 0; e < nHq; e++) {
-        Hq[e] = are[oHq + e] + I * aim[oHq + e];
-        H0[e] = p->has0 ? are[oH0 + e] + I * aim[oH0 + e] : 0;
-      }
-      for (int e = 0; e < nHu; e++) Hu[e] = are[oHu + e] + I * aim[oHu + e];
-      for (int e = 0; e < nGq; e++) {
-        Gq[e] = are[oGq + e] + I * aim[oGq + e];
-        G0[e] = p->has0 ? are[oG0 + e] + I * aim[oG0 + e] : 0;
-      }
-      for (int e = 0; e < nZ; e++) Z[e] = are[oZ + e] + I * aim[oZ + e];
-      if (nu) {
-        /* D = D0 + U dK U^T: O D^-1 B = O D0^-1 B - O D0^-1 U (I + dK Z)^-1 dK U^T D0^-1 B */
-        double complex dK[MAXU], W[MAXU * MAXU], Y[MAXU * 16];
-        int piv[MAXU];
-        /* every SMW element follows the one SDF curve */
-        double complex kf = rr_model_series_k(m, uel[0], s, 0);
-        for (int e = 0; e < nu; e++) {
-          /* kf c s / (kf + c s) - k_lo c s / (k_lo + c s), without the
-             cancellation when kf is near k_lo */
-          double complex cs = m->mx[uel[e]].c * s;
-          dK[e] = umult[e] * cs * cs * (kf - k_lo) / ((kf + cs) * (k_lo + cs));
-        }
-        for (int e = 0; e < nu; e++)
-          for (int g = 0; g < nu; g++) W[e * nu + g] = (e == g) + dK[e] * Z[e * nu + g];
-        smw_factor(W, nu, piv);
-        for (int i = 0; i < ni; i++) {
-          double complex y[MAXU];
-          for (int e = 0; e < nu; e++) y[e] = dK[e] * Hu[e * ni + i];
-          smw_solve(W, nu, piv, y);
-          for (int e = 0; e < nu; e++) Y[e * ni + i] = y[e];
-        }
-        for (int q = 0; q < np; q++)
-          for (int i = 0; i < ni; i++) {
-            double complex c = 0;
-            for (int e = 0; e < nu; e++) c += Gq[q * nu + e] * Y[e * ni + i];
-            Hq[q * ni + i] -= c;
-          }
-        if (p->has0)
-          for (int q = 0; q < np; q++)
-            for (int i = 0; i < ni; i++)
-              for (int e = 0; e < nu; e++) H0[q * ni + i] -= G0[q * nu + e] * Y[e * ni + i];
-      }
-      double complex *Hk = p->H + (size_t)k * np * ni;
-      for (int t = 0; t < np * ni; t++) Hk[t] = -w * w * Hq[t] + H0[t];
+      const double *are = p->acc + (size_t)2 * kk * E;
+      finish_frequency(p, m, &su, k0 + kk, are, are + E);
     }
   }
   return RR_OK;
