@@ -7,6 +7,41 @@
 #include "bench_util.h"
 
 
+/* Paper-mode SDF (type1, paper Table 2 curve): the index by the fast
+   tracking and by the reference, the robust triple, one critical speed. */
+static void bench_sdf_paper(void)
+{
+  rr_vehicle v;
+  rr_model *m;
+  rr_modal_ws *ws;
+  rr_error e;
+  rr_vehicle_default(&v);
+  v.sdf_mode = RR_SDF_PAPER;
+  if (rr_model_from_vehicle(&v, &m, &e) || rr_modal_ws_new(m, &ws, &e)) { fprintf(stderr, "%s\n", e.msg); return; }
+  rr_model_set_operating(m, 350 / 3.6, 0.17, &e);
+  double z = 0, t0;
+  rr_modal_opts ref = rr_modal_opts_default();
+  ref.tracking = RR_TRACK_REFERENCE;
+  int reps = 200;
+  rr_modal_stability_index(m, NULL, ws, &z, &e);
+  t0 = bench_now();
+  for (int i = 0; i < reps; i++) rr_modal_stability_index(m, NULL, ws, &z, &e);
+  printf("sdf_paper_index_ms %.3f  (index %.6f)\n", (bench_now() - t0) / reps * 1e3, z);
+  t0 = bench_now();
+  for (int i = 0; i < 3; i++) rr_modal_stability_index(m, &ref, ws, &z, &e);
+  printf("sdf_paper_index_reference_ms %.1f  (index %.6f)\n", (bench_now() - t0) / 3 * 1e3, z);
+  rr_robust rb;
+  t0 = bench_now();
+  for (int i = 0; i < 20; i++) rr_robust_indices(m, NULL, NULL, ws, &rb, &e);
+  printf("sdf_paper_robust_triple_ms %.2f\n", (bench_now() - t0) / 20 * 1e3);
+  rr_critical cr;
+  t0 = bench_now();
+  rr_critical_speed(m, 0.4, NULL, NULL, ws, &cr, &e);
+  printf("sdf_paper_critical_speed_s %.2f  (conicity 0.4: %.3f km/h)\n", bench_now() - t0, cr.speed_ms * 3.6);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+}
+
 int main(void)
 {
   openblas_set_num_threads(1);
@@ -54,5 +89,6 @@ int main(void)
   rr_modal_result_free(&r);
   rr_modal_ws_free(ws);
   rr_model_free(m);
+  bench_sdf_paper();
   return 0;
 }

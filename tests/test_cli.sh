@@ -35,6 +35,22 @@ json_check "modes keys" "isinstance(d['stability_index'],float) and all(set(m)>=
 json_check "modes index is the max over in_index" "abs(d['stability_index']-max(m['stability_index'] for m in d['modes'] if m['in_index']))<1e-15" < "$tmp/modes.json"
 json_check "energy shares sum to 1" "all(abs(sum(m['energy'].values())-1)<1e-12 for m in d['modes'])" < "$tmp/modes.json"
 
+json_check "modes: roll share, name, hunting-related" "all(0<=m['roll_share']<=1 and isinstance(m['name'],str) and m['name'] and isinstance(m['hunting_related'],bool) for m in d['modes']) and all(not m['in_index'] for m in d['modes'] if m['roll_share']>=0.5) and d['stable'] is True and d['r_max']==0.5" < "$tmp/modes.json"
+"$RR" modes --speed 350 --conicity 2 > "$tmp/modes2.txt" || bad "modes at conicity 2 exit"
+grep -q "^verdict: UNSTABLE" "$tmp/modes2.txt" && ok || bad "modes at conicity 2: verdict not unstable"
+"$RR" modes --speed 350 --conicity 0.17 --rmax 1 --wmin 0 --json > "$tmp/modes3.json" || bad "modes --rmax exit"
+json_check "--rmax 1 --wmin 0: the index over every mode in the band" "abs(d['stability_index']-max(m['stability_index'] for m in d['modes'] if m['freq_hz']<=10))<1e-15" < "$tmp/modes3.json"
+"$RR" critical-speed --conicity 0.6 --json > "$tmp/c6.json" || bad "critical 0.6 exit"
+json_check "critical speed over any mode" "abs(d['critical_speed_kmh']-422.1)<0.05 and 10<d['mode']['freq_hz']<10.2 and d['mode']['hunting_related'] and 'roll_share' in d['mode']" < "$tmp/c6.json"
+"$RR" critical-speed --conicity 0.6 --index-modes --json > "$tmp/c6i.json" || bad "critical --index-modes exit"
+json_check "critical speed, index modes" "d['critical_speed_kmh'] is None and d['stable_to_range_end']" < "$tmp/c6i.json"
+"$RR" sweep --x "yaw_damper.damping=4000 kN.s/m:4000 kN.s/m:1" --y "yaw_damper.series_stiffness=10 MN/m:10 MN/m:1" --objective index@350,0.17 --rmax 1 --wmin 0 --fmax 20 > "$tmp/swr.csv" || bad "sweep --rmax exit"
+"$RR" modes --speed 350 --conicity 0.17 --rmax 1 --wmin 0 --fmax 20 --json > "$tmp/modes4.json"
+python3 -c "
+import csv, json, sys
+r = list(csv.DictReader(open('$tmp/swr.csv'))); d = json.load(open('$tmp/modes4.json'))
+sys.exit(0 if abs(float(r[0]['index@350,0.17']) - d['stability_index']) < 1e-9 else 1)" && ok || bad "sweep --rmax/--wmin/--fmax reach the objective value"
+
 "$RR" robust --json > "$tmp/r.json" || bad "robust exit"
 json_check "robust keys" "all(isinstance(d[k],float) for k in ('zeta_low','zeta_high','std_zeta'))" < "$tmp/r.json"
 "$RR" critical-speed --conicity 0.4 --json > "$tmp/c.json" || bad "critical exit"

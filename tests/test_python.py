@@ -30,6 +30,17 @@ check(abs(f[0] - ref["zeta_low"]) < 1e-13 and abs(f[1] - ref["zeta_high"]) < 1e-
 modes = json.loads(subprocess.run([cli, "modes", "--speed", "300", "--conicity", "0.3", "--json"],
                                   capture_output=True, check=True, text=True).stdout)
 check(abs(f[3] - modes["stability_index"]) < 1e-11, "index equals the CLI's (fast route vs full dgeev: ~1e-13 apart)")
+# the index's rule as objective modifiers, and a paper-mode SDF design variable
+g = railride.Design("type1", ["yaw_damper.sdf_k1"], ["index@350,0.17;fmax=20;wmin=0;rmax=1", "critical_speed@0.6",
+                                                      "index@350,0.17;sdf=paper"])
+fg = g.evaluate([1.5])
+all_modes = json.loads(subprocess.run([cli, "modes", "--speed", "350", "--conicity", "0.17", "--json", "--fmax", "20",
+                                       "--wmin", "0", "--rmax", "1"], capture_output=True, check=True, text=True).stdout)
+check(abs(fg[0] - all_modes["stability_index"]) < 1e-11, "modifiers reach the index")
+check(abs(fg[1] - 422.1) < 0.05, "critical speed over any mode (%g)" % fg[1])
+sdf = json.loads(subprocess.run([cli, "modes", "type1", "--sdf", "paper", "--speed", "350", "--conicity", "0.17", "--json"],
+                                capture_output=True, check=True, text=True).stdout)
+check(abs(fg[2] - sdf["stability_index"]) < 1e-12, "paper-mode SDF index equals the CLI's")
 X = np.array([[5e6], [10e6], [20e6], [-1.0]])
 F = d.evaluate_batch(X)
 check(F.shape == (4, 4), "batch shape")
