@@ -1,92 +1,190 @@
-/* Values with units ("50 kN/mm") converted to SI through udunits2. */
+/* Values with units ("50 kN/mm") converted to SI through udunits2.
+ *
+ * A value is one number, optionally followed by a unit of exactly the
+ * quantity's dimension, related to its SI unit by a plain scale factor.
+ * udunits reads far more than that (expressions: "1.6.2 m" is 0.32 m,
+ * "38936 kg 2" is 77872 kg; offsets "kg since 2000", logarithms "lg(re 1
+ * kg)", reciprocals: "2e-8 m/N" converts to a stiffness), so the unit text is
+ * checked against a small grammar first (unit names with integer powers,
+ * joined by '.', '*', '/', spaces and parentheses; the number 1 only as a
+ * numerator, as in "1/m"), and the conversion must map x to a x with a > 0.
+ *
+ * The unit database is loaded once per process and, udunits' parser not
+ * being reentrant, every use holds one lock: contexts in several threads
+ * may parse at once. */
+#define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <udunits2.h>
 #include "railride/vehicle.h"
 #include "internal.h"
 
-struct rr_units {
-  ut_system *sys;
-};
+#define UNIT_TEXT_MAX 128
+
+static pthread_once_t db_once = PTHREAD_ONCE_INIT;
+static pthread_mutex_t db_lock = PTHREAD_MUTEX_INITIALIZER;
+static ut_system *db;   /* read-only once loaded */
+
+static void db_load(void)
+{
+  ut_set_error_message_handler(ut_ignore);   /* a library must not print */
+  db = ut_read_xml(NULL);
+}
+
+static int db_get(rr_error *err)
+{
+  pthread_once(&db_once, db_load);
+  if (db) return RR_OK;
+  return rr_seterr(err, RR_EIO, "cannot load the udunits2 unit database (package libudunits2-data)");
+}
+
+struct rr_units { int unused; };
 
 int rr_units_new(rr_units **out, rr_error *err)
 {
   *out = NULL;
-  /* udunits prints parse errors to stderr by default; a library must not. */
-  ut_set_error_message_handler(ut_ignore);
-  rr_units *u = calloc(1, sizeof *u);
-  if (!u) return rr_seterr(err, RR_ENOMEM, "out of memory");
-  u->sys = ut_read_xml(NULL);
-  if (!u->sys) {
-    free(u);
-    return rr_seterr(err, RR_EIO, "cannot load the udunits2 unit database (package libudunits2-data)");
-  }
-  *out = u;
-  return RR_OK;
+  int st = db_get(err);
+  if (st) return st;
+  *out = calloc(1, sizeof **out);
+  return *out ? RR_OK : rr_seterr(err, RR_ENOMEM, "out of memory");
 }
 
-void rr_units_free(rr_units *u)
+void rr_units_free(rr_units *u) { free(u); }
+
+/* udunits words that make a unit an offset, a logarithm or a time origin. */
+static int keyword(const char *id, size_t n)
 {
-  if (!u) return;
-  ut_free_system(u->sys);
-  free(u);
+  static const char *const words[] = {"since", "after", "from", "ref", "lg", "log", "ln"};
+  for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
+    if (strlen(words[i]) == n && !strncmp(words[i], id, n)) return 1;
+  return 0;
 }
 
-static int is_blank(const char *s)
+/* The unit grammar; 0 when text is a plain unit expression, else -1 and the
+   offending position in *bad. */
+static int plain_unit(const char *s, const char **bad)
 {
-  while (*s && isspace((unsigned char)*s)) s++;
-  return *s == 0;
-}
-
-int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf,
-                   double *out, const char *what, rr_error *err)
-{
-  char *end;
-  if (!text || is_blank(text)) return rr_seterr(err, RR_EINVAL, "%s: empty value", what);
-  double v = strtod(text, &end);
-  if (end == text) return rr_seterr(err, RR_EINVAL, "%s: '%s' is not a number", what, text);
-  if (isnan(v)) return rr_seterr(err, RR_EINVAL, "%s: NaN is not allowed", what);
-  if (isinf(v) && !(allow_inf && v > 0))
-    return rr_seterr(err, RR_EINVAL, "%s: '%s' must be finite", what, text);
-  while (*end && isspace((unsigned char)*end)) end++;
-  if (*end == 0) { *out = v; return RR_OK; }   /* bare number: SI */
-  char ubuf[128];
-  size_t len = strlen(end);
-  while (len && isspace((unsigned char)end[len - 1])) len--;
-  if (len >= sizeof ubuf) return rr_seterr(err, RR_EUNIT, "%s: unit '%s' too long", what, end);
-  memcpy(ubuf, end, len);
-  ubuf[len] = 0;
-  rr_units *own = NULL;
-  if (!u) {
-    int st = rr_units_new(&own, err);
-    if (st) return st;
-    u = own;
-  }
-  int st = RR_OK;
-  ut_unit *from = ut_parse(u->sys, ubuf, UT_ASCII);
-  ut_unit *to = ut_parse(u->sys, si_unit, UT_ASCII);
-  if (!from) {
-    st = rr_seterr(err, RR_EUNIT, "%s: unknown unit '%s'", what, ubuf);
-  } else if (!to) {
-    st = rr_seterr(err, RR_EUNIT, "%s: internal unit '%s' not understood", what, si_unit);
-  } else if (!ut_are_convertible(from, to)) {
-    st = rr_seterr(err, RR_EUNIT, "%s: unit '%s' is not a unit of %s", what, ubuf,
-                   strcmp(si_unit, "1") ? si_unit : "a dimensionless quantity");
-  } else {
-    cv_converter *cv = ut_get_converter(from, to);
-    if (!cv) st = rr_seterr(err, RR_EUNIT, "%s: cannot convert '%s' to %s", what, ubuf, si_unit);
-    else {
-      double r = cv_convert_double(cv, v);
-      cv_free(cv);
-      if (!isfinite(r) && !(allow_inf && isinf(v)))
-        st = rr_seterr(err, RR_EINVAL, "%s: value not finite after conversion", what);
-      else *out = r;
+  int depth = 0;
+  for (const char *p = s; *p;) {
+    unsigned char c = (unsigned char)*p;
+    if (c == ' ' || c == '.' || c == '*' || c == '/') { p++; continue; }
+    if (c == '(') { depth++; p++; continue; }
+    if (c == ')') { if (--depth < 0) break; p++; continue; }
+    if (isalpha(c) || c == '_' || c == '%') {
+      const char *id = p;
+      while (isalpha((unsigned char)*p) || *p == '_' || *p == '%') p++;
+      if (keyword(id, (size_t)(p - id))) { *bad = id; return -1; }
+      if (*p == '^') p++;   /* a power: m^2, m2, s-1, s^-2 */
+      if (*p == '-' && isdigit((unsigned char)p[1])) p++;
+      while (isdigit((unsigned char)*p)) p++;
+      continue;
     }
+    if (c == '1') {   /* a numerator only: 1/m */
+      const char *q = p + 1;
+      while (*q == ' ') q++;
+      if (*q == '/' && !isdigit((unsigned char)q[1])) { p = q; continue; }
+    }
+    *bad = p;
+    return -1;
+  }
+  if (depth != 0) { *bad = s + strlen(s); return -1; }
+  return 0;
+}
+
+/* The scale a of the converter, when it is x -> a x with a > 0. */
+static int plain_scale(const cv_converter *cv, double *a)
+{
+  double c0 = cv_convert_double(cv, 0.0), c1 = cv_convert_double(cv, 1.0), c2 = cv_convert_double(cv, 2.0);
+  if (!(c0 == 0 && c1 > 0 && isfinite(c1) && fabs(c2 - 2 * c1) <= 1e-12 * c1)) return -1;
+  *a = c1;
+  return 0;
+}
+
+static int convert_locked(const char *unit, const char *si_unit, double *scale, const char *what, rr_error *err)
+{
+  ut_unit *from = ut_parse(db, unit, UT_ASCII), *to = ut_parse(db, si_unit, UT_ASCII);
+  int st = RR_OK;
+  const char *q = strcmp(si_unit, "1") ? si_unit : "a dimensionless quantity";
+  if (!from) st = rr_seterr(err, RR_EUNIT, "%s: unknown unit '%s'", what, unit);
+  else if (!to) st = rr_seterr(err, RR_EUNIT, "%s: internal unit '%s' not understood", what, si_unit);
+  else if (!ut_are_convertible(from, to)) st = rr_seterr(err, RR_EUNIT, "%s: '%s' is not a unit of %s", what, unit, q);
+  else {
+    cv_converter *cv = ut_get_converter(from, to);
+    if (!cv || plain_scale(cv, scale))
+      st = rr_seterr(err, RR_EUNIT, "%s: '%s' is not a plain multiple of %s (no offset, logarithm or reciprocal)",
+                     what, unit, q);
+    cv_free(cv);
   }
   ut_free(from);
   ut_free(to);
-  rr_units_free(own);
   return st;
+}
+
+/* The SI scale of unit text (trimmed). */
+static int unit_scale(const char *unit, const char *si_unit, double *scale, const char *what, rr_error *err)
+{
+  const char *bad;
+  if (plain_unit(unit, &bad))
+    return rr_seterr(err, RR_EUNIT, "%s: unit '%s' not understood at '%.12s' (one number, then a unit such as kN/mm)",
+                     what, unit, bad);
+  int st = db_get(err);
+  if (st) return st;
+  pthread_mutex_lock(&db_lock);
+  st = convert_locked(unit, si_unit, scale, what, err);
+  pthread_mutex_unlock(&db_lock);
+  return st;
+}
+
+static const char *skip_space(const char *s)
+{
+  while (*s && isspace((unsigned char)*s)) s++;
+  return s;
+}
+
+/* The number at the start of text: finite (or +inf where allowed), not out
+   of double's range. */
+static int leading_number(const char *text, int allow_inf, double *v, const char **end, const char *what,
+                          rr_error *err)
+{
+  char *e;
+  errno = 0;
+  *v = strtod(text, &e);
+  *end = e;
+  if (e == text) return rr_seterr(err, RR_EINVAL, "%s: '%s' is not a number", what, text);
+  if (isnan(*v)) return rr_seterr(err, RR_EINVAL, "%s: NaN is not allowed", what);
+  int literal_inf = isinf(*v) && errno != ERANGE;
+  if (isinf(*v) && !(allow_inf && literal_inf && *v > 0)) return rr_seterr(err, RR_EINVAL, "%s: '%s' must be finite", what, text);
+  if (errno == ERANGE) return rr_seterr(err, RR_EINVAL, "%s: '%s' is out of range", what, text);
+  return RR_OK;
+}
+
+int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf, double *out, const char *what,
+                   rr_error *err)
+{
+  (void)u;
+  const char *end;
+  double v, scale = 0;
+  if (!text || !*skip_space(text)) return rr_seterr(err, RR_EINVAL, "%s: empty value", what);
+  int st = leading_number(skip_space(text), allow_inf, &v, &end, what, err);
+  if (st) return st;
+  if (end > text && !isspace((unsigned char)*end) && *end && !isalpha((unsigned char)*end) && *end != '%')
+    return rr_seterr(err, RR_EINVAL, "%s: '%s' is not a number followed by a unit", what, text);
+  end = skip_space(end);
+  if (!*end) { *out = v; return RR_OK; }   /* a bare number: SI */
+  char unit[UNIT_TEXT_MAX];
+  size_t len = strlen(end);
+  while (len && isspace((unsigned char)end[len - 1])) len--;
+  if (len >= sizeof unit) return rr_seterr(err, RR_EUNIT, "%s: unit '%.40s...' too long", what, end);
+  memcpy(unit, end, len);
+  unit[len] = 0;
+  if ((st = unit_scale(unit, si_unit, &scale, what, err))) return st;
+  double r = v * scale;
+  if (isinf(v)) { *out = v; return RR_OK; }
+  if (!isfinite(r) || (r == 0 && v != 0)) return rr_seterr(err, RR_EINVAL, "%s: '%s' is out of range in SI", what, text);
+  *out = r;
+  return RR_OK;
 }

@@ -12,50 +12,50 @@ enum { P = RR_KEY_POSITIVE, N = RR_KEY_NONNEG, INF = RR_KEY_INF_OK, OPT = RR_KEY
        SPC = RR_KEY_SPECIAL };
 
 static const rr_vehicle_key keys[] = {
-  {"vehicle", "name", "", NOFF, SPC | OPT},
-  {"vehicle", "base", "", NOFF, SPC | OPT},
-  {"carbody", "mass", "kg", OFF(carbody_mass), P},
-  {"carbody", "roll_inertia", "kg.m2", OFF(carbody_roll_inertia), P},
-  {"carbody", "yaw_inertia", "kg.m2", OFF(carbody_yaw_inertia), P},
-  {"carbody", "cg_height", "m", OFF(carbody_cg_height), N},
-  {"frame", "mass", "kg", OFF(frame_mass), P},
-  {"frame", "roll_inertia", "kg.m2", OFF(frame_roll_inertia), P},
-  {"frame", "yaw_inertia", "kg.m2", OFF(frame_yaw_inertia), P},
-  {"frame", "cg_height", "m", OFF(frame_cg_height), N},
-  {"wheelset", "mass", "kg", OFF(wheelset_mass), P},
-  {"wheelset", "yaw_inertia", "kg.m2", OFF(wheelset_yaw_inertia), P},
-  {"wheelset", "rolling_radius", "m", OFF(rolling_radius), P},
-  {"wheelset", "contact_half_spacing", "m", OFF(contact_half_spacing), P},
-  {"layout", "bogie_half_spacing", "m", OFF(bogie_half_spacing), P},
-  {"layout", "wheelbase_half", "m", OFF(wheelbase_half), P},
-  {"primary", "longitudinal_stiffness", "N/m", OFF(primary_kx), N},
-  {"primary", "lateral_stiffness", "N/m", OFF(primary_ky), N},
-  {"primary", "vertical_stiffness", "N/m", OFF(primary_kz), N},
-  {"primary", "vertical_damping", "N.s/m", OFF(primary_cz), N},
-  {"primary", "half_spacing", "m", OFF(primary_half_spacing), P},
-  {"primary", "arm_length", "m", OFF(primary_arm_length), N},
-  {"secondary", "longitudinal_stiffness", "N/m", OFF(secondary_kx), N},
-  {"secondary", "lateral_stiffness", "N/m", OFF(secondary_ky), N},
-  {"secondary", "vertical_stiffness", "N/m", OFF(secondary_kz), N},
-  {"secondary", "vertical_damping", "N.s/m", OFF(secondary_cz), N},
-  {"secondary", "half_spacing", "m", OFF(secondary_half_spacing), P},
-  {"secondary", "height", "m", OFF(secondary_height), N},
-  {"secondary", "antiroll_stiffness", "N.m/rad", OFF(antiroll_stiffness), N},
-  {"lateral_damper", "damping", "N.s/m", OFF(lateral_damping), N},
-  {"lateral_damper", "series_stiffness", "N/m", OFF(lateral_series_stiffness), P | INF},
-  {"lateral_damper", "height", "m", OFF(lateral_damper_height), N},
-  {"yaw_damper", "damping", "N.s/m", OFF(yaw_damping), N},
-  {"yaw_damper", "series_stiffness", "N/m", OFF(yaw_series_stiffness), P | INF},
-  {"yaw_damper", "half_spacing", "m", OFF(yaw_half_spacing), P},
-  {"yaw_damper", "height", "m", OFF(yaw_height), N},
-  {"yaw_damper", "sdf", "", NOFF, SPC | OPT},
-  {"yaw_damper", "sdf_k1", "Hz", OFF(sdf.k1_hz), P | OPT},
-  {"yaw_damper", "sdf_k2", "N/m", OFF(sdf.k2), N | OPT},
-  {"yaw_damper", "sdf_k3", "N/m", OFF(sdf.k3), P | OPT},
-  {"yaw_damper", "sdf_table", "", NOFF, SPC | OPT},
-  {"contact", "longitudinal_creep", "N", OFF(f11), N},
-  {"contact", "lateral_creep", "N", OFF(f22), N},
-  {"contact", "gravity_stiffness", "", NOFF, SPC | OPT},
+  {"vehicle", "name", "", NOFF, SPC | OPT, 0, 0},
+  {"vehicle", "base", "", NOFF, SPC | OPT, 0, 0},
+  {"carbody", "mass", "kg", OFF(carbody_mass), P, 1000, 1e+06},
+  {"carbody", "roll_inertia", "kg.m2", OFF(carbody_roll_inertia), P, 1000, 1e+09},
+  {"carbody", "yaw_inertia", "kg.m2", OFF(carbody_yaw_inertia), P, 1000, 1e+09},
+  {"carbody", "cg_height", "m", OFF(carbody_cg_height), N, 0, 10},
+  {"frame", "mass", "kg", OFF(frame_mass), P, 10, 100000},
+  {"frame", "roll_inertia", "kg.m2", OFF(frame_roll_inertia), P, 1, 1e+07},
+  {"frame", "yaw_inertia", "kg.m2", OFF(frame_yaw_inertia), P, 1, 1e+07},
+  {"frame", "cg_height", "m", OFF(frame_cg_height), N, 0, 10},
+  {"wheelset", "mass", "kg", OFF(wheelset_mass), P, 10, 100000},
+  {"wheelset", "yaw_inertia", "kg.m2", OFF(wheelset_yaw_inertia), P, 1, 1e+06},
+  {"wheelset", "rolling_radius", "m", OFF(rolling_radius), P, 0.05, 2},
+  {"wheelset", "contact_half_spacing", "m", OFF(contact_half_spacing), P, 0.1, 2},
+  {"layout", "bogie_half_spacing", "m", OFF(bogie_half_spacing), P, 0.3, 50},
+  {"layout", "wheelbase_half", "m", OFF(wheelbase_half), P, 0.1, 10},
+  {"primary", "longitudinal_stiffness", "N/m", OFF(primary_kx), N, 0, 1e+12},
+  {"primary", "lateral_stiffness", "N/m", OFF(primary_ky), N, 0, 1e+12},
+  {"primary", "vertical_stiffness", "N/m", OFF(primary_kz), N, 0, 1e+12},
+  {"primary", "vertical_damping", "N.s/m", OFF(primary_cz), N, 0, 1e+10},
+  {"primary", "half_spacing", "m", OFF(primary_half_spacing), P, 0.05, 5},
+  {"primary", "arm_length", "m", OFF(primary_arm_length), N, 0, 5},
+  {"secondary", "longitudinal_stiffness", "N/m", OFF(secondary_kx), N, 0, 1e+12},
+  {"secondary", "lateral_stiffness", "N/m", OFF(secondary_ky), N, 0, 1e+12},
+  {"secondary", "vertical_stiffness", "N/m", OFF(secondary_kz), N, 0, 1e+12},
+  {"secondary", "vertical_damping", "N.s/m", OFF(secondary_cz), N, 0, 1e+10},
+  {"secondary", "half_spacing", "m", OFF(secondary_half_spacing), P, 0.05, 5},
+  {"secondary", "height", "m", OFF(secondary_height), N, 0, 10},
+  {"secondary", "antiroll_stiffness", "N.m/rad", OFF(antiroll_stiffness), N, 0, 1e+12},
+  {"lateral_damper", "damping", "N.s/m", OFF(lateral_damping), N, 0, 1e+10},
+  {"lateral_damper", "series_stiffness", "N/m", OFF(lateral_series_stiffness), P | INF, 1000, 1e+12},
+  {"lateral_damper", "height", "m", OFF(lateral_damper_height), N, 0, 10},
+  {"yaw_damper", "damping", "N.s/m", OFF(yaw_damping), N, 0, 1e+10},
+  {"yaw_damper", "series_stiffness", "N/m", OFF(yaw_series_stiffness), P | INF, 1000, 1e+12},
+  {"yaw_damper", "half_spacing", "m", OFF(yaw_half_spacing), P, 0.05, 5},
+  {"yaw_damper", "height", "m", OFF(yaw_height), N, 0, 10},
+  {"yaw_damper", "sdf", "", NOFF, SPC | OPT, 0, 0},
+  {"yaw_damper", "sdf_k1", "Hz", OFF(sdf.k1_hz), P | OPT, 0.001, 1000},
+  {"yaw_damper", "sdf_k2", "N/m", OFF(sdf.k2), N | OPT, 0, 1e+12},
+  {"yaw_damper", "sdf_k3", "N/m", OFF(sdf.k3), P | OPT, 1000, 1e+12},
+  {"yaw_damper", "sdf_table", "", NOFF, SPC | OPT, 0, 0},
+  {"contact", "longitudinal_creep", "N", OFF(f11), N, 0, 1e+11},
+  {"contact", "lateral_creep", "N", OFF(f22), N, 0, 1e+11},
+  {"contact", "gravity_stiffness", "", NOFF, SPC | OPT, 0, 0},
 };
 
 const rr_vehicle_key *rr_vehicle_keys(int *n)
@@ -150,19 +150,25 @@ int rr_vehicle_builtin(const char *name, rr_vehicle *v, rr_error *err)
   return rr_seterr(err, RR_EINVAL, "unknown built-in vehicle '%s' (type1, type2)", name);
 }
 
+int rr_vehicle_key_check(const rr_vehicle_key *k, double x, rr_error *err)
+{
+  const char *u = strcmp(k->si_unit, "1") ? k->si_unit : "";
+  if (isinf(x) && x > 0 && (k->flags & INF)) return RR_OK;
+  if (isnan(x) || isinf(x)) return rr_seterr(err, RR_EINVAL, "[%s] %s: value must be finite", k->section, k->key);
+  if (x < k->min || x > k->max)
+    return rr_seterr(err, RR_EINVAL, "[%s] %s: %g %s outside the physical range %g .. %g %s%s", k->section, k->key, x, u,
+                     k->min, k->max, u, (k->flags & INF) ? " (or inf)" : "");
+  return RR_OK;
+}
+
 int rr_vehicle_check(const rr_vehicle *v, rr_error *err)
 {
   for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
     const rr_vehicle_key *k = &keys[i];
     if (k->offset == NOFF) continue;
-    if (!strncmp(k->key, "sdf_", 4)) continue;   /* checked with the curve */
-    double x = *(const double *)((const char *)v + k->offset);
-    if (isnan(x) || (isinf(x) && !((k->flags & INF) && x > 0)))
-      return rr_seterr(err, RR_EINVAL, "[%s] %s: value must be finite", k->section, k->key);
-    if ((k->flags & P) && !(x > 0))
-      return rr_seterr(err, RR_EINVAL, "[%s] %s: must be > 0 (got %g)", k->section, k->key, x);
-    if ((k->flags & N) && !(x >= 0))
-      return rr_seterr(err, RR_EINVAL, "[%s] %s: must be >= 0 (got %g)", k->section, k->key, x);
+    if (!strncmp(k->key, "sdf_", 4) && v->sdf.kind != RR_CURVE_SLS) continue;   /* no curve, or a table */
+    int st = rr_vehicle_key_check(k, *(const double *)((const char *)v + k->offset), err);
+    if (st) return st;
   }
   if (v->sdf_mode < RR_SDF_NONE || v->sdf_mode > RR_SDF_PHYSICAL)
     return rr_seterr(err, RR_EINVAL, "[yaw_damper] sdf: unknown mode %d", v->sdf_mode);

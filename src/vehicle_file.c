@@ -9,42 +9,22 @@
 #include <string.h>
 #include "railride/vehicle.h"
 #include "internal.h"
+#include "textfile.h"
 
 #define MAX_BASE_DEPTH 8
 #define NKEYS_MAX 64
 
-/* The reader counts lines so the handler knows where it is. */
-typedef struct reader_state {
-  FILE *fp;
-  int line;
-  int too_long;
-} reader_state;
-
-static char *count_reader(char *str, int num, void *stream)
-{
-  reader_state *rs = stream;
-  if (!fgets(str, num, rs->fp)) return NULL;
-  size_t len = strlen(str);
-  if (len == (size_t)num - 1 && str[len - 1] != '\n' && !feof(rs->fp)) {
-    /* Longer than inih's line buffer: swallow the rest and flag it. */
-    int ch;
-    while ((ch = fgetc(rs->fp)) != EOF && ch != '\n') {}
-    if (!rs->too_long) rs->too_long = rs->line + 1;
-  }
-  rs->line++;
-  return str;
-}
-
 typedef struct parse_ctx {
   const char *path;
   char dir[PATH_MAX];
-  reader_state rs;
+  rr_lines rs;
   rr_vehicle *veh;
   rr_units *units;
   rr_error *err;
   int status;
   int pass;                 /* 1: [vehicle] only; 2: everything */
   char base[PATH_MAX];
+  int base_line;
   char name[64];
   int seen[NKEYS_MAX];      /* line where each key was set, 0 if not */
   int curve_keys;           /* sdf_k1/k2/k3 given: bit mask */
@@ -82,7 +62,10 @@ static int handler(void *user, const char *section, const char *name, const char
   parse_ctx *c = user;
   if (c->status) return 1;   /* first error only */
   if (c->pass == 1) {
-    if (!strcmp(section, "vehicle") && !strcmp(name, "base")) trim_copy(c->base, sizeof c->base, value);
+    if (!strcmp(section, "vehicle") && !strcmp(name, "base")) {
+      trim_copy(c->base, sizeof c->base, value);
+      c->base_line = c->rs.line;
+    }
     if (!strcmp(section, "vehicle") && !strcmp(name, "name")) trim_copy(c->name, sizeof c->name, value);
     return 1;
   }
@@ -140,10 +123,11 @@ static int handler(void *user, const char *section, const char *name, const char
   double x;
   int st = rr_units_parse(c->units, val, k->si_unit, (k->flags & RR_KEY_INF_OK) != 0, &x, what, c->err);
   if (st) { c->status = st; return 0; }
-  if ((k->flags & RR_KEY_POSITIVE) && !(x > 0))
-    return fail(c, RR_EINVAL, "[%s] %s: must be > 0 (got '%s')", section, name, val);
-  if ((k->flags & RR_KEY_NONNEG) && !(x >= 0))
-    return fail(c, RR_EINVAL, "[%s] %s: must be >= 0 (got '%s')", section, name, val);
+  rr_error e2;
+  if ((st = rr_vehicle_key_check(k, x, &e2))) {
+    c->status = rr_seterr(c->err, st, "%s:%d: %s (got '%s')", c->path, c->rs.line, e2.msg, val);
+    return 0;
+  }
   *rr_vehicle_field(c->veh, k) = x;
   if (!strcmp(k->key, "sdf_k1")) c->curve_keys |= 1;
   if (!strcmp(k->key, "sdf_k2")) c->curve_keys |= 2;
@@ -153,22 +137,34 @@ static int handler(void *user, const char *section, const char *name, const char
 
 static int run_pass(parse_ctx *c, int pass)
 {
-  FILE *fp = fopen(c->path, "r");
-  if (!fp) return rr_seterr(c->err, RR_EIO, "%s: cannot open: %s", c->path, strerror(errno));
+  int st = rr_lines_open(&c->rs, c->path, RR_INI_LINE_MAX, c->err);
+  if (st) return st;
   c->pass = pass;
-  c->rs.fp = fp;
-  c->rs.line = 0;
-  c->rs.too_long = 0;
-  int r = ini_parse_stream(count_reader, &c->rs, handler, c);
-  int lines = c->rs.line;
-  fclose(fp);
+  int r = ini_parse_stream(rr_lines_ini_reader, &c->rs, handler, c);
+  int line = c->rs.line;
+  rr_lines_close(&c->rs);
+  c->rs.line = line;
   if (c->status) return c->status;
-  if (c->rs.too_long)
-    return rr_seterr(c->err, RR_EPARSE, "%s:%d: line too long", c->path, c->rs.too_long);
+  if (c->rs.status) return rr_seterr(c->err, c->rs.status, "%s", c->rs.err.msg);
   if (r > 0) return rr_seterr(c->err, RR_EPARSE, "%s:%d: malformed line (expected [section] or key = value)", c->path, r);
   if (r < 0) return rr_seterr(c->err, RR_EIO, "%s: cannot read", c->path);
-  c->rs.line = lines;
   return RR_OK;
+}
+
+static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int depth);
+
+/* The base file named at the base line: reported there when it cannot be
+   read at all. */
+static int load_base(parse_ctx *c, rr_vehicle *veh, rr_error *err, int depth)
+{
+  char bpath[PATH_MAX + 8];
+  rr_error e2;
+  if (rr_vehicle_builtin(c->base, veh, &e2) == RR_OK) return RR_OK;
+  resolve_path(c, c->base, bpath, sizeof bpath);
+  FILE *fp = rr_open_regular(bpath, &e2);
+  if (!fp) return rr_seterr(err, RR_EIO, "%s:%d: [vehicle] base: %s", c->path, c->base_line, e2.msg);
+  fclose(fp);
+  return load_depth(bpath, veh, err, depth + 1);
 }
 
 static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int depth)
@@ -186,13 +182,7 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
   if (st) goto done;
   int has_base = c->base[0] != 0;
   if (has_base) {
-    rr_error e2;
-    if (rr_vehicle_builtin(c->base, veh, &e2) != RR_OK) {
-      char bpath[PATH_MAX + 8];
-      resolve_path(c, c->base, bpath, sizeof bpath);
-      st = load_depth(bpath, veh, err, depth + 1);
-      if (st) goto done;
-    }
+    if ((st = load_base(c, veh, err, depth))) goto done;
   } else {
     memset(veh, 0, sizeof *veh);
   }

@@ -56,6 +56,7 @@ typedef struct rr_vehicle_key {
   const char *si_unit;   /* udunits spelling of the SI unit, "1" for dimensionless */
   size_t offset;         /* offset of the double in rr_vehicle, or (size_t)-1 */
   int flags;             /* RR_KEY_* */
+  double min, max;       /* physical range, SI, inclusive (inf allowed with RR_KEY_INF_OK) */
 } rr_vehicle_key;
 enum {
   RR_KEY_POSITIVE = 1,   /* > 0 */
@@ -69,6 +70,9 @@ enum {
 const rr_vehicle_key *rr_vehicle_keys(int *n);
 /* Finds "section.key" among the numeric keys; NULL when unknown. */
 const rr_vehicle_key *rr_vehicle_key_find(const char *section_dot_key);
+/* Checks x against the key's physical range; the message names the key and
+ * the range. */
+int rr_vehicle_key_check(const rr_vehicle_key *key, double x, rr_error *err);
 /* Pointer to the double a numeric key addresses. */
 double *rr_vehicle_field(rr_vehicle *veh, const rr_vehicle_key *key);
 
