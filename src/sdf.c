@@ -7,6 +7,7 @@
 #include <string.h>
 #include "railride/sdf.h"
 #include "internal.h"
+#include "textfile.h"
 
 /* Linear interpolation in log f, held constant outside the table. */
 static double table_interp(const rr_sdf_curve *c, const double *y, double f)
@@ -63,77 +64,85 @@ void rr_sdf_range(const rr_sdf_curve *c, double *k_lo, double *k_hi)
 int rr_sdf_curve_check(const rr_sdf_curve *c, const char *what, rr_error *err)
 {
   if (c->kind == RR_CURVE_SLS) {
-    if (!(isfinite(c->k1_hz) && c->k1_hz > 0)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k1 must be > 0", what);
-    if (!(isfinite(c->k2) && c->k2 >= 0)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k2 must be >= 0", what);
-    if (!(isfinite(c->k3) && c->k3 > 0)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k3 must be > 0", what);
+    if (!(c->k1_hz >= 1e-3 && c->k1_hz <= 1e3)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k1 outside 0.001 .. 1000 Hz", what);
+    if (!(c->k2 >= 0 && c->k2 <= 1e12)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k2 outside 0 .. 1e12 N/m", what);
+    if (!(c->k3 >= 1e3 && c->k3 <= 1e12)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k3 outside 1000 .. 1e12 N/m", what);
     return RR_OK;
   }
   if (c->kind == RR_CURVE_TABLE) {
     if (c->n < 1) return rr_seterr(err, RR_EINVAL, "%s: empty SDF table", what);
     for (int i = 0; i < c->n; i++) {
-      if (!(isfinite(c->f_hz[i]) && c->f_hz[i] > 0))
-        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequency must be > 0", what, i + 1);
+      if (!(c->f_hz[i] > 0 && c->f_hz[i] <= 1e4))
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequency outside (0, 1e4] Hz", what, i + 1);
       if (i && !(c->f_hz[i] > c->f_hz[i - 1]))
         return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequencies must increase", what, i + 1);
-      if (!(isfinite(c->k_storage[i]) && c->k_storage[i] > 0))
-        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: storage stiffness must be > 0", what, i + 1);
-      if (c->has_loss && !(isfinite(c->k_loss[i]) && c->k_loss[i] >= 0))
-        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: loss stiffness must be >= 0", what, i + 1);
+      if (!(c->k_storage[i] >= 1e3 && c->k_storage[i] <= 1e15))
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: storage stiffness outside 1000 .. 1e15 N/m", what, i + 1);
+      if (c->has_loss && !(c->k_loss[i] >= 0 && c->k_loss[i] <= 1e15))
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: loss stiffness outside 0 .. 1e15 N/m", what, i + 1);
     }
     return RR_OK;
   }
   return rr_seterr(err, RR_EINVAL, "%s: no SDF curve given (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", what);
 }
 
+/* One row of numbers separated by commas, semicolons or blanks: the count
+   (up to 4), or -1 when something else is in the row. */
+static int row_numbers(const char *p, double *v)
+{
+  int k = 0;
+  while (*p) {
+    while (isspace((unsigned char)*p)) p++;
+    if (!*p) break;
+    if (k == 4) return -1;
+    char *end;
+    errno = 0;
+    v[k] = strtod(p, &end);
+    if (end == p || errno == ERANGE || !isfinite(v[k])) return -1;
+    k++;
+    p = end;
+    while (isspace((unsigned char)*p)) p++;
+    if (*p == ',' || *p == ';') p++;
+  }
+  return k;
+}
+
+/* A header line: text, no digits leading. */
+static int header_line(const char *p)
+{
+  while (isspace((unsigned char)*p)) p++;
+  return isalpha((unsigned char)*p);
+}
+
 int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err)
 {
-  FILE *fp = fopen(path, "r");
-  if (!fp) return rr_seterr(err, RR_EIO, "%s: cannot open: %s", path, strerror(errno));
-  char line[512];
-  int lineno = 0, ncols = -1, st = RR_OK;
+  rr_lines r;
+  int st = rr_lines_open(&r, path, RR_CSV_LINE_MAX, err), ncols = -1, got;
+  if (st) return st;
+  const char *line;
   c->n = 0;
-  while (fgets(line, sizeof line, fp)) {
-    lineno++;
-    char *p = line;
-    while (isspace((unsigned char)*p)) p++;
-    if (*p == 0 || *p == '#') continue;
+  while (!st && (got = rr_lines_next(&r, &line)) > 0) {
     double v[4];
-    int k = 0;
-    char *q = p;
-    while (k < 4) {
-      char *end;
-      v[k] = strtod(q, &end);
-      if (end == q) break;
-      k++;
-      q = end;
-      while (isspace((unsigned char)*q)) q++;
-      if (*q == ',' || *q == ';') q++;
-      while (isspace((unsigned char)*q)) q++;
-      if (*q == 0) break;
-    }
-    if (k == 0 && c->n == 0 && ncols < 0 && isalpha((unsigned char)*p)) { ncols = 0; continue; } /* header */
-    if (*q != 0 || k < 2 || k > 3) {
-      st = rr_seterr(err, RR_EPARSE, "%s:%d: expected 2 or 3 numbers (f_hz, k_storage[, k_loss])", path, lineno);
-      break;
-    }
-    if (ncols > 0 && k != ncols) {
-      st = rr_seterr(err, RR_EPARSE, "%s:%d: %d columns where earlier rows have %d", path, lineno, k, ncols);
-      break;
-    }
-    ncols = k;
-    if (c->n >= RR_SDF_TABLE_MAX) {
-      st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, lineno, RR_SDF_TABLE_MAX);
-      break;
-    }
-    for (int j = 0; j < k; j++)
-      if (!isfinite(v[j])) { st = rr_seterr(err, RR_EPARSE, "%s:%d: non-finite number", path, lineno); break; }
+    const char *p = line;
+    while (isspace((unsigned char)*p)) p++;
+    if (!*p) continue;
+    if (c->n == 0 && ncols < 0 && header_line(p)) { ncols = 0; continue; }
+    int k = row_numbers(p, v);
+    if (k < 2 || k > 3)
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: expected 2 or 3 numbers (f_hz, k_storage[, k_loss])", path, r.line);
+    else if (ncols > 0 && k != ncols)
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: %d columns where earlier rows have %d", path, r.line, k, ncols);
+    else if (c->n >= RR_SDF_TABLE_MAX)
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, r.line, RR_SDF_TABLE_MAX);
     if (st) break;
+    ncols = k;
     c->f_hz[c->n] = v[0];
     c->k_storage[c->n] = v[1];
     c->k_loss[c->n] = k == 3 ? v[2] : 0.0;
     c->n++;
   }
-  fclose(fp);
+  if (!st && r.status) st = rr_seterr(err, r.status, "%s", r.err.msg);
+  rr_lines_close(&r);
   if (st) return st;
   if (c->n == 0) return rr_seterr(err, RR_EPARSE, "%s: no rows", path);
   c->kind = RR_CURVE_TABLE;

@@ -9,15 +9,17 @@
 #include "railride/spectrum.h"
 #include "railride/vehicle.h"
 #include "internal.h"
+#include "textfile.h"
 
 #ifndef RR_SPECTRA_DIR
 #define RR_SPECTRA_DIR "/usr/local/share/railride/spectra"
 #endif
 
+#define SP_SEEN_MAX 32
+
 typedef struct sp_ctx {
   const char *path;
-  FILE *fp;
-  int line;
+  rr_lines rl;
   rr_spectrum *sp;
   rr_error *err;
   int status;
@@ -27,27 +29,25 @@ typedef struct sp_ctx {
   double psd_scale;
   int two_sided;
   int psd_rad;            /* PSD unit per (rad/m) */
-  int too_long;
+  int psd_angle;          /* PSD numerator an angle squared (rad^2) */
+  char seen[SP_SEEN_MAX][16];   /* single-valued keys given so far */
+  int nseen;
 } sp_ctx;
-
-static char *sp_reader(char *str, int num, void *stream)
-{
-  sp_ctx *c = stream;
-  if (!fgets(str, num, c->fp)) return NULL;
-  c->line++;
-  size_t len = strlen(str);
-  if (len == (size_t)num - 1 && str[len - 1] != '\n' && !feof(c->fp)) {
-    int ch;
-    while ((ch = fgetc(c->fp)) != EOF && ch != '\n') {}
-    if (!c->too_long) c->too_long = c->line;
-  }
-  return str;
-}
 
 static int sp_fail(sp_ctx *c, int code, const char *key, const char *msg)
 {
-  if (!c->status) c->status = rr_seterr(c->err, code, "%s:%d: %s: %s", c->path, c->line, key, msg);
+  if (!c->status) c->status = rr_seterr(c->err, code, "%s:%d: %s: %s", c->path, c->rl.line, key, msg);
   return 0;
+}
+
+/* Every key but segment, point, source and note may appear once. */
+static int sp_once(sp_ctx *c, const char *name)
+{
+  if (!strcmp(name, "segment") || !strcmp(name, "point") || !strcmp(name, "source") || !strcmp(name, "note")) return 1;
+  for (int i = 0; i < c->nseen; i++)
+    if (!strcmp(c->seen[i], name)) return sp_fail(c, RR_EPARSE, name, "key given twice");
+  if (c->nseen < SP_SEEN_MAX && strlen(name) < sizeof c->seen[0]) snprintf(c->seen[c->nseen++], sizeof c->seen[0], "%s", name);
+  return 1;
 }
 
 /* Parses exactly n numbers from text. */
@@ -78,7 +78,7 @@ static int parse_psd_unit(sp_ctx *c, const char *val)
   if (!strcmp(den, "1/m") || !strcmp(den, "cycle/m")) c->psd_rad = 0;
   else if (!strcmp(den, "rad/m")) c->psd_rad = 1;
   else return sp_fail(c, RR_EUNIT, "psd_unit", "denominator must be (1/m) or (rad/m)");
-  if (!strcmp(num, "rad^2") || !strcmp(num, "rad2")) { c->psd_scale = 1; return 1; }
+  if (!strcmp(num, "rad^2") || !strcmp(num, "rad2")) { c->psd_scale = 1; c->psd_angle = 1; return 1; }
   double x;
   rr_error e;
   char buf[80];
@@ -94,6 +94,7 @@ static int sp_handler(void *user, const char *section, const char *name, const c
   rr_spectrum *s = c->sp;
   if (c->status) return 1;
   if (section[0]) return sp_fail(c, RR_EPARSE, section, "spectrum files have no sections");
+  if (!sp_once(c, name)) return 0;
   char val[256];
   snprintf(val, sizeof val, "%s", value);
   if (!strcmp(name, "name")) snprintf(s->name, sizeof s->name, "%s", val);
@@ -173,18 +174,21 @@ int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err)
   c.path = path;
   c.sp = sp;
   c.err = err;
-  c.fp = fopen(path, "r");
-  if (!c.fp) return rr_seterr(err, RR_EIO, "%s: cannot open: %s", path, strerror(errno));
-  int r = ini_parse_stream(sp_reader, &c, sp_handler, &c);
-  fclose(c.fp);
+  int st = rr_lines_open(&c.rl, path, RR_INI_LINE_MAX, err);
+  if (st) return st;
+  int r = ini_parse_stream(rr_lines_ini_reader, &c.rl, sp_handler, &c);
+  rr_lines_close(&c.rl);
   if (c.status) return c.status;
-  if (c.too_long) return rr_seterr(err, RR_EPARSE, "%s:%d: line too long (200 characters at most)", path, c.too_long);
+  if (c.rl.status) return rr_seterr(err, c.rl.status, "%s", c.rl.err.msg);
   if (r > 0) return rr_seterr(err, RR_EPARSE, "%s:%d: malformed line (expected key = value)", path, r);
   const char *miss = !c.have_form ? "form" : !c.have_freq ? "freq_unit" : !c.have_psd ? "psd_unit" : !c.have_sided ? "sided"
                    : !c.have_valid ? "valid" : !sp->direction[0] ? "direction" : NULL;
   if (miss) return rr_seterr(err, RR_EPARSE, "%s: %s: missing required key", path, miss);
   if (c.psd_rad != sp->rad_per_m)
     return rr_seterr(err, RR_EUNIT, "%s: psd_unit: its denominator must match freq_unit", path);
+  if (c.psd_angle && strcmp(sp->direction, "crosslevel"))   /* cross level: an angle or a height difference */
+    return rr_seterr(err, RR_EUNIT, "%s: psd_unit: a %s spectrum is in a length squared (m^2, mm^2), not rad^2", path,
+                     sp->direction);
   if (!sp->name[0]) {
     const char *b = strrchr(path, '/');
     snprintf(sp->name, sizeof sp->name, "%s", b ? b + 1 : path);
@@ -238,7 +242,7 @@ int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err)
       return rr_seterr(err, RR_EINVAL, "spectrum name '%s': letters, digits, '-', '_' only", spec);
   char path[1024];
   snprintf(path, sizeof path, "%s/%s.txt", rr_spectrum_dir(), spec);
-  FILE *fp = fopen(path, "r");
+  FILE *fp = rr_open_regular(path, NULL);
   if (!fp) return rr_seterr(err, RR_EIO, "unknown spectrum '%s' (no file %s)", spec, path);
   fclose(fp);
   return rr_spectrum_load(path, sp, err);
