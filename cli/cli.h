@@ -12,6 +12,14 @@
 #define CLI_SPEED_DEFAULT_KMH 350.0
 #define CLI_CONICITY_DEFAULT 0.17
 
+/* What the ride options accept: floor points within 100 m of the car
+   centre, floor heights up to 10 m, frequency grids of 1 mHz .. 10 kHz. */
+#define CLI_FLOOR_X_MAX 100.0
+#define CLI_FLOOR_H_MAX 10.0
+#define CLI_BAND_LO_MIN 1e-3
+#define CLI_BAND_HI_MAX 1e4
+#define CLI_BAND_N_MAX 100000
+
 #define EXIT_BADINPUT 2
 #define EXIT_FAIL 1
 
@@ -60,6 +68,18 @@ int cli_load_vehicle(cli_common *c, int argc, char **argv);
 int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity);
 /* Parses a number option with units into `unit`; prints the error. */
 int cli_number(const char *opt, const char *arg, const char *unit, double *out);
+/* The same, within [lo, hi] (the message gives the range). */
+int cli_number_in(const char *opt, const char *arg, const char *unit, double lo, double hi, double *out);
+/* The message for getopt's ':' (missing value) or '?' (unknown option); returns EXIT_BADINPUT. */
+int cli_getopt_error(const char *cmd, int opt, const char *word);
+/* Work caps: a command refuses a job larger than its limit (--limit N
+   raises it); each returns EXIT_BADINPUT after printing, or 0. */
+#define CLI_LIMIT_GRID 1e6          /* map and sweep points */
+#define CLI_LIMIT_LOCUS 1e5         /* locus points */
+#define CLI_LIMIT_DESIGNS 1e8       /* optimise: population x (generations + 1) */
+#define CLI_LIMIT_SAMPLES 4194304   /* validate: duration x fs */
+int cli_limit(const char *arg, double *limit);
+int cli_over_limit(const char *cmd, double work, double limit, const char *unit);
 /* Parses FROM:TO:N. */
 int cli_range(const char *opt, const char *arg, const char *unit, double *from, double *to, int *n);
 /* Parses a comma list of numbers (max cap). */

@@ -1,54 +1,13 @@
 /* Optimisation commands: optimise (NSGA-II over a problem file) and sweep
  * (any objective over a grid of two vehicle-file keys). */
 #define _POSIX_C_SOURCE 200809L
-#include <ctype.h>
 #include <errno.h>
-#include <ini.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include "cli.h"
-
-typedef struct problem {
-  const char *path;
-  int line;
-  FILE *fp;
-  char vehicle[PATH_MAX];
-  int population, generations, threads;
-  unsigned long long seed;
-  char output[PATH_MAX];
-  int nvar, nobj;
-  char keys[RR_DESIGN_MAX_VARS][64];
-  double lo[RR_DESIGN_MAX_VARS], hi[RR_DESIGN_MAX_VARS];
-  char objs[RR_DESIGN_MAX_OBJS][128];
-  int maximize[RR_DESIGN_MAX_OBJS];
-  char err[RR_ERROR_MSG_MAX];
-} problem;
-
-static char *pr_reader(char *str, int num, void *stream)
-{
-  problem *p = stream;
-  if (!fgets(str, num, p->fp)) return NULL;
-  p->line++;
-  return str;
-}
-
-static int pr_fail(problem *p, const char *sec, const char *key, const char *msg)
-{
-  if (!p->err[0]) snprintf(p->err, sizeof p->err, "%s:%d: [%s] %s: %s", p->path, p->line, sec, key, msg);
-  return 0;
-}
-
-static void trim(char *s)
-{
-  char *a = s;
-  while (isspace((unsigned char)*a)) a++;
-  memmove(s, a, strlen(a) + 1);
-  size_t n = strlen(s);
-  while (n && isspace((unsigned char)s[n - 1])) s[--n] = 0;
-}
 
 static int whole(const char *v, long lo, long hi, long *out)
 {
@@ -57,101 +16,6 @@ static int whole(const char *v, long lo, long hi, long *out)
   long k = strtol(v, &end, 10);
   if (end == v || *end || errno || k < lo || k > hi) return -1;
   *out = k;
-  return 0;
-}
-
-static int pr_handler(void *user, const char *section, const char *name, const char *value)
-{
-  problem *p = user;
-  if (p->err[0]) return 1;
-  char val[512];
-  snprintf(val, sizeof val, "%s", value);
-  trim(val);
-  long k;
-  if (!strcmp(section, "problem")) {
-    if (!strcmp(name, "vehicle")) snprintf(p->vehicle, sizeof p->vehicle, "%s", val);
-    else if (!strcmp(name, "population")) {
-      if (whole(val, 4, 10000000, &k) || k % 2) return pr_fail(p, section, name, "an even whole number >= 4 expected");
-      p->population = (int)k;
-    } else if (!strcmp(name, "generations")) {
-      if (whole(val, 0, 1000000, &k)) return pr_fail(p, section, name, "a whole number >= 0 expected");
-      p->generations = (int)k;
-    } else if (!strcmp(name, "seed")) {
-      if (whole(val, 0, LONG_MAX, &k)) return pr_fail(p, section, name, "a whole number >= 0 expected");
-      p->seed = (unsigned long long)k;
-    } else if (!strcmp(name, "threads")) {
-      if (whole(val, 0, 1024, &k)) return pr_fail(p, section, name, "a whole number >= 0 expected");
-      p->threads = (int)k;
-    } else if (!strcmp(name, "output")) snprintf(p->output, sizeof p->output, "%s", val);
-    else return pr_fail(p, section, name, "unknown key");
-  } else if (!strcmp(section, "variables")) {
-    const rr_vehicle_key *key = rr_vehicle_key_find(name);
-    if (!key) return pr_fail(p, section, name, "not a numeric vehicle-file key (section.key)");
-    if (p->nvar >= RR_DESIGN_MAX_VARS) return pr_fail(p, section, name, "too many variables");
-    char *sep = strstr(val, "..");
-    if (!sep) return pr_fail(p, section, name, "expected 'FROM .. TO' with units, e.g. 10 kN/mm .. 120 kN/mm");
-    *sep = 0;
-    char a[256], b[256];
-    snprintf(a, sizeof a, "%s", val);
-    snprintf(b, sizeof b, "%s", sep + 2);
-    trim(a);
-    trim(b);
-    rr_error e;
-    char what[128];
-    snprintf(what, sizeof what, "%s:%d: [variables] %s", p->path, p->line, name);
-    double lo, hi;
-    if (rr_units_parse(NULL, a, key->si_unit, 0, &lo, what, &e) || rr_units_parse(NULL, b, key->si_unit, 0, &hi, what, &e)) {
-      snprintf(p->err, sizeof p->err, "%s", e.msg);
-      return 0;
-    }
-    if (!(hi > lo)) return pr_fail(p, section, name, "the upper bound must exceed the lower");
-    snprintf(p->keys[p->nvar], sizeof p->keys[0], "%s", name);
-    p->lo[p->nvar] = lo;
-    p->hi[p->nvar] = hi;
-    p->nvar++;
-  } else if (!strcmp(section, "objectives")) {
-    if (strcmp(name, "objective")) return pr_fail(p, section, name, "unknown key (objective = NAME minimize|maximize)");
-    if (p->nobj >= RR_DESIGN_MAX_OBJS) return pr_fail(p, section, name, "too many objectives");
-    char *sp = strrchr(val, ' ');
-    int maxi = 0;
-    if (sp && (!strcmp(sp + 1, "minimize") || !strcmp(sp + 1, "minimise"))) *sp = 0;
-    else if (sp && (!strcmp(sp + 1, "maximize") || !strcmp(sp + 1, "maximise"))) { *sp = 0; maxi = 1; }
-    trim(val);
-    snprintf(p->objs[p->nobj], sizeof p->objs[0], "%s", val);
-    p->maximize[p->nobj] = maxi;
-    p->nobj++;
-  } else {
-    return pr_fail(p, section, name, "unknown section (problem, variables, objectives)");
-  }
-  return 1;
-}
-
-static int load_problem(const char *path, problem *p)
-{
-  memset(p, 0, sizeof *p);
-  p->path = path;
-  p->population = 100;
-  p->generations = 100;
-  p->seed = 1;
-  snprintf(p->output, sizeof p->output, "pareto");
-  p->fp = fopen(path, "r");
-  if (!p->fp) return cli_bad("%s: cannot open: %s", path, strerror(errno));
-  int r = ini_parse_stream(pr_reader, p, pr_handler, p);
-  fclose(p->fp);
-  if (p->err[0]) return cli_bad("%s", p->err);
-  if (r > 0) return cli_bad("%s:%d: malformed line", path, r);
-  if (!p->nvar) return cli_bad("%s: [variables]: at least one variable is needed", path);
-  if (!p->nobj) return cli_bad("%s: [objectives]: at least one objective is needed", path);
-  /* a vehicle file (not a built-in name) is relative to the problem file */
-  rr_vehicle probe;
-  if (p->vehicle[0] && p->vehicle[0] != '/' && rr_vehicle_builtin(p->vehicle, &probe, NULL)) {
-    const char *slash = strrchr(path, '/');
-    if (slash) {
-      char tmp[PATH_MAX * 2];
-      snprintf(tmp, sizeof tmp, "%.*s/%s", (int)(slash - path), path, p->vehicle);
-      snprintf(p->vehicle, sizeof p->vehicle, "%s", tmp);
-    }
-  }
   return 0;
 }
 
@@ -178,9 +42,12 @@ static void progress(void *user, int gen, long evals, double secs, int front, do
   else fprintf(stderr, "gen %4d/%d  evals %9ld  %8.0f evals/s  front %5d  hypervolume %.6g\n", gen, total, evals, evals / secs, front, hv);
 }
 
-enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ };
+enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ, OPT_OLIMIT };
 
-typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; } optim_args;
+typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; double limit; } optim_args;
+
+/* The largest population whose NSGA-II arrays stay within ~2 GB. */
+#define CLI_POPULATION_MAX 2000000
 
 int cmd_optimise(int argc, char **argv)
 {
@@ -189,15 +56,17 @@ int cmd_optimise(int argc, char **argv)
       "NSGA-II over the problem file's variables (vehicle-file keys with bounds) and objectives;\n"
       "writes PREFIX-pareto.csv (the non-dominated designs: variables in SI, objectives) and a\n"
       "summary; progress on stderr (generation, evaluations/s, front size, hypervolume with the\n"
-      "initial population's worst values +10% as reference). See examples/paper-optimisation.ini.\n";
+      "initial population's worst values +10% as reference). See examples/paper-optimisation.ini.\n"
+      "  --limit N            most designs evaluated, population x (generations + 1) (default 1e8)\n";
   static const struct option opts[] = {{"population", required_argument, 0, OPT_POP}, {"generations", required_argument, 0, OPT_GEN},
                                        {"seed", required_argument, 0, OPT_OSEED}, {"threads", required_argument, 0, OPT_THREADS},
-                                       {"output", required_argument, 0, OPT_OUT}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
-  optim_args a = {-1, -1, -1, -1, NULL};
+                                       {"output", required_argument, 0, OPT_OUT}, {"limit", required_argument, 0, OPT_OLIMIT},
+                                       {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+  optim_args a = {.pop = -1, .gen = -1, .threads = -1, .seed = -1, .out = NULL, .limit = CLI_LIMIT_DESIGNS};
   optind = 1;
   opterr = 0;
   int opt;
-  while ((opt = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
     long k;
     switch (opt) {
     case 'h': fputs(help, stdout); return 0;
@@ -206,22 +75,26 @@ int cmd_optimise(int argc, char **argv)
     case OPT_OSEED: if (whole(optarg, 0, LONG_MAX, &k)) return cli_bad("--seed: a whole number >= 0 expected"); a.seed = k; break;
     case OPT_THREADS: if (whole(optarg, 0, 1024, &k)) return cli_bad("--threads: a whole number >= 0 expected"); a.threads = k; break;
     case OPT_OUT: a.out = optarg; break;
-    default: return cli_bad("optimise: unknown option or missing value '%s' (see --help)", argv[optind - 1]);
+    case OPT_OLIMIT: if (cli_limit(optarg, &a.limit)) return EXIT_BADINPUT; break;
+    default: return cli_getopt_error("optimise", opt, argv[optind - 1]);
     }
   }
   if (optind >= argc) return cli_bad("optimise: a problem file is required (see --help)");
   if (argc - optind > 1) return cli_bad("unexpected argument '%s'", argv[optind + 1]);
-  problem p;
-  int r = load_problem(argv[optind], &p);
-  if (r) return r;
+  rr_problem p;
+  rr_error e;
+  int st = rr_problem_load(argv[optind], &p, &e);
+  if (st) return cli_fail(&e, st);
   if (a.pop > 0) p.population = (int)a.pop;
   if (a.gen >= 0) p.generations = (int)a.gen;
   if (a.seed >= 0) p.seed = (unsigned long long)a.seed;
   if (a.threads >= 0) p.threads = (int)a.threads;
   if (a.out) snprintf(p.output, sizeof p.output, "%s", a.out);
+  if (p.population > CLI_POPULATION_MAX)
+    return cli_bad("optimise: population %d exceeds %d (memory)", p.population, CLI_POPULATION_MAX);
+  if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs")) return EXIT_BADINPUT;
   rr_vehicle v;
-  rr_error e;
-  int st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
+  st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
   if (st) return cli_fail(&e, st);
   const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
   for (int i = 0; i < p.nvar; i++) keys[i] = p.keys[i];
@@ -272,7 +145,7 @@ int cmd_optimise(int argc, char **argv)
   }
   fclose(fp);
   long evals = (long)N * (p.generations + 1);
-  printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", p.path, N, p.generations, p.seed);
+  printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", argv[optind], N, p.generations, p.seed);
   printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, secs, evals / secs);
   printf("  Pareto front: %d designs, written to %s\n", nfront, path);
   for (int k = 0; k < p.nobj; k++)
@@ -287,6 +160,7 @@ typedef struct sweep_args {
   double from[2], to[2];
   int n[2], have[2];
   const char *objective;
+  double limit;
 } sweep_args;
 
 static int parse_axis(const char *opt, const char *arg, sweep_args *a, int ax)
@@ -297,6 +171,8 @@ static int parse_axis(const char *opt, const char *arg, sweep_args *a, int ax)
   const rr_vehicle_key *k = rr_vehicle_key_find(a->key[ax]);
   if (!k) return cli_bad("--%s: '%s' is not a numeric vehicle-file key (section.key)", opt, a->key[ax]);
   if (cli_range(opt, eq + 1, k->si_unit, &a->from[ax], &a->to[ax], &a->n[ax])) return EXIT_BADINPUT;
+  rr_error e;
+  if (rr_vehicle_key_check(k, a->from[ax], &e) || rr_vehicle_key_check(k, a->to[ax], &e)) return cli_bad("--%s: %s", opt, e.msg);
   a->have[ax] = 1;
   return 0;
 }
@@ -307,6 +183,7 @@ static int sweep_cb(int opt, const char *arg, void *u)
   if (opt == OPT_SX) return parse_axis("x", arg, a, 0);
   if (opt == OPT_SY) return parse_axis("y", arg, a, 1);
   if (opt == OPT_OBJ) { a->objective = arg; return 0; }
+  if (opt == OPT_OLIMIT) return cli_limit(arg, &a->limit) ? 1 : 0;
   return 1;
 }
 
@@ -319,16 +196,18 @@ int cmd_sweep(int argc, char **argv)
       "frequency of the mode that sets the index is added, and when one axis is\n"
       "yaw_damper.damping the optimal-dissipation stiffness k_opt = c 2 pi f of that mode\n"
       "(paper Fig. 10). Values with units are accepted: --x \"yaw_damper.damping=100 kN.s/m:4000 kN.s/m:20\".\n"
-      "  --x, --y AXIS        the two axes\n  --objective NAME     the objective\n  VEHICLE              vehicle file or built-in name\n";
+      "  --x, --y AXIS        the two axes\n  --objective NAME     the objective\n  VEHICLE              vehicle file or built-in name\n"
+      "  --limit N            most grid points accepted (default 1e6)\n";
   static const struct option extra[] = {{"x", required_argument, 0, OPT_SX}, {"y", required_argument, 0, OPT_SY},
-                                        {"objective", required_argument, 0, OPT_OBJ}, {0, 0, 0, 0}};
+                                        {"objective", required_argument, 0, OPT_OBJ}, {"limit", required_argument, 0, OPT_OLIMIT},
+                                        {0, 0, 0, 0}};
   cli_common c;
-  sweep_args a;
-  memset(&a, 0, sizeof a);
+  sweep_args a = {.limit = CLI_LIMIT_GRID};
   int r = cli_parse(argc, argv, &c, extra, sweep_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!a.have[0] || !a.have[1] || !a.objective) return cli_bad("sweep: --x, --y and --objective are required");
+  if (cli_over_limit("sweep", (double)a.n[0] * a.n[1], a.limit, "points")) return EXIT_BADINPUT;
   const char *keys[2] = {a.key[0], a.key[1]}, *objs[1] = {a.objective};
   rr_design *d;
   rr_error e;

@@ -107,8 +107,12 @@ int ride_setup_option(ride_setup *r, int opt, const char *arg)
 {
   switch (opt) {
   case OPT_SPECTRUM: r->spectrum = arg; return 0;
-  case OPT_POINTS: return cli_list("points", arg, "m", r->x, 16, &r->npoints) ? 1 : 0;
-  case OPT_HEIGHT: return cli_number("floor-height", arg, "m", &r->h_p) ? 1 : 0;
+  case OPT_POINTS:
+    if (cli_list("points", arg, "m", r->x, 16, &r->npoints)) return 1;
+    for (int i = 0; i < r->npoints; i++)
+      if (!(fabs(r->x[i]) <= CLI_FLOOR_X_MAX)) return cli_bad("--points: %g m outside -%g .. %g m", r->x[i], CLI_FLOOR_X_MAX, CLI_FLOOR_X_MAX);
+    return 0;
+  case OPT_HEIGHT: return cli_number_in("floor-height", arg, "m", 0, CLI_FLOOR_H_MAX, &r->h_p) ? 1 : 0;
   case OPT_ROLLG: r->roll_gravity = 1; return 0;
   }
   return -1;
@@ -122,7 +126,9 @@ static int ride_cb(int opt, const char *arg, void *u)
   switch (opt) {
   case OPT_BAND:
     if (cli_range("band", arg, "Hz", &a->rs.f_lo, &a->rs.f_hi, &a->rs.nfreq)) return 1;
-    if (!(a->rs.f_lo > 0 && a->rs.f_hi > a->rs.f_lo && a->rs.nfreq >= 2)) return cli_bad("--band: need 0 < LO < HI and N >= 2");
+    if (!(a->rs.f_lo >= CLI_BAND_LO_MIN && a->rs.f_hi > a->rs.f_lo && a->rs.f_hi <= CLI_BAND_HI_MAX && a->rs.nfreq >= 2 &&
+          a->rs.nfreq <= CLI_BAND_N_MAX))
+      return cli_bad("--band: need %g <= LO < HI <= %g Hz and 2 <= N <= %d", CLI_BAND_LO_MIN, CLI_BAND_HI_MAX, CLI_BAND_N_MAX);
     return 0;
   case OPT_PSD: a->psd_path = arg; return 0;
   case OPT_METHOD:

@@ -326,8 +326,9 @@ typedef struct grid_args {
   int n, have_range;
   double s_from, s_to, c_from, c_to;
   int s_n, c_n;
+  double limit;            /* work cap (--limit) */
 } grid_args;
-enum { OPT_PARAM = 2200, OPT_RANGE, OPT_SPEEDS, OPT_CONICITIES };
+enum { OPT_PARAM = 2200, OPT_RANGE, OPT_SPEEDS, OPT_CONICITIES, OPT_GLIMIT };
 
 static int grid_cb(int opt, const char *arg, void *u)
 {
@@ -343,6 +344,7 @@ static int grid_cb(int opt, const char *arg, void *u)
     return cli_range("range", arg, a->param == 0 ? "km/h" : "1", &a->from, &a->to, &a->n) ? 1 : 0;
   case OPT_SPEEDS: return cli_range("speeds", arg, "km/h", &a->s_from, &a->s_to, &a->s_n) ? 1 : 0;
   case OPT_CONICITIES: return cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n) ? 1 : 0;
+  case OPT_GLIMIT: return cli_limit(arg, &a->limit) ? 1 : 0;
   }
   return 1;
 }
@@ -356,18 +358,22 @@ int cmd_locus(int argc, char **argv)
                              "correlation (MAC). Over speed (default 20:500:25 km/h at --conicity, default 0.17)\n"
                              "or conicity (default 0.02:0.5:25 at --speed, default 350 km/h). CSV columns:\n"
                              "branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets\n" CLI_COMMON_HELP
-                             "  --over P             parameter swept (--over before --range)\n  --range FROM:TO:N    its values\n";
-  static const struct option extra[] = {{"over", required_argument, 0, OPT_PARAM}, {"range", required_argument, 0, OPT_RANGE}, {0, 0, 0, 0}};
+                             "  --over P             parameter swept (--over before --range)\n  --range FROM:TO:N    its values\n"
+                             "  --limit N            most points accepted (default 1e5)\n";
+  static const struct option extra[] = {{"over", required_argument, 0, OPT_PARAM}, {"range", required_argument, 0, OPT_RANGE},
+                                        {"limit", required_argument, 0, OPT_GLIMIT}, {0, 0, 0, 0}};
   cli_common c;
-  grid_args a;
-  memset(&a, 0, sizeof a);
+  grid_args a = {.limit = CLI_LIMIT_LOCUS};
   RUN_PARSE(extra, grid_cb, &a, help);
+  if (cli_over_limit("locus", a.n, a.limit, "points")) return EXIT_BADINPUT;
   if (!a.have_range) {
     if (a.param == 0) { a.from = 20; a.to = 500; a.n = 25; }
     else { a.from = 0.02; a.to = 0.5; a.n = 25; }
   }
-  if (a.param == 0 && !(a.from > 0 && a.to > 0)) return cli_bad("--range: speeds must be > 0");
-  if (a.param == 1 && !(a.from >= 0 && a.to >= 0)) return cli_bad("--range: conicities must be >= 0");
+  if (a.param == 0 && !(a.from > 0 && a.to > 0 && fmax(a.from, a.to) <= RR_SPEED_MAX_MS * RR_KMH))
+    return cli_bad("--range: speeds must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
+  if (a.param == 1 && !(a.from >= 0 && a.to >= 0 && fmax(a.from, a.to) <= RR_CONICITY_MAX))
+    return cli_bad("--range: conicities must be within [0, %g]", RR_CONICITY_MAX);
   rr_model *m;
   int r = cli_model(&c, &m, 0, 0);
   if (r) return r;
@@ -438,13 +444,18 @@ int cmd_map(int argc, char **argv)
       "100:500:41 km/h and 0.02:0.5:25. CSV columns:\n"
       "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n"
       "(zeta_max: the largest zeta of any oscillatory mode; stable: 1 when it is < 0).\n" CLI_COMMON_HELP
-      "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n";
-  static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS}, {"conicities", required_argument, 0, OPT_CONICITIES}, {0, 0, 0, 0}};
+      "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n"
+      "  --limit N            most points accepted (default 1e6)\n";
+  static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS}, {"conicities", required_argument, 0, OPT_CONICITIES},
+                                        {"limit", required_argument, 0, OPT_GLIMIT}, {0, 0, 0, 0}};
   cli_common c;
-  grid_args a = {.s_from = 100, .s_to = 500, .s_n = 41, .c_from = 0.02, .c_to = 0.5, .c_n = 25};
+  grid_args a = {.s_from = 100, .s_to = 500, .s_n = 41, .c_from = 0.02, .c_to = 0.5, .c_n = 25, .limit = CLI_LIMIT_GRID};
   RUN_PARSE(extra, grid_cb, &a, help);
-  if (!(a.s_from > 0 && a.s_to > 0)) return cli_bad("--speeds: must be > 0");
-  if (!(a.c_from >= 0 && a.c_to >= 0)) return cli_bad("--conicities: must be >= 0");
+  if (!(a.s_from > 0 && a.s_to > 0 && fmax(a.s_from, a.s_to) <= RR_SPEED_MAX_MS * RR_KMH))
+    return cli_bad("--speeds: must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
+  if (!(a.c_from >= 0 && a.c_to >= 0 && fmax(a.c_from, a.c_to) <= RR_CONICITY_MAX))
+    return cli_bad("--conicities: must be within [0, %g]", RR_CONICITY_MAX);
+  if (cli_over_limit("map", (double)a.s_n * a.c_n, a.limit, "points")) return EXIT_BADINPUT;
   rr_model *m;
   int r = cli_model(&c, &m, 0, 0);
   if (r) return r;

@@ -1,5 +1,8 @@
 /* `railride validate`: the PEM against FFTs of a time-domain run. */
 #define _POSIX_C_SOURCE 200809L
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,34 +13,37 @@ typedef struct val_args {
   rr_validate_opts vo;
   ride_setup rs;
   const char *psd_path;
+  double limit;            /* most samples (--limit) */
 } val_args;
-enum { OPT_DURATION = 4000, OPT_SEED, OPT_FS, OPT_NSEG, OPT_VPSD };
+enum { OPT_DURATION = 4000, OPT_SEED, OPT_FS, OPT_NSEG, OPT_VPSD, OPT_VLIMIT };
+#define CLI_FS_MIN 64.0    /* above twice the band's 30 Hz */
+#define CLI_FS_MAX 1e5
+#define CLI_NSEG_MAX 1048576
 
 static int val_cb(int opt, const char *arg, void *u)
 {
   val_args *a = u;
   char *end;
   switch (opt) {
-  case OPT_DURATION:
-    if (cli_number("duration", arg, "s", &a->vo.duration_s)) return 1;
-    if (!(a->vo.duration_s > 0 && a->vo.duration_s <= 1e5)) return cli_bad("--duration: must be within 0..1e5 s");
-    return 0;
+  case OPT_DURATION: return cli_number_in("duration", arg, "s", 1, 1e6, &a->vo.duration_s) ? 1 : 0;
   case OPT_SEED: {
+    errno = 0;
     unsigned long long s = strtoull(arg, &end, 10);
-    if (*end || !*arg || arg[0] == '-') return cli_bad("--seed: a whole number >= 0 expected, got '%s'", arg);
+    if (*end || !*arg || !isdigit((unsigned char)arg[0]) || errno == ERANGE)
+      return cli_bad("--seed: a whole number from 0 to %llu expected, got '%s'", ULLONG_MAX, arg);
     a->vo.seed = s;
     return 0;
   }
-  case OPT_FS:
-    if (cli_number("fs", arg, "Hz", &a->vo.fs_hz)) return 1;
-    if (!(a->vo.fs_hz > 0)) return cli_bad("--fs: must be > 0 Hz");
-    return 0;
+  case OPT_FS: return cli_number_in("fs", arg, "Hz", CLI_FS_MIN, CLI_FS_MAX, &a->vo.fs_hz) ? 1 : 0;
   case OPT_NSEG: {
+    errno = 0;
     long k = strtol(arg, &end, 10);
-    if (*end || k < 8 || k % 2) return cli_bad("--nseg: an even whole number >= 8 expected, got '%s'", arg);
+    if (*end || errno || k < 8 || k > CLI_NSEG_MAX || k % 2)
+      return cli_bad("--nseg: an even whole number from 8 to %d expected, got '%s'", CLI_NSEG_MAX, arg);
     a->vo.nseg = (int)k;
     return 0;
   }
+  case OPT_VLIMIT: return cli_limit(arg, &a->limit) ? 1 : 0;
   case OPT_VPSD: a->psd_path = arg; return 0;
   }
   int r = ride_setup_option(&a->rs, opt, arg);
@@ -59,20 +65,23 @@ int cmd_validate(int argc, char **argv)
       "  --fs HZ              sample rate (default 256)\n  --nseg N             Welch segment length (default 4096)\n"
       "  --spectrum S         spectrum name or file (default wuhan-guangzhou)\n  --points X1,..       floor points (default +L, 0, -L)\n"
       "  --floor-height H     (default 1.2 m)\n  --roll-gravity       sense a_y + g phi_c\n"
-      "  --psd FILE.csv       write f_hz and the Welch and PEM PSDs of each point\n";
+      "  --psd FILE.csv       write f_hz and the Welch and PEM PSDs of each point\n"
+      "  --limit N            most samples (duration x fs) accepted (default 4194304)\n";
   static const struct option extra[] = {{"duration", required_argument, 0, OPT_DURATION}, {"seed", required_argument, 0, OPT_SEED},
                                         {"fs", required_argument, 0, OPT_FS}, {"nseg", required_argument, 0, OPT_NSEG},
-                                        {"psd", required_argument, 0, OPT_VPSD}, RIDE_SETUP_OPTIONS, {0, 0, 0, 0}};
+                                        {"psd", required_argument, 0, OPT_VPSD}, {"limit", required_argument, 0, OPT_VLIMIT},
+                                        RIDE_SETUP_OPTIONS, {0, 0, 0, 0}};
   cli_common c;
-  val_args a;
-  memset(&a, 0, sizeof a);
-  a.vo = rr_validate_opts_default();
+  val_args a = {.vo = rr_validate_opts_default(), .limit = CLI_LIMIT_SAMPLES};
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.rs, &tmp);
   int r = cli_parse(argc, argv, &c, extra, val_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
+  double samples = a.vo.duration_s * a.vo.fs_hz;
+  if (cli_over_limit("validate", samples, a.limit, "samples")) return EXIT_BADINPUT;
+  if (a.vo.nseg > samples) return cli_bad("--nseg: %d exceeds the record's %.0f samples", a.vo.nseg, samples);
   ride_setup_points(&a.rs, &c.veh, argc, argv);
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;

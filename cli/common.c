@@ -1,4 +1,6 @@
 /* Option parsing, vehicle loading and output helpers shared by the commands. */
+#include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -42,6 +44,16 @@ int cli_number(const char *opt, const char *arg, const char *unit, double *out)
   return 0;
 }
 
+int cli_number_in(const char *opt, const char *arg, const char *unit, double lo, double hi, double *out)
+{
+  if (cli_number(opt, arg, unit, out)) return -1;
+  if (!(*out >= lo && *out <= hi)) {
+    cli_bad("--%s: %s outside %g .. %g %s", opt, arg, lo, hi, strcmp(unit, "1") ? unit : "");
+    return -1;
+  }
+  return 0;
+}
+
 int cli_range(const char *opt, const char *arg, const char *unit, double *from, double *to, int *n)
 {
   char buf[256];
@@ -74,22 +86,25 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
   switch (opt) {
   case OPT_SPEED:
     if (cli_number("speed", arg, "km/h", &c->speed_kmh)) return -1;
-    if (!(c->speed_kmh > 0)) { cli_bad("--speed: must be > 0 km/h (got '%s')", arg); return -1; }
+    if (!(c->speed_kmh > 0 && c->speed_kmh <= RR_SPEED_MAX_MS * RR_KMH)) {
+      cli_bad("--speed: must be within (0, %g] km/h (got '%s')", RR_SPEED_MAX_MS * RR_KMH, arg);
+      return -1;
+    }
     c->have_speed = 1;
     return 1;
   case OPT_CONICITY:
     if (cli_list("conicity", arg, "1", c->conicities, 64, &c->ncon)) return -1;
     if (c->ncon > 1 && !c->conicity_list) { cli_bad("--conicity: one value expected, got '%s'", arg); return -1; }
     for (int i = 0; i < c->ncon; i++)
-      if (!(c->conicities[i] >= 0)) { cli_bad("--conicity: must be >= 0 (got '%s')", arg); return -1; }
+      if (!(c->conicities[i] >= 0 && c->conicities[i] <= RR_CONICITY_MAX)) {
+        cli_bad("--conicity: must be within [0, %g] (got '%s')", RR_CONICITY_MAX, arg);
+        return -1;
+      }
     c->conicity = c->conicities[0];
     c->have_conicity = 1;
     return 1;
   case OPT_JSON: c->json = 1; return 1;
-  case OPT_FMAX:
-    if (cli_number("fmax", arg, "Hz", &c->mo.fmax_hz)) return -1;
-    if (!(c->mo.fmax_hz > 0)) { cli_bad("--fmax: must be > 0 Hz"); return -1; }
-    return 1;
+  case OPT_FMAX: return cli_number_in("fmax", arg, "Hz", 1e-3, 1e6, &c->mo.fmax_hz) ? -1 : 1;
   case OPT_WMIN:
     if (cli_number("wmin", arg, "1", &c->mo.w_min)) return -1;
     if (!(c->mo.w_min >= 0 && c->mo.w_min <= 1)) { cli_bad("--wmin: must be within 0..1"); return -1; }
@@ -155,6 +170,13 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols)
 static int parse_impl(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
                       void *user, const char *usage_text, int list);
 
+int cli_getopt_error(const char *cmd, int opt, const char *word)
+{
+  if (opt == ':') return cli_bad("%s: option '%s' needs a value (see --help)", cmd, word);
+  if (optopt > 0 && optopt < 128 && isprint(optopt)) return cli_bad("%s: unknown option '-%c' (see --help)", cmd, optopt);
+  return cli_bad("%s: unknown option '%s' (see --help)", cmd, word);
+}
+
 int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
               void *user, const char *usage_text)
 {
@@ -181,12 +203,9 @@ static int parse_impl(int argc, char **argv, cli_common *c, const struct option 
   optind = 1;
   opterr = 0;
   int opt;
-  while ((opt = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
     if (opt == 'h' || opt == OPT_HELP) { fputs(usage_text, stdout); return CLI_HELP_SHOWN; }
-    if (opt == '?') {
-      if (optopt) return cli_bad("%s: unknown option or missing value '-%c' (see --help)", argv[0], optopt);
-      return cli_bad("%s: unknown option or missing value '%s' (see --help)", argv[0], argv[optind - 1]);
-    }
+    if (opt == ':' || opt == '?') return cli_getopt_error(argv[0], opt, argv[optind - 1]);
     int r = cli_common_option(c, opt, optarg);
     if (r < 0) return EXIT_BADINPUT;
     if (r == 1) continue;
@@ -208,4 +227,20 @@ void cli_csv_field(FILE *fp, const char *text, char sep)
     fputc(*p, fp);
   }
   fprintf(fp, "\"%c", sep);
+}
+
+int cli_limit(const char *arg, double *limit)
+{
+  char *end;
+  errno = 0;
+  double v = strtod(arg, &end);
+  if (end == arg || *end || errno || !(v >= 1 && v <= 1e15)) return cli_bad("--limit: a number from 1 to 1e15 expected, got '%s'", arg);
+  *limit = v;
+  return 0;
+}
+
+int cli_over_limit(const char *cmd, double work, double limit, const char *unit)
+{
+  if (work <= limit) return 0;
+  return cli_bad("%s: %.4g %s exceed the limit of %.4g (raise it with --limit N)", cmd, work, unit, limit);
 }

@@ -9,6 +9,7 @@
 #endif
 #include "railride/comfort.h"
 #include "railride/design.h"
+#include "railride/problem.h"
 #include "railride/modal.h"
 #include "railride/stability.h"
 #include "railride/pem.h"
@@ -157,6 +158,12 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
   for (char *t = opts && !st ? strtok_r(opts, ";", &sv) : NULL; t && !st; t = strtok_r(NULL, ";", &sv))
     st = parse_option(t, o, err);
   return st;
+}
+
+int rr_objective_check(const char *text, rr_error *err)
+{
+  objective o;
+  return parse_objective(text, &o, err);
 }
 
 void rr_design_free(rr_design *d)

@@ -18,4 +18,5 @@
 #include "railride/timesim.h"
 #include "railride/design.h"
 #include "railride/nsga2.h"
+#include "railride/problem.h"
 #endif

@@ -1,0 +1,42 @@
+/* railride: optimisation problem files (INI), read and checked.
+ *
+ *   [problem]     vehicle (built-in name, or a file relative to this one),
+ *                 population (even, >= 4), generations, seed, threads, output
+ *   [variables]   section.key = LO .. HI      (vehicle-file keys, with units)
+ *   [objectives]  objective = NAME [minimize|maximize]   (design.h's names)
+ *
+ * Every message names file, line and key. */
+#ifndef RAILRIDE_PROBLEM_H
+#define RAILRIDE_PROBLEM_H
+
+#include "railride/design.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RR_PROBLEM_PATH_MAX 4096
+#define RR_PROBLEM_POPULATION_MAX 10000000
+#define RR_PROBLEM_GENERATIONS_MAX 1000000
+
+typedef struct rr_problem {
+  char vehicle[RR_PROBLEM_PATH_MAX];   /* "" for the default vehicle */
+  int population, generations, threads;   /* 100, 100, 0 (all cores) */
+  unsigned long long seed;             /* 1 */
+  char output[RR_PROBLEM_PATH_MAX];    /* output prefix ("pareto") */
+  int nvar, nobj;
+  char keys[RR_DESIGN_MAX_VARS][64];
+  double lo[RR_DESIGN_MAX_VARS], hi[RR_DESIGN_MAX_VARS];   /* SI, inside the keys' physical ranges */
+  char objs[RR_DESIGN_MAX_OBJS][128];
+  int maximize[RR_DESIGN_MAX_OBJS];
+} rr_problem;
+
+int rr_problem_load(const char *path, rr_problem *p, rr_error *err);
+
+/* Checks an objective's text (names, arguments, modifiers) without a vehicle. */
+int rr_objective_check(const char *text, rr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
