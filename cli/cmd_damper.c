@@ -73,9 +73,10 @@ int cmd_damper(int argc, char **argv)
     cJSON_AddNumberToObject(root, "f_opt_hz", rr_maxwell_omega_opt(k, cd) / (2 * RR_PI));
     cJSON_AddBoolToObject(root, "sdf", sdf);
   } else {
-    printf("# %s %s damper: c = %g N s/m, k = %g N/m%s; omega_opt = k/c = %g rad/s (%g Hz)\n", c.veh.name,
-           a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "", k / cd, k / cd / (2 * RR_PI));
-    printf("freq_hz,k_series,storage,loss,eq_damping,dissipation\n");
+    /* the CSV stays plain (pandas.read_csv): the summary goes to stderr */
+    fprintf(stderr, "railride: %s %s damper: c = %g N s/m, k = %g N/m%s; omega_opt = k/c = %g rad/s (%g Hz)\n", c.veh.name,
+            a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "", k / cd, k / cd / (2 * RR_PI));
+    printf("freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation\n");
   }
   for (int i = 0; i < a.n; i++) {
     double f = a.n == 1 ? a.f_from : a.f_from * pow(a.f_to / a.f_from, (double)i / (a.n - 1));

@@ -63,7 +63,7 @@ head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real,imag,sta
 "$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 > "$tmp/map.csv" || bad "map exit"
 [ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable' && ok || bad "map shape"
 "$RR" damper --freqs 0.1:10:5 > "$tmp/d.csv" || bad "damper exit"
-grep -q '^freq_hz,k_series,storage,loss,eq_damping,dissipation$' "$tmp/d.csv" && ok || bad "damper header"
+grep -q '^freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation$' "$tmp/d.csv" && ok || bad "damper header"
 "$RR" summary "$SRC/examples/type2.ini" > "$tmp/s.txt" || bad "summary exit"
 grep -q "vehicle stability index" "$tmp/s.txt" && ok || bad "summary text"
 
