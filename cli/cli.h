@@ -93,6 +93,10 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols);
    then the separator sep. */
 void cli_csv_field(FILE *fp, const char *text, char sep);
 
+/* A CSV number, or an empty field where there is none (a NaN marks "no
+   such mode"): railride never writes nan or inf. */
+void cli_csv_num(FILE *fp, double x, char sep);
+
 /* A mode as JSON (paper: with the SDF root fields). */
 cJSON *cli_mode_json(const rr_mode *md, int paper);
 

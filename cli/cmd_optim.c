@@ -231,9 +231,9 @@ int cmd_sweep(int argc, char **argv)
       if ((st = rr_design_evaluate(d, x, &f, &e))) break;
       printf("%.10g,%.10g,%.10g", x[0], x[1], f);
       double fz = rr_design_mode_freq(d, 0);
-      if (has_freq) printf(",%.10g", fz);
-      if (has_freq && damp_axis >= 0) printf(",%.10g", x[damp_axis] * 2 * RR_PI * fz);
-      printf("\n");
+      if (has_freq) { putchar(','); cli_csv_num(stdout, fz, damp_axis >= 0 ? ',' : '\n'); }
+      if (has_freq && damp_axis >= 0) cli_csv_num(stdout, x[damp_axis] * 2 * RR_PI * fz, '\n');
+      if (!has_freq) printf("\n");
     }
   rr_design_free(d);
   return st ? cli_fail(&e, st) : 0;

@@ -394,6 +394,7 @@ int cmd_locus(int argc, char **argv)
   for (int b = 0; b < nb; b++)
     for (int p = 0; p < a.n; p++) {
       const rr_locus_point *lp = &pts[(size_t)p * nb + b];
+      if (!isfinite(lp->re)) continue;   /* the branch was not matched at this point: no row */
       double sp = a.param == 0 ? lp->param * RR_KMH : v0, co = a.param == 1 ? lp->param : l0;
       if (c.json) {
         cJSON *o = cJSON_CreateObject();
@@ -423,14 +424,17 @@ static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
 {
   int stable = rr_modal_stable(z->zeta_max);
   if (!arr) {
-    printf("%.10g,%.10g,%.10g,%.10g,%.10g,%d\n", v, l, z->index, z->index_freq_hz, z->zeta_max, stable);
+    printf("%.10g,%.10g,%.10g,", v, l, z->index);
+    cli_csv_num(stdout, z->index_freq_hz, ',');
+    printf("%.10g,%d\n", z->zeta_max, stable);
     return;
   }
   cJSON *o = cJSON_CreateObject();
   cJSON_AddNumberToObject(o, "speed_kmh", v);
   cJSON_AddNumberToObject(o, "conicity", l);
   cJSON_AddNumberToObject(o, "stability_index", z->index);
-  cJSON_AddNumberToObject(o, "index_freq_hz", z->index_freq_hz);
+  if (isfinite(z->index_freq_hz)) cJSON_AddNumberToObject(o, "index_freq_hz", z->index_freq_hz);
+  else cJSON_AddNullToObject(o, "index_freq_hz");
   cJSON_AddNumberToObject(o, "zeta_max", z->zeta_max);
   cJSON_AddBoolToObject(o, "stable", stable);
   cJSON_AddItemToArray(arr, o);

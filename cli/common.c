@@ -244,3 +244,9 @@ int cli_over_limit(const char *cmd, double work, double limit, const char *unit)
   if (work <= limit) return 0;
   return cli_bad("%s: %.4g %s exceed the limit of %.4g (raise it with --limit N)", cmd, work, unit, limit);
 }
+
+void cli_csv_num(FILE *fp, double x, char sep)
+{
+  if (isfinite(x)) fprintf(fp, "%.10g%c", x, sep);
+  else fputc(sep, fp);
+}

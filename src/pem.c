@@ -538,8 +538,13 @@ int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
   if (m->ni > RR_SYS_MAX_INPUTS) return rr_seterr(err, RR_EINVAL, "frf: too many inputs");
   update_lags(p, m);
   p->route = p->use_dgeev ? RR_FRF_MODAL_LAPACK : p->method;
-  if (p->method == RR_FRF_DIRECT) return execute_direct(p, m);
-  return execute_modal(p, m, err);
+  int st = p->method == RR_FRF_DIRECT ? execute_direct(p, m) : execute_modal(p, m, err);
+  if (st) return st;
+  size_t nH = (size_t)p->nf * p->np * p->ni;
+  for (size_t t = 0; t < nH; t++)
+    if (!isfinite(creal(p->H[t])) || !isfinite(cimag(p->H[t])))
+      return rr_seterr(err, RR_ENOCONV, "frf: response not finite at %g Hz (singular dynamic stiffness)", p->f[t / ((size_t)p->np * p->ni)]);
+  return RR_OK;
 }
 
 double rr_pem_combine(const double complex *H, const double *x, int ni, double w, double v, double Gt)
@@ -566,6 +571,7 @@ int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, d
       double complex a = 0;
       for (int i = 0; i < p->ni; i++) a += h[i] * lag[i];
       G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
+      if (!isfinite(G[k * p->np + q])) return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", f);
     }
   }
   return RR_OK;

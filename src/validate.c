@@ -80,6 +80,21 @@ static double complex hann_dtft(double th, int N)
   return acc;
 }
 
+/* Every figure of a validation finite, or an error. */
+static int results_finite(const rr_validate_result *r, rr_error *err)
+{
+  for (int q = 0; q < r->npoints; q++) {
+    const rr_validate_point *p = &r->points[q];
+    double v[] = {p->rms_pem, p->rms_time, p->sperling_pem, p->sperling_time, p->sperling_welch, p->sperling_gb_pem,
+                  p->sperling_gb_welch, p->wd_rms_pem, p->wd_rms_welch, p->band_error_max, p->band_z_max};
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
+      if (!isfinite(v[i])) return rr_seterr(err, RR_ENOCONV, "validate: a result at point %d is not finite", q + 1);
+  }
+  for (int i = 0; i < r->nwelch * r->npoints; i++)
+    if (!isfinite(r->welch_P[i]) || !isfinite(r->pem_P[i])) return rr_seterr(err, RR_ENOCONV, "validate: a PSD is not finite");
+  return RR_OK;
+}
+
 int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o, rr_validate_result *r, rr_error *err)
 {
   memset(r, 0, sizeof *r);
@@ -257,6 +272,7 @@ done:
   free(A); free(A2); free(Bs); free(ABs); free(u); free(du); free(y); free(aw); free(C); free(D); free(E); free(Gp); free(fp);
   rr_lti_disc_free(&dv);
   rr_lti_disc_free(&dfl);
+  if (!st) st = results_finite(r, err);
   if (st) rr_validate_result_free(r);
   return st;
 }
