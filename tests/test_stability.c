@@ -180,6 +180,15 @@ static void test_objective_modifiers(void)
   rr_modal_ws_free(ws);
   rr_model_free(m);
   rr_design_free(d);
+  /* one model per SDF variant: the vehicle's own and all three named (four) */
+  const char *variants[5] = {"index@350,0.17", "index@350,0.17;sdf=none", "index@350,0.17;sdf=paper",
+                             "index@350,0.17;sdf=physical", "sperling@350,0.17;sdf=paper"};
+  CHECK_OK(rr_design_new(&v, 0, NULL, 5, variants, &d, &e), e);
+  double fv[5];
+  CHECK_OK(rr_design_evaluate(d, NULL, fv, &e), e);
+  CHECK(fv[0] == fv[1] && fv[2] != fv[1] && isfinite(fv[3]) && isfinite(fv[4]), "SDF variants %g %g %g %g", fv[0], fv[1],
+        fv[2], fv[3]);
+  rr_design_free(d);
 }
 
 /* Fast and reference tracking on random SDF designs: the same self-consistent
