@@ -157,3 +157,5 @@ int cmd_compare(int argc, char **argv);
 int cmd_validate(int argc, char **argv);
 int cmd_optimise(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
+int cmd_keys(int argc, char **argv);
+int cmd_objectives(int argc, char **argv);

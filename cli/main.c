@@ -20,6 +20,8 @@ static const struct { const char *name; int (*fn)(int, char **); const char *wha
   {"optimize", cmd_optimise, "(same as optimise)"},
   {"sweep", cmd_sweep, "any objective over a grid of two vehicle-file keys (CSV)"},
   {"compare", cmd_compare, "SDF vs constant series stiffness: stability and Sperling over conicity"},
+  {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings"},
+  {"objectives", cmd_objectives, "the objective names of problem files and sweeps"},
 };
 #define NCMDS (int)(sizeof cmds / sizeof cmds[0])
 

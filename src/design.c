@@ -59,6 +59,24 @@ struct rr_design {
   rr_design **clones;
 };
 
+static const rr_objective_info objective_docs[] = {
+  {"zeta_low", "", "1", "vehicle stability index at 250 km/h, conicity 0.05 (paper Table 1; negative is stable)"},
+  {"zeta_high", "", "1", "vehicle stability index at 350 km/h, conicity 0.40"},
+  {"std_zeta", "", "1", "population standard deviation of the index at 350 km/h over 8 conicities 0.05-0.40"},
+  {"index", "KMH,L", "1", "vehicle stability index at speed KMH, conicity L"},
+  {"critical_speed", "L", "km/h", "lowest speed (10-600 km/h) at which an oscillatory mode has zeta >= 0; 600 when none"},
+  {"sperling", "KMH,L[,X]", "1", "Sperling index, weighting-filter method, floor point x = X m (default 0)"},
+  {"sperling_gb", "KMH,L[,X]", "1", "Sperling index, GB/T 5599 line method"},
+  {"wd_rms", "KMH,L[,X]", "m/s^2", "ISO 2631-1 / EN 12299 Wd-weighted lateral acceleration RMS"},
+  {"rms", "KMH,L[,X]", "m/s^2", "unweighted lateral acceleration RMS, 0.3-30 Hz"},
+};
+
+const rr_objective_info *rr_objectives(int *n)
+{
+  *n = (int)(sizeof objective_docs / sizeof objective_docs[0]);
+  return objective_docs;
+}
+
 static const struct objective_name {
   const char *name;
   int kind, nargs_min, nargs_max;

@@ -31,6 +31,11 @@ extern "C" {
  * e.g. "index@350,0.17;fmax=20;wmin=0;rmax=1". */
 typedef struct rr_design rr_design;
 
+/* The objective names, for listings: name, its arguments after '@', its
+ * unit and what it measures. */
+typedef struct rr_objective_info { const char *name, *args, *unit, *doc; } rr_objective_info;
+const rr_objective_info *rr_objectives(int *n);
+
 /* var_keys: "section.key" numeric vehicle-file keys; values are SI. */
 int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj,
                   const char *const *objectives, rr_design **out, rr_error *err);

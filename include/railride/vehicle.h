@@ -57,6 +57,7 @@ typedef struct rr_vehicle_key {
   size_t offset;         /* offset of the double in rr_vehicle, or (size_t)-1 */
   int flags;             /* RR_KEY_* */
   double min, max;       /* physical range, SI, inclusive (inf allowed with RR_KEY_INF_OK) */
+  const char *doc;       /* what the key means, one line */
 } rr_vehicle_key;
 enum {
   RR_KEY_POSITIVE = 1,   /* > 0 */
