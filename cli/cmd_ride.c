@@ -34,7 +34,7 @@ cJSON *ride_methods_json(void)
 {
   cJSON *m = cJSON_CreateObject();
   cJSON_AddStringToObject(m, "rms", "unweighted RMS, trapezoid over the band");
-  cJSON_AddStringToObject(m, "sperling", "Sperling Wz, weighting-filter method: 4.42 a_w^0.3, lateral B_w = 1.25 B_s (MODEL.md 8)");
+  cJSON_AddStringToObject(m, "sperling", "Sperling Wz, weighting-filter method: 4.42 a_w^0.3, lateral B_w = 1.25 B_s (docs/model.md section 7)");
   cJSON_AddStringToObject(m, "sperling_gb", "Sperling W, GB/T 5599 line method: 0.2 Hz bands from 0.5 Hz, lateral F(f)");
   cJSON_AddStringToObject(m, "wd_rms", "ISO 2631-1 / EN 12299 Wd-weighted RMS (ISO 8041 Wd)");
   cJSON_AddStringToObject(m, "en12299_nmv", "6 a_wd from the RMS, lateral axis only (stationary model: no 5 s percentile scatter)");

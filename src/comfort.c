@@ -1,10 +1,10 @@
-/* Ride indices from the acceleration PSD (MODEL.md section 8). */
+/* Ride indices from the acceleration PSD (docs/model.md section 7). */
 #include <math.h>
 #include <stdlib.h>
 #include "railride/comfort.h"
 #include "internal.h"
 
-/* The Sperling weighting squared, B(f)^2 (MODEL.md section 8). */
+/* The Sperling weighting squared, B(f)^2 (docs/model.md section 7). */
 static double sperling2(double f, int axis)
 {
   double f2 = f * f;

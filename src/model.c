@@ -1,5 +1,5 @@
 /* Assembly of M, C, K, B from a system, and the operating point (speed,
- * conicity) which only touches the wheel-rail contact terms (MODEL.md 2-3). */
+ * conicity) which only touches the wheel-rail contact terms (docs/model.md section 2-3). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -101,7 +101,7 @@ int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
   for (int i = 0; i < ni; i++) {
     /* Contact at offset dx: lateral motion a.q = y + dx psi, yaw b.q = psi.
        F_y = -2 f22 (a.q'/v - psi), M_z = -2 f11 l0 (l0 psi'/v + lambda (a.q - y_t)/r0),
-       generalised forces a F_y + b M_z (MODEL.md 3 with dx = 0). */
+       generalised forces a F_y + b M_z (docs/model.md section 3 with dx = 0). */
     const rr_contact *c = &m->contacts[i];
     const rr_contact_spec *s = &c->spec;
     int y = c->dof_y, p = c->dof_psi;

@@ -1,6 +1,6 @@
 /* Frequency response by modal expansion (+ Sherman-Morrison-Woodbury for the
  * SDF elements that have no state-space form) or by direct solves, and the
- * pseudo-excitation method (MODEL.md section 6). */
+ * pseudo-excitation method (docs/model.md section 6). */
 #include <cblas.h>
 #include <lapacke.h>
 #include <math.h>

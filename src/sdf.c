@@ -1,4 +1,4 @@
-/* Frequency-dependent series stiffness (SDF) of the yaw damper, MODEL.md section 4. */
+/* Frequency-dependent series stiffness (SDF) of the yaw damper, docs/model.md section 4. */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>

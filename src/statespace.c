@@ -1,4 +1,4 @@
-/* First-order state space z = [q; dq/dt; u] (MODEL.md section 5). Each
+/* First-order state space z = [q; dq/dt; u] (docs/model.md section 5). Each
  * Maxwell element adds its damper stroke u; in physical SDF mode each SDF
  * element also adds its inner dashpot stroke, after all the strokes. */
 #include <math.h>

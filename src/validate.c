@@ -14,7 +14,7 @@
 void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
 {
   /* B(f) = g |p (c + 0.25 p)| / |1 + 1.563 p + 0.277 p^2 + 0.0368 p^3|, p = j f = s / (2 pi),
-     c^2 = 1.911: MODEL.md 8's formula is the modulus of this stable rational filter. */
+     c^2 = 1.911: docs/model.md section 7's formula is the modulus of this stable rational filter. */
   double g = 0.588 * (axis == RR_AXIS_LATERAL ? 1.25 : 1.0), tp = 2 * RR_PI;
   double a3 = 0.0368 / (tp * tp * tp);
   double d2 = 0.277 / (tp * tp) / a3, d1 = 1.563 / tp / a3, d0 = 1.0 / a3;

@@ -1,4 +1,4 @@
-/* Vehicle parameters: the key table, built-in vehicles (MODEL.md section 7)
+/* Vehicle parameters: the key table, built-in vehicles (docs/model.md section 9)
  * and range checks. */
 #include <math.h>
 #include <stdio.h>
@@ -86,7 +86,7 @@ void rr_vehicle_default(rr_vehicle *v)
 {
   memset(v, 0, sizeof *v);
   snprintf(v->name, sizeof v->name, "type1");
-  /* Paper Table A1, kept as printed (roll/yaw inertia of the carbody look swapped: MODEL.md 7). */
+  /* Paper Table A1, kept as printed (roll/yaw inertia of the carbody look swapped: docs/model.md section 9). */
   v->carbody_mass = 38936;
   v->carbody_roll_inertia = 1.67e6;
   v->carbody_yaw_inertia = 9.61e5;

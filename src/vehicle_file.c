@@ -1,6 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 /* Vehicle files: INI (libinih) with `base =` inheritance, values with units
- * (MODEL.md section 9). Every message names file, line and key. */
+ * (docs/model.md section 9). Every message names file, line and key. */
 #include <ctype.h>
 #include <errno.h>
 #include <ini.h>

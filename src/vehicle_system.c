@@ -1,4 +1,4 @@
-/* The 17-DOF vehicle as a configuration of the generic layer (MODEL.md 1-3). */
+/* The 17-DOF vehicle as a configuration of the generic layer (docs/model.md section 1-3). */
 #include <math.h>
 #include <stdio.h>
 #include "model_impl.h"

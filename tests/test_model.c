@@ -1,5 +1,5 @@
 #define _POSIX_C_SOURCE 200809L
-/* The 17-DOF model against hand-derived entries of MODEL.md, the state
+/* The 17-DOF model against hand-derived entries of docs/model.md, the state
  * space against the dynamic stiffness (two routes to the same transfer
  * function), the fast stability index against the full solve, the paper-mode
  * SDF roots against their definition, and the Hessenberg inverse-iteration
@@ -207,7 +207,7 @@ static void test_fast_vs_full(void)
   CHECK(bad == 0, "fast index differs from the full solve for %d of 400 random designs", bad);
 }
 
-/* The carbody roll mode of MODEL.md section 5: lightly damped, wheelsets still. */
+/* The carbody roll mode of docs/model.md section 5: lightly damped, wheelsets still. */
 static void test_roll_mode_excluded(void)
 {
   rr_model *m;

@@ -222,7 +222,7 @@ static void test_comfort(void)
   G[k0] = A * A / 2 / 0.1;
   double W;
   CHECK_OK(rr_sperling_filter_index(f, G, 301, 1, RR_AXIS_LATERAL, &W, &e), e);
-  /* B_s(2 Hz) by hand from MODEL.md 8 */
+  /* B_s(2 Hz) by hand from docs/model.md section 7 */
   double num = 1.911 * 4 + pow(0.25 * 4, 2), den = pow(1 - 0.277 * 4, 2) + pow(1.563 * 2 - 0.0368 * 8, 2);
   double Bw = 1.25 * 0.588 * sqrt(num / den);
   CHECK_CLOSE(W, 4.42 * pow(Bw * A / sqrt(2), 0.3), 1e-12, 0, "Sperling filter, sinusoid");

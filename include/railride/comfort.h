@@ -1,4 +1,4 @@
-/* railride: ride indices from a one-sided acceleration PSD (MODEL.md 8).
+/* railride: ride indices from a one-sided acceleration PSD (docs/model.md section 7).
  * G in (m/s^2)^2/Hz on the grid f (Hz, increasing); integrals by the
  * trapezoid rule over the grid. Each index names its method. */
 #ifndef RAILRIDE_COMFORT_H

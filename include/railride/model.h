@@ -1,7 +1,7 @@
 /* railride: a linear model at an operating point: M, C, K, B and the Maxwell
  * elements, assembled once from a system; speed and conicity only touch the
  * contact terms, so an optimiser re-targets a model without re-assembling.
- * Matrices are row-major, DOFs in the system's order (MODEL.md section 1 for
+ * Matrices are row-major, DOFs in the system's order (docs/model.md section 1 for
  * the vehicle). */
 #ifndef RAILRIDE_MODEL_H
 #define RAILRIDE_MODEL_H
@@ -28,7 +28,7 @@ typedef struct rr_model rr_model;
 
 /* Assembles a model from a generic system (SDF off). */
 int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err);
-/* Builds the 17-DOF vehicle system of MODEL.md section 2-3 (caller frees). */
+/* Builds the 17-DOF vehicle system of docs/model.md section 2-3 (caller frees). */
 int rr_vehicle_system(const rr_vehicle *veh, rr_system **out, rr_error *err);
 /* Vehicle -> system -> model, with the vehicle's SDF mode and curve. */
 int rr_model_from_vehicle(const rr_vehicle *veh, rr_model **out, rr_error *err);
@@ -39,7 +39,7 @@ rr_model *rr_model_clone(const rr_model *m);
 int rr_model_set_operating(rr_model *m, double speed_ms, double conicity, rr_error *err);
 double rr_model_speed(const rr_model *m);
 double rr_model_conicity(const rr_model *m);
-/* Gravitational stiffness option (MODEL.md section 3). */
+/* Gravitational stiffness option (docs/model.md section 3). */
 void rr_model_set_gravity_stiffness(rr_model *m, int on);
 /* SDF mode and curve for the elements flagged sdf. */
 int rr_model_set_sdf(rr_model *m, int mode, const rr_sdf_curve *curve, rr_error *err);
@@ -72,7 +72,7 @@ typedef struct rr_maxwell_info {
 } rr_maxwell_info;
 int rr_model_maxwell(const rr_model *m, int i, rr_maxwell_info *info);
 
-/* State space z = [q; dq/dt; u] (MODEL.md section 5). Size 2n + nmaxwell,
+/* State space z = [q; dq/dt; u] (docs/model.md section 5). Size 2n + nmaxwell,
  * plus one inner state per SDF element in physical mode. */
 int rr_model_state_size(const rr_model *m);
 /* Fills A (N x N row-major). sdf_k > 0 overrides the series stiffness of the

@@ -1,4 +1,4 @@
-/* railride: frequency response and the pseudo-excitation method (MODEL.md 6).
+/* railride: frequency response and the pseudo-excitation method (docs/model.md section 6).
  * Plan/execute: a plan fixes the frequency grid and the output points and owns
  * all workspace; executing it on a model (after any change of design, speed or
  * conicity) fills the complex FRFs without allocating; a spectrum then turns

@@ -1,5 +1,5 @@
 /* railride: frequency-dependent series stiffness of the yaw damper (SDF),
- * MODEL.md section 4. */
+ * docs/model.md section 4. */
 #ifndef RAILRIDE_SDF_H
 #define RAILRIDE_SDF_H
 

@@ -3,7 +3,7 @@
  * reference point; point elements join a point of body A to a point of body B
  * (or the ground) along x, y, z, or in roll. A point at offset (dx,dy,dz) from a
  * body's reference moves by u_x = -dy psi, u_y = y + dx psi - dz phi,
- * u_z = dy phi (MODEL.md section 1). Elongation e = u_A - u_B along the
+ * u_z = dy phi (docs/model.md section 1). Elongation e = u_A - u_B along the
  * direction, e = J q. The 17-DOF vehicle is one configuration of this layer;
  * tests build single wheelsets and rigid bogies with it. */
 #ifndef RAILRIDE_SYSTEM_H
@@ -18,7 +18,7 @@ extern "C" {
 #define RR_GROUND (-1)
 enum rr_dof_flags { RR_DOF_Y = 1, RR_DOF_PSI = 2, RR_DOF_PHI = 4 };
 enum rr_direction { RR_DIR_X = 0, RR_DIR_Y = 1, RR_DIR_Z = 2, RR_DIR_ROLL = 3 };
-/* Kinetic-energy groups of MODEL.md section 5. */
+/* Kinetic-energy groups of docs/model.md section 5. */
 enum rr_group { RR_GROUP_CARBODY = 0, RR_GROUP_FRAME = 1, RR_GROUP_WHEELSET = 2, RR_NGROUPS = 3 };
 enum rr_law {
   RR_LAW_SPRING = 0,   /* k */

@@ -1,4 +1,4 @@
-/* railride: vehicle parameters and vehicle files (MODEL.md sections 7 and 9).
+/* railride: vehicle parameters and vehicle files (docs/model.md section 9 and 9).
  * All fields are SI: kg, kg m^2, m, N/m, N s/m, N m/rad, Hz. The struct is
  * plain data: copy it, change a field, build a new model. */
 #ifndef RAILRIDE_VEHICLE_H
