@@ -19,6 +19,8 @@ static const struct { const char *name; int (*fn)(int, char **); const char *wha
   {"optimise", cmd_optimise, "NSGA-II over a problem file (Pareto set and front as CSV)"},
   {"optimize", cmd_optimise, "(same as optimise)"},
   {"sweep", cmd_sweep, "any objective over a grid of two vehicle-file keys (CSV)"},
+  {"simulate", cmd_simulate, "time histories of the nonlinear vehicle (CSV)"},
+  {"bifurcation", cmd_bifurcation, "hunting limit cycles against speed: Hopf, folds, stability"},
   {"compare", cmd_compare, "SDF vs constant series stiffness: stability and Sperling over conicity"},
   {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings"},
   {"objectives", cmd_objectives, "the objective names of problem files and sweeps"},

@@ -56,6 +56,12 @@ static const rr_vehicle_key keys[] = {
   {"contact", "longitudinal_creep", "N", OFF(f11), N, 0, 1e+11, "f11: Kalker longitudinal creep coefficient, per wheel"},
   {"contact", "lateral_creep", "N", OFF(f22), N, 0, 1e+11, "f22: Kalker lateral creep coefficient, per wheel"},
   {"contact", "gravity_stiffness", "", NOFF, SPC | OPT, 0, 0, "yes: add the gravitational stiffness (default no, as the paper)"},
+  {"contact", "friction", "1", OFF(friction), P | OPT, 0.01, 2, "mu: friction coefficient of the creep saturation (nonlinear model; default 0.3)"},
+  {"contact", "flange_clearance", "m", OFF(flange_clearance), N | OPT, 0, 0.05, "lateral play before the flange spring acts (nonlinear model; default 8 mm)"},
+  {"contact", "flange_stiffness", "N/m", OFF(flange_stiffness), N | OPT, 0, 1e+11, "k_f: flange contact stiffness (nonlinear model; default 500 kN/mm; 0: no flange)"},
+  {"contact", "conicity_poly", "", NOFF, SPC | OPT, 0, 0, "lambda(a) = c0 + c1 a + c2 a^2 ... with a in mm: the coefficients, space separated (nonlinear model)"},
+  {"contact", "conicity_table", "", NOFF, SPC | OPT, 0, 0, "a CSV file a_mm, conicity for lambda(a), relative to this file (nonlinear model)"},
+  {"contact", "conicity_hold", "m", OFF(conicity_hold), P | OPT, 1e-3, 0.05, "a polynomial lambda(a) is held at its value beyond this (default 12 mm)"},
 };
 
 const rr_vehicle_key *rr_vehicle_keys(int *n)
@@ -129,6 +135,16 @@ void rr_vehicle_default(rr_vehicle *v)
   v->f11 = 1e7;
   v->f22 = 1e7;
   v->gravity_stiffness = 0;
+  rr_vehicle_contact_defaults(v);
+}
+
+void rr_vehicle_contact_defaults(rr_vehicle *v)
+{
+  v->friction = RR_FRICTION_DEFAULT;
+  v->flange_clearance = RR_FLANGE_CLEARANCE_DEFAULT;
+  v->flange_stiffness = RR_FLANGE_STIFFNESS_DEFAULT;
+  v->conicity_hold = RR_CONICITY_HOLD_DEFAULT;
+  memset(&v->profile, 0, sizeof v->profile);
 }
 
 int rr_vehicle_builtin(const char *name, rr_vehicle *v, rr_error *err)
@@ -168,6 +184,10 @@ int rr_vehicle_check(const rr_vehicle *v, rr_error *err)
     if (k->offset == NOFF) continue;
     if (!strncmp(k->key, "sdf_", 4) && v->sdf.kind != RR_CURVE_SLS) continue;   /* no curve, or a table */
     int st = rr_vehicle_key_check(k, *(const double *)((const char *)v + k->offset), err);
+    if (st) return st;
+  }
+  if (v->profile.kind != RR_PROFILE_NONE) {
+    int st = rr_profile_check(&v->profile, err);
     if (st) return st;
   }
   if (v->sdf_mode < RR_SDF_NONE || v->sdf_mode > RR_SDF_PHYSICAL)

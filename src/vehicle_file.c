@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <ini.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,7 @@ typedef struct parse_ctx {
   char name[64];
   int seen[NKEYS_MAX];      /* line where each key was set, 0 if not */
   int curve_keys;           /* sdf_k1/k2/k3 given: bit mask */
+  int profile_keys, profile_line;   /* conicity_poly 1, conicity_table 2; where */
   int table_line;
 } parse_ctx;
 
@@ -50,6 +52,31 @@ static void trim_copy(char *dst, size_t n, const char *src)
   if (len >= n) len = n - 1;
   memcpy(dst, src, len);
   dst[len] = 0;
+}
+
+/* conicity_poly = c0 c1 ...: plain numbers (a in mm), spaces or commas. */
+static int poly_value(parse_ctx *c, const char *section, const char *name, const char *val)
+{
+  rr_profile *p = &c->veh->profile;
+  *p = (rr_profile){.kind = RR_PROFILE_POLY};
+  snprintf(p->name, sizeof p->name, "polynomial");
+  const char *s = val;
+  while (*s) {
+    while (isspace((unsigned char)*s) || *s == ',') s++;
+    if (!*s) break;
+    char *end;
+    errno = 0;
+    double x = strtod(s, &end);
+    if (end == s || errno == ERANGE || !isfinite(x) || (*end && !isspace((unsigned char)*end) && *end != ','))
+      return fail(c, RR_EPARSE, "[%s] %s: coefficients are plain numbers (a in mm), got '%s'", section, name, val);
+    if (p->n >= RR_PROFILE_MAX) return fail(c, RR_EPARSE, "[%s] %s: more than 64 coefficients%s", section, name, "");
+    p->c[p->n++] = x;
+    s = end;
+  }
+  if (!p->n) return fail(c, RR_EPARSE, "[%s] %s: no coefficients%s", section, name, "");
+  c->profile_line = c->rs.line;
+  c->profile_keys |= 1;
+  return 1;
 }
 
 static void resolve_path(const parse_ctx *c, const char *rel, char *out, size_t n)
@@ -104,6 +131,16 @@ static int handler(void *user, const char *section, const char *name, const char
       else if (!strcmp(val, "no") || !strcmp(val, "false") || !strcmp(val, "off") || !strcmp(val, "0"))
         c->veh->gravity_stiffness = 0;
       else return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", section, name, val);
+      return 1;
+    }
+    if (!strcmp(k->key, "conicity_poly")) return poly_value(c, section, name, val);
+    if (!strcmp(k->key, "conicity_table")) {
+      char full[PATH_MAX + 8];
+      resolve_path(c, val, full, sizeof full);
+      rr_error e2;
+      if (rr_profile_load(full, &c->veh->profile, &e2)) return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
+      c->profile_line = c->rs.line;
+      c->profile_keys |= 2;
       return 1;
     }
     if (!strcmp(k->key, "sdf_table")) {
@@ -186,6 +223,7 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
     if ((st = load_base(c, veh, err, depth))) goto done;
   } else {
     memset(veh, 0, sizeof *veh);
+    rr_vehicle_contact_defaults(veh);   /* the optional nonlinear-model keys */
   }
   const char *stem = slash ? slash + 1 : path;
   snprintf(veh->name, sizeof veh->name, "%s", c->name[0] ? c->name : stem);
@@ -203,6 +241,19 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
                        path, c->rs.line, keys[i].section, keys[i].key);
         goto done;
       }
+  }
+  if (c->profile_keys == 3) {
+    st = rr_seterr(err, RR_EPARSE, "%s:%d: [contact] conicity_table: give either conicity_poly or conicity_table", path, c->profile_line);
+    goto done;
+  }
+  if (veh->profile.kind == RR_PROFILE_POLY) veh->profile.hold_mm = veh->conicity_hold * 1e3;
+  if (c->profile_keys) {
+    rr_error e2;
+    if ((st = rr_profile_check(&veh->profile, &e2))) {
+      rr_seterr(err, st, "%s:%d: [contact] %s: %s", path, c->profile_line,
+                c->profile_keys == 1 ? "conicity_poly" : "conicity_table", e2.msg);
+      goto done;
+    }
   }
   if (c->table_line && c->curve_keys) {
     st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] sdf_table: give either sdf_table or sdf_k1/sdf_k2/sdf_k3", path, c->table_line);

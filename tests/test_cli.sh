@@ -159,5 +159,51 @@ expect2 "malformed spectrum" "sp.txt:7: segment" "$RR" ride --speed 300 --conici
 expect2 "conicity list where one value" "one value expected" "$RR" modes --speed 300 --conicity 0.1,0.2
 expect2 "bad band" "--band" "$RR" ride --speed 300 --conicity 0.2 --band 10:1:5
 
+# The nonlinear model: simulate's CSV, bifurcation's JSON against critical-speed.
+"$RR" simulate --speed 350 --profile worn --duration 2 --fs 100 > "$tmp/sim.csv" || bad "simulate exit"
+python3 - "$tmp/sim.csv" <<'PY' && ok || bad "simulate csv"
+import csv, math, sys
+rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if not l.startswith('#'))]
+head = rows[0]
+assert head[0] == 't_s' and head[1] == 'y_c_m' and head[2] == 'psi_c_rad' and len(head) == 1 + 17 + 16, head
+assert head[-4:] == ['yt_w4_m', 'Fy_w4_N', 'Mz_w4_Nm', 'flange_w4_N'], head[-4:]
+assert len(rows) == 202 and all(math.isfinite(float(x)) for r in rows[1:] for x in r)
+assert abs(float(rows[1][head.index('y_w1_m')]) - 5e-3) < 1e-15      # the default disturbance
+assert any('friction 0.3' in l for l in open(sys.argv[1]) if l.startswith('#'))
+PY
+printf 'distance_m,alignment_m\n' > "$tmp/track.csv"
+python3 -c "import math; [print(f'{0.25*i},{1e-3*math.sin(2*math.pi*0.25*i/30)}') for i in range(4000)]" >> "$tmp/track.csv"
+"$RR" simulate --speed 300 --profile worn --duration 5 --fs 100 --track "$tmp/track.csv" > "$tmp/simt.csv" || bad "simulate --track exit"
+python3 - "$tmp/simt.csv" <<'PY' && ok || bad "simulate --track: each wheelset reads the record at its position"
+import csv, math, sys
+rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if not l.startswith('#'))]
+h = rows[0]; r = rows[101]; v = 300 / 3.6; t = float(r[0])
+# the last wheelset starts at the record's start; the first is 2 (L + b) = 19.875 m ahead
+for w, dx in ((4, 0.0), (1, 19.875)):
+    want = 1e-3 * math.sin(2 * math.pi * (v * t + dx) / 30)
+    assert abs(float(r[h.index(f'yt_w{w}_m')]) - want) < 2e-6, (w, r[h.index(f'yt_w{w}_m')], want)
+PY
+"$RR" simulate --speed 300 --profile worn --duration 3 --spectrum wuhan-guangzhou --seed 7 > "$tmp/sims.csv" || bad "simulate --spectrum exit"
+"$RR" bifurcation --profile worn --speeds 100:560 --json > "$tmp/bif.json" || bad "bifurcation exit"
+"$RR" critical-speed --conicity 0.375 --json > "$tmp/crit.json" || bad "critical-speed exit"
+python3 - "$tmp/bif.json" "$tmp/crit.json" <<'PY' && ok || bad "bifurcation json"
+import json, sys
+d = json.load(open(sys.argv[1])); c = json.load(open(sys.argv[2]))
+assert d['profile'] == 'worn' and d['type'] == 'supercritical' and d['method'] == 'continuation'
+assert abs(d['linear_critical_speed_kmh'] - c['critical_speed_kmh']) < 1e-9
+assert abs(d['hopf_speed_from_branch_kmh'] - c['critical_speed_kmh']) < 0.1
+assert d['nonlinear_critical_speed_kmh'] == d['linear_critical_speed_kmh']
+a = d['assumptions']
+assert a['friction'] == 0.3 and a['flange_clearance_m'] == 0.008 and a['flange_stiffness_n_per_m'] == 5e8 and '0.375' in a['conicity']
+b = d['branch']
+assert len(b) >= 5 and all(set(p) >= {'speed_kmh', 'amplitude_m', 'frequency_hz', 'stable', 'max_floquet_modulus'} for p in b)
+assert all(p['residual'] <= 1e-8 for p in b) and all(p['stable'] == (p['max_floquet_modulus'] < 1) for p in b)
+assert max(p['speed_kmh'] for p in b) <= 560 + 10
+PY
+"$RR" bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4 --json > "$tmp/scan.json" || bad "scan exit"
+json_check "bifurcation scan" "d['method']=='scan' and len(d['branch'])==6 and [p['sweep'] for p in d['branch']]==['up']*3+['down']*3 and d['branch'][0]['amplitude_m']==0 and d['branch'][2]['amplitude_m']>3e-4 and d['type']=='supercritical'" < "$tmp/scan.json"
+"$RR" bifurcation --profile "$SRC/examples/tread-worn.csv" --speeds 100:545 --csv > "$tmp/bif.csv" || bad "bifurcation csv"
+head -2 "$tmp/bif.csv" | tail -1 | grep -q '^speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual$' && ok || bad "bifurcation csv header"
+
 echo "cli: $pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -19,4 +19,5 @@
 #include "railride/design.h"
 #include "railride/nsga2.h"
 #include "railride/problem.h"
+#include "railride/nonlinear.h"
 #endif

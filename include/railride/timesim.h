@@ -21,6 +21,20 @@ extern "C" {
 int rr_track_realise(const rr_spectrum *sp, double speed, const double *x_inputs, int ninputs, double fs_hz,
                      int nsamples, double f_lo, double f_hi, uint64_t seed, double *u, double *du, rr_error *err);
 
+/* A measured alignment record: distance_m (rising), alignment_m. */
+typedef struct rr_track_record { int n; double *x, *y; } rr_track_record;
+/* Reads a CSV (header line allowed; comma or space separated). */
+int rr_track_record_load(const char *path, rr_track_record *r, rr_error *err);
+void rr_track_record_free(rr_track_record *r);
+/* The longest run (s) the record allows at speed v for contacts at x (m). */
+double rr_track_record_duration(const rr_track_record *r, double v, const double *x, int ni);
+/* The alignment each contact meets at t = k / fs (k < ns), y_t(v t + x_i)
+ * as in rr_track_realise with the last contact starting at the record's
+ * first row; linear between rows, rates by central differences. u, du:
+ * ninputs x ns. */
+int rr_track_record_sample(const rr_track_record *r, double v, const double *x, int ni, double fs, int ns, double *u,
+                           double *du, rr_error *err);
+
 /* Exact discretisation of x' = A x + B w with w(t) a cubic Hermite
  * interpolant of samples w_k, w'_k (step dt):
  * x_{k+1} = Phi x_k + G[0] w_k + G[1] w'_k + G[2] w_{k+1} + G[3] w'_{k+1}. */

@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 #include "railride/error.h"
+#include "railride/profile.h"
 #include "railride/sdf.h"
 
 #ifdef __cplusplus
@@ -36,6 +37,12 @@ typedef struct rr_vehicle {
   /* [contact], per wheel */
   double f11, f22;
   int gravity_stiffness; /* 0 or 1 */
+  /* [contact], the nonlinear model only: friction coefficient, flange
+     clearance (m) and stiffness (N/m), the tread's conicity lambda(a)
+     (kind RR_PROFILE_NONE when the file gives none) */
+  double friction, flange_clearance, flange_stiffness;
+  double conicity_hold;  /* m: a polynomial lambda(a) is held beyond (12 mm) */
+  rr_profile profile;
 } rr_vehicle;
 
 /* Built-in vehicles: "type1" (the default), "type2". Each carries its Table 2
@@ -43,6 +50,14 @@ typedef struct rr_vehicle {
 int rr_vehicle_builtin(const char *name, rr_vehicle *veh, rr_error *err);
 /* The default vehicle (Type 1). */
 void rr_vehicle_default(rr_vehicle *veh);
+/* The nonlinear model's contact assumptions (docs/model.md, "Nonlinear
+ * model"): friction 0.3, flange clearance 8 mm, flange stiffness 500 kN/mm,
+ * polynomial hold 12 mm; no tread profile. */
+#define RR_FRICTION_DEFAULT 0.3
+#define RR_FLANGE_CLEARANCE_DEFAULT 8e-3
+#define RR_FLANGE_STIFFNESS_DEFAULT 500e6
+#define RR_CONICITY_HOLD_DEFAULT 12e-3
+void rr_vehicle_contact_defaults(rr_vehicle *veh);
 /* Loads an INI vehicle file (with `base =` inheritance). */
 int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err);
 /* Loads a built-in name if `spec` is one, otherwise a file. NULL -> default. */

@@ -1,0 +1,477 @@
+/* `railride simulate` and `railride bifurcation`: the nonlinear vehicle
+ * (docs/model.md, "Nonlinear model") in the time domain, and its hunting
+ * limit cycles against speed. */
+#define _POSIX_C_SOURCE 200809L
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "cli.h"
+
+#define SIM_DISTURBANCE_DEFAULT 5e-3   /* m, on every wheelset, when no track is given */
+#define SIM_FS_DEFAULT 256.0           /* Hz: the validation's sample rate, hence its realisations */
+#define SIM_DURATION_MAX 1e4           /* s */
+#define SCAN_STEP_DEFAULT_KMH 5.0
+
+typedef struct nl_args {
+  const char *profile, *spectrum, *track, *method;
+  double duration, fs, disturbance, step_kmh, settle, v_lo, v_hi, limit;
+  unsigned long long seed;
+  int have_seed, have_disturbance, csv;
+} nl_args;
+enum { OPT_PROFILE = 5000, OPT_NDUR, OPT_NFS, OPT_DIST, OPT_NSPEC, OPT_NSEED, OPT_TRACK, OPT_SPEEDS, OPT_METHOD,
+       OPT_CSV, OPT_STEP, OPT_SETTLE, OPT_NLIMIT };
+
+static double now_s(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static int speeds_option(nl_args *a, const char *arg)
+{
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", arg);
+  char *colon = strchr(buf, ':');
+  if (!colon || strchr(colon + 1, ':')) return cli_bad("--speeds: expected FROM:TO (km/h), got '%s'", arg);
+  *colon = 0;
+  if (cli_number_in("speeds", buf, "km/h", 1, RR_SPEED_MAX_MS * RR_KMH, &a->v_lo) ||
+      cli_number_in("speeds", colon + 1, "km/h", 1, RR_SPEED_MAX_MS * RR_KMH, &a->v_hi))
+    return 1;
+  return a->v_hi > a->v_lo ? 0 : cli_bad("--speeds: FROM must be below TO, got '%s'", arg);
+}
+
+static int nl_cb(int opt, const char *arg, void *u)
+{
+  nl_args *a = u;
+  switch (opt) {
+  case OPT_PROFILE: a->profile = arg; return 0;
+  case OPT_NDUR: return cli_number_in("duration", arg, "s", 1e-3, SIM_DURATION_MAX, &a->duration) ? 1 : 0;
+  case OPT_NFS: return cli_number_in("fs", arg, "Hz", 1, 1e5, &a->fs) ? 1 : 0;
+  case OPT_DIST: a->have_disturbance = 1; return cli_number_in("disturbance", arg, "m", -0.05, 0.05, &a->disturbance) ? 1 : 0;
+  case OPT_NSPEC: a->spectrum = arg; return 0;
+  case OPT_NSEED: {
+    char *end;
+    errno = 0;
+    a->seed = strtoull(arg, &end, 10);
+    if (*end || !*arg || !isdigit((unsigned char)arg[0]) || errno == ERANGE)
+      return cli_bad("--seed: a whole number from 0 to %llu expected, got '%s'", ULLONG_MAX, arg);
+    a->have_seed = 1;
+    return 0;
+  }
+  case OPT_TRACK: a->track = arg; return 0;
+  case OPT_SPEEDS: return speeds_option(a, arg);
+  case OPT_METHOD:
+    if (strcmp(arg, "continuation") && strcmp(arg, "scan"))
+      return cli_bad("--method: 'continuation' or 'scan' expected, got '%s'", arg);
+    a->method = arg;
+    return 0;
+  case OPT_CSV: a->csv = 1; return 0;
+  case OPT_STEP: return cli_number_in("step", arg, "km/h", 0.01, 1000, &a->step_kmh) ? 1 : 0;
+  case OPT_SETTLE: return cli_number_in("settle", arg, "s", 0.1, 1000, &a->settle) ? 1 : 0;
+  case OPT_NLIMIT: return cli_limit(arg, &a->limit) ? 1 : 0;
+  }
+  return 1;
+}
+
+/* The profile: --profile, else the vehicle's. */
+static int nl_profile(const nl_args *a, const rr_vehicle *veh, rr_profile *p)
+{
+  rr_error e;
+  if (a->profile) {
+    int st = rr_profile_open(a->profile, p, &e);
+    return st ? cli_bad("--profile: %s", e.msg) : 0;
+  }
+  if (veh->profile.kind == RR_PROFILE_NONE)
+    return cli_bad("no tread profile: give --profile new|worn|FILE.csv or [contact] conicity_poly / conicity_table");
+  *p = veh->profile;
+  return 0;
+}
+
+/* The model's assumptions, echoed in every output. */
+static cJSON *assumptions_json(const rr_vehicle *veh, const rr_profile *p)
+{
+  char d[512];
+  rr_profile_describe(p, d, sizeof d);
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "conicity", d);
+  cJSON_AddNumberToObject(o, "friction", veh->friction);
+  cJSON_AddNumberToObject(o, "flange_clearance_m", veh->flange_clearance);
+  cJSON_AddNumberToObject(o, "flange_stiffness_n_per_m", veh->flange_stiffness);
+  cJSON_AddStringToObject(o, "creep_saturation", "Shen-Hedrick-Elkins, per wheel, static wheel load");
+  cJSON_AddStringToObject(o, "suspension", "linear, as the linear model (Maxwell dampers included)");
+  return o;
+}
+
+static void assumptions_comment(FILE *fp, const rr_vehicle *veh, const rr_profile *p)
+{
+  char d[512];
+  rr_profile_describe(p, d, sizeof d);
+  fprintf(fp, "# nonlinear model: %s; friction %g; flange clearance %g mm, stiffness %g kN/mm; Shen-Hedrick-Elkins "
+              "creep saturation; linear suspension\n",
+          d, veh->friction, veh->flange_clearance * 1e3, veh->flange_stiffness * 1e-6);
+}
+
+/* ---- simulate ---- */
+
+/* The track inputs: a realisation, a record, or none (NULL). */
+static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, double **u, double **du)
+{
+  *u = *du = NULL;
+  if (!a->spectrum && !a->track) return 0;
+  rr_error e;
+  rr_model *m;
+  int st = rr_model_from_vehicle(veh, &m, &e);
+  if (st) return cli_fail(&e, st);
+  int ni = rr_model_ninputs(m);
+  double x[64];
+  for (int i = 0; i < ni; i++) x[i] = rr_model_input_x(m, i);
+  rr_model_free(m);
+  *u = malloc(sizeof(double) * (size_t)ni * ns);
+  *du = malloc(sizeof(double) * (size_t)ni * ns);
+  if (!*u || !*du) return cli_bad("out of memory");
+  if (a->track) {
+    rr_track_record r;
+    if ((st = rr_track_record_load(a->track, &r, &e))) return cli_bad("--track: %s", e.msg);
+    st = rr_track_record_sample(&r, v, x, ni, a->fs, ns, *u, *du, &e);
+    rr_track_record_free(&r);
+    return st ? cli_bad("--track: %s", e.msg) : 0;
+  }
+  rr_spectrum sp;
+  if ((st = rr_spectrum_open(a->spectrum, &sp, &e))) return cli_fail(&e, st);
+  rr_validate_opts vo = rr_validate_opts_default();
+  st = rr_track_realise(&sp, v, x, ni, a->fs, ns, vo.f_lo_hz, vo.f_hi_hz, a->have_seed ? a->seed : vo.seed, *u, *du, &e);
+  return st ? cli_fail(&e, st) : 0;
+}
+
+static void sim_header(FILE *fp, const rr_model *m, int nw)
+{
+  fprintf(fp, "t_s");
+  for (int i = 0; i < rr_model_ndof(m); i++) {
+    const char *nm = rr_model_dof_name(m, i);
+    fprintf(fp, ",%s_%s", nm, nm[0] == 'y' ? "m" : "rad");
+  }
+  for (int w = 1; w <= nw; w++) fprintf(fp, ",yt_w%d_m,Fy_w%d_N,Mz_w%d_Nm,flange_w%d_N", w, w, w, w);
+  fputc('\n', fp);
+}
+
+static void sim_rows(FILE *fp, const rr_nonlinear *nl, const double *Z, int ns, double fs, const double *u)
+{
+  int N = rr_nonlinear_size(nl), n = rr_nonlinear_ndof(nl), nw = rr_nonlinear_ninputs(nl);
+  for (int k = 0; k < ns; k++) {
+    const double *z = Z + (size_t)k * N;
+    double yt[64];
+    for (int w = 0; w < nw; w++) yt[w] = u ? u[(size_t)w * ns + k] : 0;
+    fprintf(fp, "%.10g", k / fs);
+    for (int i = 0; i < n; i++) fprintf(fp, ",%.10g", z[i]);
+    for (int w = 0; w < nw; w++) {
+      double fy, mz, fl;
+      rr_nonlinear_forces(nl, z, yt, w, &fy, &mz, &fl);
+      fprintf(fp, ",%.10g,%.10g,%.10g,%.10g", yt[w], fy, mz, fl);
+    }
+    fputc('\n', fp);
+  }
+}
+
+static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
+{
+  double v = c->speed_kmh / RR_KMH;
+  int ns = (int)floor(a->duration * a->fs + 1e-9) + 1;
+  double *u, *du, *Z = NULL, *z0 = NULL;
+  int r = sim_track(a, &c->veh, v, ns, &u, &du);
+  rr_nonlinear *nl = NULL;
+  rr_model *m = NULL;
+  rr_error e;
+  int st = 0;
+  if (!r && (st = rr_nonlinear_from_vehicle(&c->veh, p, NULL, v, &nl, &e))) r = cli_fail(&e, st);
+  if (!r && (st = rr_model_from_vehicle(&c->veh, &m, &e))) r = cli_fail(&e, st);
+  if (!r) {
+    int N = rr_nonlinear_size(nl);
+    Z = malloc(sizeof(double) * (size_t)N * ns);
+    z0 = calloc((size_t)N, sizeof(double));
+    if (!Z || !z0) r = cli_bad("out of memory");
+    double y0 = a->have_disturbance ? a->disturbance : u ? 0 : SIM_DISTURBANCE_DEFAULT;
+    for (int w = 0; w < rr_nonlinear_ninputs(nl) && !r; w++) z0[rr_nonlinear_index_y(nl, w)] = y0;
+    rr_sim_opts so = rr_sim_opts_default();
+    so.duration_s = a->duration;
+    so.fs_hz = a->fs;
+    so.yt = u;
+    so.dyt = du;
+    so.nsamples_track = u ? ns : 0;
+    if (!r && (st = rr_simulate(nl, z0, &so, Z, ns, &e))) r = cli_fail(&e, st);
+  }
+  if (!r) {
+    assumptions_comment(stdout, &c->veh, p);
+    printf("# speed %g km/h; integration: SUNDIALS CVODE BDF, relative tolerance %g, absolute %g m\n", c->speed_kmh,
+           rr_sim_opts_default().rtol, rr_sim_opts_default().atol_m);
+    sim_header(stdout, m, rr_nonlinear_ninputs(nl));
+    sim_rows(stdout, nl, Z, ns, a->fs, u);
+  }
+  free(u); free(du); free(Z); free(z0);
+  rr_nonlinear_free(nl);
+  rr_model_free(m);
+  return r;
+}
+
+int cmd_simulate(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride simulate [VEHICLE] --speed KMH [--profile new|worn|FILE.csv] [--duration S]\n"
+      "                         [--disturbance Y0] [--spectrum S [--seed N] | --track FILE.csv] [--fs HZ]\n"
+      "Time histories of the nonlinear vehicle (conicity lambda(a), creep saturation, flange\n"
+      "spring; docs/model.md, \"Nonlinear model\") by SUNDIALS CVODE: from a lateral disturbance\n"
+      "of every wheelset, a random track realisation of a spectrum (the same realisations as\n"
+      "`validate` for the same --duration, --fs and --seed), or a measured alignment record\n"
+      "(CSV distance_m, alignment_m, resampled at the speed). CSV on standard output, '#' lines\n"
+      "first (the model's assumptions): t_s, every DOF (m or rad), per wheelset the track\n"
+      "alignment, saturated creep force Fy and yaw moment Mz, and the flange force.\n" CLI_COMMON_HELP
+      "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
+      "  --duration S         simulated time, s (default 10)\n"
+      "  --disturbance Y0     initial lateral displacement of every wheelset (default 5 mm without a track)\n"
+      "  --spectrum S         track irregularity spectrum (name or file)\n"
+      "  --seed N             realisation seed (default 1)\n"
+      "  --track FILE.csv     measured alignment record: distance_m, alignment_m\n"
+      "  --fs HZ              output (and track) samples per second (default 256)\n"
+      "  --limit N            most output samples (duration x fs) accepted (default 4194304)\n";
+  static const struct option extra[] = {
+      {"profile", required_argument, 0, OPT_PROFILE}, {"duration", required_argument, 0, OPT_NDUR},
+      {"fs", required_argument, 0, OPT_NFS}, {"disturbance", required_argument, 0, OPT_DIST},
+      {"spectrum", required_argument, 0, OPT_NSPEC}, {"seed", required_argument, 0, OPT_NSEED},
+      {"track", required_argument, 0, OPT_TRACK}, {"limit", required_argument, 0, OPT_NLIMIT}, {0, 0, 0, 0}};
+  cli_common c;
+  nl_args a = {.duration = 10, .fs = SIM_FS_DEFAULT, .limit = CLI_LIMIT_SAMPLES};
+  int r = cli_parse(argc, argv, &c, extra, nl_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
+  if (!c.have_speed) return cli_bad("simulate: --speed is required");
+  if (a.spectrum && a.track) return cli_bad("simulate: give --spectrum or --track, not both");
+  if (a.have_seed && !a.spectrum) return cli_bad("--seed: only with --spectrum");
+  if (cli_over_limit("simulate", a.duration * a.fs, a.limit, "samples")) return EXIT_BADINPUT;
+  rr_profile p;
+  if ((r = nl_profile(&a, &c.veh, &p))) return r;
+  return sim_run(&a, &c, &p);
+}
+
+/* ---- bifurcation ---- */
+
+static const char *type_name(int t)
+{
+  return t == RR_BIF_SUPERCRITICAL ? "supercritical" : t == RR_BIF_SUBCRITICAL ? "subcritical" : "none";
+}
+
+static const char *end_name(int e)
+{
+  static const char *names[] = {"left the speed range", "beyond the amplitude limit", "point limit reached",
+                                "continuation stalled (a grazing corner or a secondary bifurcation)",
+                                "linear model: no limit cycles"};
+  return e >= 0 && e <= 4 ? names[e] : "?";
+}
+
+static cJSON *num_or_null(double x) { return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull(); }
+
+static cJSON *bif_head(const cli_common *c, const rr_profile *p, const nl_args *a)
+{
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "vehicle", c->veh.name);
+  cJSON_AddStringToObject(o, "profile", p->name);
+  cJSON_AddItemToObject(o, "assumptions", assumptions_json(&c->veh, p));
+  cJSON_AddStringToObject(o, "method", a->method);
+  cJSON *r = cJSON_AddArrayToObject(o, "speeds_kmh");
+  cJSON_AddItemToArray(r, cJSON_CreateNumber(a->v_lo));
+  cJSON_AddItemToArray(r, cJSON_CreateNumber(a->v_hi));
+  return o;
+}
+
+static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_args *a, const rr_bifurcation *b,
+                           const rr_cycle *pts, double secs)
+{
+  if (a->csv) {
+    assumptions_comment(stdout, &c->veh, p);
+    printf("speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual\n");
+    for (int i = 0; i < b->npoints; i++)
+      printf("%.10g,%.10g,%.10g,%d,%.10g,%.3g\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m, 1 / pts[i].period_s,
+             pts[i].stable, pts[i].floquet_max, pts[i].residual);
+    return;
+  }
+  if (c->json) {
+    cJSON *o = bif_head(c, p, a);
+    cJSON_AddItemToObject(o, "linear_critical_speed_kmh", num_or_null(b->hopf_speed_ms * RR_KMH));
+    cJSON_AddItemToObject(o, "hopf_frequency_hz", num_or_null(b->hopf_freq_hz));
+    cJSON_AddItemToObject(o, "hopf_speed_from_branch_kmh", num_or_null(b->hopf_speed_branch_ms * RR_KMH));
+    cJSON_AddItemToObject(o, "nonlinear_critical_speed_kmh", num_or_null(b->nonlinear_critical_ms * RR_KMH));
+    cJSON_AddStringToObject(o, "type", type_name(b->type));
+    cJSON_AddStringToObject(o, "branch_end", end_name(b->end));
+    cJSON *arr = cJSON_AddArrayToObject(o, "branch");
+    for (int i = 0; i < b->npoints; i++) {
+      cJSON *q = cJSON_CreateObject();
+      cJSON_AddNumberToObject(q, "speed_kmh", pts[i].speed_ms * RR_KMH);
+      cJSON_AddNumberToObject(q, "amplitude_m", pts[i].amplitude_m);
+      cJSON_AddNumberToObject(q, "frequency_hz", 1 / pts[i].period_s);
+      cJSON_AddBoolToObject(q, "stable", pts[i].stable);
+      cJSON_AddNumberToObject(q, "max_floquet_modulus", pts[i].floquet_max);
+      cJSON_AddNumberToObject(q, "residual", pts[i].residual);
+      cJSON_AddItemToArray(arr, q);
+    }
+    cJSON_AddNumberToObject(o, "seconds", secs);
+    cli_json_print(o);
+    return;
+  }
+  char d[512];
+  rr_profile_describe(p, d, sizeof d);
+  printf("%s, tread %s: %s\n", c->veh.name, p->name, d);
+  printf("friction %g, flange clearance %g mm, flange stiffness %g kN/mm\n", c->veh.friction, c->veh.flange_clearance * 1e3,
+         c->veh.flange_stiffness * 1e-6);
+  if (!b->hopf) { printf("the straight-track equilibrium is stable to %g km/h: no Hopf point\n", RR_SPEED_MAX_MS * RR_KMH); return; }
+  printf("linear critical speed (Hopf)  %9.3f km/h  (%.3f Hz; from the branch %.3f)\n", b->hopf_speed_ms * RR_KMH,
+         b->hopf_freq_hz, b->hopf_speed_branch_ms * RR_KMH);
+  printf("nonlinear critical speed      %9.3f km/h\n", b->nonlinear_critical_ms * RR_KMH);
+  printf("bifurcation                   %s; %d cycles, branch end: %s (%.2f s)\n", type_name(b->type), b->npoints,
+         end_name(b->end), secs);
+  printf("%12s %12s %10s %8s %10s\n", "speed_kmh", "amplitude_mm", "freq_hz", "stable", "max|mu|");
+  for (int i = 0; i < b->npoints; i++)
+    printf("%12.3f %12.4f %10.4f %8s %10.5f\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m * 1e3, 1 / pts[i].period_s,
+           pts[i].stable ? "yes" : "no", pts[i].floquet_max);
+}
+
+static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args *a)
+{
+  rr_orbit_opts o = rr_orbit_opts_default();
+  o.v_min_ms = a->v_lo / RR_KMH;
+  o.v_max_ms = a->v_hi / RR_KMH;
+  rr_cycle *pts = malloc(sizeof *pts * (size_t)o.max_points);
+  if (!pts) return cli_bad("out of memory");
+  rr_bifurcation b;
+  rr_error e;
+  double t0 = now_s();
+  int st = rr_bifurcation_continue(&c->veh, p, NULL, &o, pts, NULL, o.max_points, &b, &e);
+  if (st) { free(pts); return cli_fail(&e, st); }
+  bif_print_cont(c, p, a, &b, pts, now_s() - t0);
+  free(pts);
+  return 0;
+}
+
+/* The scan's reading, as the paper reads its figure: the linear critical
+   speed where the up-sweep's amplitude leaves zero, the nonlinear one the
+   lowest speed with a cycle on either sweep. */
+static void scan_read(const rr_scan_point *up, const rr_scan_point *down, int nv, double *v_lin, double *v_nl)
+{
+  *v_lin = *v_nl = NAN;
+  for (int i = 0; i < nv && !isfinite(*v_lin); i++)
+    if (up[i].amplitude_m > 0) *v_lin = up[i].speed_ms;
+  for (int i = 0; i < nv && !isfinite(*v_nl); i++)
+    if (up[i].amplitude_m > 0 || down[i].amplitude_m > 0) *v_nl = up[i].speed_ms;
+}
+
+static void scan_points_json(cJSON *arr, const rr_scan_point *s, int nv, const char *sweep)
+{
+  for (int i = 0; i < nv; i++) {
+    cJSON *q = cJSON_CreateObject();
+    cJSON_AddStringToObject(q, "sweep", sweep);
+    cJSON_AddNumberToObject(q, "speed_kmh", s[i].speed_ms * RR_KMH);
+    cJSON_AddNumberToObject(q, "amplitude_m", s[i].amplitude_m);
+    cJSON_AddItemToObject(q, "frequency_hz", num_or_null(s[i].frequency_hz));
+    cJSON_AddBoolToObject(q, "stable", s[i].amplitude_m > 0);
+    cJSON_AddNullToObject(q, "max_floquet_modulus");
+    cJSON_AddItemToArray(arr, q);
+  }
+}
+
+static void bif_print_scan(const cli_common *c, const rr_profile *p, const nl_args *a, const rr_scan_point *up,
+                           const rr_scan_point *down, int nv, double secs)
+{
+  double v_lin, v_nl;
+  scan_read(up, down, nv, &v_lin, &v_nl);
+  const char *type = !isfinite(v_lin) ? "none" : v_nl < v_lin ? "subcritical" : "supercritical";
+  if (a->csv) {
+    assumptions_comment(stdout, &c->veh, p);
+    printf("sweep,speed_kmh,amplitude_m,frequency_hz\n");
+    for (int s = 0; s < 2; s++)
+      for (int i = 0; i < nv; i++) {
+        const rr_scan_point *q = s ? &down[nv - 1 - i] : &up[i];
+        printf("%s,%.10g,%.10g,", s ? "down" : "up", q->speed_ms * RR_KMH, q->amplitude_m);
+        cli_csv_num(stdout, q->frequency_hz, '\n');
+      }
+    return;
+  }
+  if (c->json) {
+    cJSON *o = bif_head(c, p, a);
+    cJSON_AddItemToObject(o, "linear_critical_speed_kmh", num_or_null(v_lin * RR_KMH));
+    cJSON_AddItemToObject(o, "nonlinear_critical_speed_kmh", num_or_null(v_nl * RR_KMH));
+    cJSON_AddStringToObject(o, "type", type);
+    cJSON_AddNumberToObject(o, "step_kmh", a->step_kmh);
+    cJSON_AddNumberToObject(o, "settle_s", a->settle);
+    cJSON *arr = cJSON_AddArrayToObject(o, "branch");
+    scan_points_json(arr, up, nv, "up");
+    scan_points_json(arr, down, nv, "down");
+    cJSON_AddNumberToObject(o, "seconds", secs);
+    cli_json_print(o);
+    return;
+  }
+  printf("%s, tread %s (scan, %g km/h steps, %g s to settle, %.2f s)\n", c->veh.name, p->name, a->step_kmh, a->settle, secs);
+  printf("linear critical speed     %9.1f km/h (amplitude leaves zero on the way up)\n", v_lin * RR_KMH);
+  printf("nonlinear critical speed  %9.1f km/h (lowest speed with a cycle)\n", v_nl * RR_KMH);
+  printf("bifurcation               %s\n%12s %14s %14s\n", type, "speed_kmh", "up_amp_mm", "down_amp_mm");
+  for (int i = 0; i < nv; i++)
+    printf("%12.2f %14.4f %14.4f\n", up[i].speed_ms * RR_KMH, up[i].amplitude_m * 1e3, down[i].amplitude_m * 1e3);
+}
+
+static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
+{
+  int nv = (int)floor((a->v_hi - a->v_lo) / a->step_kmh + 1e-9) + 1;
+  double work = 2.0 * nv * (a->settle + 2);
+  if (cli_over_limit("bifurcation --method scan", work, a->limit, "simulated seconds")) return EXIT_BADINPUT;
+  double *vs = malloc(sizeof(double) * (size_t)nv);
+  rr_scan_point *up = malloc(sizeof *up * (size_t)nv), *down = malloc(sizeof *down * (size_t)nv);
+  if (!vs || !up || !down) { free(vs); free(up); free(down); return cli_bad("out of memory"); }
+  for (int i = 0; i < nv; i++) vs[i] = (a->v_lo + i * a->step_kmh) / RR_KMH;
+  rr_scan_opts so = rr_scan_opts_default();
+  so.settle_s = a->settle;
+  rr_error e;
+  double t0 = now_s();
+  int st = rr_bifurcation_scan(&c->veh, p, NULL, vs, nv, &so, up, down, &e);
+  if (!st) bif_print_scan(c, p, a, up, down, nv, now_s() - t0);
+  free(vs); free(up); free(down);
+  return st ? cli_fail(&e, st) : 0;
+}
+
+int cmd_bifurcation(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride bifurcation [VEHICLE] [--profile new|worn|FILE.csv] [--speeds A:B]\n"
+      "                            [--method continuation|scan] [--json|--csv]\n"
+      "Hunting limit cycles of the nonlinear vehicle on straight, perfect track against speed.\n"
+      "continuation (default): the Hopf point (the linear critical speed at lambda(0)), then the\n"
+      "branch of cycles born there by shooting (Newton on the return map, the monodromy matrix\n"
+      "from the variational equations) and pseudo-arclength continuation; each cycle's stability\n"
+      "from its Floquet multipliers; the nonlinear critical speed is the branch's lowest speed\n"
+      "(folds refined). A Hopf point above B is followed from there. scan: the paper's method,\n"
+      "direct integration at each speed from the previous run's end state, up then down.\n"
+      "Amplitude: the leading wheelset's lateral displacement.\n" CLI_COMMON_HELP
+      "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
+      "  --speeds A:B         speed range, km/h (default 100:600)\n"
+      "  --method M           continuation (default) or scan\n"
+      "  --csv                the branch as CSV ('#' line first: the assumptions)\n"
+      "  --step KMH           scan: speed step (default 5 km/h)\n"
+      "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s measured)\n"
+      "  --limit N            scan: most simulated seconds accepted (default 1e5)\n";
+  static const struct option extra[] = {
+      {"profile", required_argument, 0, OPT_PROFILE}, {"speeds", required_argument, 0, OPT_SPEEDS},
+      {"method", required_argument, 0, OPT_METHOD}, {"csv", no_argument, 0, OPT_CSV},
+      {"step", required_argument, 0, OPT_STEP}, {"settle", required_argument, 0, OPT_SETTLE},
+      {"limit", required_argument, 0, OPT_NLIMIT}, {0, 0, 0, 0}};
+  cli_common c;
+  nl_args a = {.method = "continuation", .v_lo = 100, .v_hi = 600, .step_kmh = SCAN_STEP_DEFAULT_KMH,
+               .settle = rr_scan_opts_default().settle_s, .limit = 1e5};
+  int r = cli_parse(argc, argv, &c, extra, nl_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
+  if (a.csv && c.json) return cli_bad("bifurcation: --json or --csv, not both");
+  if (c.have_speed || c.have_conicity) return cli_bad("bifurcation: the speed range is --speeds A:B; the conicity is the profile's");
+  rr_profile p;
+  if ((r = nl_profile(&a, &c.veh, &p))) return r;
+  return strcmp(a.method, "scan") ? bif_continue(&c, &p, &a) : bif_scan(&c, &p, &a);
+}

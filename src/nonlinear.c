@@ -1,0 +1,323 @@
+/* The nonlinear right-hand side (docs/model.md, "Nonlinear model"): the
+ * suspension as the linear state matrix without the contact terms, plus per
+ * wheelset the contact forces with conicity lambda(|y - y_t|), creep forces
+ * saturated per wheel and the flange dead-band spring, with their exact
+ * derivatives for the Jacobian. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "railride/nonlinear.h"
+#include "model_impl.h"
+#include "internal.h"
+
+double rr_profile_eval(const rr_profile *p, double a_m, double *dlam_da);
+
+typedef struct wheelset {
+  int y, p;                 /* DOF indices */
+  double f11, f22, r0, l0;  /* per wheel */
+  double W, muN;            /* axle load (gravitational stiffness), friction limit per wheel */
+  double im_y, im_p;        /* 1 / m_w, 1 / I_wz */
+} wheelset;
+
+struct rr_nonlinear {
+  int N, n, nw, gravity;
+  double v;
+  rr_profile prof;
+  rr_contact_law law;
+  wheelset w[RR_SYS_MAX_INPUTS];
+  int nnz;                  /* the suspension's state matrix, sparse by rows */
+  int *row_start, *col;
+  double *val;
+};
+
+rr_contact_law rr_contact_law_default(void)
+{
+  return (rr_contact_law){.friction = 0.3, .flange_clearance = 8e-3, .flange_stiffness = 500e6, .saturation = 1};
+}
+
+void rr_nonlinear_free(rr_nonlinear *nl)
+{
+  if (!nl) return;
+  free(nl->row_start);
+  free(nl->col);
+  free(nl->val);
+  free(nl);
+}
+
+static int check_inputs(const rr_model *m, const rr_profile *p, const rr_contact_law *law, rr_error *err)
+{
+  if (m->sdf_mode == RR_SDF_PAPER && m->nsdf)
+    return rr_seterr(err, RR_EUNSUP, "nonlinear model: the paper-mode SDF has no time form (use sdf = physical or none)");
+  if (m->sdf_mode == RR_SDF_PHYSICAL && m->curve.kind == RR_CURVE_TABLE)
+    return rr_seterr(err, RR_EUNSUP, "nonlinear model: a tabulated SDF curve has no time form");
+  if (!(law->friction > 0 && law->friction <= 2 && law->flange_clearance >= 0 && law->flange_clearance <= 0.05 &&
+        law->flange_stiffness >= 0 && law->flange_stiffness <= 1e11))
+    return rr_seterr(err, RR_EINVAL, "contact law: friction in (0, 2], flange clearance 0 .. 50 mm, stiffness 0 .. 1e11 N/m");
+  for (int i = 0; i < m->ni; i++)
+    if (m->contacts[i].spec.dx != 0)
+      return rr_seterr(err, RR_EUNSUP, "nonlinear model: contacts must sit at their wheelset's reference point");
+  return rr_profile_check(p, err);
+}
+
+/* The state matrix with the contact terms taken out (C0, K0), as rows of
+   nonzeros. */
+static int suspension(rr_nonlinear *nl, const rr_model *m, rr_error *err)
+{
+  rr_model *s = rr_model_clone(m);
+  double *A = malloc(sizeof(double) * (size_t)nl->N * nl->N);
+  if (!s || !A) { free(s); free(A); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  size_t nn = sizeof(double) * (size_t)m->n * m->n;
+  memcpy(s->C, s->C0, nn);
+  memcpy(s->K, s->K0, nn);
+  int st = rr_model_state_matrix(s, 0, A, err), N = nl->N;
+  free(s);
+  for (int i = 0; i < N * N && !st; i++) nl->nnz += A[i] != 0;
+  nl->row_start = malloc(sizeof(int) * (size_t)(N + 1));
+  nl->col = malloc(sizeof(int) * (size_t)(nl->nnz + 1));
+  nl->val = malloc(sizeof(double) * (size_t)(nl->nnz + 1));
+  if (!st && (!nl->row_start || !nl->col || !nl->val)) st = rr_seterr(err, RR_ENOMEM, "out of memory");
+  for (int i = 0, k = 0; i < N && !st; i++) {
+    nl->row_start[i] = k;
+    for (int j = 0; j < N; j++)
+      if (A[i * N + j] != 0) { nl->col[k] = j; nl->val[k++] = A[i * N + j]; }
+    nl->row_start[i + 1] = k;
+  }
+  free(A);
+  return st;
+}
+
+int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law, rr_nonlinear **out,
+                     rr_error *err)
+{
+  *out = NULL;
+  rr_contact_law def = rr_contact_law_default();
+  if (!law) law = &def;
+  int st = check_inputs(m, p, law, err);
+  if (st) return st;
+  rr_nonlinear *nl = calloc(1, sizeof *nl);
+  if (!nl) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  nl->N = rr_model_state_size(m);
+  nl->n = m->n;
+  nl->nw = m->ni;
+  nl->v = m->speed;
+  nl->gravity = m->gravity;
+  nl->prof = *p;
+  nl->law = *law;
+  for (int i = 0; i < m->ni; i++) {
+    const rr_contact *c = &m->contacts[i];
+    nl->w[i] = (wheelset){.y = c->dof_y, .p = c->dof_psi, .f11 = c->spec.f11, .f22 = c->spec.f22, .r0 = c->spec.r0,
+                          .l0 = c->spec.l0, .W = c->spec.axle_load, .muN = law->friction * c->spec.axle_load / 2,
+                          .im_y = 1 / m->mdiag[c->dof_y], .im_p = 1 / m->mdiag[c->dof_psi]};
+  }
+  if ((st = suspension(nl, m, err))) { rr_nonlinear_free(nl); return st; }
+  *out = nl;
+  return RR_OK;
+}
+
+int rr_nonlinear_set_speed(rr_nonlinear *nl, double v, rr_error *err)
+{
+  if (!(v > 0 && v <= RR_SPEED_MAX_MS))
+    return rr_seterr(err, RR_EINVAL, "speed %g km/h outside (0, %g] km/h", v * RR_KMH, RR_SPEED_MAX_MS * RR_KMH);
+  nl->v = v;
+  return RR_OK;
+}
+
+double rr_nonlinear_speed(const rr_nonlinear *nl) { return nl->v; }
+int rr_nonlinear_size(const rr_nonlinear *nl) { return nl->N; }
+int rr_nonlinear_ndof(const rr_nonlinear *nl) { return nl->n; }
+int rr_nonlinear_ninputs(const rr_nonlinear *nl) { return nl->nw; }
+int rr_nonlinear_index_y(const rr_nonlinear *nl, int i) { return i >= 0 && i < nl->nw ? nl->w[i].y : -1; }
+
+/* The Shen-Hedrick-Elkins factor eps(beta) and d eps / d beta. */
+static double saturation(double beta, double *deps)
+{
+  if (beta < 3) {
+    *deps = -1.0 / 3 + 2 * beta / 27;
+    return 1 - beta / 3 + beta * beta / 27;
+  }
+  *deps = -1 / (beta * beta);
+  return 1 / beta;
+}
+
+/* Forces of one wheelset: F[0] lateral (creep + flange + gravity), F[1] yaw
+   moment; their derivatives dF[k][0..4] in y, psi, dy/dt, dpsi/dt and the
+   speed v; flange the flange's share of F[0]. x = (y, psi, dy/dt, dpsi/dt). */
+static void contact(const rr_nonlinear *nl, double v, const wheelset *w, const double *x, double yt, double F[2],
+                    double dF[2][5], double *flange)
+{
+  const rr_contact_law *law = &nl->law;
+  double d = x[0] - yt, a = fabs(d), dl, lam = rr_profile_eval(&nl->prof, a, &dl);
+  double dlamd_dd = lam + dl * a;                     /* d(lambda(|d|) d) / dd */
+  double s = w->l0 * x[3] / v + lam * d / w->r0;      /* longitudinal creepage, left wheel (right: -s) */
+  double xy = x[2] / v - x[1];                        /* lateral creepage, both wheels */
+  double ds[5] = {dlamd_dd / w->r0, 0, 0, w->l0 / v, -w->l0 * x[3] / (v * v)};
+  double dxy[5] = {0, -1, 1 / v, 0, -x[2] / (v * v)};
+  double fx = w->f11 * s, fy = w->f22 * xy, eps = 1, deps = 0, db[5] = {0, 0, 0, 0, 0};
+  if (law->saturation && w->muN > 0) {
+    double fn = hypot(fx, fy), beta = fn / w->muN;
+    eps = saturation(beta, &deps);
+    for (int k = 0; k < 5 && fn > 0; k++)
+      db[k] = (fx * w->f11 * ds[k] + fy * w->f22 * dxy[k]) / (fn * w->muN);
+  }
+  /* both wheels share |F|, hence eps: F_y = 2 eps (-f22 xy), M_z = 2 eps (-f11 s) l0 */
+  F[0] = -2 * eps * fy;
+  F[1] = -2 * eps * fx * w->l0;
+  for (int k = 0; k < 5; k++) {
+    dF[0][k] = -2 * (eps * w->f22 * dxy[k] + fy * deps * db[k]);
+    dF[1][k] = -2 * w->l0 * (eps * w->f11 * ds[k] + fx * deps * db[k]);
+  }
+  *flange = 0;
+  if (law->flange_stiffness > 0 && a > law->flange_clearance) {
+    *flange = -law->flange_stiffness * (a - law->flange_clearance) * (d > 0 ? 1 : -1);
+    F[0] += *flange;
+    dF[0][0] -= law->flange_stiffness;
+  }
+  if (nl->gravity) {   /* K += W lambda / l0 on y, -W lambda l0 on psi, with lambda(|d|) */
+    F[0] -= w->W * lam * d / w->l0;
+    dF[0][0] -= w->W * dlamd_dd / w->l0;
+    F[1] += w->W * lam * w->l0 * x[1];
+    dF[1][1] += w->W * lam * w->l0;
+    dF[1][0] += w->W * w->l0 * x[1] * dl * (d > 0 ? 1 : d < 0 ? -1 : 0);
+  }
+}
+
+static void wheel_state(const rr_nonlinear *nl, const wheelset *w, const double *z, double x[4])
+{
+  x[0] = z[w->y];
+  x[1] = z[w->p];
+  x[2] = z[nl->n + w->y];
+  x[3] = z[nl->n + w->p];
+}
+
+void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, const double *yt, double *dz)
+{
+  for (int i = 0; i < nl->N; i++) {
+    double acc = 0;
+    for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) acc += nl->val[k] * z[nl->col[k]];
+    dz[i] = acc;
+  }
+  for (int i = 0; i < nl->nw; i++) {
+    const wheelset *w = &nl->w[i];
+    double x[4], F[2], dF[2][5], fl;
+    wheel_state(nl, w, z, x);
+    contact(nl, v, w, x, yt ? yt[i] : 0, F, dF, &fl);
+    dz[nl->n + w->y] += F[0] * w->im_y;
+    dz[nl->n + w->p] += F[1] * w->im_p;
+  }
+}
+
+void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt, double *J)
+{
+  int N = nl->N;
+  memset(J, 0, sizeof(double) * (size_t)N * N);
+  for (int i = 0; i < N; i++)
+    for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) J[i * N + nl->col[k]] = nl->val[k];
+  for (int i = 0; i < nl->nw; i++) {
+    const wheelset *w = &nl->w[i];
+    double x[4], F[2], dF[2][5], fl;
+    wheel_state(nl, w, z, x);
+    contact(nl, v, w, x, yt ? yt[i] : 0, F, dF, &fl);
+    int cols[4] = {w->y, w->p, nl->n + w->y, nl->n + w->p};
+    for (int k = 0; k < 4; k++) {
+      J[(nl->n + w->y) * N + cols[k]] += dF[0][k] * w->im_y;
+      J[(nl->n + w->p) * N + cols[k]] += dF[1][k] * w->im_p;
+    }
+  }
+}
+
+/* out = [J X_0 .. J X_{m-1}] (columns of N), J = d(dz/dt)/dz at z; with
+   dfdv, the speed derivative d(dz/dt)/dv is added to the last column (the
+   variational equation of the speed's sensitivity). Straight, perfect track. */
+void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m, int dfdv,
+                         double *out)
+{
+  int N = nl->N, n = nl->n;
+  double dF[RR_SYS_MAX_INPUTS][2][5];
+  for (int i = 0; i < nl->nw; i++) {
+    double x[4], F[2], fl;
+    wheel_state(nl, &nl->w[i], z, x);
+    contact(nl, v, &nl->w[i], x, 0, F, dF[i], &fl);
+  }
+  for (int c = 0; c < m; c++) {
+    const double *xc = X + (size_t)c * N;
+    double *oc = out + (size_t)c * N;
+    for (int i = 0; i < N; i++) {
+      double acc = 0;
+      for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) acc += nl->val[k] * xc[nl->col[k]];
+      oc[i] = acc;
+    }
+    for (int i = 0; i < nl->nw; i++) {
+      const wheelset *w = &nl->w[i];
+      double dx[4] = {xc[w->y], xc[w->p], xc[n + w->y], xc[n + w->p]}, gy = 0, gp = 0;
+      for (int k = 0; k < 4; k++) { gy += dF[i][0][k] * dx[k]; gp += dF[i][1][k] * dx[k]; }
+      if (dfdv && c == m - 1) { gy += dF[i][0][4]; gp += dF[i][1][4]; }
+      oc[n + w->y] += gy * w->im_y;
+      oc[n + w->p] += gp * w->im_p;
+    }
+  }
+}
+
+/* The saturation's argument beta = |F| / (mu N) of wheelset w at speed v. */
+static double beta_of(const rr_nonlinear *nl, double v, const wheelset *w, const double *z)
+{
+  double x[4], dl;
+  wheel_state(nl, w, z, x);
+  double d = x[0], lam = rr_profile_eval(&nl->prof, fabs(d), &dl);
+  double fx = w->f11 * (w->l0 * x[3] / v + lam * d / w->r0), fy = w->f22 * (x[2] / v - x[1]);
+  return hypot(fx, fy) / w->muN;
+}
+
+/* Where the right-hand side is not smooth, per wheelset on straight track:
+   y = 0 (lambda(|y|) has a corner there unless lambda'(0) = 0), the
+   flange's edges y = +-clearance, for a polynomial tread its hold's edges
+   y = +-hold, and the switch of the saturation law at beta = 3. g (may be
+   NULL) gets one value per kink, zero there; the count is returned. */
+int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g)
+{
+  int k = 0;
+  double dl, edge[3] = {0, nl->law.flange_stiffness > 0 ? nl->law.flange_clearance : 0,
+                        nl->prof.kind == RR_PROFILE_POLY && nl->prof.hold_mm > 0 ? nl->prof.hold_mm * 1e-3 : 0};
+  rr_profile_eval(&nl->prof, 0, &dl);
+  int corner = dl != 0, sat = nl->law.saturation;
+  for (int i = 0; i < nl->nw; i++) {
+    const wheelset *w = &nl->w[i];
+    double y = z ? z[w->y] : 0;
+    if (corner) {
+      if (g) g[k] = y;
+      k++;
+    }
+    for (int e = 1; e < 3; e++) {
+      if (!(edge[e] > 0)) continue;
+      if (g) {
+        g[k] = y - edge[e];
+        g[k + 1] = y + edge[e];
+      }
+      k += 2;
+    }
+    if (sat && w->muN > 0) {
+      if (g) g[k] = beta_of(nl, v, w, z) - 3;
+      k++;
+    }
+  }
+  return k;
+}
+
+void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i, double *fy, double *mz,
+                         double *flange)
+{
+  double x[4], F[2], dF[2][5];
+  wheel_state(nl, &nl->w[i], z, x);
+  contact(nl, nl->v, &nl->w[i], x, yt ? yt[i] : 0, F, dF, flange);
+  *fy = F[0];
+  *mz = F[1];
+}
+
+void rr_nonlinear_rhs(const rr_nonlinear *nl, const double *z, const double *yt, double *dz)
+{
+  rr_nonlinear_rhs_at(nl, nl->v, z, yt, dz);
+}
+
+void rr_nonlinear_jacobian(const rr_nonlinear *nl, const double *z, const double *yt, double *J)
+{
+  rr_nonlinear_jacobian_at(nl, nl->v, z, yt, J);
+}

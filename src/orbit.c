@@ -1,0 +1,615 @@
+/* Periodic orbits: shooting with the variational equations, Floquet multipliers,
+ * pseudo-arclength continuation from a Hopf point (see orbit.h). */
+#include <lapacke.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <arkode/arkode_erkstep.h>
+#include "orbit.h"
+#include "internal.h"
+
+#define NEWTON_MAXIT 12
+#define NEWTON_TOL 5e-9   /* |phi_T(z0) - z0| relative to |z0| */
+#define KINK_TTOL 1e-12  /* a kink this close (in periods) to a step's start counts as at it */
+#define RTOL_VAR 1e-6     /* the variational equations' tolerance: Phi feeds Newton and Floquet only */
+
+/* One period from z0: z(T), the monodromy matrix Phi (n x n, row-major) and
+   d z(T) / dp, and the amplitude max |z_k_amp| over the period. */
+typedef struct flow { double *zT, *Phi, *phip, amp; } flow;
+
+/* The orbit with its variational equations: Y = [z; Phi by columns; phi_p],
+   n (n + 2). The system is not stiff at the speeds of hunting (spectral radius
+   ~ 600 1/s against a period of ~0.1 s), so an explicit 8th-order pair beats
+   BDF with sensitivities by an order of magnitude. */
+typedef struct var_ctx {
+  const rr_orbit_sys *s;
+  double p;
+  int sens;
+  double *J, *a, *b;   /* dense fallback: n x n, n, n */
+  char msg[160];       /* ARKODE's last complaint (the library never prints) */
+} var_ctx;
+
+static void var_errors(int code, const char *module, const char *function, char *msg, void *user)
+{
+  (void)code; (void)module; (void)function;
+  var_ctx *c = user;
+  snprintf(c->msg, sizeof c->msg, "%s", msg);
+}
+
+static void var_dense(const var_ctx *c, const double *z, const double *X, double *out)
+{
+  const rr_orbit_sys *s = c->s;
+  int n = s->ode.n;
+  s->ode.jac(s->ode.user, 0, c->p, z, c->J);
+  for (int k = 0; k <= n; k++)
+    for (int i = 0; i < n; i++) {
+      double acc = 0;
+      for (int j = 0; j < n; j++) acc += c->J[(size_t)i * n + j] * X[(size_t)k * n + j];
+      out[(size_t)k * n + i] = acc;
+    }
+  double h = 1e-6 * fmax(fabs(c->p), 1e-3);
+  s->ode.rhs(s->ode.user, 0, c->p + h, z, c->a);
+  s->ode.rhs(s->ode.user, 0, c->p - h, z, c->b);
+  for (int i = 0; i < n; i++) out[(size_t)n * n + i] += (c->a[i] - c->b[i]) / (2 * h);
+}
+
+static int var_rhs(double t, N_Vector y, N_Vector ydot, void *user)
+{
+  (void)t;
+  const var_ctx *c = user;
+  const rr_orbit_sys *s = c->s;
+  int n = s->ode.n;
+  const double *Y = N_VGetArrayPointer(y);
+  double *D = N_VGetArrayPointer(ydot);
+  s->ode.rhs(s->ode.user, 0, c->p, Y, D);
+  if (!c->sens) return 0;
+  if (s->jvp) s->jvp(s->ode.user, c->p, Y, Y + n, n + 1, 1, D + n);
+  else var_dense(c, Y, Y + n, D + n);
+  return 0;
+}
+
+/* Per-component absolute tolerances, rtol times a typical magnitude: the
+   states' own (s->atol, per amplitude unit) times the orbit's amplitude in
+   those units; Phi's column j: atol_i / atol_j; phi_p: atol_i / p_unit. */
+static void var_tolerances(const rr_orbit_sys *s, double rtol, double scale, int sens, double *tol)
+{
+  int n = s->ode.n;
+  for (int i = 0; i < n; i++) tol[i] = rtol * s->atol[i] * scale;
+  for (int k = 0; k <= n && sens; k++)
+    for (int i = 0; i < n; i++)
+      tol[(size_t)(k + 1) * n + i] = rtol * s->atol[i] / (k < n ? s->atol[k] : s->p_unit);
+}
+
+/* Integration of one period that never steps across a kink of f (the
+   system's kink functions change sign there): a step that crosses one is
+   taken back and the integration stopped at the kink, then restarted beyond
+   it, so every step sees a smooth right-hand side and the flow keeps the
+   accuracy its tolerance promises. The amplitude: |z_k_amp| at the zeros of
+   its rate, z_k_phase, located on the dense output. */
+typedef struct period {
+  const rr_orbit_sys *s;
+  double p;
+  int sens;
+  void *mem;
+  N_Vector y, yprev, ytmp;
+  double ga[RR_ORBIT_MAX_KINKS + 1], gb[RR_ORBIT_MAX_KINKS + 1], amp;
+} period;
+
+static void indicators(const period *P, const double *z, double *g)
+{
+  const rr_orbit_sys *s = P->s;
+  int nk = P->sens ? 0 : s->nkinks;
+  if (nk) s->kinks(s->ode.user, P->p, z, g);
+  g[nk] = z[s->k_phase];
+}
+
+static int crossed(double a, double b) { return (a < 0 && b >= 0) || (a > 0 && b <= 0); }
+
+/* The zero of indicator j in (ta, tb) on the last step's dense output
+   (Illinois false position); y there left in P->ytmp. */
+static double locate(period *P, int j, double ta, double tb)
+{
+  double ga = P->ga[j], gb = P->gb[j], g[RR_ORBIT_MAX_KINKS + 1], t = tb;
+  int side = 0;
+  for (int it = 0; it < 60 && tb - ta > 1e-15 * fmax(1, fabs(tb)); it++) {
+    t = (ta * gb - tb * ga) / (gb - ga);
+    ERKStepGetDky(P->mem, t, 0, P->ytmp);
+    indicators(P, N_VGetArrayPointer(P->ytmp), g);
+    if (g[j] == 0) break;
+    if (crossed(ga, g[j])) { tb = t; gb = g[j]; if (side == -1) ga *= 0.5; side = -1; }
+    else { ta = t; ga = g[j]; if (side == 1) gb *= 0.5; side = 1; }
+  }
+  ERKStepGetDky(P->mem, t, 0, P->ytmp);
+  return t;
+}
+
+static int period_run(period *P, double T)
+{
+  const rr_orbit_sys *s = P->s;
+  int nk = P->sens ? 0 : s->nkinks, at_kink = 0;   /* Phi, at its loose tolerance, steps across kinks */
+  double t = 0, tprev = 0, tstop = T, h = 0, *Y = N_VGetArrayPointer(P->y);
+  indicators(P, Y, P->ga);
+  P->amp = fabs(Y[s->k_amp]);
+  N_VScale(1, P->y, P->yprev);
+  while (t < T) {
+    int r = ERKStepEvolve(P->mem, tstop, P->y, &t, ARK_ONE_STEP);
+    if (r < 0) return r;
+    ERKStepGetLastStep(P->mem, &h);
+    indicators(P, Y, P->gb);
+    double tk = t;
+    for (int i = 0; i < nk; i++)
+      if (crossed(P->ga[i], P->gb[i])) tk = fmin(tk, locate(P, i, tprev, t));
+    /* a kink inside the step (not at its very start): back to the start and
+       stop at the kink; a located kink a hair early is caught again by the
+       next, short, step and the stop refined */
+    if (tk < t && tk - tprev > KINK_TTOL * T) {
+      ERKStepReset(P->mem, tprev, P->yprev);
+      N_VScale(1, P->yprev, P->y);
+      ERKStepSetStopTime(P->mem, tk);
+      ERKStepSetInitStep(P->mem, tk - tprev);
+      tstop = tk;
+      at_kink = 1;
+      t = tprev;
+      continue;
+    }
+    if (crossed(P->ga[nk], P->gb[nk])) {
+      locate(P, nk, tprev, t);
+      P->amp = fmax(P->amp, fabs(N_VGetArrayPointer(P->ytmp)[s->k_amp]));
+    }
+    P->amp = fmax(P->amp, fabs(Y[s->k_amp]));
+    if (at_kink && t >= tstop) {   /* at the kink: a fresh start beyond it */
+      ERKStepReset(P->mem, t, P->y);
+      ERKStepSetStopTime(P->mem, T);
+      ERKStepSetInitStep(P->mem, fmin(fmax(h, 1e-6 * T), T - t));
+      tstop = T;
+      at_kink = 0;
+    }
+    tprev = t;
+    N_VScale(1, P->y, P->yprev);
+    memcpy(P->ga, P->gb, sizeof(double) * (size_t)(nk + 1));
+  }
+  return 0;
+}
+
+static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double T, double rtol, int sens, flow *f,
+                       rr_error *err)
+{
+  int n = s->ode.n, st = RR_OK;
+  sunindextype ny = sens ? (sunindextype)n * (n + 2) : n;
+  var_ctx c = {.s = s, .p = p, .sens = sens};
+  period P = {.s = s, .p = p, .sens = sens};
+  SUNContext ctx = NULL;
+  N_Vector tol = NULL;
+  if (SUNContext_Create(NULL, &ctx)) return rr_seterr(err, RR_ENOMEM, "SUNDIALS context");
+  P.y = N_VNew_Serial(ny, ctx);
+  P.yprev = N_VNew_Serial(ny, ctx);
+  P.ytmp = N_VNew_Serial(ny, ctx);
+  tol = N_VNew_Serial(ny, ctx);
+  c.J = malloc(sizeof(double) * ((size_t)n * n + 2 * (size_t)n));
+  if (!P.y || !P.yprev || !P.ytmp || !tol || !c.J) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  c.a = c.J + (size_t)n * n;
+  c.b = c.a + n;
+  double *Y = N_VGetArrayPointer(P.y), scale = fmax(fabs(z0[s->k_amp]) / s->amp_unit, 1e-3);
+  memset(Y, 0, sizeof(double) * (size_t)ny);
+  memcpy(Y, z0, sizeof(double) * (size_t)n);
+  for (int j = 0; j < n && sens; j++) Y[(size_t)(j + 1) * n + j] = 1;
+  var_tolerances(s, rtol, scale, sens, N_VGetArrayPointer(tol));
+  P.mem = ERKStepCreate(var_rhs, 0, P.y, ctx);
+  if (!P.mem || ERKStepSetTableNum(P.mem, sens ? ARKODE_DORMAND_PRINCE_7_4_5 : ARKODE_FEHLBERG_13_7_8) || ERKStepSVtolerances(P.mem, rtol, tol) ||
+      ERKStepSetUserData(P.mem, &c) || ERKStepSetErrHandlerFn(P.mem, var_errors, &c) ||
+      ERKStepSetStopTime(P.mem, T) || ERKStepSetMaxNumSteps(P.mem, 1000000) || ERKStepSetMaxStep(P.mem, T / 32) ||
+      ERKStepSetMaxErrTestFails(P.mem, 50)) {   /* a step beyond the stability bound fails many times over */
+    st = rr_seterr(err, RR_ENOMEM, "orbit: ARKODE set-up failed");
+    goto done;
+  }
+  if (period_run(&P, T)) {
+    st = rr_seterr(err, RR_ENOCONV, "orbit: ARKODE: %s", c.msg);
+    goto done;
+  }
+  f->amp = P.amp;
+  memcpy(f->zT, Y, sizeof(double) * (size_t)n);
+  for (int j = 0; j < n && sens; j++)
+    for (int i = 0; i < n; i++) f->Phi[(size_t)i * n + j] = Y[(size_t)(j + 1) * n + i];
+  if (sens) memcpy(f->phip, Y + (size_t)(n + 1) * n, sizeof(double) * (size_t)n);
+  for (int i = 0; i < (int)ny && !st; i++)
+    if (!isfinite(Y[i])) st = rr_seterr(err, RR_ENOCONV, "orbit: the flow is not finite");
+done:
+  if (P.mem) ERKStepFree(&P.mem);
+  N_Vector v[4] = {P.y, P.yprev, P.ytmp, tol};
+  for (int i = 0; i < 4; i++)
+    if (v[i]) N_VDestroy(v[i]);
+  free(c.J);
+  SUNContext_Free(&ctx);
+  return st;
+}
+
+/* The constraint closing the Newton system: p fixed, amplitude fixed, or
+   pseudo-arclength tA dA + tp dp = ds (scaled units). */
+typedef struct closure {
+  int kind;                  /* 0 p, 1 amplitude, 2 arclength */
+  double amp, p;             /* targets (kinds 0, 1); the previous point (kind 2) */
+  double tA, tp, ds;
+} closure;
+
+/* Newton's workspace. The flow rows of the bordered system [Phi - I, f(z_T),
+   phi_p] (n x (n + 2)) come from a period with the variational equations
+   and are then kept up to date by Broyden's rank-one updates, so that most
+   iterations cost one plain period; the phase and closure rows are exact. */
+typedef struct work {
+  int n, valid;              /* valid: B holds the flow rows of a nearby orbit */
+  double *B, *Jn, *R;        /* n (n + 2), (n + 2)^2, n + 2 */
+  double *F, *Fn, *dX, *zt;  /* z_T - z0 now and after the step (n), the step (n + 2), a trial z0 (n) */
+  int *piv;
+  flow f;
+} work;
+
+static int work_new(work *w, int n)
+{
+  size_t m = (size_t)n + 2, nn = (size_t)n;
+  *w = (work){.n = n};
+  w->B = malloc(sizeof(double) * nn * m);
+  w->Jn = malloc(sizeof(double) * m * m);
+  w->R = malloc(sizeof(double) * m);
+  w->F = malloc(sizeof(double) * nn);
+  w->Fn = malloc(sizeof(double) * nn);
+  w->dX = malloc(sizeof(double) * m);
+  w->zt = malloc(sizeof(double) * nn);
+  w->piv = malloc(sizeof(int) * m);
+  w->f.zT = malloc(sizeof(double) * nn);
+  w->f.Phi = malloc(sizeof(double) * nn * nn);
+  w->f.phip = malloc(sizeof(double) * nn);
+  return w->B && w->Jn && w->R && w->F && w->Fn && w->dX && w->zt && w->piv && w->f.zT && w->f.Phi && w->f.phip ? 0 : -1;
+}
+
+static void work_free(work *w)
+{
+  free(w->B); free(w->Jn); free(w->R); free(w->F); free(w->Fn); free(w->dX); free(w->zt); free(w->piv);
+  free(w->f.zT); free(w->f.Phi); free(w->f.phip);
+}
+
+static double norm2(const double *x, int n)
+{
+  double s = 0;
+  for (int i = 0; i < n; i++) s += x[i] * x[i];
+  return sqrt(s);
+}
+
+/* The flow rows from a period with the variational equations (in w->f). */
+static void flow_rows(const rr_orbit_sys *s, work *w, double p)
+{
+  int n = w->n, m = n + 2;
+  double *fz = w->R;   /* scratch */
+  s->ode.rhs(s->ode.user, 0, p, w->f.zT, fz);
+  for (int i = 0; i < n; i++) {
+    double *row = w->B + (size_t)i * m;
+    for (int j = 0; j < n; j++) row[j] = w->f.Phi[(size_t)i * n + j] - (i == j);
+    row[n] = fz[i];
+    row[n + 1] = w->f.phip[i];
+  }
+  w->valid = 1;
+}
+
+/* The bordered Newton system in X = (z0, T, p), row-major (n + 2)^2, and its
+   right-hand side: F, the phase condition, the closure. */
+static void newton_system(const rr_orbit_sys *s, work *w, const double *z0, double p, const closure *c)
+{
+  int n = w->n, m = n + 2;
+  double *J = w->Jn, *R = w->R;
+  memcpy(J, w->B, sizeof(double) * (size_t)n * m);
+  memset(J + (size_t)n * m, 0, sizeof(double) * 2 * (size_t)m);
+  memcpy(R, w->F, sizeof(double) * (size_t)n);
+  J[n * m + s->k_phase] = 1;
+  R[n] = z0[s->k_phase];
+  double *last = J + (size_t)(n + 1) * m;
+  if (c->kind == 0) { last[n + 1] = 1; R[n + 1] = p - c->p; }
+  else if (c->kind == 1) { last[s->k_amp] = 1; R[n + 1] = z0[s->k_amp] - c->amp; }
+  else {
+    last[s->k_amp] = c->tA / s->amp_unit;
+    last[n + 1] = c->tp / s->p_unit;
+    R[n + 1] = c->tA * (z0[s->k_amp] - c->amp) / s->amp_unit + c->tp * (p - c->p) / s->p_unit - c->ds;
+  }
+}
+
+/* Broyden's good update of the flow rows after the step dX took F to Fn. */
+static void broyden(work *w)
+{
+  int n = w->n, m = n + 2;
+  double dd = 0;
+  for (int j = 0; j < m; j++) dd += w->dX[j] * w->dX[j];
+  if (!(dd > 0)) return;
+  for (int i = 0; i < n; i++) {
+    double *row = w->B + (size_t)i * m, bx = 0;
+    for (int j = 0; j < m; j++) bx += row[j] * w->dX[j];
+    double g = (w->Fn[i] - w->F[i] - bx) / dd;
+    for (int j = 0; j < m; j++) row[j] += g * w->dX[j];
+  }
+}
+
+/* Floquet: the largest |multiplier| but the one nearest 1 (the orbit's own
+   direction). */
+static double floquet_max(const double *Phi, int n, rr_error *err, int *st)
+{
+  double *a = malloc(sizeof(double) * (size_t)n * n), *wr = malloc(sizeof(double) * (size_t)n),
+         *wi = malloc(sizeof(double) * (size_t)n);
+  double best = -1;
+  *st = RR_OK;
+  if (!a || !wr || !wi) *st = rr_seterr(err, RR_ENOMEM, "out of memory");
+  else {
+    memcpy(a, Phi, sizeof(double) * (size_t)n * n);
+    if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, a, n, wr, wi, NULL, 1, NULL, 1))
+      *st = rr_seterr(err, RR_ELAPACK, "orbit: Floquet multipliers: dgeev failed");
+    int trivial = 0;
+    for (int i = 1; i < n && !*st; i++)
+      if (hypot(wr[i] - 1, wi[i]) < hypot(wr[trivial] - 1, wi[trivial])) trivial = i;
+    for (int i = 0; i < n && !*st; i++)
+      if (i != trivial) best = fmax(best, hypot(wr[i], wi[i]));
+  }
+  free(a); free(wr); free(wi);
+  return best;
+}
+
+/* One period at the tight tolerance: F = z_T - z0 and the amplitude. */
+static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, double p, double rtol, double *F,
+                    double *amp, rr_error *err)
+{
+  int st = flow_period(s, p, z0, T, rtol, 0, &w->f, err);
+  for (int i = 0; i < w->n && !st; i++) F[i] = w->f.zT[i] - z0[i];
+  *amp = w->f.amp;
+  return st;
+}
+
+/* The flow rows afresh at (z0, T, p), from the variational equations. */
+static int refresh(const rr_orbit_sys *s, work *w, const double *z0, double T, double p, rr_error *err)
+{
+  int st = flow_period(s, p, z0, T, RTOL_VAR, 1, &w->f, err);
+  if (!st) flow_rows(s, w, p);
+  return st;
+}
+
+/* Newton-Broyden from (z0, T, p) under closure c; converged values in place.
+   The variational equations are integrated when the rows are stale (no
+   nearby orbit, or a step that failed to halve the residual) and once at
+   the solution, for its Floquet multipliers and the next orbit's start. */
+/* The closure row's residual in merit units (its own scaled units). */
+static double closure_scale(const rr_orbit_sys *s, const closure *c)
+{
+  return c->kind == 0 ? 1 / s->p_unit : c->kind == 1 ? 1 / s->amp_unit : 1;
+}
+
+/* One trial point X + lam dX: its residual (infinite outside the domain). */
+static int trial(const rr_orbit_sys *s, work *w, const double *z0, double T, double p, double lam, double rtol,
+                 double *rn, double *amp, rr_error *err)
+{
+  int n = w->n;
+  for (int i = 0; i < n; i++) w->zt[i] = z0[i] + lam * w->dX[i];
+  double Tt = T + lam * w->dX[n], pt = p + lam * w->dX[n + 1];
+  *rn = INFINITY;
+  if (!(Tt > 0 && pt > 0)) return RR_OK;
+  int st = residual(s, w, w->zt, Tt, pt, rtol, w->Fn, amp, err);
+  if (st == RR_ENOCONV) return RR_OK;   /* a wild trial: no flow; shorter steps may do */
+  if (!st) *rn = norm2(w->Fn, n) / fmax(norm2(w->zt, n), 1e-300);
+  return st;
+}
+
+static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, double *p, double rtol, const closure *c,
+                      rr_orbit *out, rr_error *err)
+{
+  int n = w->n, m = n + 2, st = RR_OK, fresh = 0;
+  double amp, res;
+  if (!w->valid) {
+    if ((st = refresh(s, w, z0, *T, *p, err))) return st;
+    fresh = 1;
+  }
+  if ((st = residual(s, w, z0, *T, *p, rtol, w->F, &amp, err))) return st;
+  res = norm2(w->F, n) / fmax(norm2(z0, n), 1e-300);
+  for (int it = 1; it <= NEWTON_MAXIT; it++) {
+    newton_system(s, w, z0, *p, c);
+    if (res <= NEWTON_TOL && fabs(w->R[n + 1]) <= 1e-9 * (c->kind == 0 ? s->p_unit : 1)) {
+      if ((st = refresh(s, w, z0, *T, *p, err))) return st;
+      double fm = floquet_max(w->f.Phi, n, err, &st);
+      *out = (rr_orbit){.p = *p, .T = *T, .amp = amp, .floquet_max = fm, .stable = fm < 1, .residual = res,
+                        .iterations = it};
+      return st;
+    }
+    if (LAPACKE_dgesv(LAPACK_ROW_MAJOR, m, 1, w->Jn, m, w->piv, w->R, 1))
+      return rr_seterr(err, RR_ENOCONV, "orbit: singular Newton system");
+    /* the merit: the return map's residual plus the linear rows' (which a
+       full step satisfies); accept a step that lowers it or reaches the
+       noise floor, else the variational equations afresh here, then halving */
+    double merit = res + fabs(w->R[n]) / fmax(norm2(z0, n), 1e-300) + fabs(w->R[n + 1]) * closure_scale(s, c);
+    for (int i = 0; i < m; i++) w->dX[i] = -w->R[i];
+    double lam = 1, rn;
+    for (int k = 0;; k++) {
+      if ((st = trial(s, w, z0, *T, *p, lam, rtol, &rn, &amp, err))) return st;
+      if (rn < merit || rn <= 10 * NEWTON_TOL) break;
+      if (!fresh || k >= 4) break;
+      lam *= 0.5;
+    }
+    if (!(rn < merit || rn <= 10 * NEWTON_TOL)) {
+      if (fresh) return rr_seterr(err, RR_ENOCONV, "orbit: Newton stalls at residual %.1e", res);
+      if ((st = refresh(s, w, z0, *T, *p, err))) return st;
+      fresh = 1;
+      continue;
+    }
+    for (int i = 0; i < m; i++) w->dX[i] *= lam;
+    memcpy(z0, w->zt, sizeof(double) * (size_t)n);
+    *T += w->dX[n];
+    *p += w->dX[n + 1];
+    if (rn > 0.5 * res && !fresh && rn > 10 * NEWTON_TOL) {   /* slow: Newton's own rows from here */
+      if ((st = refresh(s, w, z0, *T, *p, err))) return st;
+      fresh = 1;
+    } else {
+      broyden(w);
+      fresh = 0;
+    }
+    memcpy(w->F, w->Fn, sizeof(double) * (size_t)n);
+    res = rn;
+  }
+  return rr_seterr(err, RR_ENOCONV, "orbit: Newton did not converge in %d iterations (residual %.1e)", NEWTON_MAXIT, res);
+}
+
+static int newton(const rr_orbit_sys *s, work *w, double *z0, double *T, double *p, double rtol, const closure *c,
+                  rr_orbit *out, rr_error *err)
+{
+  int st = newton_run(s, w, z0, T, p, rtol, c, out, err);
+  if (st) w->valid = 0;   /* the rows may have been updated from a wild step */
+  return st;
+}
+
+int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, double rtol, int fix_amp, double amp,
+                   rr_orbit *out, rr_error *err)
+{
+  work w;
+  int st = work_new(&w, s->ode.n) ? rr_seterr(err, RR_ENOMEM, "out of memory") : RR_OK;
+  closure c = {.kind = fix_amp ? 1 : 0, .amp = amp, .p = *p};
+  if (!st) st = newton(s, &w, z0, T, p, rtol, &c, out, err);
+  work_free(&w);
+  return st;
+}
+
+int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, double p, double *mu, double *v,
+                            rr_error *err)
+{
+  int n = s->ode.n, st;
+  flow f;
+  double *buf = malloc(sizeof(double) * ((size_t)n * n * 2 + 4 * (size_t)n));
+  if (!buf) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  f.Phi = buf;
+  double *V = buf + (size_t)n * n, *wr = V + (size_t)n * n, *wi = wr + n;
+  f.zT = wi + n;
+  f.phip = f.zT + n;
+  st = flow_period(s, p, z0, T, RTOL_VAR, 1, &f, err);
+  if (!st && LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', n, f.Phi, n, wr, wi, NULL, 1, V, n))
+    st = rr_seterr(err, RR_ELAPACK, "orbit: Floquet vectors: dgeev failed");
+  int trivial = 0, best = -1;
+  for (int i = 1; i < n && !st; i++)
+    if (hypot(wr[i] - 1, wi[i]) < hypot(wr[trivial] - 1, wi[trivial])) trivial = i;
+  for (int i = 0; i < n && !st; i++)
+    if (i != trivial && (best < 0 || hypot(wr[i], wi[i]) > hypot(wr[best], wi[best]))) best = i;
+  if (!st) {
+    *mu = hypot(wr[best], wi[best]);
+    int col = wi[best] < 0 ? best - 1 : best;   /* a complex pair: the real part of its vector */
+    for (int i = 0; i < n; i++) v[i] = V[(size_t)i * n + col];
+  }
+  free(buf);
+  return st;
+}
+
+/* The start at the Hopf point: the critical eigenvector of df/dz(0),
+   phased so that z[k_phase] = 0 and scaled to z[k_amp] = amp; T = 2 pi / w. */
+static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, double *T, rr_error *err)
+{
+  int n = s->ode.n, st = RR_OK, best = -1;
+  double *J = calloc((size_t)n * n, sizeof(double)), *wr = malloc(sizeof(double) * (size_t)n),
+         *wi = malloc(sizeof(double) * (size_t)n), *V = malloc(sizeof(double) * (size_t)n * n);
+  if (!J || !wr || !wi || !V) st = rr_seterr(err, RR_ENOMEM, "out of memory");
+  if (!st) {
+    memset(z0, 0, sizeof(double) * (size_t)n);
+    s->ode.jac(s->ode.user, 0, p, z0, J);
+    if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', n, J, n, wr, wi, NULL, 1, V, n))
+      st = rr_seterr(err, RR_ELAPACK, "orbit: dgeev failed at the Hopf point");
+  }
+  for (int i = 0; i < n && !st; i++)
+    if (wi[i] > 0 && (best < 0 || wr[i] > wr[best])) best = i;
+  if (!st && best < 0) st = rr_seterr(err, RR_ENOCONV, "orbit: no oscillatory eigenvalue at the Hopf point");
+  if (!st) {   /* v = a + i b (columns best, best + 1); Re(v e^{i th}) = a cos th - b sin th */
+    double ap = V[s->k_phase * n + best], bp = V[s->k_phase * n + best + 1], th = atan2(ap, bp);
+    for (int i = 0; i < n; i++) z0[i] = V[i * n + best] * cos(th) - V[i * n + best + 1] * sin(th);
+    double scale = amp / z0[s->k_amp];
+    for (int i = 0; i < n; i++) z0[i] *= scale;
+    z0[s->k_phase] = 0;
+    *T = 2 * RR_PI / wi[best];
+  }
+  free(J); free(wr); free(wi); free(V);
+  return st;
+}
+
+static void store(const rr_orbit *o, const double *z0, int n, rr_orbit *out, double *z_out, int *k)
+{
+  out[*k] = *o;
+  if (z_out) memcpy(z_out + (size_t)*k * n, z0, sizeof(double) * (size_t)n);
+  (*k)++;
+}
+
+/* The last three points of the branch, X = (z0, T, p), and their arclength
+   (chord lengths in the scaled amplitude-parameter plane). */
+typedef struct history { int n, k; double *X[3], s[3]; } history;
+
+static double chord(const rr_orbit_sys *s, const double *a, const double *b)
+{
+  int n = s->ode.n;
+  return hypot((a[s->k_amp] - b[s->k_amp]) / s->amp_unit, (a[n + 1] - b[n + 1]) / s->p_unit);
+}
+
+static void history_push(const rr_orbit_sys *s, history *h, const double *X)
+{
+  double *slot = h->X[0];
+  double s0 = h->k ? h->s[2] + chord(s, X, h->X[2]) : 0;
+  h->X[0] = h->X[1]; h->X[1] = h->X[2]; h->X[2] = slot;
+  h->s[0] = h->s[1]; h->s[1] = h->s[2]; h->s[2] = s0;
+  memcpy(slot, X, sizeof(double) * (size_t)(h->n + 2));
+  h->k++;
+}
+
+/* The predictor at arclength s2 + ds: the parabola through the last three
+   points (the line through two when there are only two). */
+static void history_predict(const history *h, double ds, double *X)
+{
+  const double *s = h->s, t = s[2] + ds;
+  double l0 = 0, l1 = -ds / (s[2] - s[1]), l2 = 1 + ds / (s[2] - s[1]);
+  if (h->k >= 3) {
+    l0 = (t - s[1]) * (t - s[2]) / ((s[0] - s[1]) * (s[0] - s[2]));
+    l1 = (t - s[0]) * (t - s[2]) / ((s[1] - s[0]) * (s[1] - s[2]));
+    l2 = (t - s[0]) * (t - s[1]) / ((s[2] - s[0]) * (s[2] - s[1]));
+  }
+  for (int i = 0; i < h->n + 2; i++) X[i] = l0 * (h->k >= 3 ? h->X[0][i] : 0) + l1 * h->X[1][i] + l2 * h->X[2][i];
+}
+
+int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out, double *z_out, int *np,
+                    int *end, rr_error *err)
+{
+  int n = s->ode.n, st = RR_OK, k = 0;
+  *end = 2;
+  size_t m = (size_t)n + 2;
+  *np = 0;
+  work w;
+  double *buf = malloc(sizeof(double) * 4 * m), *X = buf + 3 * m;
+  history h = {.n = n, .X = {buf, buf + m, buf + 2 * m}};
+  if (work_new(&w, n) || !buf) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  double ds = o->ds;
+  rr_orbit r;
+  /* two points at fixed amplitudes leave the Hopf point; then arclength */
+  X[n + 1] = p_hopf;
+  if ((st = hopf_start(s, p_hopf, o->amp_start, X, &X[n], err))) goto done;
+  for (int i = 0; i < 2; i++) {   /* at amp_start and 3 amp_start: close enough to extrapolate back */
+    closure c = {.kind = 1, .amp = o->amp_start * (1 + 2 * i)};
+    if ((st = newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, err))) goto done;
+    store(&r, X, n, out, z_out, &k);
+    history_push(s, &h, X);
+  }
+  for (;;) {
+    if (k >= o->cap) { *end = 2; break; }
+    const double *a = h.X[2], *b = h.X[1];   /* the last two points */
+    if (a[n + 1] < o->p_min || a[n + 1] > o->p_max) { *end = 0; break; }
+    if (fabs(a[s->k_amp]) > o->amp_max) { *end = 1; break; }
+    double dA = (a[s->k_amp] - b[s->k_amp]) / s->amp_unit, dp = (a[n + 1] - b[n + 1]) / s->p_unit, len = hypot(dA, dp);
+    closure c = {.kind = 2, .amp = a[s->k_amp], .p = a[n + 1], .tA = dA / len, .tp = dp / len, .ds = ds};
+    history_predict(&h, ds, X);
+    rr_error e2;
+    if (newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, &e2)) {
+      ds *= 0.5;
+      if (ds < 1e-3 * o->ds) { *end = 3; break; }   /* cannot go on: the branch ends here */
+      continue;
+    }
+    store(&r, X, n, out, z_out, &k);
+    history_push(s, &h, X);
+    if (r.iterations <= 6) ds = fmin(ds * 1.5, o->ds_max);   /* Broyden: 5-6 iterations is easy going */
+    else if (r.iterations >= 10) ds *= 0.6;
+  }
+done:
+  *np = k;
+  work_free(&w);
+  free(buf);
+  return st;
+}

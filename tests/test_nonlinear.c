@@ -1,0 +1,354 @@
+/* The nonlinear model and its limit cycles, against independent answers:
+ * the linear model's state matrix and eigenvalues, finite differences, a
+ * van der Pol oscillator's amplitude by averaging, direct integration by a
+ * second integrator (CVODE BDF against the shooting's explicit RK). */
+#define _POSIX_C_SOURCE 200809L
+#include <lapacke.h>
+#include <string.h>
+#include "check.h"
+#include "railride/railride.h"
+#include "orbit.h"
+
+#define KMH (1 / 3.6)
+
+static rr_nonlinear *vehicle_nl(const char *veh_name, const char *prof, double kmh, rr_vehicle *veh, rr_profile *p)
+{
+  rr_error e;
+  rr_nonlinear *nl = NULL;
+  rr_vehicle_open(veh_name, veh, &e);
+  rr_profile_open(prof, p, &e);
+  int st = rr_nonlinear_from_vehicle(veh, p, NULL, kmh * KMH, &nl, &e);
+  CHECK_OK(st, e);
+  return nl;
+}
+
+/* The linear model's state matrix at (v, lambda(0)). */
+static double *linear_A(const rr_vehicle *veh, double lam0, double v, int *N)
+{
+  rr_model *m;
+  rr_error e;
+  rr_model_from_vehicle(veh, &m, &e);
+  rr_model_set_operating(m, v, lam0, &e);
+  *N = rr_model_state_size(m);
+  double *A = malloc(sizeof(double) * (size_t)*N * *N);
+  int st = rr_model_state_matrix(m, 0, A, &e);
+  CHECK_OK(st, e);
+  rr_model_free(m);
+  return A;
+}
+
+static void test_jacobian_at_zero(void)
+{
+  rr_vehicle veh;
+  rr_profile p;
+  rr_nonlinear *nl = vehicle_nl("type1", "worn", 300, &veh, &p);
+  int N;
+  double *A = linear_A(&veh, rr_profile_conicity(&p, 0), 300 * KMH, &N);
+  CHECK(N == rr_nonlinear_size(nl), "state sizes %d vs %d", N, rr_nonlinear_size(nl));
+  double *J = malloc(sizeof(double) * N * N), *z = calloc(N, sizeof(double)), dmax = 0, amax = 0;
+  rr_nonlinear_jacobian(nl, z, NULL, J);
+  for (int i = 0; i < N * N; i++) { dmax = fmax(dmax, fabs(J[i] - A[i])); amax = fmax(amax, fabs(A[i])); }
+  CHECK(dmax <= 1e-9 * amax, "Jacobian at 0 vs linear A: %g (|A| %g)", dmax, amax);
+  free(A); free(J); free(z);
+  rr_nonlinear_free(nl);
+}
+
+/* Every column of the Jacobian against central differences, at a state with
+   a wheelset in flange contact and saturated creep. */
+static void test_jacobian_fd(void)
+{
+  rr_vehicle veh;
+  rr_profile p;
+  rr_nonlinear *nl = vehicle_nl("type2", "worn", 400, &veh, &p);
+  int N = rr_nonlinear_size(nl), n = rr_nonlinear_ndof(nl);
+  double *z = calloc(N, sizeof(double)), *J = malloc(sizeof(double) * N * N), *a = malloc(sizeof(double) * N),
+         *b = malloc(sizeof(double) * N), worst = 0;
+  for (int i = 0; i < N; i++) z[i] = 1e-3 * sin(1.7 * i + 0.3) * (i >= n && i < 2 * n ? 30 : 1);
+  z[rr_nonlinear_index_y(nl, 1)] = 9e-3;    /* beyond the 8 mm flange clearance */
+  z[n + rr_nonlinear_index_y(nl, 2)] = 0.3; /* fast lateral slip: saturated */
+  rr_nonlinear_jacobian(nl, z, NULL, J);
+  for (int j = 0; j < N; j++) {
+    double h = 1e-7 * (j >= n && j < 2 * n ? 30 : 1), zj = z[j], col = 0, err = 0;
+    z[j] = zj + h; rr_nonlinear_rhs(nl, z, NULL, a);
+    z[j] = zj - h; rr_nonlinear_rhs(nl, z, NULL, b);
+    z[j] = zj;
+    for (int i = 0; i < N; i++) {
+      col = fmax(col, fabs(J[i * N + j]));
+      err = fmax(err, fabs((a[i] - b[i]) / (2 * h) - J[i * N + j]));
+    }
+    worst = fmax(worst, err / fmax(col, 1e-300));
+  }
+  CHECK(worst < 1e-5, "Jacobian against central differences: worst column %g", worst);
+  free(z); free(J); free(a); free(b);
+  rr_nonlinear_free(nl);
+}
+
+/* A tiny disturbance along the least-damped mode grows at its real part. */
+static void test_growth_rate(void)
+{
+  rr_vehicle veh;
+  rr_profile p;
+  double kmh = 560;   /* above the Hopf point (541.6 km/h) */
+  rr_nonlinear *nl = vehicle_nl("type1", "worn", kmh, &veh, &p);
+  int N;
+  double *A = linear_A(&veh, rr_profile_conicity(&p, 0), kmh * KMH, &N);
+  double *wr = malloc(sizeof(double) * N), *wi = malloc(sizeof(double) * N), *V = malloc(sizeof(double) * N * N);
+  LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', N, A, N, wr, wi, NULL, 1, V, N);
+  int b = -1;
+  for (int i = 0; i < N; i++)
+    if (wi[i] > 0 && (b < 0 || wr[i] > wr[b])) b = i;
+  int k = rr_nonlinear_index_y(nl, 0);
+  /* z0 = Re(c v) with c making y_w1 real and 1 nm: a peak of the motion */
+  double vr = V[k * N + b], vi = V[k * N + b + 1], den = vr * vr + vi * vi, cr = vr / den * 1e-9, ci = -vi / den * 1e-9;
+  double *z0 = malloc(sizeof(double) * N);
+  for (int i = 0; i < N; i++) z0[i] = cr * V[i * N + b] - ci * V[i * N + b + 1];
+  double T = 2 * M_PI / wi[b];
+  int periods = 20, ns = periods * 8 + 1;
+  rr_sim_opts so = rr_sim_opts_default();
+  so.duration_s = periods * T;
+  so.fs_hz = (ns - 1) / so.duration_s;
+  so.rtol = 1e-10;
+  so.atol_m = 1e-22;
+  double *out = malloc(sizeof(double) * N * ns);
+  rr_error e;
+  int st = rr_simulate(nl, z0, &so, out, ns, &e);
+  CHECK_OK(st, e);
+  double sigma = log(out[(size_t)(ns - 1) * N + k] / z0[k]) / so.duration_s;   /* y(t + 20 T) = e^(20 sigma T) y(t) */
+  CHECK_CLOSE(sigma, wr[b], 1e-3, 0, "growth rate of a tiny disturbance vs Re(least-damped eigenvalue), 1/s");
+  free(A); free(wr); free(wi); free(V); free(z0); free(out);
+  rr_nonlinear_free(nl);
+}
+
+/* x'' - (mu - x^2) x' + x = 0: averaging gives the cycle's amplitude
+   2 sqrt(mu) (the energy balance mu pi A^2 = pi A^4 / 4) and period 2 pi. */
+static void vdp_rhs(void *u, double t, double mu, const double *z, double *dz)
+{
+  (void)u; (void)t;
+  dz[0] = z[1];
+  dz[1] = (mu - z[0] * z[0]) * z[1] - z[0];
+}
+
+static void vdp_jac(void *u, double t, double mu, const double *z, double *J)
+{
+  (void)u; (void)t;
+  J[0] = 0; J[1] = 1;
+  J[2] = -2 * z[0] * z[1] - 1; J[3] = mu - z[0] * z[0];
+}
+
+static void test_van_der_pol(void)
+{
+  double atol[2] = {1, 1};
+  rr_orbit_sys s = {.ode = {.n = 2, .rhs = vdp_rhs, .jac = vdp_jac}, .k_amp = 0, .k_phase = 1, .amp_unit = 1,
+                    .p_unit = 0.1, .atol = atol};
+  rr_branch_opts bo = {.p_min = -1, .p_max = 0.05, .amp_max = 10, .amp_start = 0.05, .ds = 0.2, .ds_max = 1,
+                       .rtol = 1e-11, .cap = 100};
+  rr_orbit pts[100];
+  int n = 0, end;
+  rr_error e;
+  int st = rr_orbit_branch(&s, 0, &bo, pts, NULL, &n, &end, &e);
+  CHECK_OK(st, e);
+  CHECK(n >= 5 && end == 0, "van der Pol: %d points, end %d", n, end);
+  for (int i = 0; i < n; i++) {
+    if (pts[i].p > 0.05) continue;
+    double mu = pts[i].p;
+    CHECK_CLOSE(pts[i].amp, 2 * sqrt(mu), 0.01, 0, "van der Pol amplitude vs 2 sqrt(mu)");
+    CHECK_CLOSE(pts[i].T, 2 * M_PI, 0.01, 0, "van der Pol period vs 2 pi");
+    CHECK(pts[i].stable && pts[i].residual <= 1e-8, "van der Pol cycle stable, residual %g", pts[i].residual);
+  }
+}
+
+/* Constant conicity, no saturation, no flange: a linear model, no branch;
+   direct integration grows or decays at a constant rate, never settles. */
+static void test_linear_no_branch(void)
+{
+  rr_vehicle veh;
+  rr_vehicle_open("type1", &veh, NULL);
+  rr_profile p;
+  rr_error e;
+  double c0 = 0.3;
+  rr_profile_poly(&c0, 1, 12, &p, &e);
+  rr_contact_law law = rr_contact_law_default();
+  law.saturation = 0;
+  law.flange_stiffness = 0;
+  rr_cycle pts[8];
+  rr_bifurcation b;
+  int st = rr_bifurcation_continue(&veh, &p, &law, NULL, pts, NULL, 8, &b, &e);
+  CHECK_OK(st, e);
+  CHECK(b.hopf && b.npoints == 0 && b.end == RR_BRANCH_LINEAR && b.type == RR_BIF_NONE,
+        "linear model: hopf %d, %d points, end %d, type %d", b.hopf, b.npoints, b.end, b.type);
+  for (int side = -1; side <= 1; side += 2) {
+    rr_nonlinear *nl;
+    st = rr_nonlinear_from_vehicle(&veh, &p, &law, b.hopf_speed_ms * (1 + 0.01 * side), &nl, &e);
+    CHECK_OK(st, e);
+    int N = rr_nonlinear_size(nl), k = rr_nonlinear_index_y(nl, 0), ns = 4001;
+    double *z = calloc(N, sizeof(double)), *out = malloc(sizeof(double) * N * ns), amp[4] = {0, 0, 0, 0};
+    for (int w = 0; w < 4; w++) z[rr_nonlinear_index_y(nl, w)] = 1e-3;
+    rr_sim_opts so = rr_sim_opts_default();
+    so.duration_s = 40;
+    so.fs_hz = 100;
+    st = rr_simulate(nl, z, &so, out, ns, &e);
+    CHECK_OK(st, e);
+    for (int i = 1; i < ns; i++) amp[i * 4 / ns] = fmax(amp[i * 4 / ns], fabs(out[(size_t)i * N + k]));
+    double r1 = amp[2] / amp[1], r2 = amp[3] / amp[2];   /* after 10 s: the hunting mode alone */
+    CHECK(side < 0 ? r1 < 1 && r2 < 1 : r1 > 1 && r2 > 1, "linear model %s the Hopf point: ratios %g %g", side < 0 ? "below" : "above", r1, r2);
+    CHECK_CLOSE(r2, r1, 0.05, 0, "linear model: a constant rate, no cycle to settle on");
+    free(z); free(out);
+    rr_nonlinear_free(nl);
+  }
+}
+
+/* Amplitude and frequency of y_w1 over the last `last` seconds of a run of
+   `dur` seconds from z0 at the nonlinear vehicle's speed. */
+static void run_measure(rr_nonlinear *nl, const double *z0, double dur, double last, double *amp, double *freq)
+{
+  int N = rr_nonlinear_size(nl), k = rr_nonlinear_index_y(nl, 0), ns = (int)(dur * 2000) + 1;
+  double *out = malloc(sizeof(double) * N * ns), t_first = 0, t_last = 0;
+  rr_sim_opts so = rr_sim_opts_default();
+  so.duration_s = dur;
+  so.fs_hz = 2000;
+  so.rtol = 1e-9;
+  so.atol_m = 1e-12;
+  rr_error e;
+  int st = rr_simulate(nl, z0, &so, out, ns, &e), nc = 0;
+  CHECK_OK(st, e);
+  *amp = 0;
+  for (int i = (int)((dur - last) * 2000); i < ns; i++) {
+    double y = out[(size_t)i * N + k], yp = out[(size_t)(i - 1) * N + k];
+    *amp = fmax(*amp, fabs(y));
+    if (yp < 0 && y >= 0) {
+      double t = (i - 1 + yp / (yp - y)) / 2000.0;
+      if (!nc) t_first = t;
+      t_last = t;
+      nc++;
+    }
+  }
+  *freq = (nc - 1) / (t_last - t_first);
+  free(out);
+}
+
+/* The continuation's branches, checked: Hopf speed, residuals, stable cycles
+   reproduced by direct integration, unstable ones left along their unstable
+   Floquet vector. A subcritical case: conicity rising with amplitude. */
+static void test_branch(const char *veh_file_text, const char *prof, double v_hi_kmh, int want_type)
+{
+  rr_vehicle veh;
+  rr_error e;
+  int st;
+  if (veh_file_text) st = rr_vehicle_load(check_write_file("veh.ini", veh_file_text), &veh, &e);
+  else st = rr_vehicle_open("type1", &veh, &e);
+  CHECK_OK(st, e);
+  rr_profile p;
+  if (prof) rr_profile_open(prof, &p, &e);
+  else p = veh.profile;
+  rr_orbit_opts o = rr_orbit_opts_default();
+  o.v_max_ms = v_hi_kmh * KMH;
+  int cap = 200;
+  rr_cycle *pts = malloc(sizeof *pts * cap);
+  double *Z = malloc(sizeof(double) * 64 * cap);
+  rr_bifurcation b;
+  st = rr_bifurcation_continue(&veh, &p, NULL, &o, pts, Z, cap, &b, &e);
+  CHECK_OK(st, e);
+  CHECK(b.type == want_type && b.npoints >= 5, "branch type %d (want %d), %d points", b.type, want_type, b.npoints);
+  /* the Hopf point: an independent critical-speed call, and the branch's own extrapolation */
+  rr_model *m;
+  rr_model_from_vehicle(&veh, &m, &e);
+  rr_modal_ws *ws;
+  rr_modal_ws_new(m, &ws, &e);
+  rr_critical_opts co = rr_critical_opts_default();
+  co.v_max_ms = 1000 * KMH;
+  rr_critical cr;
+  st = rr_critical_speed(m, rr_profile_conicity(&p, 0), NULL, &co, ws, &cr, &e);
+  CHECK_OK(st, e);
+  CHECK(fabs(b.hopf_speed_branch_ms - cr.speed_ms) * 3.6 <= 0.1, "branch's Hopf %.4f vs critical-speed %.4f km/h",
+        b.hopf_speed_branch_ms * 3.6, cr.speed_ms * 3.6);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+  int N = 0, checked_stable = 0, checked_unstable = 0, first_stable = -1, worst = -1;
+  for (int i = 0; i < b.npoints; i++) {
+    CHECK(pts[i].residual <= 1e-8, "cycle %d: residual %g", i, pts[i].residual);
+    if (pts[i].stable && first_stable < 0) first_stable = i;
+    else if (first_stable < 0 && (worst < 0 || pts[i].floquet_max > pts[worst].floquet_max)) worst = i;   /* before the fold */
+  }
+  int run_end = first_stable;   /* the first run of stable cycles; two well inside it */
+  while (run_end >= 0 && run_end + 1 < b.npoints && pts[run_end + 1].stable) run_end++;
+  int mid = first_stable < 0 ? -1 : (first_stable + run_end) / 2;
+  int picks[3] = {mid, first_stable < 0 ? -1 : (first_stable + mid) / 2 == mid ? run_end : (first_stable + mid) / 2,
+                  want_type == RR_BIF_SUBCRITICAL ? worst : -1};
+  for (int q = 0; q < 3; q++) {
+    int i = picks[q];
+    if (i < 0) continue;
+    rr_nonlinear *nl;
+    st = rr_nonlinear_from_vehicle(&veh, &p, NULL, pts[i].speed_ms, &nl, &e);
+    CHECK_OK(st, e);
+    N = rr_nonlinear_size(nl);
+    double *z = malloc(sizeof(double) * N), amp, freq;
+    if (pts[i].stable) {   /* from 0.5 % off the cycle, direct integration stays on it */
+      for (int j = 0; j < N; j++) z[j] = Z[(size_t)i * N + j] * 1.005;
+      run_measure(nl, z, 12, 1, &amp, &freq);
+      CHECK_CLOSE(amp, pts[i].amplitude_m, 0.01, 0, "stable cycle: amplitude by direct integration");
+      CHECK_CLOSE(freq, 1 / pts[i].period_s, 0.005, 0, "stable cycle: frequency by direct integration");
+      checked_stable++;
+    } else {   /* along the unstable Floquet vector, both ways: away from the cycle */
+      rr_orbit_sys s;
+      double *atol, mu, *v = malloc(sizeof(double) * N), dev[2];
+      rr_nonlinear_orbit_sys(nl, &s, &atol, &e);
+      st = rr_orbit_floquet_vector(&s, Z + (size_t)i * N, pts[i].period_s, pts[i].speed_ms, &mu, v, &e);
+      CHECK_OK(st, e);
+      double scale = 0.01 * pts[i].amplitude_m / fabs(v[rr_nonlinear_index_y(nl, 0)] + 1e-300);
+      int periods = (int)ceil(log(20.0) / log(mu));   /* the perturbation grows 20-fold, linearly */
+      for (int sgn = 0; sgn < 2; sgn++) {
+        for (int j = 0; j < N; j++) z[j] = Z[(size_t)i * N + j] + (sgn ? -scale : scale) * v[j];
+        run_measure(nl, z, periods * pts[i].period_s, 2 * pts[i].period_s, &amp, &freq);
+        dev[sgn] = amp - pts[i].amplitude_m;
+      }
+      CHECK(mu > 1 && fabs(dev[0]) > 0.05 * pts[i].amplitude_m && fabs(dev[1]) > 0.05 * pts[i].amplitude_m && dev[0] * dev[1] < 0,
+            "unstable cycle (|mu| %g): perturbed both ways it leaves (amplitude changes %g, %g of %g m)", mu, dev[0], dev[1],
+            pts[i].amplitude_m);
+      checked_unstable++;
+      free(v); free(atol);
+    }
+    free(z);
+    rr_nonlinear_free(nl);
+  }
+  CHECK(checked_stable == 2 && checked_unstable == (want_type == RR_BIF_SUBCRITICAL), "checked %d stable, %d unstable",
+        checked_stable, checked_unstable);
+  if (want_type == RR_BIF_SUBCRITICAL)
+    CHECK(b.nonlinear_critical_ms < b.hopf_speed_ms - 5 * KMH, "subcritical: nonlinear critical %.2f below Hopf %.2f km/h",
+          b.nonlinear_critical_ms * 3.6, b.hopf_speed_ms * 3.6);
+  else CHECK_CLOSE(b.nonlinear_critical_ms, b.hopf_speed_ms, 1e-12, 0, "supercritical: nonlinear = linear critical speed");
+  free(pts);
+  free(Z);
+}
+
+/* Vehicle-file keys of the nonlinear model. */
+static void test_vehicle_keys(void)
+{
+  rr_vehicle veh;
+  rr_error e;
+  int st = rr_vehicle_load(check_write_file("nl.ini", "[vehicle]\nbase = type1\n[contact]\nfriction = 0.25\n"
+                                                         "flange_clearance = 7 mm\nflange_stiffness = 400 kN/mm\n"
+                                                         "conicity_poly = 0.2, -0.01 0.0002\nconicity_hold = 10 mm\n"),
+                           &veh, &e);
+  CHECK_OK(st, e);
+  CHECK(veh.friction == 0.25 && fabs(veh.flange_clearance - 7e-3) < 1e-15 && fabs(veh.flange_stiffness - 4e8) < 1e-3,
+        "contact keys read");
+  CHECK_CLOSE(rr_profile_conicity(&veh.profile, 5e-3), 0.2 - 0.05 + 0.005, 1e-14, 0, "conicity_poly at 5 mm");
+  CHECK_CLOSE(rr_profile_conicity(&veh.profile, 20e-3), 0.2 - 0.1 + 0.02, 1e-14, 0, "conicity_poly held beyond 10 mm");
+  st = rr_vehicle_load(check_write_file("nl2.ini", "[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.2 -0.05\n"), &veh, &e);
+  CHECK(st != 0 && strstr(e.msg, "nl2.ini:4") && strstr(e.msg, "conicity_poly"), "a profile going to zero: %s", e.msg);
+}
+
+int main(void)
+{
+  check_tmpdir("nonlinear");
+  test_jacobian_at_zero();
+  test_jacobian_fd();
+  test_growth_rate();
+  test_van_der_pol();
+  test_linear_no_branch();
+  test_vehicle_keys();
+  test_branch(NULL, "worn", 580, RR_BIF_SUPERCRITICAL);
+  test_branch("[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.3 0.02\n", NULL, 600, RR_BIF_SUBCRITICAL);
+  check_cleanup();
+  return check_done("nonlinear");
+}
