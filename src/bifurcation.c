@@ -20,6 +20,7 @@ int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, dou
 #define SPEED_UNIT (10 / RR_KMH)  /* ... weighs as 10 km/h */
 #define AMP_START 0.02e-3         /* the first cycle's amplitude, m */
 #define HOPF_V_MIN (10 / RR_KMH)  /* the Hopf point is sought from here to RR_SPEED_MAX_MS */
+#define HOPF_STEP (5 / RR_KMH)    /* in steps of 5 km/h, then bisected */
 #define WINDOW_BEYOND 1.05        /* a Hopf point outside the range is followed this far past it */
 #define SCAN_FS 1000.0            /* samples a second in the scan's runs */
 #define SCAN_DEAD 1e-6            /* m: a motion below this has died out */
@@ -28,7 +29,7 @@ int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, dou
 rr_orbit_opts rr_orbit_opts_default(void)
 {
   return (rr_orbit_opts){.v_min_ms = 100 / RR_KMH, .v_max_ms = 600 / RR_KMH, .amp_max_m = 30e-3, .ds = 0.2,
-                         .max_points = 400, .rtol = 1e-11};
+                         .max_points = 400, .rtol = 1e-10};
 }
 
 rr_scan_opts rr_scan_opts_default(void) { return (rr_scan_opts){.settle_s = 20, .measure_s = 2, .y0_m = 10e-3}; }
@@ -136,6 +137,7 @@ static int hopf_point(rr_model *m, double lam0, rr_bifurcation *res, rr_error *e
   if (st) return st;
   rr_critical_opts co = rr_critical_opts_default();
   co.v_min_ms = HOPF_V_MIN;
+  co.step_ms = HOPF_STEP;
   co.v_max_ms = RR_SPEED_MAX_MS;
   co.index_modes = 0;
   rr_critical cr;

@@ -11,6 +11,7 @@
 
 #define NEWTON_MAXIT 12
 #define NEWTON_TOL 5e-9   /* |phi_T(z0) - z0| relative to |z0| */
+#define PERIOD_GROWTH_MAX 4.0 /* a branch whose period grows past 4 x the Hopf period has left hunting */
 #define KINK_TTOL 1e-12  /* a kink this close (in periods) to a step's start counts as at it */
 #define RTOL_VAR 1e-6     /* the variational equations' tolerance: Phi feeds Newton and Floquet only */
 
@@ -128,7 +129,7 @@ static int period_run(period *P, double T)
 {
   const rr_orbit_sys *s = P->s;
   int nk = P->sens ? 0 : s->nkinks, at_kink = 0;   /* Phi, at its loose tolerance, steps across kinks */
-  double t = 0, tprev = 0, tstop = T, h = 0, *Y = N_VGetArrayPointer(P->y);
+  double t = 0, tprev = 0, tstop = T, h = 0, h_nat = 0, *Y = N_VGetArrayPointer(P->y);
   indicators(P, Y, P->ga);
   P->amp = fabs(Y[s->k_amp]);
   N_VScale(1, P->y, P->yprev);
@@ -148,6 +149,7 @@ static int period_run(period *P, double T)
       N_VScale(1, P->yprev, P->y);
       ERKStepSetStopTime(P->mem, tk);
       ERKStepSetInitStep(P->mem, tk - tprev);
+      h_nat = fmax(h_nat, h);   /* the step the smooth side allows, for the restart */
       tstop = tk;
       at_kink = 1;
       t = tprev;
@@ -161,9 +163,10 @@ static int period_run(period *P, double T)
     if (at_kink && t >= tstop) {   /* at the kink: a fresh start beyond it */
       ERKStepReset(P->mem, t, P->y);
       ERKStepSetStopTime(P->mem, T);
-      ERKStepSetInitStep(P->mem, fmin(fmax(h, 1e-6 * T), T - t));
+      ERKStepSetInitStep(P->mem, fmin(fmax(0.5 * h_nat, 1e-6 * T), T - t));
       tstop = T;
       at_kink = 0;
+      h_nat = 0;
     }
     tprev = t;
     N_VScale(1, P->y, P->yprev);
@@ -186,6 +189,7 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   P.yprev = N_VNew_Serial(ny, ctx);
   P.ytmp = N_VNew_Serial(ny, ctx);
   tol = N_VNew_Serial(ny, ctx);
+  if (P.y) N_VEnableFusedOps_Serial(P.y, SUNTRUE);   /* one pass per stage combination, not one per term */
   c.J = malloc(sizeof(double) * ((size_t)n * n + 2 * (size_t)n));
   if (!P.y || !P.yprev || !P.ytmp || !tol || !c.J) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   c.a = c.J + (size_t)n * n;
@@ -198,7 +202,7 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   P.mem = ERKStepCreate(var_rhs, 0, P.y, ctx);
   if (!P.mem || ERKStepSetTableNum(P.mem, sens ? ARKODE_DORMAND_PRINCE_7_4_5 : ARKODE_FEHLBERG_13_7_8) || ERKStepSVtolerances(P.mem, rtol, tol) ||
       ERKStepSetUserData(P.mem, &c) || ERKStepSetErrHandlerFn(P.mem, var_errors, &c) ||
-      ERKStepSetStopTime(P.mem, T) || ERKStepSetMaxNumSteps(P.mem, 1000000) || ERKStepSetMaxStep(P.mem, T / 32) ||
+      ERKStepSetStopTime(P.mem, T) || ERKStepSetMaxNumSteps(P.mem, 200000) || ERKStepSetMaxStep(P.mem, T / 32) ||
       ERKStepSetMaxErrTestFails(P.mem, 50)) {   /* a step beyond the stability bound fails many times over */
     st = rr_seterr(err, RR_ENOMEM, "orbit: ARKODE set-up failed");
     goto done;
@@ -238,6 +242,7 @@ typedef struct closure {
    iterations cost one plain period; the phase and closure rows are exact. */
 typedef struct work {
   int n, valid;              /* valid: B holds the flow rows of a nearby orbit */
+  double T_max;              /* periods beyond are out of the domain */
   double *B, *Jn, *R;        /* n (n + 2), (n + 2)^2, n + 2 */
   double *F, *Fn, *dX, *zt;  /* z_T - z0 now and after the step (n), the step (n + 2), a trial z0 (n) */
   int *piv;
@@ -247,7 +252,7 @@ typedef struct work {
 static int work_new(work *w, int n)
 {
   size_t m = (size_t)n + 2, nn = (size_t)n;
-  *w = (work){.n = n};
+  *w = (work){.n = n, .T_max = INFINITY};
   w->B = malloc(sizeof(double) * nn * m);
   w->Jn = malloc(sizeof(double) * m * m);
   w->R = malloc(sizeof(double) * m);
@@ -385,7 +390,7 @@ static int trial(const rr_orbit_sys *s, work *w, const double *z0, double T, dou
   for (int i = 0; i < n; i++) w->zt[i] = z0[i] + lam * w->dX[i];
   double Tt = T + lam * w->dX[n], pt = p + lam * w->dX[n + 1];
   *rn = INFINITY;
-  if (!(Tt > 0 && pt > 0)) return RR_OK;
+  if (!(Tt > 0 && Tt <= w->T_max && pt > 0)) return RR_OK;
   int st = residual(s, w, w->zt, Tt, pt, rtol, w->Fn, amp, err);
   if (st == RR_ENOCONV) return RR_OK;   /* a wild trial: no flow; shorter steps may do */
   if (!st) *rn = norm2(w->Fn, n) / fmax(norm2(w->zt, n), 1e-300);
@@ -582,6 +587,7 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
   /* two points at fixed amplitudes leave the Hopf point; then arclength */
   X[n + 1] = p_hopf;
   if ((st = hopf_start(s, p_hopf, o->amp_start, X, &X[n], err))) goto done;
+  w.T_max = PERIOD_GROWTH_MAX * X[n];
   for (int i = 0; i < 2; i++) {   /* at amp_start and 3 amp_start: close enough to extrapolate back */
     closure c = {.kind = 1, .amp = o->amp_start * (1 + 2 * i)};
     if ((st = newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, err))) goto done;
@@ -599,7 +605,7 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
     rr_error e2;
     if (newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, &e2)) {
       ds *= 0.5;
-      if (ds < 1e-3 * o->ds) { *end = 3; break; }   /* cannot go on: the branch ends here */
+      if (ds < 1e-2 * o->ds) { *end = 3; break; }   /* cannot go on: the branch ends here */
       continue;
     }
     store(&r, X, n, out, z_out, &k);

@@ -40,9 +40,9 @@ int rr_profile_load(const char *path, rr_profile *p, rr_error *err)
   const char *line;
   while (!st && (got = rr_lines_next(&r, &line)) > 0) {
     double a, l;
-    char tail;
-    if (!line[0] || (p->n == 0 && sscanf(line, " %lf", &a) != 1)) continue;   /* blank, comment or header */
-    if (sscanf(line, " %lf , %lf %c", &a, &l, &tail) != 2 && sscanf(line, " %lf %lf %c", &a, &l, &tail) != 2)
+    int row = rr_csv_pair(line, p->n, &a, &l);
+    if (row == 0) continue;
+    if (row < 0)
       st = rr_seterr(err, RR_EPARSE, "%s:%d: expected two numbers a_mm, conicity", path, r.line);
     else if (p->n >= RR_PROFILE_MAX) st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, r.line, RR_PROFILE_MAX);
     else if (!(isfinite(a) && isfinite(l) && a >= 0 && a <= 100 && (p->n == 0 || a > p->a_mm[p->n - 1])))

@@ -84,3 +84,11 @@ char *rr_lines_ini_reader(char *str, int num, void *stream)
   snprintf(str, (size_t)num, "%s\n", text);
   return str;
 }
+
+int rr_csv_pair(const char *line, int rows_so_far, double *a, double *b)
+{
+  char tail;
+  if (!line[0] || (rows_so_far == 0 && sscanf(line, " %lf", a) != 1)) return 0;
+  if (sscanf(line, " %lf , %lf %c", a, b, &tail) == 2 || sscanf(line, " %lf %lf %c", a, b, &tail) == 2) return 1;
+  return -1;
+}

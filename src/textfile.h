@@ -36,6 +36,10 @@ void rr_lines_close(rr_lines *r);
    on an error (r->status, r->err). Comment lines (first non-blank '#' or
    ';') come back as "" whatever their length. */
 int rr_lines_next(rr_lines *r, const char **text);
+/* A CSV row of two numbers, comma or blank separated: 1 read into a, b;
+   0 a line to skip (blank, a comment, or a header before the first row:
+   rows_so_far == 0 and no leading number); -1 malformed. */
+int rr_csv_pair(const char *line, int rows_so_far, double *a, double *b);
 /* An inih reader (ini_parse_stream) over rr_lines: stops, with the error in
    r, at a NUL byte or a data line longer than num - 2. */
 char *rr_lines_ini_reader(char *str, int num, void *stream);

@@ -41,9 +41,9 @@ int rr_track_record_load(const char *path, rr_track_record *r, rr_error *err)
   const char *line;
   while (!st && (got = rr_lines_next(&L, &line)) > 0) {
     double x, y;
-    char tail;
-    if (!line[0] || (r->n == 0 && sscanf(line, " %lf", &x) != 1)) continue;   /* blank, comment or header */
-    if (sscanf(line, " %lf , %lf %c", &x, &y, &tail) != 2 && sscanf(line, " %lf %lf %c", &x, &y, &tail) != 2)
+    int row = rr_csv_pair(line, r->n, &x, &y);
+    if (row == 0) continue;
+    if (row < 0)
       st = rr_seterr(err, RR_EPARSE, "%s:%d: expected two numbers distance_m, alignment_m", path, L.line);
     else if (!(isfinite(x) && isfinite(y) && fabs(y) <= 1 && (r->n == 0 || x > r->x[r->n - 1])))
       st = rr_seterr(err, RR_EPARSE, "%s:%d: distance must rise, alignment within 1 m", path, L.line);

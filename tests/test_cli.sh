@@ -190,7 +190,7 @@ python3 - "$tmp/bif.json" "$tmp/crit.json" <<'PY' && ok || bad "bifurcation json
 import json, sys
 d = json.load(open(sys.argv[1])); c = json.load(open(sys.argv[2]))
 assert d['profile'] == 'worn' and d['type'] == 'supercritical' and d['method'] == 'continuation'
-assert abs(d['linear_critical_speed_kmh'] - c['critical_speed_kmh']) < 1e-9
+assert abs(d['linear_critical_speed_kmh'] - c['critical_speed_kmh']) < 2e-3   # both bisected to 1e-3 km/h
 assert abs(d['hopf_speed_from_branch_kmh'] - c['critical_speed_kmh']) < 0.1
 assert d['nonlinear_critical_speed_kmh'] == d['linear_critical_speed_kmh']
 a = d['assumptions']

@@ -89,7 +89,7 @@ typedef struct rr_orbit_opts {
   double amp_max_m;            /* stop beyond this amplitude (30 mm) */
   double ds;                   /* first arclength step, in (mm, 10 km/h) units (0.2) */
   int max_points;              /* (400) */
-  double rtol;                 /* shooting's integration tolerance (1e-11) */
+  double rtol;                 /* shooting's integration tolerance (1e-10) */
 } rr_orbit_opts;
 rr_orbit_opts rr_orbit_opts_default(void);
 

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""The paper's nonlinear study (Yao et al. 2023, section 5.3, Fig. 9): four
+designs taken from the Pareto front of the paper's optimisation, each with the
+new and the worn tread, their linear and nonlinear critical speeds and the
+type of the hunting bifurcation.
+
+    python3 examples/paper_bifurcation_study.py [--railride build/railride]
+
+1. NSGA-II over examples/paper-optimisation.ini (population 1000, 100
+   generations, seed 1) gives the front.
+2. The designs: A the front's best zeta_high, B its best zeta_low, C its best
+   std_zeta, D the balanced one: the least distance to the ideal point with
+   each objective scaled to 0..1 over the front.
+3. Each is written as examples/paper-design-X.ini (base = type1) and run
+   through `railride bifurcation --profile new|worn --json` (100-600 km/h).
+Prints the README's table (Markdown).
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+KEYS = {  # Pareto CSV column -> (section, key, unit scale, unit)
+    "primary.longitudinal_stiffness": ("primary", "longitudinal_stiffness", 1e-6, "kN/mm"),
+    "lateral_damper.damping": ("lateral_damper", "damping", 1e-3, "kN.s/m"),
+    "yaw_damper.damping": ("yaw_damper", "damping", 1e-3, "kN.s/m"),
+    "yaw_damper.series_stiffness": ("yaw_damper", "series_stiffness", 1e-6, "MN/m"),
+}
+
+
+def front(rr):
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "paper")
+        subprocess.run([rr, "optimise", os.path.join(HERE, "paper-optimisation.ini"), "--population", "1000",
+                        "--generations", "100", "--seed", "1", "--output", out], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(out + "-pareto.csv") as f:
+            return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def choose(rows):
+    objs = ("zeta_low", "zeta_high", "std_zeta")
+    lo = {o: min(r[o] for r in rows) for o in objs}
+    hi = {o: max(r[o] for r in rows) for o in objs}
+    scaled = lambda r: sum(((r[o] - lo[o]) / (hi[o] - lo[o])) ** 2 for o in objs)
+    return {"A": min(rows, key=lambda r: r["zeta_high"]), "B": min(rows, key=lambda r: r["zeta_low"]),
+            "C": min(rows, key=lambda r: r["std_zeta"]), "D": min(rows, key=scaled)}
+
+
+def write_design(name, r, why):
+    path = os.path.join(HERE, f"paper-design-{name}.ini")
+    lines = [f"# Design {name} of the paper's study ({why}), from the Pareto front of",
+             "# examples/paper-optimisation.ini (population 1000, 100 generations, seed 1;",
+             "# examples/paper_bifurcation_study.py). Objectives on the front:",
+             f"#   zeta_low {r['zeta_low']:.4f}, zeta_high {r['zeta_high']:.4f}, std_zeta {r['std_zeta']:.4f}",
+             "[vehicle]", "base = type1", f"name = paper-design-{name}"]
+    by_section = {}
+    for col, (sec, key, scale, unit) in KEYS.items():
+        by_section.setdefault(sec, []).append(f"{key} = {r[col] * scale:.6g} {unit}")
+    for sec, kv in by_section.items():
+        lines += [f"[{sec}]"] + kv
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+def bifurcation(rr, path, profile):
+    out = subprocess.run([rr, "bifurcation", path, "--profile", profile, "--json"], check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def speed(x):
+    return "-" if x is None else f"{x:.1f}"
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--railride", default=os.path.join(HERE, "..", "build", "railride"))
+    rr = ap.parse_args().railride
+    why = {"A": "best zeta_high", "B": "best zeta_low", "C": "best std_zeta", "D": "balanced"}
+    designs = choose(front(rr))
+    print("| design | k_px (kN/mm) | c_sy (kN s/m) | c_yaw (kN s/m) | k_yaw (MN/m) | tread "
+          "| linear critical (km/h) | nonlinear critical (km/h) | bifurcation |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name in "ABCD":
+        r = designs[name]
+        path = write_design(name, r, why[name])
+        for prof in ("new", "worn"):
+            d = bifurcation(rr, path, prof)
+            lin = d["linear_critical_speed_kmh"]
+            out_of_range = lin is not None and lin > 600
+            kind = d["type"] + (" (Hopf above 600 km/h)" if out_of_range else "")
+            print(f"| {name} ({why[name]}) | {r['primary.longitudinal_stiffness'] * 1e-6:.1f} "
+                  f"| {r['lateral_damper.damping'] * 1e-3:.1f} | {r['yaw_damper.damping'] * 1e-3:.0f} "
+                  f"| {r['yaw_damper.series_stiffness'] * 1e-6:.2f} | {prof} | {speed(lin)} "
+                  f"| {speed(d['nonlinear_critical_speed_kmh'])} | {kind} |")
+        sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()

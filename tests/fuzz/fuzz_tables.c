@@ -1,0 +1,44 @@
+/* The nonlinear model's two-column readers: tread profile tables (then the
+ * conicity over 0-30 mm) and measured alignment records (then sampled for
+ * the Type 1 vehicle's contacts at 300 km/h). The first input byte picks the
+ * reader. */
+#include "fuzz_common.h"
+#include <math.h>
+
+static void profile(const uint8_t *data, size_t size)
+{
+  rr_profile p;
+  rr_error e;
+  if (rr_profile_load(fuzz_file("p.csv", data, size), &p, &e)) return;
+  for (int i = 0; i <= 60; i++) {
+    double l = rr_profile_conicity(&p, i * 0.5e-3);
+    if (!(l > 0 && l <= 5)) abort();
+  }
+}
+
+static void record(const uint8_t *data, size_t size)
+{
+  rr_track_record r;
+  rr_error e;
+  if (rr_track_record_load(fuzz_file("t.csv", data, size), &r, &e)) return;
+  double x[4] = {9.9375, 7.4375, -7.4375, -9.9375}, v = 300 / 3.6, fs = 100;
+  double dur = rr_track_record_duration(&r, v, x, 4);
+  int ns = dur > 0 ? (int)fmin(floor(dur * fs) + 1, 2000) : 0;
+  if (ns >= 2) {
+    double *u = malloc(sizeof(double) * 4 * ns), *du = malloc(sizeof(double) * 4 * ns);
+    if (!rr_track_record_sample(&r, v, x, 4, fs, ns, u, du, &e))
+      for (int i = 0; i < 4 * ns; i++)
+        if (!isfinite(u[i]) || fabs(u[i]) > 1) abort();
+    free(u);
+    free(du);
+  }
+  rr_track_record_free(&r);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+  if (size < 1) return 0;
+  if (data[0] & 1) record(data + 1, size - 1);
+  else profile(data + 1, size - 1);
+  return 0;
+}
