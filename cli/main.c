@@ -1,6 +1,7 @@
 /* railride: command-line entry point and subcommand dispatch. */
 #include <string.h>
 #include "cli.h"
+#include "railride/version.h"
 
 void openblas_set_num_threads(int);
 
@@ -29,7 +30,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *wha
 
 static void usage(FILE *fp)
 {
-  fprintf(fp, "usage: railride COMMAND [VEHICLE] [options]   (railride COMMAND --help)\n\ncommands:\n");
+  fprintf(fp, "usage: railride COMMAND [VEHICLE] [options]   (railride COMMAND --help; railride --version)\n\ncommands:\n");
   for (int i = 0; i < NCMDS; i++) fprintf(fp, "  %-15s %s\n", cmds[i].name, cmds[i].what);
 }
 
@@ -39,6 +40,7 @@ int main(int argc, char **argv)
   openblas_set_num_threads(1);
   if (argc < 2) { usage(stderr); return EXIT_BADINPUT; }
   if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) { usage(stdout); return 0; }
+  if (!strcmp(argv[1], "--version")) { printf("railride %s (library %s)\n", RR_VERSION_STRING, rr_version()); return 0; }
   for (int i = 0; i < NCMDS; i++)
     if (!strcmp(argv[1], cmds[i].name)) return cmds[i].fn(argc - 1, argv + 1);
   fprintf(stderr, "railride: unknown command '%s' (railride --help lists them)\n", argv[1]);

@@ -1,5 +1,10 @@
 /* Track irregularity spectra: file format, evaluation, RMS. */
+#define _GNU_SOURCE   /* dladdr */
 #include <ctype.h>
+#include <dlfcn.h>
+#include <limits.h>
+#include <pthread.h>
+#include <sys/stat.h>
 #include <errno.h>
 #include <ini.h>
 #include <math.h>
@@ -13,6 +18,9 @@
 
 #ifndef RR_SPECTRA_DIR
 #define RR_SPECTRA_DIR "/usr/local/share/railride/spectra"
+#endif
+#ifndef RR_INSTALL_DATA_REL
+#define RR_INSTALL_DATA_REL "../share"   /* the data directory relative to the library's */
 #endif
 
 #define SP_SEEN_MAX 32
@@ -227,10 +235,32 @@ int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err)
   return RR_OK;
 }
 
+/* The installed tree's spectra, found from where this library was loaded:
+   LIBDIR/../share/railride/spectra (a relocatable install), else the source
+   tree's the library was built from. Found once per process. */
+static char spectra_dir[PATH_MAX];
+static pthread_once_t spectra_once = PTHREAD_ONCE_INIT;
+
+static void find_spectra(void)
+{
+  Dl_info info;
+  struct stat st;
+  snprintf(spectra_dir, sizeof spectra_dir, "%s", RR_SPECTRA_DIR);
+  if (!dladdr((void *)rr_spectrum_dir, &info) || !info.dli_fname) return;
+  const char *slash = strrchr(info.dli_fname, '/');
+  if (!slash) return;
+  char cand[PATH_MAX];
+  snprintf(cand, sizeof cand, "%.*s/" RR_INSTALL_DATA_REL "/railride/spectra", (int)(slash - info.dli_fname),
+           info.dli_fname);
+  if (!stat(cand, &st) && S_ISDIR(st.st_mode)) snprintf(spectra_dir, sizeof spectra_dir, "%s", cand);
+}
+
 const char *rr_spectrum_dir(void)
 {
   const char *d = getenv("RAILRIDE_SPECTRA_DIR");
-  return d && *d ? d : RR_SPECTRA_DIR;
+  if (d && *d) return d;
+  pthread_once(&spectra_once, find_spectra);
+  return spectra_dir;
 }
 
 int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err)

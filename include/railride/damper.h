@@ -2,7 +2,7 @@
 #ifndef RAILRIDE_DAMPER_H
 #define RAILRIDE_DAMPER_H
 
-#include <complex.h>
+#include "railride/common.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -17,11 +17,11 @@ typedef struct rr_damper_point {
 } rr_damper_point;
 
 /* Dynamic stiffness of damper c in series with complex spring k at jw. */
-double complex rr_maxwell_stiffness(double complex k, double c, double complex s);
+RR_API rr_complex rr_maxwell_stiffness(rr_complex k, double c, rr_complex s);
 /* Characteristics at frequency f_hz for series spring k (N/m) and damper c (N s/m). */
-rr_damper_point rr_maxwell_point(double k, double c, double f_hz);
+RR_API rr_damper_point rr_maxwell_point(double k, double c, double f_hz);
 /* Frequency of maximum loss (optimal dissipation): w = k / c. */
-double rr_maxwell_omega_opt(double k, double c);
+RR_API double rr_maxwell_omega_opt(double k, double c);
 
 #ifdef __cplusplus
 }

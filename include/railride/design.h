@@ -7,6 +7,8 @@
 #ifndef RAILRIDE_DESIGN_H
 #define RAILRIDE_DESIGN_H
 
+#include "railride/common.h"
+
 #include "railride/modal.h"
 #include "railride/vehicle.h"
 
@@ -34,33 +36,33 @@ typedef struct rr_design rr_design;
 /* The objective names, for listings: name, its arguments after '@', its
  * unit and what it measures. */
 typedef struct rr_objective_info { const char *name, *args, *unit, *doc; } rr_objective_info;
-const rr_objective_info *rr_objectives(int *n);
+RR_API const rr_objective_info *rr_objectives(int *n);
 
 /* var_keys: "section.key" numeric vehicle-file keys; values are SI. */
-int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj,
+RR_API int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj,
                   const char *const *objectives, rr_design **out, rr_error *err);
-void rr_design_free(rr_design *d);
+RR_API void rr_design_free(rr_design *d);
 /* An independent copy (for another thread). */
-int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err);
+RR_API int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err);
 /* The index rule for objectives without their own fmax/wmin/rmax (default
  * rr_modal_opts_default()). */
-int rr_design_set_modal_opts(rr_design *d, const rr_modal_opts *o, rr_error *err);
+RR_API int rr_design_set_modal_opts(rr_design *d, const rr_modal_opts *o, rr_error *err);
 /* After an evaluation: the frequency (Hz) of the mode behind objective i's
  * value (index: the index mode; critical_speed: the mode that goes unstable),
  * NaN for other objectives or when there is none. */
-double rr_design_mode_freq(const rr_design *d, int i);
-int rr_design_nvar(const rr_design *d);
-int rr_design_nobj(const rr_design *d);
+RR_API double rr_design_mode_freq(const rr_design *d, int i);
+RR_API int rr_design_nvar(const rr_design *d);
+RR_API int rr_design_nobj(const rr_design *d);
 /* Fills f[nobj] for variables x[nvar]. On an invalid design (e.g. a negative
  * mass) returns the status and sets f to NaN. Allocation-free. */
-int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err);
+RR_API int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err);
 /* x: n x nvar, f: n x nobj, row-major. nthreads <= 0: OpenMP's default.
  * Failed designs get NaN objectives; returns the number that failed. */
-int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, int nthreads);
+RR_API int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, int nthreads);
 
 /* Plain-C entry for bindings (ctypes): vehicle is a built-in name or a file;
  * keys and objectives are newline-separated; errbuf receives the message. */
-rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl, char *errbuf, int errlen);
+RR_API rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl, char *errbuf, int errlen);
 
 #ifdef __cplusplus
 }

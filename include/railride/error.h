@@ -5,6 +5,8 @@
 #ifndef RAILRIDE_ERROR_H
 #define RAILRIDE_ERROR_H
 
+#include "railride/common.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -29,7 +31,7 @@ typedef struct rr_error {
 } rr_error;
 
 /* Static description of a status code. */
-const char *rr_strerror(int status);
+RR_API const char *rr_strerror(int status);
 
 #ifdef __cplusplus
 }

@@ -3,7 +3,7 @@
 #ifndef RAILRIDE_MODAL_H
 #define RAILRIDE_MODAL_H
 
-#include <complex.h>
+#include "railride/common.h"
 #include "railride/model.h"
 
 #ifdef __cplusplus
@@ -27,7 +27,7 @@ typedef struct rr_modal_opts {
   double r_max;             /* roll kinetic-energy share a hunting mode stays below (0.5) */
   rr_sdf_tracking tracking; /* paper-mode SDF method (RR_TRACK_FAST) */
 } rr_modal_opts;
-rr_modal_opts rr_modal_opts_default(void);
+RR_API rr_modal_opts rr_modal_opts_default(void);
 
 #define RR_MODE_NAME_MAX 48
 
@@ -50,7 +50,7 @@ typedef struct rr_modal_result {
   int cap;
   rr_mode *modes;             /* sorted: oscillatory by frequency, then real ones */
   int ndof;
-  double complex *shapes;     /* q part of each mode's eigenvector, n x ndof */
+  rr_complex *shapes;     /* q part of each mode's eigenvector, n x ndof */
   double stability_index;     /* max zeta over modes in the index; -1 when none */
   int index_mode;             /* which mode gave it, -1 when none */
   double zeta_max;            /* max zeta over every oscillatory mode (any frequency, shape) */
@@ -63,14 +63,14 @@ static inline int rr_modal_stable(double zeta_max) { return zeta_max < 0; }
 
 typedef struct rr_modal_ws rr_modal_ws;
 /* Workspace for a model's state size (and its ndof); reuse across calls. */
-int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err);
-void rr_modal_ws_free(rr_modal_ws *ws);
-int rr_modal_result_alloc(const rr_model *m, rr_modal_result *res, rr_error *err);
-void rr_modal_result_free(rr_modal_result *res);
+RR_API int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err);
+RR_API void rr_modal_ws_free(rr_modal_ws *ws);
+RR_API int rr_modal_result_alloc(const rr_model *m, rr_modal_result *res, rr_error *err);
+RR_API void rr_modal_result_free(rr_modal_result *res);
 
 /* All modes with energy shares, names and shapes. Paper SDF mode:
  * self-consistent modes. */
-int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+RR_API int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
                    rr_modal_result *res, rr_error *err);
 
 /* Stability at one operating point, without mode shapes where none are
@@ -85,23 +85,23 @@ typedef struct rr_stability {
 /* By the cheapest exact route: eigenvalues of the state matrix, then (17 x 17
  * inverse iteration) the shapes of candidate modes only; paper-mode SDF by
  * branch tracking. Allocation-free. */
-int rr_modal_stability(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+RR_API int rr_modal_stability(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
                        rr_stability *out, rr_error *err);
 /* The index alone (out.index of rr_modal_stability). */
-int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+RR_API int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
                              double *zeta, rr_error *err);
 
 /* rr_modal_stability at npts operating points (speeds in m/s, conicities):
  * out[p] equals the single-point result to rounding. Groups of up to
- * rr_eig_batch_lanes() points (8 with AVX-512, else 4) share one instruction
+ * as many points as the CPU's vector width holds (8 with AVX-512, else 4) share one instruction
  * stream, their QR sweeps in SIMD lanes; paper-mode SDF models go one point at
  * a time. The model's operating point is restored. Allocation-free. */
-int rr_modal_stability_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
+RR_API int rr_modal_stability_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
                              const double *speed_ms, const double *conicity, rr_stability *out,
                              rr_error *err);
 
 /* Modal assurance criterion of two complex vectors. */
-double rr_mac(const double complex *a, const double complex *b, int n);
+RR_API double rr_mac(const rr_complex *a, const rr_complex *b, int n);
 
 #ifdef __cplusplus
 }

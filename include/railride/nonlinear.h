@@ -9,6 +9,8 @@
 #ifndef RAILRIDE_NONLINEAR_H
 #define RAILRIDE_NONLINEAR_H
 
+#include "railride/common.h"
+
 #include <stdint.h>
 #include "railride/model.h"
 #include "railride/profile.h"
@@ -25,35 +27,35 @@ typedef struct rr_contact_law {
   double flange_stiffness;   /* N/m (500 kN/mm, Table A1); 0: no flange */
   int saturation;            /* 1: Shen-Hedrick-Elkins (default); 0: linear Kalker forces */
 } rr_contact_law;
-rr_contact_law rr_contact_law_default(void);
+RR_API rr_contact_law rr_contact_law_default(void);
 
 /* ---- the nonlinear right-hand side ---- */
 
 typedef struct rr_nonlinear rr_nonlinear;
 /* From a model (its speed taken as is; SDF none or physical: paper mode has
  * no time form). Only wheelsets whose contact sits at their reference point. */
-int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law, rr_nonlinear **out,
+RR_API int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law, rr_nonlinear **out,
                      rr_error *err);
-void rr_nonlinear_free(rr_nonlinear *nl);
-int rr_nonlinear_set_speed(rr_nonlinear *nl, double v_ms, rr_error *err);
-double rr_nonlinear_speed(const rr_nonlinear *nl);
+RR_API void rr_nonlinear_free(rr_nonlinear *nl);
+RR_API int rr_nonlinear_set_speed(rr_nonlinear *nl, double v_ms, rr_error *err);
+RR_API double rr_nonlinear_speed(const rr_nonlinear *nl);
 /* State size N: [q; dq/dt; Maxwell strokes (; inner strokes)], as
  * rr_model_state_matrix. */
-int rr_nonlinear_size(const rr_nonlinear *nl);
-int rr_nonlinear_ndof(const rr_nonlinear *nl);
+RR_API int rr_nonlinear_size(const rr_nonlinear *nl);
+RR_API int rr_nonlinear_ndof(const rr_nonlinear *nl);
 /* Per-state absolute tolerances from a displacement tolerance (velocities 50x). */
-void rr_nonlinear_atol(const rr_nonlinear *nl, double atol_m, double *atol);
+RR_API void rr_nonlinear_atol(const rr_nonlinear *nl, double atol_m, double *atol);
 /* Index of wheelset w's lateral displacement y_w (and, + ndof, its rate). */
-int rr_nonlinear_index_y(const rr_nonlinear *nl, int wheelset);
-int rr_nonlinear_ninputs(const rr_nonlinear *nl);
+RR_API int rr_nonlinear_index_y(const rr_nonlinear *nl, int wheelset);
+RR_API int rr_nonlinear_ninputs(const rr_nonlinear *nl);
 /* dz/dt at state z with track alignment yt[i] per wheelset (NULL: straight,
  * perfect track). Allocation-free. */
-void rr_nonlinear_rhs(const rr_nonlinear *nl, const double *z, const double *yt, double *dz);
+RR_API void rr_nonlinear_rhs(const rr_nonlinear *nl, const double *z, const double *yt, double *dz);
 /* Its Jacobian d(dz/dt)/dz (N x N, row-major). */
-void rr_nonlinear_jacobian(const rr_nonlinear *nl, const double *z, const double *yt, double *J);
+RR_API void rr_nonlinear_jacobian(const rr_nonlinear *nl, const double *z, const double *yt, double *J);
 /* Contact forces of wheelset i (saturated creep: lateral force N and yaw
  * moment N m; the flange's lateral force N). */
-void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i, double *fy, double *mz,
+RR_API void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i, double *fy, double *mz,
                          double *flange);
 
 /* ---- time integration (CVODE BDF, dense Newton, analytic Jacobian) ---- */
@@ -66,10 +68,10 @@ typedef struct rr_sim_opts {
   const double *yt, *dyt;   /* track: ninputs x nsamples at fs_hz (alignment m, its rate m/s), or NULL */
   int nsamples_track;
 } rr_sim_opts;
-rr_sim_opts rr_sim_opts_default(void);
+RR_API rr_sim_opts rr_sim_opts_default(void);
 /* Integrates from z0 (N); out: nsamples x N states at t = k / fs,
  * k = 0 .. nsamples - 1 (nsamples = floor(duration fs) + 1). */
-int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, double *out, int nsamples,
+RR_API int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, double *out, int nsamples,
                 rr_error *err);
 
 /* ---- limit cycles and the bifurcation diagram ---- */
@@ -91,7 +93,7 @@ typedef struct rr_orbit_opts {
   int max_points;              /* (400) */
   double rtol;                 /* shooting's integration tolerance (1e-10) */
 } rr_orbit_opts;
-rr_orbit_opts rr_orbit_opts_default(void);
+RR_API rr_orbit_opts rr_orbit_opts_default(void);
 
 typedef enum rr_bif_type { RR_BIF_NONE = 0, RR_BIF_SUPERCRITICAL = 1, RR_BIF_SUBCRITICAL = 2 } rr_bif_type;
 typedef enum rr_branch_end {
@@ -114,7 +116,7 @@ typedef struct rr_bifurcation {
 
 /* The nonlinear vehicle at speed v_ms: profile and contact law NULL take the
  * vehicle's (its [contact] keys); the model's conicity is lambda(0). */
-int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, double v_ms,
+RR_API int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, double v_ms,
                               rr_nonlinear **out, rr_error *err);
 
 /* The bifurcation diagram by continuation: the Hopf point (the linear
@@ -123,7 +125,7 @@ int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const 
  * each point's stability from its Floquet multipliers. out: cap points;
  * z_out (cap x N initial states, each on the cycle with dy_w1/dt = 0) may be
  * NULL. */
-int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
+RR_API int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
                             const rr_orbit_opts *o, rr_cycle *out, double *z_out, int cap, rr_bifurcation *res,
                             rr_error *err);
 
@@ -135,13 +137,13 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
  * than 2 % below the first half's). The first run starts from y0_m on every wheelset. */
 typedef struct rr_scan_point { double speed_ms, amplitude_m, frequency_hz; } rr_scan_point;
 typedef struct rr_scan_opts { double settle_s, measure_s, y0_m; } rr_scan_opts;
-rr_scan_opts rr_scan_opts_default(void);   /* 20 s, 2 s, 10 mm */
-int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, const double *vs,
+RR_API rr_scan_opts rr_scan_opts_default(void);   /* 20 s, 2 s, 10 mm */
+RR_API int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, const double *vs,
                         int nv, const rr_scan_opts *o, rr_scan_point *up, rr_scan_point *down, rr_error *err);
 
 /* One cycle by shooting at the nonlinear vehicle's speed from a guess
  * (z0, T), refined in place. */
-int rr_cycle_shoot(rr_nonlinear *nl, double *z0, double *T, double rtol, rr_cycle *out, rr_error *err);
+RR_API int rr_cycle_shoot(rr_nonlinear *nl, double *z0, double *T, double rtol, rr_cycle *out, rr_error *err);
 
 #ifdef __cplusplus
 }

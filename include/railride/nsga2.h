@@ -5,6 +5,8 @@
 #ifndef RAILRIDE_NSGA2_H
 #define RAILRIDE_NSGA2_H
 
+#include "railride/common.h"
+
 #include <stdint.h>
 #include "railride/error.h"
 
@@ -29,19 +31,19 @@ typedef struct rr_nsga2_opts {
   rr_nsga2_progress_fn progress;
   void *user;              /* for progress */
 } rr_nsga2_opts;
-rr_nsga2_opts rr_nsga2_opts_default(void);
+RR_API rr_nsga2_opts rr_nsga2_opts_default(void);
 
 /* Runs the optimiser; x_out (pop x d), f_out (pop x m), rank_out (pop; 0 =
  * non-dominated) receive the final population. */
-int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval, void *eval_user,
+RR_API int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval, void *eval_user,
                  const rr_nsga2_opts *o, double *x_out, double *f_out, int *rank_out, rr_error *err);
 
 /* Non-dominated ranks of n points (m objectives, minimised); 0 = first front.
  * Returns the number of fronts, or -1 on allocation failure. */
-int rr_nondominated_ranks(int n, int m, const double *f, int *rank);
+RR_API int rr_nondominated_ranks(int n, int m, const double *f, int *rank);
 /* Exact hypervolume dominated by the points (m = 2 or 3) up to ref; points
  * not strictly better than ref in every objective do not count. -1 for other m. */
-double rr_hypervolume(int n, int m, const double *f, const double *ref);
+RR_API double rr_hypervolume(int n, int m, const double *f, const double *ref);
 
 #ifdef __cplusplus
 }

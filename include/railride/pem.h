@@ -6,7 +6,7 @@
 #ifndef RAILRIDE_PEM_H
 #define RAILRIDE_PEM_H
 
-#include <complex.h>
+#include "railride/common.h"
 #include "railride/model.h"
 #include "railride/spectrum.h"
 #include "railride/vehicle.h"
@@ -44,36 +44,36 @@ typedef struct rr_frf_opts {
 } rr_frf_opts;
 
 /* The defaults above, modal method, no output rows yet. */
-rr_frf_opts rr_frf_opts_default(void);
+RR_API rr_frf_opts rr_frf_opts_default(void);
 
 typedef struct rr_frf_plan rr_frf_plan;
 
 /* Sizes a plan for the model's DOF, input and state counts. */
-int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, rr_error *err);
-void rr_frf_plan_free(rr_frf_plan *p);
+RR_API int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, rr_error *err);
+RR_API void rr_frf_plan_free(rr_frf_plan *p);
 /* Computes the FRFs for the model as it is now. Allocation-free. */
-int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err);
-int rr_frf_nfreq(const rr_frf_plan *p);
+RR_API int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err);
+RR_API int rr_frf_nfreq(const rr_frf_plan *p);
 /* The method the last execute took (RR_FRF_DIRECT when a modal plan fell back). */
-int rr_frf_route(const rr_frf_plan *p);
-int rr_frf_npoints(const rr_frf_plan *p);
-int rr_frf_ninputs(const rr_frf_plan *p);
-const double *rr_frf_freqs(const rr_frf_plan *p);
+RR_API int rr_frf_route(const rr_frf_plan *p);
+RR_API int rr_frf_npoints(const rr_frf_plan *p);
+RR_API int rr_frf_ninputs(const rr_frf_plan *p);
+RR_API const double *rr_frf_freqs(const rr_frf_plan *p);
 /* H[(f * npoints + p) * ninputs + i]: output p (m/s^2 for acceleration rows) per
  * unit track alignment (m) at input i, harmonic at frequency f, no time lag. */
-const double complex *rr_frf_H(const rr_frf_plan *p);
+RR_API const rr_complex *rr_frf_H(const rr_frf_plan *p);
 
 /* PEM: one-sided output PSDs G[f * npoints + p] ((m/s^2)^2/Hz) for a track
  * spectrum at the model's speed: pseudo-excitation sqrt(G_t(f)) exp(jw x_i/v)
  * at each input, G_t(f) = G_s(f/v)/v. */
-int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G, rr_error *err);
+RR_API int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G, rr_error *err);
 /* One PEM term: Gt |sum_i H_i exp(j w x_i / v)|^2. */
-double rr_pem_combine(const double complex *H, const double *x, int ninputs, double w, double v, double Gt);
+RR_API double rr_pem_combine(const rr_complex *H, const double *x, int ninputs, double w, double v, double Gt);
 
 /* Vehicle floor points: lateral displacement rows of (x_p, 0, h_p) on the
  * carbody; with roll_gravity, rows0 = g at phi_c (the accelerometer senses
  * a_y + g phi_c). rows, rows0: npoints x ndof. */
-int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int npoints,
+RR_API int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int npoints,
                           double h_p, int roll_gravity, double *rows, double *rows0, rr_error *err);
 
 #ifdef __cplusplus

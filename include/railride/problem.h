@@ -9,6 +9,8 @@
 #ifndef RAILRIDE_PROBLEM_H
 #define RAILRIDE_PROBLEM_H
 
+#include "railride/common.h"
+
 #include "railride/design.h"
 
 #ifdef __cplusplus
@@ -31,10 +33,10 @@ typedef struct rr_problem {
   int maximize[RR_DESIGN_MAX_OBJS];
 } rr_problem;
 
-int rr_problem_load(const char *path, rr_problem *p, rr_error *err);
+RR_API int rr_problem_load(const char *path, rr_problem *p, rr_error *err);
 
 /* Checks an objective's text (names, arguments, modifiers) without a vehicle. */
-int rr_objective_check(const char *text, rr_error *err);
+RR_API int rr_objective_check(const char *text, rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,8 @@
 #ifndef RAILRIDE_PROFILE_H
 #define RAILRIDE_PROFILE_H
 
+#include "railride/common.h"
+
 #include "railride/error.h"
 
 #ifdef __cplusplus
@@ -30,20 +32,20 @@ typedef struct rr_profile {
 /* Built-in treads (assumptions: the paper gives only lambda(3 mm) = 0.12 new,
  * 0.30 worn, with negative slopes): "new" 0.15 - 0.010 a, "worn" 0.375 -
  * 0.025 a, a in mm, each held beyond 12 mm. */
-int rr_profile_builtin(const char *name, rr_profile *p, rr_error *err);
+RR_API int rr_profile_builtin(const char *name, rr_profile *p, rr_error *err);
 /* A CSV table a_mm, conicity (increasing a_mm from 0). */
-int rr_profile_load(const char *path, rr_profile *p, rr_error *err);
+RR_API int rr_profile_load(const char *path, rr_profile *p, rr_error *err);
 /* A built-in name or a table file. */
-int rr_profile_open(const char *spec, rr_profile *p, rr_error *err);
+RR_API int rr_profile_open(const char *spec, rr_profile *p, rr_error *err);
 /* A polynomial from its coefficients (a in mm). */
-int rr_profile_poly(const double *c, int n, double hold_mm, rr_profile *p, rr_error *err);
+RR_API int rr_profile_poly(const double *c, int n, double hold_mm, rr_profile *p, rr_error *err);
 /* lambda at lateral displacement a (m, either sign); > 0 across the range is
  * checked when a profile is made. */
-double rr_profile_conicity(const rr_profile *p, double a_m);
-int rr_profile_check(const rr_profile *p, rr_error *err);
+RR_API double rr_profile_conicity(const rr_profile *p, double a_m);
+RR_API int rr_profile_check(const rr_profile *p, rr_error *err);
 /* One line saying what the profile is (the formula or the table); returns
  * snprintf's count. */
-int rr_profile_describe(const rr_profile *p, char *buf, int n);
+RR_API int rr_profile_describe(const rr_profile *p, char *buf, int n);
 
 #ifdef __cplusplus
 }

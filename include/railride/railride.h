@@ -3,6 +3,8 @@
  * modal analysis / frequency response (PEM) / time simulation -> comfort. */
 #ifndef RAILRIDE_H
 #define RAILRIDE_H
+
+#include "railride/common.h"
 #include "railride/error.h"
 #include "railride/sdf.h"
 #include "railride/vehicle.h"

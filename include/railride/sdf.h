@@ -3,7 +3,7 @@
 #ifndef RAILRIDE_SDF_H
 #define RAILRIDE_SDF_H
 
-#include <complex.h>
+#include "railride/common.h"
 #include "railride/error.h"
 
 #ifdef __cplusplus
@@ -37,19 +37,19 @@ typedef struct rr_sdf_curve {
 } rr_sdf_curve;
 
 /* Paper mode: real series stiffness at frequency f_hz (N/m). */
-double rr_sdf_storage(const rr_sdf_curve *c, double f_hz);
+RR_API double rr_sdf_storage(const rr_sdf_curve *c, double f_hz);
 /* Physical mode: complex series stiffness at angular frequency w (rad/s).
  * For SLS: K3 + K2 jw tau / (1 + jw tau); for a table: k'(f) + j k''(f). */
-double complex rr_sdf_complex(const rr_sdf_curve *c, double w);
+RR_API rr_complex rr_sdf_complex(const rr_sdf_curve *c, double w);
 /* Same for a complex Laplace variable s (SLS only; tables return k'(|s|/2pi)). */
-double complex rr_sdf_laplace(const rr_sdf_curve *c, double complex s);
+RR_API rr_complex rr_sdf_laplace(const rr_sdf_curve *c, rr_complex s);
 /* Smallest and largest storage stiffness of the curve (K3, K3+K2 for SLS). */
-void rr_sdf_range(const rr_sdf_curve *c, double *k_lo, double *k_hi);
+RR_API void rr_sdf_range(const rr_sdf_curve *c, double *k_lo, double *k_hi);
 /* Reads a CSV table f_hz,k_storage[,k_loss] (N/m); '#' comments and one
  * optional header line allowed. */
-int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err);
+RR_API int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err);
 /* Validates a curve; what names the context for the message. */
-int rr_sdf_curve_check(const rr_sdf_curve *c, const char *what, rr_error *err);
+RR_API int rr_sdf_curve_check(const rr_sdf_curve *c, const char *what, rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,8 @@
 #ifndef RAILRIDE_SPECTRUM_H
 #define RAILRIDE_SPECTRUM_H
 
+#include "railride/common.h"
+
 #include "railride/error.h"
 
 #ifdef __cplusplus
@@ -42,17 +44,17 @@ typedef struct rr_spectrum {
 } rr_spectrum;
 
 /* Loads a spectrum file. */
-int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err);
+RR_API int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err);
 /* Loads by name from the spectra directory (env RAILRIDE_SPECTRA_DIR, then the
  * built-in directory) or, when spec contains '/' or ends in .txt, by path. */
-int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err);
+RR_API int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err);
 /* Directory searched for spectrum names. */
-const char *rr_spectrum_dir(void);
+RR_API const char *rr_spectrum_dir(void);
 /* One-sided PSD at n cycles/m, in m^2/(cycle/m) (0 outside the validity
  * range when clip is set). */
-double rr_spectrum_eval(const rr_spectrum *sp, double n);
+RR_API double rr_spectrum_eval(const rr_spectrum *sp, double n);
 /* RMS (m) over [n1, n2] cycles/m by composite Simpson in log n. */
-double rr_spectrum_rms(const rr_spectrum *sp, double n1, double n2);
+RR_API double rr_spectrum_rms(const rr_spectrum *sp, double n1, double n2);
 
 #ifdef __cplusplus
 }

@@ -3,6 +3,8 @@
 #ifndef RAILRIDE_STABILITY_H
 #define RAILRIDE_STABILITY_H
 
+#include "railride/common.h"
+
 #include "railride/modal.h"
 
 #ifdef __cplusplus
@@ -16,7 +18,7 @@ typedef struct rr_robust_opts {
   double conicity_min, conicity_max; /* 0.05 .. 0.40 */
   int n_conicity;                    /* 8 */
 } rr_robust_opts;
-rr_robust_opts rr_robust_opts_default(void);
+RR_API rr_robust_opts rr_robust_opts_default(void);
 
 typedef struct rr_robust {
   double zeta_low, zeta_high, std_zeta;
@@ -27,7 +29,7 @@ typedef struct rr_robust {
 
 /* Evaluated through rr_modal_stability_batch; the model's operating point is
  * restored. */
-int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r,
+RR_API int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r,
                       rr_modal_ws *ws, rr_robust *out, rr_error *err);
 
 /* Critical speed: the lowest speed in [v_min, v_max] (m/s) at which some
@@ -40,7 +42,7 @@ typedef struct rr_critical_opts {
   double v_min_ms, v_max_ms, step_ms, tol_ms;  /* 10, 600, 1, 1e-3 km/h */
   int index_modes;                             /* 0: any oscillatory mode */
 } rr_critical_opts;
-rr_critical_opts rr_critical_opts_default(void);
+RR_API rr_critical_opts rr_critical_opts_default(void);
 
 typedef struct rr_critical {
   int found;         /* 0: stable to the range's end */
@@ -48,7 +50,7 @@ typedef struct rr_critical {
   rr_mode mode;      /* the mode that goes unstable there (when found) */
 } rr_critical;
 /* Changes the model's operating point. */
-int rr_critical_speed(rr_model *m, double conicity, const rr_modal_opts *o,
+RR_API int rr_critical_speed(rr_model *m, double conicity, const rr_modal_opts *o,
                       const rr_critical_opts *c, rr_modal_ws *ws, rr_critical *out,
                       rr_error *err);
 
@@ -63,7 +65,7 @@ typedef struct rr_locus_point {
   double roll_share;
   int hunting;
 } rr_locus_point;
-int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
+RR_API int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
              const rr_modal_opts *o, rr_locus_point *out, int *nbranch, rr_error *err);
 
 #ifdef __cplusplus

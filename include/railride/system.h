@@ -9,6 +9,8 @@
 #ifndef RAILRIDE_SYSTEM_H
 #define RAILRIDE_SYSTEM_H
 
+#include "railride/common.h"
+
 #include "railride/error.h"
 
 #ifdef __cplusplus
@@ -59,19 +61,19 @@ typedef struct rr_contact_spec {
                                 bogie carries two contacts at +-b; 0 for a wheelset */
 } rr_contact_spec;
 
-rr_system *rr_system_new(void);
-void rr_system_free(rr_system *sys);
+RR_API rr_system *rr_system_new(void);
+RR_API void rr_system_free(rr_system *sys);
 /* Returns the new body's index (>= 0) or -status. */
-int rr_system_add_body(rr_system *sys, const rr_body_spec *b, rr_error *err);
+RR_API int rr_system_add_body(rr_system *sys, const rr_body_spec *b, rr_error *err);
 /* Returns the element's index (>= 0) or -status. Maxwell elements with c = 0
  * exert no force and are dropped (returns index -1 with RR_OK semantics: 0 status). */
-int rr_system_add_element(rr_system *sys, const rr_element_spec *e, rr_error *err);
+RR_API int rr_system_add_element(rr_system *sys, const rr_element_spec *e, rr_error *err);
 /* Adds a wheel-rail contact; its track input is the next input column. */
-int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *err);
-int rr_system_ndof(const rr_system *sys);
-const char *rr_system_dof_name(const rr_system *sys, int i);
+RR_API int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *err);
+RR_API int rr_system_ndof(const rr_system *sys);
+RR_API const char *rr_system_dof_name(const rr_system *sys, int i);
 /* The elongation row J (length ndof) of an element spec, without adding it. */
-int rr_system_element_row(const rr_system *sys, const rr_element_spec *e, double *J, rr_error *err);
+RR_API int rr_system_element_row(const rr_system *sys, const rr_element_spec *e, double *J, rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,8 @@
 #ifndef RAILRIDE_TIMESIM_H
 #define RAILRIDE_TIMESIM_H
 
+#include "railride/common.h"
+
 #include <stdint.h>
 #include "railride/model.h"
 #include "railride/spectrum.h"
@@ -18,21 +20,21 @@ extern "C" {
  * y_t(v t + x_i), with lines at f_k = k fs / nsamples kept in [f_lo, f_hi],
  * amplitudes sqrt(2 G_s(n_k) dn), phases uniform from the seed. u and du
  * (time derivative, exact) are ninputs x nsamples, row-major. */
-int rr_track_realise(const rr_spectrum *sp, double speed, const double *x_inputs, int ninputs, double fs_hz,
+RR_API int rr_track_realise(const rr_spectrum *sp, double speed, const double *x_inputs, int ninputs, double fs_hz,
                      int nsamples, double f_lo, double f_hi, uint64_t seed, double *u, double *du, rr_error *err);
 
 /* A measured alignment record: distance_m (rising), alignment_m. */
 typedef struct rr_track_record { int n; double *x, *y; } rr_track_record;
 /* Reads a CSV (header line allowed; comma or space separated). */
-int rr_track_record_load(const char *path, rr_track_record *r, rr_error *err);
-void rr_track_record_free(rr_track_record *r);
+RR_API int rr_track_record_load(const char *path, rr_track_record *r, rr_error *err);
+RR_API void rr_track_record_free(rr_track_record *r);
 /* The longest run (s) the record allows at speed v for contacts at x (m). */
-double rr_track_record_duration(const rr_track_record *r, double v, const double *x, int ni);
+RR_API double rr_track_record_duration(const rr_track_record *r, double v, const double *x, int ni);
 /* The alignment each contact meets at t = k / fs (k < ns), y_t(v t + x_i)
  * as in rr_track_realise with the last contact starting at the record's
  * first row; linear between rows, rates by central differences. u, du:
  * ninputs x ns. */
-int rr_track_record_sample(const rr_track_record *r, double v, const double *x, int ni, double fs, int ns, double *u,
+RR_API int rr_track_record_sample(const rr_track_record *r, double v, const double *x, int ni, double fs, int ns, double *u,
                            double *du, rr_error *err);
 
 /* Exact discretisation of x' = A x + B w with w(t) a cubic Hermite
@@ -44,20 +46,20 @@ typedef struct rr_lti_disc {
   double *Phi;   /* N x N */
   double *G;     /* N x 4m: [G0 G1 G2 G3] */
 } rr_lti_disc;
-int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt, rr_lti_disc *d, rr_error *err);
-void rr_lti_disc_free(rr_lti_disc *d);
+RR_API int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt, rr_lti_disc *d, rr_error *err);
+RR_API void rr_lti_disc_free(rr_lti_disc *d);
 /* Periodic steady-state response to a periodic input (w, dw: m x ns): outputs
  * y = C x + D w + E w' (ny x ns), with C ny x N, D and E ny x m (E may be NULL). */
-int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny, const double *C,
+RR_API int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny, const double *C,
                     const double *D, const double *E, double *y, rr_error *err);
 
 /* Welch PSD: Hann window (periodic), 50% overlap, segment nseg, mean removed
  * per segment, one-sided (m/s^2)^2/Hz. f, P: nseg/2 + 1 entries. */
-int rr_welch_psd(const double *x, int n, double fs_hz, int nseg, double *f, double *P, int *navg, rr_error *err);
+RR_API int rr_welch_psd(const double *x, int n, double fs_hz, int nseg, double *f, double *P, int *navg, rr_error *err);
 
 /* The Sperling weighting B(f) as a continuous state-space filter (3 states):
  * |C (j w I - A)^-1 B| = rr_sperling_filter(f, axis). A 3x3, B 3, C 3. */
-void rr_sperling_filter_ss(int axis, double *A, double *B, double *C);
+RR_API void rr_sperling_filter_ss(int axis, double *A, double *B, double *C);
 
 /* Validation of the PEM against a time-domain run. */
 typedef struct rr_validate_opts {
@@ -70,7 +72,7 @@ typedef struct rr_validate_opts {
   int npoints;
   const double *rows, *rows0;   /* floor points as in rr_frf_opts */
 } rr_validate_opts;
-rr_validate_opts rr_validate_opts_default(void);
+RR_API rr_validate_opts rr_validate_opts_default(void);
 
 #define RR_NBANDS_MAX 40
 typedef struct rr_validate_point {
@@ -92,8 +94,8 @@ typedef struct rr_validate_result {
   rr_validate_point *points;
   double seconds_simulated;
 } rr_validate_result;
-int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o, rr_validate_result *r, rr_error *err);
-void rr_validate_result_free(rr_validate_result *r);
+RR_API int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o, rr_validate_result *r, rr_error *err);
+RR_API void rr_validate_result_free(rr_validate_result *r);
 
 #ifdef __cplusplus
 }

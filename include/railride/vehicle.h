@@ -4,6 +4,8 @@
 #ifndef RAILRIDE_VEHICLE_H
 #define RAILRIDE_VEHICLE_H
 
+#include "railride/common.h"
+
 #include <stddef.h>
 #include "railride/error.h"
 #include "railride/profile.h"
@@ -47,9 +49,9 @@ typedef struct rr_vehicle {
 
 /* Built-in vehicles: "type1" (the default), "type2". Each carries its Table 2
  * SDF curve with sdf = none. Returns RR_EINVAL for an unknown name. */
-int rr_vehicle_builtin(const char *name, rr_vehicle *veh, rr_error *err);
+RR_API int rr_vehicle_builtin(const char *name, rr_vehicle *veh, rr_error *err);
 /* The default vehicle (Type 1). */
-void rr_vehicle_default(rr_vehicle *veh);
+RR_API void rr_vehicle_default(rr_vehicle *veh);
 /* The nonlinear model's contact assumptions (docs/model.md, "Nonlinear
  * model"): friction 0.3, flange clearance 8 mm, flange stiffness 500 kN/mm,
  * polynomial hold 12 mm; no tread profile. */
@@ -57,13 +59,13 @@ void rr_vehicle_default(rr_vehicle *veh);
 #define RR_FLANGE_CLEARANCE_DEFAULT 8e-3
 #define RR_FLANGE_STIFFNESS_DEFAULT 500e6
 #define RR_CONICITY_HOLD_DEFAULT 12e-3
-void rr_vehicle_contact_defaults(rr_vehicle *veh);
+RR_API void rr_vehicle_contact_defaults(rr_vehicle *veh);
 /* Loads an INI vehicle file (with `base =` inheritance). */
-int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err);
+RR_API int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err);
 /* Loads a built-in name if `spec` is one, otherwise a file. NULL -> default. */
-int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err);
+RR_API int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err);
 /* Checks every value's range and finiteness. */
-int rr_vehicle_check(const rr_vehicle *veh, rr_error *err);
+RR_API int rr_vehicle_check(const rr_vehicle *veh, rr_error *err);
 
 /* Vehicle-file keys as data, so optimisers can address "section.key". */
 typedef struct rr_vehicle_key {
@@ -83,25 +85,25 @@ enum {
   RR_KEY_ANY_SIGN = 32   /* finite, any sign */
 };
 /* The key table; *n receives its length. */
-const rr_vehicle_key *rr_vehicle_keys(int *n);
+RR_API const rr_vehicle_key *rr_vehicle_keys(int *n);
 /* Finds "section.key" among the numeric keys; NULL when unknown. */
-const rr_vehicle_key *rr_vehicle_key_find(const char *section_dot_key);
+RR_API const rr_vehicle_key *rr_vehicle_key_find(const char *section_dot_key);
 /* Checks x against the key's physical range; the message names the key and
  * the range. */
-int rr_vehicle_key_check(const rr_vehicle_key *key, double x, rr_error *err);
+RR_API int rr_vehicle_key_check(const rr_vehicle_key *key, double x, rr_error *err);
 /* Pointer to the double a numeric key addresses. */
-double *rr_vehicle_field(rr_vehicle *veh, const rr_vehicle_key *key);
+RR_API double *rr_vehicle_field(rr_vehicle *veh, const rr_vehicle_key *key);
 
 /* Unit parsing (udunits2). A context holds the unit database; create one per
  * thread (udunits itself is not thread-safe) or pass NULL to rr_units_parse,
  * which then loads the database only when the text carries a unit. */
 typedef struct rr_units rr_units;
-int rr_units_new(rr_units **out, rr_error *err);
-void rr_units_free(rr_units *u);
+RR_API int rr_units_new(rr_units **out, rr_error *err);
+RR_API void rr_units_free(rr_units *u);
 /* Parses "50 kN/mm" into SI for a quantity whose SI unit is si_unit.
  * Bare numbers are SI. Non-finite values are rejected unless allow_inf
  * (then "inf" is accepted). what names the context for messages. */
-int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf,
+RR_API int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf,
                    double *out, const char *what, rr_error *err);
 
 #ifdef __cplusplus

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The installed tree, as another program sees it: `cmake --install` into a
+# temporary prefix, then a downstream C program built by pkg-config and by
+# find_package(railride), a C++ program on the same headers, the installed
+# CLI run from elsewhere (RPATH, spectra found relative to the library),
+# the whole tree moved (relocatable), and internal symbols hidden.
+set -u
+BUILD=${RR_BUILD_DIR:?RR_BUILD_DIR must name the build tree}
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+unset RAILRIDE_SPECTRA_DIR
+
+cmake --install "$BUILD" --prefix "$tmp/prefix" > "$tmp/install.log" 2>&1 || { cat "$tmp/install.log"; bad "cmake --install"; }
+lib=$(dirname "$(find "$tmp/prefix" -name 'librailride.so' | head -1)")
+[ -n "$lib" ] && ok || bad "no librailride.so installed"
+
+cat > "$tmp/main.c" <<'C'
+#include <stdio.h>
+#include <string.h>
+#include <railride/railride.h>
+#include <railride/version.h>
+int main(void)
+{
+  rr_vehicle v; rr_error e; rr_model *m; rr_modal_ws *ws; rr_spectrum sp; double z;
+  if (strcmp(rr_version(), RR_VERSION_STRING)) { printf("version mismatch\n"); return 1; }
+  rr_vehicle_default(&v);
+  if (rr_model_from_vehicle(&v, &m, &e) || rr_modal_ws_new(m, &ws, &e) ||
+      rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e) || rr_modal_stability_index(m, NULL, ws, &z, &e) ||
+      rr_spectrum_open("wuhan-guangzhou", &sp, &e)) { printf("%s\n", e.msg); return 1; }
+  printf("%.4f %s\n", z, rr_version());
+  rr_modal_ws_free(ws); rr_model_free(m);
+  return 0;
+}
+C
+# pkg-config
+PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --exists railride && ok || bad "pkg-config finds railride"
+cc -std=c11 "$tmp/main.c" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) -o "$tmp/main_pc" \
+  && "$tmp/main_pc" | grep -q '^-0\.[0-9]* ' && ok || bad "downstream C by pkg-config"
+# find_package
+mkdir -p "$tmp/down"
+cp "$tmp/main.c" "$tmp/down/"
+cat > "$tmp/down/CMakeLists.txt" <<'CM'
+cmake_minimum_required(VERSION 3.18)
+project(down C)
+find_package(railride 0.1 REQUIRED)
+add_executable(main main.c)
+target_link_libraries(main PRIVATE railride::railride)
+file(WRITE ${CMAKE_BINARY_DIR}/spectra.txt "${railride_SPECTRA_DIR}")
+CM
+cmake -S "$tmp/down" -B "$tmp/down/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" > "$tmp/down.log" 2>&1 \
+  && cmake --build "$tmp/down/build" >> "$tmp/down.log" 2>&1 && "$tmp/down/build/main" | grep -q '^-0\.[0-9]* ' \
+  && ok || { cat "$tmp/down.log"; bad "downstream C by find_package(railride)"; }
+[ -f "$(cat "$tmp/down/build/spectra.txt" 2>/dev/null)/wuhan-guangzhou.txt" ] && ok || bad "railride_SPECTRA_DIR"
+# C++ on the same headers (the complex API as std::complex<double>)
+if command -v c++ > /dev/null; then
+  cat > "$tmp/main.cc" <<'CC'
+#include <complex>
+#include <cstdio>
+#include <railride/railride.h>
+#include <railride/version.h>
+int main()
+{
+  rr_complex k = rr_maxwell_stiffness(rr_complex(1e7, 0), 1e5, rr_complex(0, 100));
+  std::printf("%g %g %s\n", k.real(), k.imag(), rr_version());
+  return std::abs(k - rr_complex(1e7, 0) * rr_complex(0, 1e7) / rr_complex(1e7, 1e7)) < 1e-6 ? 0 : 1;
+}
+CC
+  c++ "$tmp/main.cc" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) -o "$tmp/main_cc" \
+    && "$tmp/main_cc" > /dev/null && ok || bad "C++ program on the installed headers"
+else
+  bad "no C++ compiler (Debian package g++)"
+fi
+# the installed CLI, from another folder, and after moving the whole tree
+(cd "$tmp" && "$tmp/prefix/bin/railride" --version | grep -q "^railride [0-9]") && ok || bad "installed railride --version"
+(cd "$tmp" && "$tmp/prefix/bin/railride" ride --speed 300 --conicity 0.2 --json > "$tmp/ride.json") && ok || bad "installed railride ride (spectra)"
+mv "$tmp/prefix" "$tmp/moved"
+(cd / && "$tmp/moved/bin/railride" ride --speed 300 --conicity 0.2 --json > "$tmp/ride2.json") && cmp -s "$tmp/ride.json" "$tmp/ride2.json" \
+  && ok || bad "relocated tree: the CLI finds its library and spectra"
+# only the public API is exported
+mlib=$(find "$tmp/moved" -name 'librailride.so' | head -1)
+if nm -D --defined-only "$mlib" | awk '{print $3}' | grep -qE '^(rr_seterr|rr_orbit_branch|rr_lines_open|rr_hqr)$'; then
+  bad "internal symbols exported"
+else ok; fi
+nm -D --defined-only "$mlib" | awk '{print $3}' | grep -q '^rr_bifurcation_continue$' && ok || bad "public symbol missing"
+
+echo "install: $pass passed, $fail failed"
+[ $fail -eq 0 ]
