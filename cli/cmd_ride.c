@@ -101,7 +101,7 @@ typedef struct ride_args {
   int ncon;
   const char *psd_path;
 } ride_args;
-enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON };
+enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON, OPT_CMP_CSV };
 
 int ride_setup_option(ride_setup *r, int opt, const char *arg)
 {
@@ -314,11 +314,12 @@ int cmd_frf(int argc, char **argv)
   return 0;
 }
 
-typedef struct cmp_args { ride_args ra; double c_from, c_to; int c_n; } cmp_args;
+typedef struct cmp_args { ride_args ra; double c_from, c_to; int c_n, csv; } cmp_args;
 
 static int cmp_cb(int opt, const char *arg, void *u)
 {
   cmp_args *a = u;
+  if (opt == OPT_CMP_CSV) { a->csv = 1; return 0; }
   if (opt == OPT_CMP_CON) {
     if (cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n)) return 1;
     if (!(a->c_from >= 0 && a->c_to >= 0)) return cli_bad("--conicities: must be >= 0");
@@ -345,7 +346,7 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
   ride_setup rs = a->ra.rs;
   rs.npoints = 3;
   rs.x[0] = base->bogie_half_spacing; rs.x[1] = 0; rs.x[2] = -base->bogie_half_spacing;
-  if (!jarr) {
+  if (!jarr && !a->csv) {
     printf("\n%s: yaw damper series stiffness constant (k = %g MN/m) vs SDF (%s mode, K1 %g Hz, K2 %g MN/m, K3 %g MN/m)\n",
            base->name, base->yaw_series_stiffness / 1e6, sdf_mode == RR_SDF_PAPER ? "paper" : "physical", base->sdf.k1_hz,
            base->sdf.k2 / 1e6, base->sdf.k3 / 1e6);
@@ -374,6 +375,9 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
       cJSON_AddNumberToObject(o, "sperling_const", wcmax);
       cJSON_AddNumberToObject(o, "sperling_sdf", wsmax);
       cJSON_AddItemToArray(jarr, o);
+    } else if (a->csv) {
+      cli_csv_field(stdout, base->name, ',');
+      printf("%.10g,%.10g,%.10g,%.10g,%.10g\n", lam, zc, zs, wcmax, wsmax);
     } else {
       printf("%9.4f %12.6f %12.6f %10.4f %10.4f\n", lam, zc, zs, wcmax, wsmax);
     }
@@ -386,13 +390,15 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
 int cmd_compare(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride compare [VEHICLE] [--speed KMH] [--conicities FROM:TO:N] [--sdf paper|physical] [--json]\n"
+      "usage: railride compare [VEHICLE] [--speed KMH] [--conicities FROM:TO:N] [--sdf paper|physical] [--json|--csv]\n"
       "SDF against constant series stiffness of the yaw damper (paper Fig. 12-13): the vehicle\n"
       "stability index and the Sperling index side by side over conicity (default 0.02:0.6:12\n"
       "at 350 km/h). Without VEHICLE: the built-in Type 1 and Type 2, each with its Table 2 curve.\n"
       "The SDF mode defaults to paper (self-consistent modes; k_sdf(f) in the frequency domain).\n" CLI_COMMON_HELP RIDE_HELP
-      "  --conicities FROM:TO:N  conicity grid\n";
-  static const struct option extra[] = {RIDE_OPTIONS, {"conicities", required_argument, 0, OPT_CMP_CON}, {0, 0, 0, 0}};
+      "  --conicities FROM:TO:N  conicity grid\n"
+      "  --csv                vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n";
+  static const struct option extra[] = {RIDE_OPTIONS, {"conicities", required_argument, 0, OPT_CMP_CON},
+                                        {"csv", no_argument, 0, OPT_CMP_CSV}, {0, 0, 0, 0}};
   cli_common c;
   cmp_args a;
   memset(&a, 0, sizeof a);
@@ -404,6 +410,8 @@ int cmd_compare(int argc, char **argv)
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = 350;
+  if (a.csv && c.json) return cli_bad("compare: --json or --csv, not both");
+  if (a.csv) printf("vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n");
   int mode = c.sdf_override > 0 ? c.sdf_override : RR_SDF_PAPER;
   cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "rows") : NULL;
   if (root) {

@@ -1,6 +1,7 @@
 /* railride: command-line entry point and subcommand dispatch. */
 #include <string.h>
 #include "cli.h"
+#include "plot.h"
 #include "railride/version.h"
 
 void openblas_set_num_threads(int);
@@ -42,7 +43,10 @@ int main(int argc, char **argv)
   if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) { usage(stdout); return 0; }
   if (!strcmp(argv[1], "--version")) { printf("railride %s (library %s)\n", RR_VERSION_STRING, rr_version()); return 0; }
   for (int i = 0; i < NCMDS; i++)
-    if (!strcmp(argv[1], cmds[i].name)) return cmds[i].fn(argc - 1, argv + 1);
+    if (!strcmp(argv[1], cmds[i].name)) {
+      int handled, r = cli_plot_run(cmds[i].name, cmds[i].fn, argc - 1, argv + 1, &handled);
+      return handled ? r : cmds[i].fn(argc - 1, argv + 1);
+    }
   fprintf(stderr, "railride: unknown command '%s' (railride --help lists them)\n", argv[1]);
   return EXIT_BADINPUT;
 }

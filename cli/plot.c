@@ -1,0 +1,286 @@
+/* `--plot FILE` for every command whose output is a curve, a map or a table
+ * over a parameter: the command runs as usual with its CSV captured (or
+ * written to a scratch file through its own option), then gnuplot draws it
+ * into FILE, the terminal chosen by the extension (.svg, .png, .pdf). */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "cli.h"
+#include "plot.h"
+
+#define PLOT_W 900
+#define PLOT_H 600
+
+/* How a command's data reaches the plot: its standard output (with extra
+   arguments that make it CSV), or a file named by one of its options. */
+typedef struct plot_kind {
+  const char *cmd;
+  const char *extra;         /* argument appended to get CSV on stdout, or NULL */
+  const char *file_option;   /* the option that writes the data file, or NULL */
+  int grid;                  /* rows on a grid over the first two columns (a map) */
+  void (*script)(FILE *gp, const char *data, int argc, char **argv);
+} plot_kind;
+
+static const char *arg_after(int argc, char **argv, const char *opt)
+{
+  for (int i = 0; i + 1 < argc; i++)
+    if (!strcmp(argv[i], opt)) return argv[i + 1];
+  return NULL;
+}
+
+static int has_arg(int argc, char **argv, const char *opt)
+{
+  for (int i = 0; i < argc; i++)
+    if (!strcmp(argv[i], opt)) return 1;
+  return 0;
+}
+
+static void script_damper(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc; (void)argv;
+  fprintf(gp, "set title 'Maxwell damper: dynamic stiffness over frequency'\n"
+              "set logscale x; set xlabel 'frequency (Hz)'; set ylabel 'stiffness (N/m)'\n"
+              "set y2label 'dissipation factor loss/storage'; set y2tics; set ytics nomirror\n"
+              "plot '%s' u 'freq_hz':'storage_n_per_m' w l lw 2 t 'storage', "
+              "'' u 'freq_hz':'loss_n_per_m' w l lw 2 t 'loss', "
+              "'' u 'freq_hz':'dissipation' axes x1y2 w l lw 2 dt 2 t 'dissipation (right)'\n", d);
+}
+
+static void script_locus(FILE *gp, const char *d, int argc, char **argv)
+{
+  const char *over = arg_after(argc, argv, "--over");
+  int by_conicity = over && !strcmp(over, "conicity");
+  fprintf(gp, "set title 'Root locus over %s'\n"
+              "set xlabel 'real part (1/s)'; set ylabel 'frequency (Hz)'; set cblabel '%s'\n"
+              "set xzeroaxis; set yzeroaxis; set palette rgb 33,13,10\n"
+              "set arrow from 0, graph 0 to 0, graph 1 nohead dt 2 lw 1.5\n"
+              "plot '%s' u 'real':'freq_hz':'%s' w p pt 7 ps 0.6 palette notitle\n",
+          by_conicity ? "conicity" : "speed", by_conicity ? "conicity" : "speed (km/h)", d,
+          by_conicity ? "conicity" : "speed_kmh");
+}
+
+/* A filled map over the first two columns (gridded: a blank line between
+   rows, see gridded()), interpolated, with the zero contour drawn when the
+   values cross zero (a stability index: blue stable, red unstable, white 0). */
+static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const char *yl, const char *zl,
+                       const char *title, int centred)
+{
+  fprintf(gp, "set title \"%s\"\nset xlabel \"%s\"; set ylabel \"%s\"; set cblabel \"%s\"\n"
+              "stats '%s' u %d nooutput\n", title, xl, yl, zl, d, zcol);
+  if (centred)
+    fprintf(gp, "m = (abs(STATS_min) > abs(STATS_max)) ? abs(STATS_min) : abs(STATS_max)\nset cbrange [-m:m]\n"
+                "set palette defined (0 '#2166ac', 0.5 '#f7f7f7', 1 '#b2182b')\n"
+                "set contour base; set cntrparam levels discrete 0\n");
+  else fprintf(gp, "set palette rgb 33,13,10\nset contour base; set cntrparam levels auto 8\n");
+  fprintf(gp, "set pm3d map interpolate 4,4; set cntrlabel onecolor; set key opaque\n"
+              "splot '%s' u 1:2:%d w pm3d notitle, '' u 1:2:%d w l nosurface lw %s lc 'black' %s\n",
+          d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle");
+}
+
+static void script_map(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc; (void)argv;
+  map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index", "Vehicle stability index (negative is stable)", 1);
+}
+
+static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
+{
+  const char *x = arg_after(argc, argv, "--x"), *y = arg_after(argc, argv, "--y"), *o = arg_after(argc, argv, "--objective");
+  char xk[128] = "x", yk[128] = "y", title[256];
+  if (x) snprintf(xk, sizeof xk, "%.*s", (int)strcspn(x, "="), x);
+  if (y) snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
+  snprintf(title, sizeof title, "%s over %s and %s", o ? o : "objective", xk, yk);
+  int centred = o && (!strncmp(o, "index", 5) || !strncmp(o, "zeta", 4));
+  map_script(gp, d, 3, xk, yk, o ? o : "objective", title, centred);
+}
+
+static void script_psd(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc; (void)argv;
+  fprintf(gp, "set title 'Carbody floor lateral acceleration PSD (PEM)'\n"
+              "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set format y '%%.0e'\n"
+              "plot for [i=2:*] '%s' u 1:i w l lw 2 t columnhead(i)\n", d);
+}
+
+static void script_validate(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc; (void)argv;
+  fprintf(gp, "set title 'Time-domain run (Welch) against the PEM'\n"
+              "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set format y '%%.0e'\n"
+              "stats '%s' skip 1 nooutput; n = (STATS_columns - 1) / 2\n"
+              "plot for [i=2:1+n] '%s' u 1:(column(i) > 0 ? column(i) : 1/0) w l lw 1 t columnhead(i), "
+              "for [i=2+n:1+2*n] '' u 1:(column(i) > 0 ? column(i) : 1/0) w l lw 2.5 dt 2 t columnhead(i)\n", d, d);
+}
+
+static void script_compare(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc; (void)argv;
+  fprintf(gp, "set datafile separator ','\nset multiplot layout 1,2 title 'Yaw damper: SDF against constant series stiffness'\n"
+              "set xlabel 'conicity'; set ylabel 'stability index'; set key bottom\n"
+              "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):3 w lp lw 2 t v.' constant', "
+              "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):4 w lp lw 2 dt 2 t v.' SDF'\n"
+              "set ylabel 'Sperling index W'; set key top left\n"
+              "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):5 w lp lw 2 t v.' constant', "
+              "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):6 w lp lw 2 dt 2 t v.' SDF'\n"
+              "unset multiplot\n", d, d);
+}
+
+static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)
+{
+  if (arg_after(argc, argv, "--method") && !strcmp(arg_after(argc, argv, "--method"), "scan")) {
+    fprintf(gp, "set title 'Limit cycles by direct integration (scan)'\n"
+                "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'\n"
+                "plot '%s' u ((strcol(1) eq 'up') ? $2 : 1/0):($3*1e3) w lp pt 7 t 'speed rising', "
+                "'' u ((strcol(1) eq 'down') ? $2 : 1/0):($3*1e3) w lp pt 6 dt 2 t 'speed falling'\n", d);
+    return;
+  }
+  fprintf(gp, "set title 'Hunting limit cycles (continuation): stable solid, unstable hollow'\n"
+              "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'; set key top left\n"
+              "plot '%s' u 1:($4 == 1 ? $2*1e3 : 1/0) w p pt 7 ps 0.8 lc rgb '#1b7837' t 'stable cycle', "
+              "'' u 1:($4 == 0 ? $2*1e3 : 1/0) w p pt 6 ps 0.8 lc rgb '#b2182b' t 'unstable cycle', "
+              "'' u 1:($2*1e3) w l lc rgb '#999999' notitle\n", d);
+}
+
+static const plot_kind kinds[] = {
+  {"damper", NULL, NULL, 0, script_damper},         {"locus", NULL, NULL, 0, script_locus},
+  {"map", NULL, NULL, 1, script_map},               {"sweep", NULL, NULL, 1, script_sweep},
+  {"ride", NULL, "--psd", 0, script_psd},           {"validate", NULL, "--psd", 0, script_validate},
+  {"compare", "--csv", NULL, 0, script_compare},    {"bifurcation", "--csv", NULL, 0, script_bifurcation},
+};
+#define NKINDS (int)(sizeof kinds / sizeof kinds[0])
+
+static const char *terminal_for(const char *path)
+{
+  const char *dot = strrchr(path, '.');
+  if (!dot) return NULL;
+  if (!strcmp(dot, ".svg")) return "svg size " RR_STR(PLOT_W) "," RR_STR(PLOT_H) " dynamic noenhanced font 'sans,12'";
+  if (!strcmp(dot, ".png")) return "pngcairo size " RR_STR(PLOT_W) "," RR_STR(PLOT_H) " noenhanced font 'sans,11'";
+  if (!strcmp(dot, ".pdf")) return "pdfcairo size 9in,6in noenhanced font 'sans,11'";
+  return NULL;
+}
+
+/* gnuplot on PATH, as Debian's gnuplot-nox installs it. */
+static int have_gnuplot(void)
+{
+  const char *path = getenv("PATH");
+  char buf[PATH_MAX];
+  for (const char *p = path ? path : "/usr/bin"; p && *p;) {
+    size_t n = strcspn(p, ":");
+    snprintf(buf, sizeof buf, "%.*s/gnuplot", (int)n, p);
+    if (!access(buf, X_OK)) return 1;
+    p += n + (p[n] == ':');
+  }
+  return 0;
+}
+
+static int render(const plot_kind *k, const char *out, const char *data, int argc, char **argv)
+{
+  char script[PATH_MAX];
+  snprintf(script, sizeof script, "%s.gp", data);
+  FILE *gp = fopen(script, "w");
+  if (!gp) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
+  fprintf(gp, "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key noautotitle\n",
+          terminal_for(out), out);
+  k->script(gp, data, argc, argv);
+  fclose(gp);
+  char cmd[3 * PATH_MAX];
+  snprintf(cmd, sizeof cmd, "gnuplot '%s' 2> '%s.err'", script, data);
+  int st = system(cmd);
+  if (st != 0) {
+    char err[512] = "";
+    snprintf(cmd, sizeof cmd, "%s.err", data);
+    FILE *fe = fopen(cmd, "r");
+    if (fe) { if (!fgets(err, sizeof err, fe)) err[0] = 0; fclose(fe); }
+    err[strcspn(err, "\n")] = 0;
+    fprintf(stderr, "railride: --plot %s: gnuplot failed: %s\n", out, err[0] ? err : "no message");
+    return EXIT_FAIL;
+  }
+  return 0;
+}
+
+/* The grid's rows with a blank line wherever the first column changes (how
+   gnuplot reads a surface); returns the file written. */
+static const char *gridded(const char *in, char *out, size_t n)
+{
+  snprintf(out, n, "%s.grid", in);
+  FILE *f = fopen(in, "r"), *g = fopen(out, "w");
+  char line[4096], prev[256] = "";
+  for (int row = 0; f && g && fgets(line, sizeof line, f); row++) {
+    char key[256];
+    snprintf(key, sizeof key, "%.*s", (int)strcspn(line, ","), line);
+    if (row > 1 && strcmp(key, prev)) fputc('\n', g);
+    snprintf(prev, sizeof prev, "%s", key);
+    fputs(line, g);
+  }
+  if (f) fclose(f);
+  if (g) fclose(g);
+  return out;
+}
+
+/* Copies file path to stdout. */
+static void replay(const char *path)
+{
+  FILE *f = fopen(path, "r");
+  char buf[65536];
+  size_t n;
+  while (f && (n = fread(buf, 1, sizeof buf, f)) > 0) fwrite(buf, 1, n, stdout);
+  if (f) fclose(f);
+  fflush(stdout);
+}
+
+int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv, int *handled)
+{
+  *handled = 0;
+  int at = -1;
+  for (int i = 1; i < argc; i++)
+    if (!strcmp(argv[i], "--plot")) at = i;
+  if (at < 0) return 0;
+  *handled = 1;
+  const plot_kind *k = NULL;
+  for (int i = 0; i < NKINDS; i++)
+    if (!strcmp(kinds[i].cmd, cmd)) k = &kinds[i];
+  if (!k) return cli_bad("%s: --plot is not an option of this command (it has no curve or map to draw)", cmd);
+  if (at + 1 >= argc) return cli_bad("--plot: a file name ending in .svg, .png or .pdf expected");
+  const char *out = argv[at + 1];
+  if (!terminal_for(out)) return cli_bad("--plot: '%s' must end in .svg, .png or .pdf", out);
+  if (!have_gnuplot()) return cli_bad("--plot: gnuplot not found on PATH (Debian package gnuplot-nox)");
+  FILE *probe = fopen(out, "w");
+  if (!probe) return cli_bad("--plot: cannot write '%s': %s", out, strerror(errno));
+  fclose(probe);
+  char dir[] = "/tmp/railride_plot_XXXXXX", data[PATH_MAX];
+  if (!mkdtemp(dir)) return cli_bad("--plot: no scratch folder: %s", strerror(errno));
+  snprintf(data, sizeof data, "%s/data.csv", dir);
+  /* the command's own argv without --plot FILE, with what makes its data */
+  char **av = calloc((size_t)argc + 4, sizeof *av);
+  int n = 0;
+  for (int i = 0; i < argc; i++)
+    if (i != at && i != at + 1) av[n++] = argv[i];
+  const char *file_data = k->file_option ? arg_after(n, av, k->file_option) : NULL;
+  if (k->file_option && !file_data) { av[n++] = (char *)k->file_option; av[n++] = data; file_data = data; }
+  if (k->extra && !has_arg(n, av, k->extra)) av[n++] = (char *)k->extra;
+  int r;
+  if (k->file_option) r = fn(n, av);
+  else {   /* capture standard output in the data file, then show it */
+    fflush(stdout);
+    int saved = dup(STDOUT_FILENO);
+    FILE *f = freopen(data, "w", stdout);
+    r = f ? fn(n, av) : cli_bad("--plot: cannot write a scratch file");
+    fflush(stdout);
+    dup2(saved, STDOUT_FILENO);
+    close(saved);
+    if (!k->extra) replay(data);
+  }
+  char grid[PATH_MAX + 8];
+  const char *src = file_data ? file_data : data;
+  if (!r && k->grid) src = gridded(src, grid, sizeof grid);
+  if (!r) r = render(k, out, src, n, av);
+  free(av);
+  char rm[PATH_MAX + 16];
+  snprintf(rm, sizeof rm, "rm -rf '%s'", dir);
+  if (system(rm)) {}
+  return r;
+}

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# --plot: every command that draws renders a PNG that is not blank, an SVG
+# and a PDF by extension, and a missing gnuplot or a bad extension is a
+# one-line error with status 2.
+set -u
+RR=${RR_CLI:?RR_CLI must name the railride binary}
+SRC=${RR_SOURCE_DIR:-..}
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+png() {  # png NAME ARGS...: railride ARGS --plot NAME.png, then the picture checked
+  local name=$1; shift
+  if "$RR" "$@" --plot "$tmp/$name.png" > "$tmp/$name.out" 2> "$tmp/$name.err"; then
+    python3 "$SRC/tests/png_check.py" "$tmp/$name.png" > /dev/null && ok || bad "$name: blank picture"
+  else
+    bad "$name: exit $? ($(head -2 "$tmp/$name.err"))"
+  fi
+}
+png damper damper
+png locus locus --over conicity --range 0.05:0.6:12 --speed 300
+png map map --speeds 200:500:4 --conicities 0.05:0.5:4
+png sweep sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:4" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:4" --objective "index@350,0.17"
+png ride ride --speed 300 --conicity 0.1,0.4
+png compare compare --conicities 0.05:0.5:3
+png validate validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256
+png bifurcation bifurcation --profile worn --speeds 100:560
+png scan bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4
+# the data still reaches standard output where the command prints CSV
+head -1 "$tmp/map.out" | grep -q '^speed_kmh,conicity,stability_index' && ok || bad "map --plot: the CSV still printed"
+# SVG and PDF by extension
+"$RR" damper --plot "$tmp/d.svg" > /dev/null && grep -q '<svg' "$tmp/d.svg" && ok || bad "svg"
+"$RR" damper --plot "$tmp/d.pdf" > /dev/null && head -c 5 "$tmp/d.pdf" | grep -q '%PDF' && ok || bad "pdf"
+# errors
+expect2() {
+  local name=$1 pat=$2; shift 2
+  "$@" > /dev/null 2> "$tmp/err"; local st=$?
+  [ $st -eq 2 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q -- "$pat" "$tmp/err" && ok || bad "$name: exit $st, '$(cat "$tmp/err")'"
+}
+expect2 "bad extension" "must end in .svg, .png or .pdf" "$RR" damper --plot "$tmp/d.gif"
+expect2 "no gnuplot" "gnuplot-nox" env PATH=/nonexistent "$RR" damper --plot "$tmp/d.png"
+expect2 "not a drawing command" "not an option of this command" "$RR" modes --speed 300 --conicity 0.2 --plot "$tmp/m.png"
+expect2 "unwritable" "cannot write" "$RR" damper --plot /nonexistent/dir/d.png
+echo "plots: $pass passed, $fail failed"
+[ $fail -eq 0 ]
