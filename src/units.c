@@ -17,6 +17,7 @@
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <udunits2.h>
@@ -104,9 +105,11 @@ static int plain_scale(const cv_converter *cv, double *a)
   return 0;
 }
 
-static int convert_locked(const char *unit, const char *si_unit, double *scale, const char *what, rr_error *err)
+/* text is what udunits reads, unit what the user wrote (for messages). */
+static int convert_locked(const char *text, const char *unit, const char *si_unit, double *scale, const char *what,
+                          rr_error *err)
 {
-  ut_unit *from = ut_parse(db, unit, UT_ASCII), *to = ut_parse(db, si_unit, UT_ASCII);
+  ut_unit *from = ut_parse(db, text, UT_ASCII), *to = ut_parse(db, si_unit, UT_ASCII);
   int st = RR_OK;
   const char *q = strcmp(si_unit, "1") ? si_unit : "a dimensionless quantity";
   if (!from) st = rr_seterr(err, RR_EUNIT, "%s: unknown unit '%s'", what, unit);
@@ -124,6 +127,32 @@ static int convert_locked(const char *unit, const char *si_unit, double *scale, 
   return st;
 }
 
+/* Engineers' run-together spellings, read as their dotted forms: Ns/m,
+   kNs/m, kgm^2, MNm/rad. (None of them is a udunits name.) */
+static const char *const joined[][2] = {
+  {"Ns", "N.s"},   {"kNs", "kN.s"},   {"MNs", "MN.s"},   {"Nm", "N.m"},       {"kNm", "kN.m"},
+  {"MNm", "MN.m"}, {"kgm", "kg.m"},   {"Nms", "N.m.s"},  {"kNms", "kN.m.s"},
+};
+
+/* unit with every identifier in joined[] spelled out into out (n bytes). */
+static void spell_out(const char *unit, char *out, size_t n)
+{
+  size_t k = 0;
+  for (const char *p = unit; *p && k + 1 < n;) {
+    if (!isalpha((unsigned char)*p)) { out[k++] = *p++; continue; }
+    const char *id = p;
+    while (isalpha((unsigned char)*p)) p++;
+    size_t len = (size_t)(p - id);
+    const char *rep = NULL;
+    for (size_t i = 0; i < sizeof joined / sizeof joined[0] && !rep; i++)
+      if (strlen(joined[i][0]) == len && !strncmp(joined[i][0], id, len)) rep = joined[i][1];
+    int w = rep ? snprintf(out + k, n - k, "%s", rep) : snprintf(out + k, n - k, "%.*s", (int)len, id);
+    k += w > 0 ? (size_t)w : 0;
+    if (k >= n) k = n - 1;
+  }
+  out[k] = 0;
+}
+
 /* The SI scale of unit text (trimmed). */
 static int unit_scale(const char *unit, const char *si_unit, double *scale, const char *what, rr_error *err)
 {
@@ -133,8 +162,10 @@ static int unit_scale(const char *unit, const char *si_unit, double *scale, cons
                      what, unit, bad);
   int st = db_get(err);
   if (st) return st;
+  char spelled[2 * UNIT_TEXT_MAX];
+  spell_out(unit, spelled, sizeof spelled);
   pthread_mutex_lock(&db_lock);
-  st = convert_locked(unit, si_unit, scale, what, err);
+  st = convert_locked(spelled, unit, si_unit, scale, what, err);
   pthread_mutex_unlock(&db_lock);
   return st;
 }

@@ -60,5 +60,35 @@ for ex in ("python_loop.py", "pymoo_problem.py"):
     r = subprocess.run([sys.executable, os.path.join(os.environ["RR_SOURCE_DIR"], "examples", ex)], capture_output=True, text=True,
                        env=dict(os.environ, PYTHONPATH=os.path.join(os.environ["RR_SOURCE_DIR"], "python")))
     check(r.returncode == 0 and r.stdout.strip(), "example %s runs: %s" % (ex, r.stderr[-300:]))
+# a closed design raises instead of crashing; the version is the library's
+d2 = railride.Design("type1", ["primary.longitudinal_stiffness"], ["zeta_low"])
+d2.close()
+try:
+    d2.evaluate([50e6])
+    check(False, "evaluate after close raises")
+except railride.RailrideError as e:
+    check("closed" in str(e), "evaluate after close raises: %s" % e)
+check(railride.__version__ == railride.library().rr_version().decode(), "__version__ is the library's")
+
+# pip install . (offline, no build isolation) into a scratch target: the package carries its library
+if os.environ.get("RR_PIP_TEST", "1") == "1":
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ)
+        env.pop("RAILRIDE_LIB", None)
+        env["RAILRIDE_LIB"] = os.environ.get("RAILRIDE_LIB", "")
+        if not env["RAILRIDE_LIB"]:
+            env.pop("RAILRIDE_LIB")
+        r = subprocess.run([sys.executable, "-m", "pip", "install", "--no-build-isolation", "--no-index", "--no-deps",
+                            "--target", tmp, os.environ["RR_SOURCE_DIR"]], capture_output=True, text=True, env=env)
+        check(r.returncode == 0, "pip install . : %s" % r.stderr[-500:])
+        env2 = {k: v for k, v in os.environ.items() if k not in ("RAILRIDE_LIB", "PYTHONPATH")}
+        env2["PYTHONPATH"] = tmp
+        r = subprocess.run([sys.executable, "-c", "import railride, numpy as np; d = railride.Design('type1', "
+                            "['primary.longitudinal_stiffness'], ['zeta_low']); print(railride.library()._name, "
+                            "d.evaluate([50e6])[0])"], capture_output=True, text=True, env=env2, cwd=tmp)
+        check(r.returncode == 0 and tmp in r.stdout and abs(float(r.stdout.split()[-1]) - ref["zeta_low"]) < 1e-13,
+              "the installed package finds its own library: %s %s" % (r.stdout, r.stderr[-300:]))
+
 print("python: %d passed, %d failed" % (passed, failed))
 sys.exit(1 if failed else 0)

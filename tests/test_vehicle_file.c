@@ -20,6 +20,9 @@ static void test_units(void)
     {"50 kN/mm", "N/m", 50e6}, {"4000 kN.s/m", "N.s/m", 4e6}, {"1.67e6 kg.m2", "kg.m2", 1.67e6},
     {"350 km/h", "m/s", 350 / 3.6}, {"4.15 MN.m/rad", "N.m/rad", 4.15e6}, {"1.5 Hz", "Hz", 1.5},
     {"  12.5  ", "m", 12.5}, {"2.2 m", "m", 2.2}, {"97 m/s", "km/h", 97 * 3.6}, {"10 MN/m", "N/m", 1e7},
+    /* engineers' run-together spellings */
+    {"50 kNs/m", "N.s/m", 5e4}, {"10 Ns/m", "N.s/m", 10}, {"1.67e6 kgm^2", "kg.m2", 1.67e6},
+    {"4.15 MNm/rad", "N.m/rad", 4.15e6}, {"3 kNm/rad", "N.m/rad", 3e3}, {"20 kgm2", "kg.m2", 20},
   };
   for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
     int st = rr_units_parse(u, ok[i].text, ok[i].unit, 0, &x, "v", &e);
@@ -28,6 +31,8 @@ static void test_units(void)
   }
   CHECK(rr_units_parse(u, "5 kg", "N/m", 0, &x, "k", &e) == RR_EUNIT, "wrong dimension accepted");
   CHECK(strstr(e.msg, "kg") != NULL, "message names the unit: %s", e.msg);
+  CHECK(rr_units_parse(u, "5 kNm/m", "N.s/m", 0, &x, "k", &e) == RR_EUNIT && strstr(e.msg, "'kNm/m'"),
+        "a run-together spelling of the wrong dimension, named as written: %s", e.msg);
   CHECK(rr_units_parse(u, "5 furlongz", "m", 0, &x, "k", &e) == RR_EUNIT, "unknown unit accepted");
   CHECK(rr_units_parse(u, "nan", "m", 0, &x, "k", &e) == RR_EINVAL, "NaN accepted");
   CHECK(rr_units_parse(u, "inf", "m", 0, &x, "k", &e) == RR_EINVAL, "inf accepted");

@@ -9,15 +9,18 @@ numpy arrays in, numpy arrays out, one C call per batch.
                         objectives=["zeta_low", "zeta_high", "std_zeta"])
     F = d.evaluate_batch(np.array([[50e6, 10e6], [30e6, 5e6]]))   # SI units
 
-The shared library is found through $RAILRIDE_LIB, next to this package in a
-build tree (../../build/librailride.so), or on the loader's path.
+The shared library is found through $RAILRIDE_LIB, inside this package (as
+`pip install .` puts it), next to it in a build tree (../../build), installed
+(ctypes.util.find_library), or on the loader's path.
 """
 import ctypes
+import ctypes.util
 import os
 
 import numpy as np
 
-__all__ = ["Design", "RailrideError", "library"]
+__all__ = ["Design", "RailrideError", "library", "__version__"]
+__version__ = "0.1.0"
 
 
 class RailrideError(Exception):
@@ -29,11 +32,11 @@ def _find_library():
     if env:
         return env
     here = os.path.dirname(os.path.abspath(__file__))
-    for cand in (os.path.join(here, "..", "..", "build", "librailride.so"),
-                 os.path.join(here, "librailride.so")):
+    for cand in (os.path.join(here, "librailride.so"),
+                 os.path.join(here, "..", "..", "build", "librailride.so")):
         if os.path.exists(cand):
             return os.path.abspath(cand)
-    return "librailride.so.0"
+    return ctypes.util.find_library("railride") or "librailride.so.0"
 
 
 _lib = None
@@ -52,6 +55,9 @@ def library():
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
         lib.rr_design_evaluate_batch.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr, ctypes.c_int]
         lib.rr_design_evaluate_batch.restype = ctypes.c_int
+        lib.rr_version.restype = ctypes.c_char_p
+        if lib.rr_version().decode() != __version__:
+            raise RailrideError("librailride %s loaded, this package is %s" % (lib.rr_version().decode(), __version__))
         try:  # BLAS threads only cost at this size, and fight OpenMP's
             lib_blas = ctypes.CDLL("libopenblas.so.0")
             lib_blas.openblas_set_num_threads(1)
@@ -92,6 +98,8 @@ class Design:
 
     def evaluate_batch(self, x):
         """Objectives (n x nobj) for designs x (n x nvar); failed designs give NaN rows."""
+        if not getattr(self, "_h", None):
+            raise RailrideError("this Design is closed")
         x = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=np.float64)))
         if x.shape[1] != self.nvar:
             raise ValueError("x has %d columns, the design has %d variables" % (x.shape[1], self.nvar))
