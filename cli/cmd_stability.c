@@ -257,29 +257,30 @@ static int crit_cb(int opt, const char *arg, void *u)
   return 0;
 }
 
-static void critical_json(const cli_common *c, const crit_args *a, const rr_critical *cr, int paper)
+static cJSON *critical_json(const cli_common *c, double conicity, const crit_args *a, const rr_critical *cr, int paper)
 {
   cJSON *root = cJSON_CreateObject();
   if (cr->found) cJSON_AddNumberToObject(root, "critical_speed_kmh", cr->speed_ms * RR_KMH);
   else cJSON_AddNullToObject(root, "critical_speed_kmh");
   cJSON_AddBoolToObject(root, "stable_to_range_end", !cr->found);
-  cJSON_AddNumberToObject(root, "conicity", c->conicity);
+  cJSON_AddNumberToObject(root, "conicity", conicity);
   cJSON_AddStringToObject(root, "rule", a->index_modes ? "index modes" : "any oscillatory mode");
   double range[2] = {a->vmin, a->vmax};
   cJSON_AddItemToObject(root, "range_kmh", cJSON_CreateDoubleArray(range, 2));
   if (cr->found) cJSON_AddItemToObject(root, "mode", cli_mode_json(&cr->mode, paper));
   else cJSON_AddNullToObject(root, "mode");
-  cli_json_print(root);
+  (void)c;
+  return root;
 }
 
-static void critical_text(const cli_common *c, const crit_args *a, const rr_critical *cr)
+static void critical_text(const cli_common *c, double conicity, const crit_args *a, const rr_critical *cr)
 {
   const rr_mode *md = &cr->mode;
   if (!cr->found) {
-    printf("%s at conicity %g: stable to the range's end (%g km/h)\n", c->veh.name, c->conicity, a->vmax);
+    printf("%s at conicity %g: stable to the range's end (%g km/h)\n", c->veh.name, conicity, a->vmax);
     return;
   }
-  printf("%s critical speed at conicity %g: %.3f km/h\n", c->veh.name, c->conicity, cr->speed_ms * RR_KMH);
+  printf("%s critical speed at conicity %g: %.3f km/h\n", c->veh.name, conicity, cr->speed_ms * RR_KMH);
   printf("  unstable mode: %s at %.4f Hz (energy carbody %.3f, frames %.3f, wheelsets %.3f; roll %.3f; %s)\n",
          md->name, md->freq_hz, md->energy[0], md->energy[1], md->energy[2], md->roll_share,
          md->hunting ? "hunting-related" : "not hunting-related");
@@ -288,10 +289,11 @@ static void critical_text(const cli_common *c, const crit_args *a, const rr_crit
 int cmd_critical(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride critical-speed [VEHICLE] --conicity L [--vmin KMH] [--vmax KMH] [--step KMH] [--index-modes] [--json]\n"
+      "usage: railride critical-speed [VEHICLE] --conicity L1[,L2,...] [--vmin KMH] [--vmax KMH] [--step KMH] [--index-modes] [--json]\n"
       "Lowest speed in [vmin, vmax] (default 10-600 km/h) at which some oscillatory mode, of any\n"
       "frequency and shape, has zeta >= 0: a scan at --step (default 1 km/h), then bisection to\n"
-      "1e-3 km/h. Reports the mode that goes unstable.\n" CLI_COMMON_HELP
+      "1e-3 km/h. Reports the mode that goes unstable. With several conicities, one result each\n"
+      "(JSON: {\"results\": [...]}).\n" CLI_COMMON_HELP
       "  --vmin, --vmax KMH   speed range\n  --step KMH           scan step\n"
       "  --index-modes        only the stability index's modes count (the index reaching 0)\n";
   static const struct option extra[] = {{"vmin", required_argument, 0, OPT_VMIN}, {"vmax", required_argument, 0, OPT_VMAX},
@@ -299,24 +301,33 @@ int cmd_critical(int argc, char **argv)
                                         {"index-modes", no_argument, 0, OPT_INDEX_MODES}, {0, 0, 0, 0}};
   cli_common c;
   crit_args a = {.vmin = 10, .vmax = 600, .step = 1, .index_modes = 0};
-  RUN_PARSE(extra, crit_cb, &a, help);
+  int r = cli_parse_list(argc, argv, &c, extra, crit_cb, &a, help);
+  if (r == CLI_HELP_SHOWN) return 0;
+  if (r) return r;
   if (!c.have_conicity) return cli_bad("--conicity is required");
   if (!(a.vmax > a.vmin)) return cli_bad("--vmax must exceed --vmin");
   rr_model *m;
-  int r = cli_model(&c, &m, 0, 1);
-  if (r) return r;
+  if ((r = cli_model(&c, &m, 0, 1))) return r;
   rr_error e;
   rr_modal_ws *ws;
   rr_critical_opts co = {.v_min_ms = a.vmin / RR_KMH, .v_max_ms = a.vmax / RR_KMH, .step_ms = a.step / RR_KMH,
                          .tol_ms = 1e-3 / RR_KMH, .index_modes = a.index_modes};
-  rr_critical cr;
   int st = rr_modal_ws_new(m, &ws, &e);
-  if (!st) st = rr_critical_speed(m, c.conicity, &c.mo, &co, ws, &cr, &e);
+  cJSON *all = c.json && c.ncon > 1 ? cJSON_CreateObject() : NULL, *arr = all ? cJSON_AddArrayToObject(all, "results") : NULL;
+  for (int i = 0; i < c.ncon && !st; i++) {
+    rr_critical cr;
+    if ((st = rr_critical_speed(m, c.conicities[i], &c.mo, &co, ws, &cr, &e))) break;
+    if (!c.json) critical_text(&c, c.conicities[i], &a, &cr);
+    else {
+      cJSON *one = critical_json(&c, c.conicities[i], &a, &cr, c.veh.sdf_mode == RR_SDF_PAPER);
+      if (arr) cJSON_AddItemToArray(arr, one);
+      else cli_json_print(one);
+    }
+  }
   rr_modal_ws_free(ws);
   rr_model_free(m);
-  if (st) return cli_fail(&e, st);
-  if (c.json) critical_json(&c, &a, &cr, c.veh.sdf_mode == RR_SDF_PAPER);
-  else critical_text(&c, &a, &cr);
+  if (st) { cJSON_Delete(all); return cli_fail(&e, st); }
+  if (all) cli_json_print(all);
   return 0;
 }
 

@@ -19,6 +19,8 @@ enum { OPT_DURATION = 4000, OPT_SEED, OPT_FS, OPT_NSEG, OPT_VPSD, OPT_VLIMIT };
 #define CLI_FS_MIN 64.0    /* above twice the band's 30 Hz */
 #define CLI_FS_MAX 1e5
 #define CLI_NSEG_MAX 1048576
+#define VAL_REL_TOL 0.01   /* time domain against PEM: RMS and Sperling */
+#define VAL_Z_TOL 4.0      /* a 1/3-octave band's error in units of its sampling spread */
 
 static int val_cb(int opt, const char *arg, void *u)
 {
@@ -66,7 +68,9 @@ int cmd_validate(int argc, char **argv)
       "  --spectrum S         spectrum name or file (default wuhan-guangzhou)\n  --points X1,..       floor points (default +L, 0, -L)\n"
       "  --floor-height H     (default 1.2 m)\n  --roll-gravity       sense a_y + g phi_c\n"
       "  --psd FILE.csv       write f_hz and the Welch and PEM PSDs of each point\n"
-      "  --limit N            most samples (duration x fs) accepted (default 4194304)\n";
+      "  --limit N            most samples (duration x fs) accepted (default 4194304)\n"
+      "Verdict: PASS when RMS and Sperling agree within 1 % at every point and every band within\n"
+      "4 sigma; FAIL exits with status 1.\n";
   static const struct option extra[] = {{"duration", required_argument, 0, OPT_DURATION}, {"seed", required_argument, 0, OPT_SEED},
                                         {"fs", required_argument, 0, OPT_FS}, {"nseg", required_argument, 0, OPT_NSEG},
                                         {"psd", required_argument, 0, OPT_VPSD}, {"limit", required_argument, 0, OPT_VLIMIT},
@@ -126,6 +130,15 @@ int cmd_validate(int argc, char **argv)
     }
     fclose(fp);
   }
+  /* the verdict: the time domain's RMS and Sperling index within VAL_REL_TOL of
+     the PEM's (the same state space: only the realisation's discrete lines
+     differ), and every 1/3-octave band within VAL_Z_TOL of its sampling
+     spread */
+  int pass = zmax <= VAL_Z_TOL;
+  for (int q = 0; q < np; q++) {
+    const rr_validate_point *p = &res.points[q];
+    pass = pass && fabs(p->rms_time / p->rms_pem - 1) <= VAL_REL_TOL && fabs(p->sperling_time / p->sperling_pem - 1) <= VAL_REL_TOL;
+  }
   const rr_validate_point *p0 = &res.points[0];
   if (c.json) {
     cJSON *root = cJSON_CreateObject();
@@ -144,6 +157,10 @@ int cmd_validate(int argc, char **argv)
     cJSON_AddStringToObject(root, "spectrum", a.rs.spectrum);
     cJSON_AddNumberToObject(root, "cpu_seconds", secs);
     cJSON_AddStringToObject(root, "band_sigma_rule", "sqrt((1 + 2 c^2) / K * 1.5 / M): K Hann segments at 50% overlap (c = 0.167), M bins in the band, 1.5 = Hann ENBW in bins");
+    cJSON_AddStringToObject(root, "verdict", pass ? "PASS" : "FAIL");
+    cJSON *tol = cJSON_AddObjectToObject(root, "tolerances");
+    cJSON_AddNumberToObject(tol, "rms_and_sperling_relative", VAL_REL_TOL);
+    cJSON_AddNumberToObject(tol, "band_sigmas", VAL_Z_TOL);
     cJSON *pa = cJSON_AddArrayToObject(root, "points");
     for (int q = 0; q < np; q++) {
       const rr_validate_point *p = &res.points[q];
@@ -184,7 +201,9 @@ int cmd_validate(int argc, char **argv)
     }
     printf("1/3-octave bands: largest error %.1f%%, largest |error|/sigma %.2f (sigma from K averages)\n", 100 * emax, zmax);
     printf("simulated and analysed in %.3f s\n", secs);
+    printf("verdict: %s (RMS and Sperling within %g %% of the PEM at every point, every band within %g sigma)\n",
+           pass ? "PASS" : "FAIL", 100 * VAL_REL_TOL, VAL_Z_TOL);
   }
   rr_validate_result_free(&res);
-  return 0;
+  return pass ? 0 : EXIT_FAIL;
 }

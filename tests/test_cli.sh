@@ -95,6 +95,9 @@ json_check "compare rows" "len(d['rows'])==4 and {r['vehicle'] for r in d['rows'
 json_check "summary ride table" "len(d['ride'])==6 and {r['yaw_series'] for r in d['ride']}=={'constant','sdf'}" < "$tmp/sum.json"
 
 "$RR" validate --speed 350 --conicity 0.2 --duration 32 --fs 128 --nseg 512 --json --psd "$tmp/v.csv" > "$tmp/val.json" || bad "validate exit"
+json_check "validate verdict" "d['verdict']=='PASS' and d['tolerances']['rms_and_sperling_relative']==0.01" < "$tmp/val.json"
+"$RR" critical-speed --conicity 0.05,0.4,0.6 --json > "$tmp/crits.json" || bad "critical-speed list exit"
+json_check "critical-speed over a conicity list" "[r['conicity'] for r in d['results']]==[0.05,0.4,0.6] and d['results'][0]['critical_speed_kmh'] is None and abs(d['results'][1]['critical_speed_kmh']-524.7)<0.05 and abs(d['results'][2]['critical_speed_kmh']-422.1)<0.05" < "$tmp/crits.json"
 json_check "validate keys" "all(isinstance(d[k],float) for k in ('sperling_pem','sperling_time','rms_pem','rms_time','psd_band_error_max')) and len(d['points'])==3 and abs(d['rms_time']/d['rms_pem']-1)<2e-3 and abs(d['sperling_time']/d['sperling_pem']-1)<1e-3 and d['psd_band_z_max']<4" < "$tmp/val.json"
 head -1 "$tmp/v.csv" | grep -q '^f_hz,welch_x8.6875,welch_x0,welch_x-8.6875,pem_x8.6875' && ok || bad "validate psd csv"
 expect2 "validate paper mode" "paper-mode SDF has no time-domain form" "$RR" validate --speed 300 --conicity 0.2 --sdf paper --duration 16
