@@ -145,11 +145,49 @@ static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)
               "'' u 1:($2*1e3) w l lc rgb '#999999' notitle\n", d);
 }
 
+/* The Pareto front: the objectives (the columns that are not section.key
+   variables) two by two. The front's file is named in the run's summary. */
+static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc; (void)argv;
+  FILE *f = fopen(d, "r");
+  char head[4096] = "";
+  if (f) { if (!fgets(head, sizeof head, f)) head[0] = 0; fclose(f); }
+  head[strcspn(head, "\r\n")] = 0;
+  int obj[8], nobj = 0, col = 0;
+  char names[8][128];
+  for (char *p = head; *p && nobj < 8;) {   /* CSV fields, quotes allowed */
+    char name[128];
+    int k = 0, q = *p == '"';
+    if (q) p++;
+    while (*p && (q ? *p != '"' : *p != ',') && k < 127) name[k++] = *p++;
+    name[k] = 0;
+    if (q && *p == '"') p++;
+    if (*p == ',') p++;
+    col++;
+    int is_var = strchr(name, '.') && !strchr(name, '@') && !strchr(name, ',');
+    if (!is_var) { obj[nobj] = col; snprintf(names[nobj], sizeof names[nobj], "%s", name); nobj++; }
+  }
+  int npairs = nobj * (nobj - 1) / 2;
+  if (npairs < 1) {   /* one objective: its values over the front */
+    fprintf(gp, "set title 'Pareto front'\nset ylabel \"%s\"\nplot '%s' u 0:%d w p pt 7 notitle\n", names[0], d, obj[0]);
+    return;
+  }
+  fprintf(gp, "set xtics rotate by -45; set format x '%%.2g'; set format y '%%.2g'\n"
+              "set multiplot layout 1,%d title 'Pareto front (NSGA-II): the objectives two by two'\n", npairs < 3 ? npairs : 3);
+  for (int i = 0, shown = 0; i < nobj && shown < 3; i++)
+    for (int j = i + 1; j < nobj && shown < 3; j++, shown++)
+      fprintf(gp, "set xlabel \"%s\"; set ylabel \"%s\"\nplot '%s' u %d:%d w p pt 7 ps 0.5 lc rgb '#2166ac' notitle\n",
+              names[i], names[j], d, obj[i], obj[j]);
+  fprintf(gp, "unset multiplot\n");
+}
+
 static const plot_kind kinds[] = {
   {"damper", NULL, NULL, 0, script_damper},         {"locus", NULL, NULL, 0, script_locus},
   {"map", NULL, NULL, 1, script_map},               {"sweep", NULL, NULL, 1, script_sweep},
   {"ride", NULL, "--psd", 0, script_psd},           {"validate", NULL, "--psd", 0, script_validate},
   {"compare", "--csv", NULL, 0, script_compare},    {"bifurcation", "--csv", NULL, 0, script_bifurcation},
+  {"optimise", NULL, NULL, 0, script_optimise},     {"optimize", NULL, NULL, 0, script_optimise},
 };
 #define NKINDS (int)(sizeof kinds / sizeof kinds[0])
 
@@ -221,6 +259,20 @@ static const char *gridded(const char *in, char *out, size_t n)
   return out;
 }
 
+/* The Pareto file an optimise run's summary names ("written to F"). */
+static const char *front_file(const char *summary, char *out, size_t n)
+{
+  FILE *f = fopen(summary, "r");
+  char line[PATH_MAX + 128];
+  out[0] = 0;
+  while (f && fgets(line, sizeof line, f)) {
+    char *w = strstr(line, "written to ");
+    if (w) { snprintf(out, n, "%s", w + 11); out[strcspn(out, "\r\n")] = 0; }
+  }
+  if (f) fclose(f);
+  return out;
+}
+
 /* Copies file path to stdout. */
 static void replay(const char *path)
 {
@@ -274,8 +326,9 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
     close(saved);
     if (!k->extra) replay(data);
   }
-  char grid[PATH_MAX + 8];
+  char grid[PATH_MAX + 8], front[PATH_MAX];
   const char *src = file_data ? file_data : data;
+  if (!r && k->script == script_optimise) src = front_file(data, front, sizeof front);
   if (!r && k->grid) src = gridded(src, grid, sizeof grid);
   if (!r) r = render(k, out, src, n, av);
   free(av);

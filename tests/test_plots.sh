@@ -26,6 +26,7 @@ png ride ride --speed 300 --conicity 0.1,0.4
 png compare compare --conicities 0.05:0.5:3
 png validate validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256
 png bifurcation bifurcation --profile worn --speeds 100:560
+png optimise optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 5 --output "$tmp/po"
 png scan bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4
 # the data still reaches standard output where the command prints CSV
 head -1 "$tmp/map.out" | grep -q '^speed_kmh,conicity,stability_index' && ok || bad "map --plot: the CSV still printed"
