@@ -2,6 +2,8 @@
  * (any objective over a grid of two vehicle-file keys). */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <signal.h>
+#include <unistd.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -35,16 +37,46 @@ static int eval_batch(void *user, int n, const double *x, double *f)
   return 0;
 }
 
-static void progress(void *user, int gen, long evals, double secs, int front, double hv)
+/* Ctrl-C or SIGTERM: the run stops after the generation in progress and
+   writes what it has. */
+static volatile sig_atomic_t stop_requested;
+static void on_stop(int sig) { (void)sig; stop_requested = 1; }
+
+static void catch_stops(void)
 {
-  int total = *(int *)user;
-  if (isnan(hv)) fprintf(stderr, "gen %4d/%d  evals %9ld  %8.0f evals/s  front %5d\n", gen, total, evals, evals / secs, front);
-  else fprintf(stderr, "gen %4d/%d  evals %9ld  %8.0f evals/s  front %5d  hypervolume %.6g\n", gen, total, evals, evals / secs, front, hv);
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
 }
 
-enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ, OPT_OLIMIT };
+typedef struct run_log {
+  int total, show;   /* generations; progress on stderr */
+  FILE *history;     /* PREFIX-history.csv */
+} run_log;
 
-typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; double limit; } optim_args;
+static int progress(void *user, int gen, long evals, double secs, int front, double hv)
+{
+  run_log *l = user;
+  if (l->history) {
+    fprintf(l->history, "%d,%ld,%.6g,%d,", gen, evals, secs, front);
+    cli_csv_num(l->history, hv, '\n');
+    fflush(l->history);
+  }
+  if (l->show) {
+    double eta = secs / gen * (l->total - gen);
+    fprintf(stderr, "\rgen %4d/%d  evals %9ld  %8.0f evals/s  front %5d", gen, l->total, evals, evals / secs, front);
+    if (!isnan(hv)) fprintf(stderr, "  hypervolume %.6g", hv);
+    fprintf(stderr, "  ETA %.0f s   %s", eta, gen == l->total ? "\n" : "");
+  }
+  return stop_requested;
+}
+
+enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ, OPT_OLIMIT, OPT_PROGRESS };
+
+typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; double limit; int progress; } optim_args;
 
 /* The largest population whose NSGA-II arrays stay within ~2 GB. */
 #define CLI_POPULATION_MAX 2000000
@@ -54,14 +86,18 @@ int cmd_optimise(int argc, char **argv)
   static const char help[] =
       "usage: railride optimise PROBLEM.ini [--population N] [--generations N] [--seed N] [--threads N] [--output PREFIX]\n"
       "NSGA-II over the problem file's variables (vehicle-file keys with bounds) and objectives;\n"
-      "writes PREFIX-pareto.csv (the non-dominated designs: variables in SI, objectives) and a\n"
-      "summary; progress on stderr (generation, evaluations/s, front size, hypervolume with the\n"
-      "initial population's worst values +10% as reference). See examples/paper-optimisation.ini.\n"
-      "  --limit N            most designs evaluated, population x (generations + 1) (default 1e8)\n";
+      "writes PREFIX-pareto.csv (the non-dominated designs: variables in SI, objectives),\n"
+      "PREFIX-history.csv (per generation: evaluations, seconds, front size, hypervolume with the\n"
+      "initial population's worst values +10% as reference) and a summary. Progress with an ETA\n"
+      "on stderr when it is a terminal (or with --progress). Ctrl-C or SIGTERM stops after the\n"
+      "generation in progress and writes its front (exit status 130). See\n"
+      "examples/paper-optimisation.ini.\n"
+      "  --limit N            most designs evaluated, population x (generations + 1) (default 1e8)\n"
+      "  --progress           progress on stderr even when it is not a terminal\n";
   static const struct option opts[] = {{"population", required_argument, 0, OPT_POP}, {"generations", required_argument, 0, OPT_GEN},
                                        {"seed", required_argument, 0, OPT_OSEED}, {"threads", required_argument, 0, OPT_THREADS},
                                        {"output", required_argument, 0, OPT_OUT}, {"limit", required_argument, 0, OPT_OLIMIT},
-                                       {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+                                       {"progress", no_argument, 0, OPT_PROGRESS}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
   optim_args a = {.pop = -1, .gen = -1, .threads = -1, .seed = -1, .out = NULL, .limit = CLI_LIMIT_DESIGNS};
   optind = 1;
   opterr = 0;
@@ -76,6 +112,7 @@ int cmd_optimise(int argc, char **argv)
     case OPT_THREADS: if (whole(optarg, 0, 1024, &k)) return cli_bad("--threads: a whole number >= 0 expected"); a.threads = k; break;
     case OPT_OUT: a.out = optarg; break;
     case OPT_OLIMIT: if (cli_limit(optarg, &a.limit)) return EXIT_BADINPUT; break;
+    case OPT_PROGRESS: a.progress = 1; break;
     default: return cli_getopt_error("optimise", opt, argv[optind - 1]);
     }
   }
@@ -93,39 +130,48 @@ int cmd_optimise(int argc, char **argv)
   if (p.population > CLI_POPULATION_MAX)
     return cli_bad("optimise: population %d exceeds %d (memory)", p.population, CLI_POPULATION_MAX);
   if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs")) return EXIT_BADINPUT;
+  /* the outputs are opened before the run, so that a bad folder shows now */
+  char path[PATH_MAX + 16], hpath[PATH_MAX + 16];
+  snprintf(path, sizeof path, "%s-pareto.csv", p.output);
+  snprintf(hpath, sizeof hpath, "%s-history.csv", p.output);
+  FILE *fp = fopen(path, "w");
+  if (!fp) return cli_bad("optimise: cannot write %s: %s", path, strerror(errno));
+  run_log log = {.total = p.generations, .show = a.progress || isatty(STDERR_FILENO), .history = fopen(hpath, "w")};
+  if (!log.history) { fclose(fp); return cli_bad("optimise: cannot write %s: %s", hpath, strerror(errno)); }
+  fprintf(log.history, "generation,evaluations,seconds,front_size,hypervolume\n");
   rr_vehicle v;
   st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
-  if (st) return cli_fail(&e, st);
+  if (st) { fclose(fp); fclose(log.history); return cli_fail(&e, st); }
   const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
   for (int i = 0; i < p.nvar; i++) keys[i] = p.keys[i];
   for (int i = 0; i < p.nobj; i++) objs[i] = p.objs[i];
   rr_design *d;
-  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj, objs, &d, &e))) return cli_fail(&e, st);
+  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj, objs, &d, &e))) { fclose(fp); fclose(log.history); return cli_fail(&e, st); }
   eval_ctx ec = {d, p.threads, p.nobj, p.maximize};
   rr_nsga2_opts o = rr_nsga2_opts_default();
   o.population = p.population;
   o.generations = p.generations;
   o.seed = p.seed;
+  int done_gens = 0;
   o.progress = progress;
-  o.user = &p.generations;
+  o.user = &log;
+  o.generations_done = &done_gens;
+  catch_stops();
   int N = p.population;
   double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj);
   int *rank = malloc(sizeof(int) * N);
-  if (!X || !F || !rank) { free(X); free(F); free(rank); rr_design_free(d); return cli_bad("out of memory"); }
+  if (!X || !F || !rank) { free(X); free(F); free(rank); rr_design_free(d); fclose(fp); fclose(log.history); return cli_bad("out of memory"); }
   struct timespec t0, t1;
   clock_gettime(CLOCK_MONOTONIC, &t0);
   st = rr_nsga2_run(p.nvar, p.nobj, p.lo, p.hi, eval_batch, &ec, &o, X, F, rank, &e);
   clock_gettime(CLOCK_MONOTONIC, &t1);
   double secs = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec);
   rr_design_free(d);
-  if (st) { free(X); free(F); free(rank); return cli_fail(&e, st); }
+  fclose(log.history);
+  if (st) { free(X); free(F); free(rank); fclose(fp); return cli_fail(&e, st); }
   for (int i = 0; i < N; i++)
     for (int k = 0; k < p.nobj; k++)
       if (p.maximize[k]) F[i * p.nobj + k] = -F[i * p.nobj + k];
-  char path[PATH_MAX + 16];
-  snprintf(path, sizeof path, "%s-pareto.csv", p.output);
-  FILE *fp = fopen(path, "w");
-  if (!fp) { free(X); free(F); free(rank); return cli_bad("cannot write %s: %s", path, strerror(errno)); }
   for (int j = 0; j < p.nvar; j++) cli_csv_field(fp, p.keys[j], ',');
   for (int k = 0; k < p.nobj; k++) cli_csv_field(fp, p.objs[k], k + 1 < p.nobj ? ',' : '\n');
   int nfront = 0;
@@ -144,15 +190,16 @@ int cmd_optimise(int argc, char **argv)
     }
   }
   fclose(fp);
-  long evals = (long)N * (p.generations + 1);
+  long evals = (long)N * (done_gens + 1);
   printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", argv[optind], N, p.generations, p.seed);
+  if (done_gens < p.generations) printf("  stopped by a signal after generation %d of %d: the front below is that generation's\n", done_gens, p.generations);
   printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, secs, evals / secs);
-  printf("  Pareto front: %d designs, written to %s\n", nfront, path);
+  printf("  Pareto front: %d designs, written to %s (history: %s)\n", nfront, path, hpath);
   for (int k = 0; k < p.nobj; k++)
     printf("  %-28s %s: best %.6g, range on the front %.6g .. %.6g\n", p.objs[k], p.maximize[k] ? "max" : "min",
            p.maximize[k] ? -best[k] : best[k], p.maximize[k] ? -worst[k] : best[k], p.maximize[k] ? -best[k] : worst[k]);
   free(X); free(F); free(rank);
-  return 0;
+  return done_gens < p.generations ? 130 : 0;   /* 128 + SIGINT, as a shell reports an interrupted job */
 }
 
 typedef struct sweep_args {

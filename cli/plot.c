@@ -267,7 +267,12 @@ static const char *front_file(const char *summary, char *out, size_t n)
   out[0] = 0;
   while (f && fgets(line, sizeof line, f)) {
     char *w = strstr(line, "written to ");
-    if (w) { snprintf(out, n, "%s", w + 11); out[strcspn(out, "\r\n")] = 0; }
+    if (w) {
+      snprintf(out, n, "%s", w + 11);
+      out[strcspn(out, "\r\n")] = 0;
+      char *h = strstr(out, " (history");
+      if (h) *h = 0;
+    }
   }
   if (f) fclose(f);
   return out;

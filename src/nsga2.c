@@ -357,6 +357,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
   }
   if (rank_crowd(N, m, F, rank, cd, mem, tmp, tmp2, start, col) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (o->generations_done) *o->generations_done = 0;
   for (int g = 1; g <= o->generations; g++) {
     /* offspring by binary tournament, SBX and polynomial mutation */
     for (int i = 0; i < N; i++) {
@@ -415,8 +416,9 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
         for (int i = 0; i < N; i++) if (rank[i] == 0) { memcpy(F2 + c * m, F + i * m, sizeof(double) * m); c++; }
         hv = m == 1 ? NAN : rr_hypervolume(c, m, F2, ref);
       }
-      o->progress(o->user, g, evals, now_s() - t0, fs, hv);
-    }
+      if (o->generations_done) *o->generations_done = g;
+      if (o->progress(o->user, g, evals, now_s() - t0, fs, hv)) break;
+    } else if (o->generations_done) *o->generations_done = g;
   }
   memcpy(x_out, X, sizeof(double) * N * d);
   memcpy(f_out, F, sizeof(double) * N * m);

@@ -107,9 +107,10 @@ expect2 "validate unstable vehicle" "unstable at 300 km/h" "$RR" validate "$tmp/
 expect2 "validate duration" "--duration" "$RR" validate --speed 300 --conicity 0.2 --duration 0
 expect2 "validate seed" "--seed" "$RR" validate --speed 300 --conicity 0.2 --seed -4
 
-"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 12 --generations 2 --threads 2 --output "$tmp/po" > "$tmp/po.txt" 2> "$tmp/po.err" || bad "optimise exit"
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 12 --generations 2 --threads 2 --output "$tmp/po" --progress > "$tmp/po.txt" 2> "$tmp/po.err" || bad "optimise exit"
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 12 --generations 2 --threads 2 --output "$tmp/po2" > /dev/null 2> "$tmp/po2.err" && [ ! -s "$tmp/po2.err" ] && ok || bad "optimise: no progress when stderr is not a terminal"
 head -1 "$tmp/po-pareto.csv" | grep -qx 'primary.longitudinal_stiffness,lateral_damper.damping,yaw_damper.damping,yaw_damper.series_stiffness,zeta_low,zeta_high,std_zeta' && [ "$(wc -l < "$tmp/po-pareto.csv")" -ge 2 ] && ok || bad "optimise pareto csv"
-grep -q "evals/s" "$tmp/po.err" && grep -q "hypervolume" "$tmp/po.err" && ok || bad "optimise progress"
+grep -q "evals/s" "$tmp/po.err" && grep -q "hypervolume" "$tmp/po.err" && grep -q "ETA" "$tmp/po.err" && ok || bad "optimise progress"
 # the Pareto rows are mutually non-dominated and within the bounds (checked in Python)
 python3 - "$tmp/po-pareto.csv" <<'PY' && ok || bad "pareto rows non-dominated and in bounds"
 import csv, sys
@@ -208,5 +209,12 @@ json_check "bifurcation scan" "d['method']=='scan' and len(d['branch'])==6 and [
 "$RR" bifurcation --profile "$SRC/examples/tread-worn.csv" --speeds 100:545 --csv > "$tmp/bif.csv" || bad "bifurcation csv"
 head -2 "$tmp/bif.csv" | tail -1 | grep -q '^speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual$' && ok || bad "bifurcation csv header"
 
+# Long runs: Ctrl-C stops after the generation in progress and writes its front
+timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 400 --generations 100000 \
+  --threads 1 --output "$tmp/int" > "$tmp/int.out" 2>&1; st=$?
+[ $st -eq 130 ] && grep -q "stopped by a signal after generation" "$tmp/int.out" && [ "$(wc -l < "$tmp/int-pareto.csv")" -gt 1 ] \
+  && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
+head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
+expect2 "optimise output folder missing" "cannot write" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output /nonexistent/dir/x
 echo "cli: $pass passed, $fail failed"
 [ $fail -eq 0 ]

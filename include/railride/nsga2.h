@@ -16,8 +16,11 @@ extern "C" {
 
 /* Fills f (n x m) for x (n x d). NaN objectives count as worst. Returns 0. */
 typedef int (*rr_nsga2_eval_fn)(void *user, int n, const double *x, double *f);
-typedef void (*rr_nsga2_progress_fn)(void *user, int generation, long evaluations, double seconds, int front_size,
-                                     double hypervolume);
+/* Called after every generation; a nonzero return stops the run there, the
+   population of that generation being the result (generations_done says
+   how far it got). */
+typedef int (*rr_nsga2_progress_fn)(void *user, int generation, long evaluations, double seconds, int front_size,
+                                    double hypervolume);
 
 typedef struct rr_nsga2_opts {
   int population;          /* even (100) */
@@ -30,6 +33,7 @@ typedef struct rr_nsga2_opts {
   int hv_every;            /* hypervolume in progress reports every k generations (10; 0: never) */
   rr_nsga2_progress_fn progress;
   void *user;              /* for progress */
+  int *generations_done;   /* if not NULL: the generations completed (a stop can end the run early) */
 } rr_nsga2_opts;
 RR_API rr_nsga2_opts rr_nsga2_opts_default(void);
 
