@@ -36,6 +36,7 @@ typedef struct cli_common {
   rr_modal_opts mo;
   int sdf_override;           /* -1: keep the vehicle's */
   int gravity;                /* -1: keep */
+  unsigned given;             /* CLI_READS_* of the shared options given */
 } cli_common;
 
 /* Long options shared by the stability commands (ids >= 1000). */
@@ -46,17 +47,11 @@ enum { OPT_SPEED = 1000, OPT_CONICITY, OPT_JSON, OPT_FMAX, OPT_WMIN, OPT_RMAX, O
   {"wmin", required_argument, 0, OPT_WMIN}, {"rmax", required_argument, 0, OPT_RMAX}, \
   {"sdf", required_argument, 0, OPT_SDF}, \
   {"gravity-stiffness", no_argument, 0, OPT_GRAVITY}, {"help", no_argument, 0, OPT_HELP}
-#define CLI_COMMON_HELP \
-  "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n" \
-  "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n" \
-  "  --conicity L         equivalent conicity\n" \
-  "  --fmax HZ            highest frequency counted in the stability index (default 10)\n" \
-  "  --wmin W             least wheelset energy share of a hunting mode (default 1e-3)\n" \
-  "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n" \
-  "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n" \
-  "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n" \
-  "  --json               JSON output\n" \
-  "  --help               this text\n"
+/* Where a command's help lists the shared options it reads (only those). */
+#define CLI_COMMON_HELP "@COMMON@\n"
+/* Which shared options a command reads (the vehicle, --sdf and
+   --gravity-stiffness: all); one it does not read is an error. */
+enum { CLI_READS_SPEED = 1, CLI_READS_CONICITY = 2, CLI_READS_JSON = 4, CLI_READS_INDEX = 8 };
 
 void cli_common_init(cli_common *c);
 /* Handles a shared option; returns 1 if handled, 0 if not ours, -1 on error (printed). */
@@ -116,10 +111,10 @@ int cmd_damper(int argc, char **argv);
  * terminated, ids < 1000 or >= 2000), calling extra_cb for those. Loads the
  * vehicle. Returns 0 to go on, or an exit status (help printed: -1 -> 0). */
 typedef int (*cli_extra_cb)(int opt, const char *arg, void *user);
-int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
               void *user, const char *usage_text);
 /* The same, with --conicity taking a comma list into c->conicities. */
-int cli_parse_list(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
                    void *user, const char *usage_text);
 #define CLI_HELP_SHOWN (-1)
 

@@ -56,7 +56,7 @@ int cmd_damper(int argc, char **argv)
                                         {"c", required_argument, 0, OPT_C}, {"freqs", required_argument, 0, OPT_FREQS}, {0, 0, 0, 0}};
   cli_common c;
   damper_args a = {0, 0, 0, 0, 0, 0.1, 30, 200};
-  int r = cli_parse(argc, argv, &c, extra, damper_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_JSON, extra, damper_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   double k = a.element == 0 ? c.veh.yaw_series_stiffness : c.veh.lateral_series_stiffness;

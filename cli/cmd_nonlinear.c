@@ -244,7 +244,7 @@ int cmd_simulate(int argc, char **argv)
       {"track", required_argument, 0, OPT_TRACK}, {"limit", required_argument, 0, OPT_NLIMIT}, {0, 0, 0, 0}};
   cli_common c;
   nl_args a = {.duration = 10, .fs = SIM_FS_DEFAULT, .limit = CLI_LIMIT_SAMPLES};
-  int r = cli_parse(argc, argv, &c, extra, nl_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED, extra, nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) return cli_bad("simulate: --speed is required");
@@ -466,11 +466,10 @@ int cmd_bifurcation(int argc, char **argv)
   cli_common c;
   nl_args a = {.method = "continuation", .v_lo = 100, .v_hi = 600, .step_kmh = SCAN_STEP_DEFAULT_KMH,
                .settle = rr_scan_opts_default().settle_s, .limit = 1e5};
-  int r = cli_parse(argc, argv, &c, extra, nl_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_JSON, extra, nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (a.csv && c.json) return cli_bad("bifurcation: --json or --csv, not both");
-  if (c.have_speed || c.have_conicity) return cli_bad("bifurcation: the speed range is --speeds A:B; the conicity is the profile's");
   rr_profile p;
   if ((r = nl_profile(&a, &c.veh, &p))) return r;
   return strcmp(a.method, "scan") ? bif_continue(&c, &p, &a) : bif_scan(&c, &p, &a);

@@ -250,7 +250,7 @@ int cmd_sweep(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   sweep_args a = {.limit = CLI_LIMIT_GRID};
-  int r = cli_parse(argc, argv, &c, extra, sweep_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_INDEX, extra, sweep_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!a.have[0] || !a.have[1] || !a.objective) return cli_bad("sweep: --x, --y and --objective are required");

@@ -163,7 +163,7 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const 
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a->rs, &tmp);
-  int r = conicity_list ? cli_parse_list(argc, argv, c, extra, ride_cb, a, help) : cli_parse(argc, argv, c, extra, ride_cb, a, help);
+  int r = conicity_list ? cli_parse_list(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra, ride_cb, a, help) : cli_parse(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra, ride_cb, a, help);
   if (r) return r;
   ride_setup_points(&a->rs, &c->veh, argc, argv);
   return 0;
@@ -406,7 +406,7 @@ int cmd_compare(int argc, char **argv)
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.ra.rs, &tmp);
   a.c_from = 0.02; a.c_to = 0.6; a.c_n = 12;
-  int r = cli_parse(argc, argv, &c, extra, cmp_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX, extra, cmp_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = 350;

@@ -4,8 +4,8 @@
 #include <string.h>
 #include "cli.h"
 
-#define RUN_PARSE(extra, cb, user, help) do { \
-    int r_ = cli_parse(argc, argv, &c, extra, cb, user, help); \
+#define RUN_PARSE(reads, extra, cb, user, help) do { \
+    int r_ = cli_parse(argc, argv, &c, reads, extra, cb, user, help); \
     if (r_ == CLI_HELP_SHOWN) return 0; \
     if (r_) return r_; } while (0)
 
@@ -18,7 +18,7 @@ int cmd_matrices(int argc, char **argv)
                              "In paper SDF mode A is taken at the curve's lowest stiffness.\n" CLI_COMMON_HELP;
   cli_common c;
   rr_model *m;
-  RUN_PARSE(NULL, NULL, NULL, help);
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, NULL, NULL, NULL, help);
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   int n = rr_model_ndof(m), ni = rr_model_ninputs(m), N = rr_model_state_size(m);
@@ -167,7 +167,7 @@ int cmd_modes(int argc, char **argv)
                              "oscillatory mode, of any frequency and shape.\n" CLI_COMMON_HELP;
   cli_common c;
   rr_model *m;
-  RUN_PARSE(NULL, NULL, NULL, help);
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL, NULL, NULL, help);
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   rr_modal_result res;
@@ -206,7 +206,7 @@ int cmd_robust(int argc, char **argv)
   static const struct option extra[] = {{"n-conicity", required_argument, 0, OPT_NCON}, {0, 0, 0, 0}};
   cli_common c;
   robust_args a = {rr_robust_opts_default()};
-  RUN_PARSE(extra, robust_cb, &a, help);
+  RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX, extra, robust_cb, &a, help);
   rr_model *m;
   int r = cli_model(&c, &m, 0, 0);
   if (r) return r;
@@ -301,7 +301,7 @@ int cmd_critical(int argc, char **argv)
                                         {"index-modes", no_argument, 0, OPT_INDEX_MODES}, {0, 0, 0, 0}};
   cli_common c;
   crit_args a = {.vmin = 10, .vmax = 600, .step = 1, .index_modes = 0};
-  int r = cli_parse_list(argc, argv, &c, extra, crit_cb, &a, help);
+  int r = cli_parse_list(argc, argv, &c, CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, extra, crit_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_conicity) return cli_bad("--conicity is required");
@@ -375,7 +375,9 @@ int cmd_locus(int argc, char **argv)
                                         {"limit", required_argument, 0, OPT_GLIMIT}, {0, 0, 0, 0}};
   cli_common c;
   grid_args a = {.limit = CLI_LIMIT_LOCUS};
-  RUN_PARSE(extra, grid_cb, &a, help);
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb, &a, help);
+  if (a.param == 0 && c.have_speed) return cli_bad("locus: --over speed sweeps the speed (--range); --speed is not read");
+  if (a.param == 1 && c.have_conicity) return cli_bad("locus: --over conicity sweeps the conicity (--range); --conicity is not read");
   if (cli_over_limit("locus", a.n, a.limit, "points")) return EXIT_BADINPUT;
   if (!a.have_range) {
     if (a.param == 0) { a.from = 20; a.to = 500; a.n = 25; }
@@ -465,7 +467,7 @@ int cmd_map(int argc, char **argv)
                                         {"limit", required_argument, 0, OPT_GLIMIT}, {0, 0, 0, 0}};
   cli_common c;
   grid_args a = {.s_from = 100, .s_to = 500, .s_n = 41, .c_from = 0.02, .c_to = 0.5, .c_n = 25, .limit = CLI_LIMIT_GRID};
-  RUN_PARSE(extra, grid_cb, &a, help);
+  RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb, &a, help);
   if (!(a.s_from > 0 && a.s_to > 0 && fmax(a.s_from, a.s_to) <= RR_SPEED_MAX_MS * RR_KMH))
     return cli_bad("--speeds: must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
   if (!(a.c_from >= 0 && a.c_to >= 0 && fmax(a.c_from, a.c_to) <= RR_CONICITY_MAX))

@@ -165,7 +165,7 @@ int cmd_summary(int argc, char **argv)
                              "indices, critical speeds at conicities 0.05, 0.17, 0.40; ride comfort (PEM,\n"
                              "wuhan-guangzhou spectrum) at those conicities with and without the yaw damper SDF.\n" CLI_COMMON_HELP;
   cli_common c;
-  int r = cli_parse(argc, argv, &c, NULL, NULL, NULL, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL, NULL, NULL, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = CLI_SPEED_DEFAULT_KMH;

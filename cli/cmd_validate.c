@@ -80,7 +80,7 @@ int cmd_validate(int argc, char **argv)
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.rs, &tmp);
-  int r = cli_parse(argc, argv, &c, extra, val_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra, val_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   double samples = a.vo.duration_s * a.vo.fs_hz;

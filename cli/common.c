@@ -167,7 +167,7 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols)
   return arr;
 }
 
-static int parse_impl(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
                       void *user, const char *usage_text, int list);
 
 int cli_getopt_error(const char *cmd, int opt, const char *word)
@@ -177,19 +177,62 @@ int cli_getopt_error(const char *cmd, int opt, const char *word)
   return cli_bad("%s: unknown option '%s' (see --help)", cmd, word);
 }
 
-int cli_parse(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
               void *user, const char *usage_text)
 {
-  return parse_impl(argc, argv, c, extra, cb, user, usage_text, 0);
+  return parse_impl(argc, argv, c, reads, extra, cb, user, usage_text, 0);
 }
 
-int cli_parse_list(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
                    void *user, const char *usage_text)
 {
-  return parse_impl(argc, argv, c, extra, cb, user, usage_text, 1);
+  return parse_impl(argc, argv, c, reads, extra, cb, user, usage_text, 1);
 }
 
-static int parse_impl(int argc, char **argv, cli_common *c, const struct option *extra, cli_extra_cb cb,
+/* The shared options' help lines, each with what reading it takes. */
+static const struct { unsigned reads; const char *text; } common_help[] = {
+  {0, "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n"},
+  {CLI_READS_SPEED, "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n"},
+  {CLI_READS_CONICITY, "  --conicity L         equivalent conicity\n"},
+  {CLI_READS_INDEX, "  --fmax HZ            highest frequency counted in the stability index (default 10)\n"},
+  {CLI_READS_INDEX, "  --wmin W             least wheelset energy share of a hunting mode (default 1e-3)\n"},
+  {CLI_READS_INDEX, "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n"},
+  {0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
+  {0, "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
+  {CLI_READS_JSON, "  --json               JSON output\n"},
+  {0, "  --help               this text\n"},
+};
+
+/* The help text with the shared options the command reads where its marker is. */
+static void print_help(const char *text, unsigned reads)
+{
+  const char *m = strstr(text, CLI_COMMON_HELP);
+  if (!m) { fputs(text, stdout); return; }
+  fwrite(text, 1, (size_t)(m - text), stdout);
+  for (size_t i = 0; i < sizeof common_help / sizeof common_help[0]; i++)
+    if ((common_help[i].reads & reads) == common_help[i].reads) fputs(common_help[i].text, stdout);
+  fputs(m + strlen(CLI_COMMON_HELP), stdout);
+}
+
+static const char *opt_name(const struct option *opts, int opt)
+{
+  for (int i = 0; opts[i].name; i++)
+    if (opts[i].val == opt) return opts[i].name;
+  return "?";
+}
+
+static unsigned reads_of(int opt)
+{
+  switch (opt) {
+  case OPT_SPEED: return CLI_READS_SPEED;
+  case OPT_CONICITY: return CLI_READS_CONICITY;
+  case OPT_JSON: return CLI_READS_JSON;
+  case OPT_FMAX: case OPT_WMIN: case OPT_RMAX: return CLI_READS_INDEX;
+  }
+  return 0;
+}
+
+static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
                       void *user, const char *usage_text, int list)
 {
   static const struct option common[] = {CLI_COMMON_OPTIONS};
@@ -204,8 +247,10 @@ static int parse_impl(int argc, char **argv, cli_common *c, const struct option 
   opterr = 0;
   int opt;
   while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
-    if (opt == 'h' || opt == OPT_HELP) { fputs(usage_text, stdout); return CLI_HELP_SHOWN; }
+    if (opt == 'h' || opt == OPT_HELP) { print_help(usage_text, reads); return CLI_HELP_SHOWN; }
     if (opt == ':' || opt == '?') return cli_getopt_error(argv[0], opt, argv[optind - 1]);
+    if (reads_of(opt) && !(reads_of(opt) & reads))
+      return cli_bad("%s: option '--%s' is not one this command reads (see --help)", argv[0], opt_name(opts, opt));
     int r = cli_common_option(c, opt, optarg);
     if (r < 0) return EXIT_BADINPUT;
     if (r == 1) continue;
