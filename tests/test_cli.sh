@@ -216,5 +216,10 @@ timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisat
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
 head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
 expect2 "optimise output folder missing" "cannot write" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output /nonexistent/dir/x
+# docs/cli.md is the commands' --help, regenerated; bash completion offers commands and a command's options
+sh "$SRC/tools/gen-cli-docs" "$(dirname "$RR")" | diff -q - "$SRC/docs/cli.md" > /dev/null && ok || bad "docs/cli.md is stale: tools/gen-cli-docs build > docs/cli.md"
+comp() { RR="$RR" bash -c 'source "$1"; shift; PATH="$(dirname "$RR"):$PATH"; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _railride; echo "${COMPREPLY[*]}"' _ "$SRC/share/railride-completion.bash" "$@"; }
+comp railride bif | grep -qw bifurcation && ok || bad "completion: commands"
+comp railride bifurcation --pro | grep -qw -- --profile && ok || bad "completion: a command's options"
 echo "cli: $pass passed, $fail failed"
 [ $fail -eq 0 ]
