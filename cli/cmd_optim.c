@@ -23,18 +23,74 @@ static int whole(const char *v, long lo, long hi, long *out)
 
 typedef struct eval_ctx {
   rr_design *d;
-  int threads, nobj;
-  const int *maximize;
+  int threads;
+  const rr_problem *p;
 } eval_ctx;
 
+/* Objectives (maximised ones negated) and then the constraints' violations,
+   value - bound for <=, bound - value for >= (NSGA-II counts those > 0). */
 static int eval_batch(void *user, int n, const double *x, double *f)
 {
   eval_ctx *c = user;
+  const rr_problem *p = c->p;
+  int w = p->nobj + p->ncon;
   rr_design_evaluate_batch(c->d, n, x, f, c->threads);
-  for (int i = 0; i < n; i++)
-    for (int k = 0; k < c->nobj; k++)
-      if (c->maximize[k]) f[i * c->nobj + k] = -f[i * c->nobj + k];
+  for (int i = 0; i < n; i++) {
+    for (int k = 0; k < p->nobj; k++)
+      if (p->maximize[k]) f[i * w + k] = -f[i * w + k];
+    for (int k = 0; k < p->ncon; k++) {
+      double *g = &f[i * w + p->nobj + k];
+      *g = p->con_sense[k] * (*g - p->con_bound[k]);
+    }
+  }
   return 0;
+}
+
+static int same_design(const double *a, const double *b, int n) { return !memcmp(a, b, sizeof(double) * (size_t)n); }
+
+/* The final front (rank 0, duplicates once) as CSV and JSON; best and worst
+   of each objective over it. With constraints: feasible and violation
+   columns. Returns the designs written. */
+static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X, const double *F, const int *rank,
+                       const double *cv, int N, double *best, double *worst)
+{
+  for (int j = 0; j < p->nvar; j++) cli_csv_field(fp, p->keys[j], ',');
+  for (int k = 0; k < p->nobj; k++) cli_csv_field(fp, p->objs[k], k + 1 < p->nobj || p->ncon ? ',' : '\n');
+  if (p->ncon) fprintf(fp, "feasible,violation\n");
+  cJSON *root = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(root, "front");
+  int nfront = 0;
+  for (int k = 0; k < p->nobj; k++) { best[k] = INFINITY; worst[k] = -INFINITY; }
+  for (int i = 0; i < N; i++) {
+    if (rank[i] != 0) continue;
+    int dup = 0;
+    for (int q = 0; q < i && !dup; q++) dup = rank[q] == 0 && same_design(X + (size_t)q * p->nvar, X + (size_t)i * p->nvar, p->nvar);
+    if (dup) continue;
+    nfront++;
+    cJSON *o = cJSON_CreateObject(), *vars = cJSON_AddObjectToObject(o, "variables"), *objs = cJSON_AddObjectToObject(o, "objectives");
+    for (int j = 0; j < p->nvar; j++) {
+      fprintf(fp, "%.10g,", X[i * p->nvar + j]);
+      cJSON_AddNumberToObject(vars, p->keys[j], X[i * p->nvar + j]);
+    }
+    for (int k = 0; k < p->nobj; k++) {
+      double fk = F[i * p->nobj + k];
+      fprintf(fp, "%.10g%s", fk, k + 1 < p->nobj || p->ncon ? "," : "\n");
+      cJSON_AddItemToObject(objs, p->objs[k], isfinite(fk) ? cJSON_CreateNumber(fk) : cJSON_CreateNull());
+      double sk = p->maximize[k] ? -fk : fk;
+      if (sk < best[k]) best[k] = sk;
+      if (sk > worst[k]) worst[k] = sk;
+    }
+    if (p->ncon) {
+      fprintf(fp, "%d,", cv[i] == 0);
+      cli_csv_num(fp, cv[i], '\n');
+      cJSON_AddBoolToObject(o, "feasible", cv[i] == 0);
+      cJSON_AddItemToObject(o, "violation", isfinite(cv[i]) ? cJSON_CreateNumber(cv[i]) : cJSON_CreateNull());
+    }
+    cJSON_AddItemToArray(arr, o);
+  }
+  char *text = cJSON_Print(root);
+  if (text) { fputs(text, fj); fputc('\n', fj); free(text); }
+  cJSON_Delete(root);
+  return nfront;
 }
 
 /* Ctrl-C or SIGTERM: the run stops after the generation in progress and
@@ -86,7 +142,8 @@ int cmd_optimise(int argc, char **argv)
   static const char help[] =
       "usage: railride optimise PROBLEM.ini [--population N] [--generations N] [--seed N] [--threads N] [--output PREFIX]\n"
       "NSGA-II over the problem file's variables (vehicle-file keys with bounds) and objectives;\n"
-      "writes PREFIX-pareto.csv (the non-dominated designs: variables in SI, objectives),\n"
+      "writes PREFIX-pareto.csv and .json (the non-dominated designs, each once: variables in SI,\n"
+      "objectives; with constraints, feasible and total violation),\n"
       "PREFIX-history.csv (per generation: evaluations, seconds, front size, hypervolume with the\n"
       "initial population's worst values +10% as reference) and a summary. Progress with an ETA\n"
       "on stderr when it is a terminal (or with --progress). Ctrl-C or SIGTERM stops after the\n"
@@ -131,23 +188,25 @@ int cmd_optimise(int argc, char **argv)
     return cli_bad("optimise: population %d exceeds %d (memory)", p.population, CLI_POPULATION_MAX);
   if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs")) return EXIT_BADINPUT;
   /* the outputs are opened before the run, so that a bad folder shows now */
-  char path[PATH_MAX + 16], hpath[PATH_MAX + 16];
+  char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16];
   snprintf(path, sizeof path, "%s-pareto.csv", p.output);
   snprintf(hpath, sizeof hpath, "%s-history.csv", p.output);
-  FILE *fp = fopen(path, "w");
-  if (!fp) return cli_bad("optimise: cannot write %s: %s", path, strerror(errno));
+  snprintf(jpath, sizeof jpath, "%s-pareto.json", p.output);
+  FILE *fp = fopen(path, "w"), *fj = fp ? fopen(jpath, "w") : NULL;
+  if (!fp || !fj) { if (fp) fclose(fp); return cli_bad("optimise: cannot write %s: %s", fp ? jpath : path, strerror(errno)); }
   run_log log = {.total = p.generations, .show = a.progress || isatty(STDERR_FILENO), .history = fopen(hpath, "w")};
-  if (!log.history) { fclose(fp); return cli_bad("optimise: cannot write %s: %s", hpath, strerror(errno)); }
+  if (!log.history) { fclose(fp); fclose(fj); return cli_bad("optimise: cannot write %s: %s", hpath, strerror(errno)); }
   fprintf(log.history, "generation,evaluations,seconds,front_size,hypervolume\n");
   rr_vehicle v;
   st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
-  if (st) { fclose(fp); fclose(log.history); return cli_fail(&e, st); }
+  if (st) { fclose(fp); fclose(fj); fclose(log.history); return cli_fail(&e, st); }
   const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
   for (int i = 0; i < p.nvar; i++) keys[i] = p.keys[i];
   for (int i = 0; i < p.nobj; i++) objs[i] = p.objs[i];
+  for (int i = 0; i < p.ncon; i++) objs[p.nobj + i] = p.cons[i];   /* constraints: evaluated after the objectives */
   rr_design *d;
-  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj, objs, &d, &e))) { fclose(fp); fclose(log.history); return cli_fail(&e, st); }
-  eval_ctx ec = {d, p.threads, p.nobj, p.maximize};
+  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj + p.ncon, objs, &d, &e))) { fclose(fp); fclose(fj); fclose(log.history); return cli_fail(&e, st); }
+  eval_ctx ec = {d, p.threads, &p};
   rr_nsga2_opts o = rr_nsga2_opts_default();
   o.population = p.population;
   o.generations = p.generations;
@@ -156,11 +215,13 @@ int cmd_optimise(int argc, char **argv)
   o.progress = progress;
   o.user = &log;
   o.generations_done = &done_gens;
+  o.ncon = p.ncon;
   catch_stops();
   int N = p.population;
-  double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj);
+  double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj), *cv = malloc(sizeof(double) * N);
   int *rank = malloc(sizeof(int) * N);
-  if (!X || !F || !rank) { free(X); free(F); free(rank); rr_design_free(d); fclose(fp); fclose(log.history); return cli_bad("out of memory"); }
+  o.cv_out = cv;
+  if (!X || !F || !rank || !cv) { free(X); free(F); free(rank); free(cv); rr_design_free(d); fclose(fp); fclose(fj); fclose(log.history); return cli_bad("out of memory"); }
   struct timespec t0, t1;
   clock_gettime(CLOCK_MONOTONIC, &t0);
   st = rr_nsga2_run(p.nvar, p.nobj, p.lo, p.hi, eval_batch, &ec, &o, X, F, rank, &e);
@@ -168,37 +229,25 @@ int cmd_optimise(int argc, char **argv)
   double secs = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec);
   rr_design_free(d);
   fclose(log.history);
-  if (st) { free(X); free(F); free(rank); fclose(fp); return cli_fail(&e, st); }
+  if (st) { free(X); free(F); free(rank); free(cv); fclose(fp); fclose(fj); return cli_fail(&e, st); }
   for (int i = 0; i < N; i++)
     for (int k = 0; k < p.nobj; k++)
       if (p.maximize[k]) F[i * p.nobj + k] = -F[i * p.nobj + k];
-  for (int j = 0; j < p.nvar; j++) cli_csv_field(fp, p.keys[j], ',');
-  for (int k = 0; k < p.nobj; k++) cli_csv_field(fp, p.objs[k], k + 1 < p.nobj ? ',' : '\n');
-  int nfront = 0;
   double best[RR_DESIGN_MAX_OBJS], worst[RR_DESIGN_MAX_OBJS];
-  for (int k = 0; k < p.nobj; k++) { best[k] = INFINITY; worst[k] = -INFINITY; }
-  for (int i = 0; i < N; i++) {
-    if (rank[i] != 0) continue;
-    nfront++;
-    for (int j = 0; j < p.nvar; j++) fprintf(fp, "%.10g,", X[i * p.nvar + j]);
-    for (int k = 0; k < p.nobj; k++) {
-      double fk = F[i * p.nobj + k];
-      fprintf(fp, "%.10g%s", fk, k + 1 < p.nobj ? "," : "\n");
-      double sk = p.maximize[k] ? -fk : fk;
-      if (sk < best[k]) best[k] = sk;
-      if (sk > worst[k]) worst[k] = sk;
-    }
-  }
+  int nfront = write_front(fp, fj, &p, X, F, rank, cv, N, best, worst), nfeas = 0;
+  for (int i = 0; i < N; i++) nfeas += rank[i] == 0 && cv[i] == 0;
   fclose(fp);
+  fclose(fj);
   long evals = (long)N * (done_gens + 1);
   printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", argv[optind], N, p.generations, p.seed);
   if (done_gens < p.generations) printf("  stopped by a signal after generation %d of %d: the front below is that generation's\n", done_gens, p.generations);
   printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, secs, evals / secs);
-  printf("  Pareto front: %d designs, written to %s (history: %s)\n", nfront, path, hpath);
+  printf("  Pareto front: %d designs, written to %s (also %s; history: %s)\n", nfront, path, jpath, hpath);
+  if (p.ncon) printf("  constraints: %d of the front's designs feasible%s\n", nfeas, nfeas ? "" : " (none: the front is the least violating)");
   for (int k = 0; k < p.nobj; k++)
     printf("  %-28s %s: best %.6g, range on the front %.6g .. %.6g\n", p.objs[k], p.maximize[k] ? "max" : "min",
            p.maximize[k] ? -best[k] : best[k], p.maximize[k] ? -worst[k] : best[k], p.maximize[k] ? -best[k] : worst[k]);
-  free(X); free(F); free(rank);
+  free(X); free(F); free(rank); free(cv);
   return done_gens < p.generations ? 130 : 0;   /* 128 + SIGINT, as a shell reports an interrupted job */
 }
 

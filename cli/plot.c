@@ -270,7 +270,7 @@ static const char *front_file(const char *summary, char *out, size_t n)
     if (w) {
       snprintf(out, n, "%s", w + 11);
       out[strcspn(out, "\r\n")] = 0;
-      char *h = strstr(out, " (history");
+      char *h = strstr(out, " (");
       if (h) *h = 0;
     }
   }

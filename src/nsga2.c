@@ -299,12 +299,39 @@ static void sanitize(double *f, int n)
   for (int i = 0; i < n; i++) if (isnan(f[i])) f[i] = INFINITY;
 }
 
-/* Ranks and crowding of a population of n; fronts gathered in one pass
-   (mem: the indices ordered by front, start: nf + 1 offsets). */
-static int rank_crowd(int n, int m, const double *f, int *rank, double *cd, int *mem, int *tmp, int *tmp2,
-                      int *start, double *col)
+/* Constrained ranks (Deb 2000): the feasible designs (cv = 0) by
+   non-domination among themselves, then the infeasible ones one front each
+   in order of total violation (equal violations share a front). fc (n x m),
+   idx and r2 (n) are scratch. */
+static int constrained_ranks(int n, int m, const double *f, const double *cv, int *rank, double *fc, int *idx,
+                             int *r2, int *tmp)
 {
-  int nf = rr_nondominated_ranks(n, m, f, rank);
+  int nfeas = 0, nf = 0;
+  for (int i = 0; i < n; i++)
+    if (cv[i] == 0) {
+      memcpy(fc + (size_t)nfeas * m, f + (size_t)i * m, sizeof(double) * m);
+      idx[nfeas++] = i;
+    }
+  if (nfeas && (nf = rr_nondominated_ranks(nfeas, m, fc, r2)) < 0) return -1;
+  for (int k = 0; k < nfeas; k++) rank[idx[k]] = r2[k];
+  int ninf = 0;
+  for (int i = 0; i < n; i++)
+    if (cv[i] != 0) idx[ninf++] = i;
+  sort_by_key(idx, ninf, cv, tmp, 0);
+  for (int k = 0; k < ninf; k++) {
+    if (k == 0 || cv[idx[k]] != cv[idx[k - 1]]) nf++;
+    rank[idx[k]] = nf - 1;
+  }
+  return nf;
+}
+
+/* Ranks and crowding of a population of n; fronts gathered in one pass
+   (mem: the indices ordered by front, start: nf + 1 offsets). With cv,
+   constrained ranks (fc, idx, r2 scratch). */
+static int rank_crowd(int n, int m, const double *f, const double *cv, double *fc, int *idx, int *r2, int *rank,
+                      double *cd, int *mem, int *tmp, int *tmp2, int *start, double *col)
+{
+  int nf = cv ? constrained_ranks(n, m, f, cv, rank, fc, idx, r2, tmp) : rr_nondominated_ranks(n, m, f, rank);
   if (nf < 0) return -1;
   for (int k = 0; k <= nf; k++) start[k] = 0;
   for (int i = 0; i < n; i++) start[rank[i] + 1]++;
@@ -319,6 +346,21 @@ static int better(int a, int b, const int *rank, const double *cd)
 {
   if (rank[a] != rank[b]) return rank[a] < rank[b];
   return cd[a] > cd[b];
+}
+
+/* Objectives and total violations from an evaluation's rows (m + nc each). */
+static void split_eval(const double *E, int n, int m, int nc, double *F, double *CV)
+{
+  for (int i = 0; i < n; i++) {
+    memcpy(F + (size_t)i * m, E + (size_t)i * (m + nc), sizeof(double) * m);
+    if (!nc) continue;
+    double v = 0;
+    for (int k = 0; k < nc; k++) {
+      double g = E[(size_t)i * (m + nc) + m + k];
+      v += isnan(g) ? INFINITY : fmax(g, 0);
+    }
+    CV[i] = v;
+  }
 }
 
 int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval, void *user,
@@ -338,7 +380,12 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   int *rank = malloc(sizeof(int) * R), *mem = malloc(sizeof(int) * R), *tmp = malloc(sizeof(int) * (R + 1)), *sel = malloc(sizeof(int) * N);
   int *tmp2 = malloc(sizeof(int) * R), *start = malloc(sizeof(int) * (R + 1));
   double *col = malloc(sizeof(double) * R);
+  int nc = o->ncon > 0 ? o->ncon : 0, me = m + nc;
+  double *E = malloc(sizeof(double) * N * me), *CV = nc ? calloc((size_t)R, sizeof(double)) : NULL;
+  double *fc = nc ? malloc(sizeof(double) * R * m) : NULL;
+  int *idx = nc ? malloc(sizeof(int) * R) : NULL, *r2 = nc ? malloc(sizeof(int) * R) : NULL;
   int st = RR_OK;
+  if (!E || (nc && (!CV || !fc || !idx || !r2))) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   if (!X || !F || !cd || !X2 || !F2 || !ref || !rank || !mem || !tmp || !sel || !tmp2 || !start || !col) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   rr_rng rng;
   rr_rng_seed(&rng, o->seed);
@@ -346,7 +393,8 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   long evals = 0;
   for (int i = 0; i < N; i++)
     for (int j = 0; j < d; j++) X[i * d + j] = lo[j] + (hi[j] - lo[j]) * rr_rng_uniform(&rng);
-  eval(user, N, X, F);
+  eval(user, N, X, E);
+  split_eval(E, N, m, nc, F, CV);
   evals += N;
   sanitize(F, N * m);
   /* hypervolume reference: the worst finite value of each objective in the
@@ -356,7 +404,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     for (int i = 0; i < N; i++) if (isfinite(F[i * m + k])) { a = fmin(a, F[i * m + k]); b = fmax(b, F[i * m + k]); }
     ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
   }
-  if (rank_crowd(N, m, F, rank, cd, mem, tmp, tmp2, start, col) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (rank_crowd(N, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   if (o->generations_done) *o->generations_done = 0;
   for (int g = 1; g <= o->generations; g++) {
     /* offspring by binary tournament, SBX and polynomial mutation */
@@ -376,13 +424,14 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
         if (rr_rng_uniform(&rng) < pm) c2[j] = poly_mutation(&rng, o->eta_m, lo[j], hi[j], c2[j]);
       }
     }
-    eval(user, N, X2, F2);
+    eval(user, N, X2, E);
+    split_eval(E, N, m, nc, F2, CV ? CV + N : NULL);
     evals += N;
     sanitize(F2, N * m);
     memcpy(X + N * d, X2, sizeof(double) * N * d);
     memcpy(F + N * m, F2, sizeof(double) * N * m);
     /* environmental selection from parents and offspring */
-    int nf = rank_crowd(R, m, F, rank, cd, mem, tmp, tmp2, start, col);
+    int nf = rank_crowd(R, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col);
     if (nf < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
     int taken = 0;
     int *keep = sel;   /* reuse: N entries */
@@ -402,7 +451,9 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
       memcpy(F2 + i * m, F + keep[i] * m, sizeof(double) * m);
       tmp[i] = rank[keep[i]];
       col[i] = cd[keep[i]];
+      if (CV) fc[i] = CV[keep[i]];   /* fc: scratch for the survivors' violations */
     }
+    if (CV) memcpy(CV, fc, sizeof(double) * N);
     memcpy(X, X2, sizeof(double) * N * d);
     memcpy(F, F2, sizeof(double) * N * m);
     memcpy(rank, tmp, sizeof(int) * N);
@@ -413,7 +464,8 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
       double hv = NAN;
       if (o->hv_every > 0 && (g % o->hv_every == 0 || g == o->generations) && m <= 3) {
         int c = 0;
-        for (int i = 0; i < N; i++) if (rank[i] == 0) { memcpy(F2 + c * m, F + i * m, sizeof(double) * m); c++; }
+        for (int i = 0; i < N; i++)
+          if (rank[i] == 0 && (!CV || CV[i] == 0)) { memcpy(F2 + c * m, F + i * m, sizeof(double) * m); c++; }
         hv = m == 1 ? NAN : rr_hypervolume(c, m, F2, ref);
       }
       if (o->generations_done) *o->generations_done = g;
@@ -423,8 +475,13 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   memcpy(x_out, X, sizeof(double) * N * d);
   memcpy(f_out, F, sizeof(double) * N * m);
   if (rank_out) memcpy(rank_out, rank, sizeof(int) * N);
+  if (o->cv_out) {
+    if (CV) memcpy(o->cv_out, CV, sizeof(double) * N);
+    else memset(o->cv_out, 0, sizeof(double) * N);
+  }
 done:
   free(X); free(F); free(cd); free(X2); free(F2); free(ref); free(rank); free(mem); free(tmp); free(sel);
   free(tmp2); free(start); free(col);
+  free(E); free(CV); free(fc); free(idx); free(r2);
   return st;
 }

@@ -1,6 +1,7 @@
 /* Optimisation problem files (see problem.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
+#include <math.h>
 #include <errno.h>
 #include <ini.h>
 #include <limits.h>
@@ -117,12 +118,38 @@ static int variable(pr_ctx *c, const char *name, char *val)
   return 1;
 }
 
+/* constraint = NAME <= VALUE or NAME >= VALUE */
+static int constraint(pr_ctx *c, const char *name, char *val)
+{
+  rr_problem *p = c->p;
+  if (p->ncon + p->nobj >= RR_DESIGN_MAX_OBJS) return pr_fail(c, "objectives", name, "more than 16 objectives and constraints%s", "");
+  char *op = strstr(val, "<=");
+  int sense = 1;
+  if (!op) { op = strstr(val, ">="); sense = -1; }
+  if (!op) return pr_fail(c, "objectives", name, "'%s': expected NAME <= VALUE or NAME >= VALUE", val);
+  char *rhs = op + 2, *end;
+  *op = 0;
+  trim(val);
+  trim(rhs);
+  errno = 0;
+  double b = strtod(rhs, &end);
+  if (end == rhs || *end || errno || !isfinite(b)) return pr_fail(c, "objectives", name, "'%s': the bound must be a finite number", rhs);
+  rr_error e;
+  if (rr_objective_check(val, &e)) return pr_fail(c, "objectives", name, "%s", e.msg);
+  snprintf(p->cons[p->ncon], sizeof p->cons[0], "%s", val);
+  p->con_sense[p->ncon] = sense;
+  p->con_bound[p->ncon] = b;
+  p->ncon++;
+  return 1;
+}
+
 /* objective = NAME [minimize|maximize] */
 static int objective(pr_ctx *c, const char *name, char *val)
 {
   rr_problem *p = c->p;
-  if (strcmp(name, "objective")) return pr_fail(c, "objectives", name, "unknown key (objective = NAME minimize|maximize)%s", "");
-  if (p->nobj >= RR_DESIGN_MAX_OBJS) return pr_fail(c, "objectives", name, "more than 16 objectives%s", "");
+  if (!strcmp(name, "constraint")) return constraint(c, name, val);
+  if (strcmp(name, "objective")) return pr_fail(c, "objectives", name, "unknown key (objective = NAME minimize|maximize, constraint = NAME <= VALUE)%s", "");
+  if (p->nobj + p->ncon >= RR_DESIGN_MAX_OBJS) return pr_fail(c, "objectives", name, "more than 16 objectives and constraints%s", "");
   char *sp = strrchr(val, ' ');
   int maxi = 0;
   if (sp && (!strcmp(sp + 1, "minimize") || !strcmp(sp + 1, "minimise"))) *sp = 0;

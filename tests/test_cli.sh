@@ -216,6 +216,19 @@ timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisat
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
 head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
 expect2 "optimise output folder missing" "cannot write" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output /nonexistent/dir/x
+# constraints: every design on the constrained front is feasible (stable at both points); the front is also JSON, each design once
+"$RR" optimise "$SRC/examples/paper-optimisation-constrained.ini" --population 60 --generations 8 --threads 2 --output "$tmp/pc" > /dev/null || bad "constrained optimise exit"
+python3 - "$tmp/pc-pareto.csv" "$tmp/pc-pareto.json" <<'PY' && ok || bad "constrained front"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert rows and all(r['feasible'] == '1' and float(r['violation']) == 0 for r in rows)
+assert all(float(r['zeta_low']) <= 0 and float(r['zeta_high']) <= 0 for r in rows)
+keys = [tuple(r[k] for k in list(r)[:4]) for r in rows]
+assert len(keys) == len(set(keys)), 'duplicates on the front'
+d = json.load(open(sys.argv[2]))
+assert len(d['front']) == len(rows) and all(f['feasible'] for f in d['front'])
+PY
+
 # docs/cli.md is the commands' --help, regenerated; bash completion offers commands and a command's options
 sh "$SRC/tools/gen-cli-docs" "$(dirname "$RR")" | diff -q - "$SRC/docs/cli.md" > /dev/null && ok || bad "docs/cli.md is stale: tools/gen-cli-docs build > docs/cli.md"
 comp() { RR="$RR" bash -c 'source "$1"; shift; PATH="$(dirname "$RR"):$PATH"; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _railride; echo "${COMPREPLY[*]}"' _ "$SRC/share/railride-completion.bash" "$@"; }

@@ -14,7 +14,9 @@
 extern "C" {
 #endif
 
-/* Fills f (n x m) for x (n x d). NaN objectives count as worst. Returns 0. */
+/* Fills f (n x (m + ncon)) for x (n x d): the m objectives, then ncon
+   constraint violations (>= 0, 0 when the constraint holds). NaN objectives
+   count as worst, a NaN violation as infinite. Returns 0. */
 typedef int (*rr_nsga2_eval_fn)(void *user, int n, const double *x, double *f);
 /* Called after every generation; a nonzero return stops the run there, the
    population of that generation being the result (generations_done says
@@ -34,6 +36,10 @@ typedef struct rr_nsga2_opts {
   rr_nsga2_progress_fn progress;
   void *user;              /* for progress */
   int *generations_done;   /* if not NULL: the generations completed (a stop can end the run early) */
+  int ncon;                /* constraint violations after the objectives (0); Deb's constrained
+                              domination: feasible designs beat infeasible ones, infeasible ones
+                              rank by their total violation */
+  double *cv_out;          /* if not NULL: the final population's total violations (pop) */
 } rr_nsga2_opts;
 RR_API rr_nsga2_opts rr_nsga2_opts_default(void);
 

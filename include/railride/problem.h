@@ -4,6 +4,8 @@
  *                 population (even, >= 4), generations, seed, threads, output
  *   [variables]   section.key = LO .. HI      (vehicle-file keys, with units)
  *   [objectives]  objective = NAME [minimize|maximize]   (design.h's names)
+ *                 constraint = NAME <= VALUE | NAME >= VALUE  (a design violating
+ *                 it loses to every feasible one: Deb's constrained domination)
  *
  * Every message names file, line and key. */
 #ifndef RAILRIDE_PROBLEM_H
@@ -31,6 +33,10 @@ typedef struct rr_problem {
   double lo[RR_DESIGN_MAX_VARS], hi[RR_DESIGN_MAX_VARS];   /* SI, inside the keys' physical ranges */
   char objs[RR_DESIGN_MAX_OBJS][128];
   int maximize[RR_DESIGN_MAX_OBJS];
+  int ncon;                            /* constraints: cons[k] <= bound (sense +1) or >= (-1) */
+  char cons[RR_DESIGN_MAX_OBJS][128];
+  int con_sense[RR_DESIGN_MAX_OBJS];
+  double con_bound[RR_DESIGN_MAX_OBJS];
 } rr_problem;
 
 RR_API int rr_problem_load(const char *path, rr_problem *p, rr_error *err);
