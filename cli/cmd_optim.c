@@ -130,9 +130,9 @@ static int progress(void *user, int gen, long evals, double secs, int front, dou
   return stop_requested;
 }
 
-enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ, OPT_OLIMIT, OPT_PROGRESS };
+enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ, OPT_OLIMIT, OPT_PROGRESS, OPT_RESUME };
 
-typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; double limit; int progress; } optim_args;
+typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; double limit; int progress, resume; } optim_args;
 
 /* The largest population whose NSGA-II arrays stay within ~2 GB. */
 #define CLI_POPULATION_MAX 2000000
@@ -147,14 +147,18 @@ int cmd_optimise(int argc, char **argv)
       "PREFIX-history.csv (per generation: evaluations, seconds, front size, hypervolume with the\n"
       "initial population's worst values +10% as reference) and a summary. Progress with an ETA\n"
       "on stderr when it is a terminal (or with --progress). Ctrl-C or SIGTERM stops after the\n"
-      "generation in progress and writes its front (exit status 130). See\n"
+      "generation in progress and writes its front (exit status 130). PREFIX-checkpoint.bin holds\n"
+      "the run's state after every generation; --resume goes on from it (the same problem,\n"
+      "population and seed: the result is the uninterrupted run's). See\n"
       "examples/paper-optimisation.ini.\n"
       "  --limit N            most designs evaluated, population x (generations + 1) (default 1e8)\n"
-      "  --progress           progress on stderr even when it is not a terminal\n";
+      "  --progress           progress on stderr even when it is not a terminal\n"
+      "  --resume             go on from PREFIX-checkpoint.bin\n";
   static const struct option opts[] = {{"population", required_argument, 0, OPT_POP}, {"generations", required_argument, 0, OPT_GEN},
                                        {"seed", required_argument, 0, OPT_OSEED}, {"threads", required_argument, 0, OPT_THREADS},
                                        {"output", required_argument, 0, OPT_OUT}, {"limit", required_argument, 0, OPT_OLIMIT},
-                                       {"progress", no_argument, 0, OPT_PROGRESS}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+                                       {"progress", no_argument, 0, OPT_PROGRESS}, {"resume", no_argument, 0, OPT_RESUME},
+                                       {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
   optim_args a = {.pop = -1, .gen = -1, .threads = -1, .seed = -1, .out = NULL, .limit = CLI_LIMIT_DESIGNS};
   optind = 1;
   opterr = 0;
@@ -170,6 +174,7 @@ int cmd_optimise(int argc, char **argv)
     case OPT_OUT: a.out = optarg; break;
     case OPT_OLIMIT: if (cli_limit(optarg, &a.limit)) return EXIT_BADINPUT; break;
     case OPT_PROGRESS: a.progress = 1; break;
+    case OPT_RESUME: a.resume = 1; break;
     default: return cli_getopt_error("optimise", opt, argv[optind - 1]);
     }
   }
@@ -188,15 +193,17 @@ int cmd_optimise(int argc, char **argv)
     return cli_bad("optimise: population %d exceeds %d (memory)", p.population, CLI_POPULATION_MAX);
   if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs")) return EXIT_BADINPUT;
   /* the outputs are opened before the run, so that a bad folder shows now */
-  char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16];
+  char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16], cpath[PATH_MAX + 16];
+  snprintf(cpath, sizeof cpath, "%s-checkpoint.bin", p.output);
+  if (a.resume && access(cpath, R_OK)) return cli_bad("optimise --resume: no checkpoint %s", cpath);
   snprintf(path, sizeof path, "%s-pareto.csv", p.output);
   snprintf(hpath, sizeof hpath, "%s-history.csv", p.output);
   snprintf(jpath, sizeof jpath, "%s-pareto.json", p.output);
   FILE *fp = fopen(path, "w"), *fj = fp ? fopen(jpath, "w") : NULL;
   if (!fp || !fj) { if (fp) fclose(fp); return cli_bad("optimise: cannot write %s: %s", fp ? jpath : path, strerror(errno)); }
-  run_log log = {.total = p.generations, .show = a.progress || isatty(STDERR_FILENO), .history = fopen(hpath, "w")};
+  run_log log = {.total = p.generations, .show = a.progress || isatty(STDERR_FILENO), .history = fopen(hpath, a.resume ? "a" : "w")};
   if (!log.history) { fclose(fp); fclose(fj); return cli_bad("optimise: cannot write %s: %s", hpath, strerror(errno)); }
-  fprintf(log.history, "generation,evaluations,seconds,front_size,hypervolume\n");
+  if (!a.resume) fprintf(log.history, "generation,evaluations,seconds,front_size,hypervolume\n");
   rr_vehicle v;
   st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
   if (st) { fclose(fp); fclose(fj); fclose(log.history); return cli_fail(&e, st); }
@@ -216,6 +223,8 @@ int cmd_optimise(int argc, char **argv)
   o.user = &log;
   o.generations_done = &done_gens;
   o.ncon = p.ncon;
+  o.checkpoint = cpath;
+  o.resume = a.resume ? cpath : NULL;
   catch_stops();
   int N = p.population;
   double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj), *cv = malloc(sizeof(double) * N);

@@ -2,6 +2,7 @@
  * 1995) and polynomial mutation formulas. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -363,6 +364,78 @@ static void split_eval(const double *E, int n, int m, int nc, double *F, double 
   }
 }
 
+/* The run's state between generations, as a checkpoint file: a header, the
+   generator's state, the hypervolume reference, the bounds (a resume must
+   be of the same problem) and the population with its ranks and crowding. */
+#define CKPT_MAGIC "RRNSGA2"
+#define CKPT_VERSION 1
+typedef struct nsga_state {
+  int d, m, nc, N, g;
+  long evals;
+  uint64_t seed;
+  rr_rng *rng;
+  double *ref, *X, *F, *CV, *cd;
+  const double *lo, *hi;
+  int *rank;
+} nsga_state;
+
+static int ckpt_io(FILE *f, void *p, size_t size, size_t n, int writing)
+{
+  return n == 0 || (writing ? fwrite(p, size, n, f) : fread(p, size, n, f)) == n ? 0 : -1;
+}
+
+static int state_save(const char *path, const nsga_state *s, rr_error *err)
+{
+  char tmpname[4096 + 8];
+  snprintf(tmpname, sizeof tmpname, "%s.tmp", path);
+  FILE *f = fopen(tmpname, "wb");
+  if (!f) return rr_seterr(err, RR_EIO, "nsga2: cannot write the checkpoint %s", tmpname);
+  int32_t head[6] = {CKPT_VERSION, s->d, s->m, s->nc, s->N, s->g};
+  int64_t ev = s->evals;
+  size_t N = (size_t)s->N;
+  int bad = ckpt_io(f, CKPT_MAGIC, 1, 8, 1) || ckpt_io(f, head, sizeof head[0], 6, 1) || ckpt_io(f, &ev, sizeof ev, 1, 1) ||
+            ckpt_io(f, (void *)&s->seed, sizeof s->seed, 1, 1) || ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 1) ||
+            ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 1) || ckpt_io(f, (void *)s->lo, sizeof(double), (size_t)s->d, 1) ||
+            ckpt_io(f, (void *)s->hi, sizeof(double), (size_t)s->d, 1) || ckpt_io(f, s->X, sizeof(double), N * s->d, 1) ||
+            ckpt_io(f, s->F, sizeof(double), N * s->m, 1) || (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 1)) ||
+            ckpt_io(f, s->cd, sizeof(double), N, 1) || ckpt_io(f, s->rank, sizeof(int), N, 1);
+  if (fclose(f) || bad) { remove(tmpname); return rr_seterr(err, RR_EIO, "nsga2: cannot write the checkpoint %s", tmpname); }
+  if (rename(tmpname, path)) return rr_seterr(err, RR_EIO, "nsga2: cannot rename the checkpoint to %s", path);
+  return RR_OK;
+}
+
+static int state_load(const char *path, nsga_state *s, rr_error *err)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return rr_seterr(err, RR_EIO, "%s: cannot read the checkpoint", path);
+  char magic[8];
+  int32_t head[6];
+  int64_t ev;
+  uint64_t seed;
+  double lo[64], hi[64];
+  int st = RR_OK;
+  size_t N = (size_t)s->N;
+  if (ckpt_io(f, magic, 1, 8, 0) || memcmp(magic, CKPT_MAGIC, 8) || ckpt_io(f, head, sizeof head[0], 6, 0) ||
+      head[0] != CKPT_VERSION)
+    st = rr_seterr(err, RR_EPARSE, "%s: not a railride NSGA-II checkpoint", path);
+  else if (head[1] != s->d || head[2] != s->m || head[3] != s->nc || head[4] != s->N || s->d > 64)
+    st = rr_seterr(err, RR_EINVAL, "%s: a checkpoint of another problem (%d variables, %d objectives, %d constraints, "
+                   "population %d)", path, head[1], head[2], head[3], head[4]);
+  else if (ckpt_io(f, &ev, sizeof ev, 1, 0) || ckpt_io(f, &seed, sizeof seed, 1, 0) || ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 0) ||
+           ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 0) || ckpt_io(f, lo, sizeof(double), (size_t)s->d, 0) ||
+           ckpt_io(f, hi, sizeof(double), (size_t)s->d, 0))
+    st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
+  else if (seed != s->seed || memcmp(lo, s->lo, sizeof(double) * s->d) || memcmp(hi, s->hi, sizeof(double) * s->d))
+    st = rr_seterr(err, RR_EINVAL, "%s: a checkpoint of another run (seed or variable bounds differ)", path);
+  else if (ckpt_io(f, s->X, sizeof(double), N * s->d, 0) || ckpt_io(f, s->F, sizeof(double), N * s->m, 0) ||
+           (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 0)) || ckpt_io(f, s->cd, sizeof(double), N, 0) ||
+           ckpt_io(f, s->rank, sizeof(int), N, 0))
+    st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
+  fclose(f);
+  if (!st) { s->g = head[5]; s->evals = (long)ev; }
+  return st;
+}
+
 int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval, void *user,
                  const rr_nsga2_opts *o, double *x_out, double *f_out, int *rank_out, rr_error *err)
 {
@@ -391,22 +464,31 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   rr_rng_seed(&rng, o->seed);
   double t0 = now_s();
   long evals = 0;
-  for (int i = 0; i < N; i++)
-    for (int j = 0; j < d; j++) X[i * d + j] = lo[j] + (hi[j] - lo[j]) * rr_rng_uniform(&rng);
-  eval(user, N, X, E);
-  split_eval(E, N, m, nc, F, CV);
-  evals += N;
-  sanitize(F, N * m);
-  /* hypervolume reference: the worst finite value of each objective in the
-     initial population, plus 10% of its range */
-  for (int k = 0; k < m; k++) {
-    double a = INFINITY, b = -INFINITY;
-    for (int i = 0; i < N; i++) if (isfinite(F[i * m + k])) { a = fmin(a, F[i * m + k]); b = fmax(b, F[i * m + k]); }
-    ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
+  nsga_state ck = {.d = d, .m = m, .nc = nc, .N = N, .seed = o->seed, .rng = &rng, .ref = ref, .X = X, .F = F, .CV = CV,
+                   .cd = cd, .lo = lo, .hi = hi, .rank = rank};
+  int g0 = 0;
+  if (o->resume) {
+    if ((st = state_load(o->resume, &ck, err))) goto done;
+    g0 = ck.g;
+    evals = ck.evals;
+  } else {
+    for (int i = 0; i < N; i++)
+      for (int j = 0; j < d; j++) X[i * d + j] = lo[j] + (hi[j] - lo[j]) * rr_rng_uniform(&rng);
+    eval(user, N, X, E);
+    split_eval(E, N, m, nc, F, CV);
+    evals += N;
+    sanitize(F, N * m);
+    /* hypervolume reference: the worst finite value of each objective in the
+       initial population, plus 10% of its range */
+    for (int k = 0; k < m; k++) {
+      double a = INFINITY, b = -INFINITY;
+      for (int i = 0; i < N; i++) if (isfinite(F[i * m + k])) { a = fmin(a, F[i * m + k]); b = fmax(b, F[i * m + k]); }
+      ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
+    }
+    if (rank_crowd(N, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
   }
-  if (rank_crowd(N, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
-  if (o->generations_done) *o->generations_done = 0;
-  for (int g = 1; g <= o->generations; g++) {
+  if (o->generations_done) *o->generations_done = g0;
+  for (int g = g0 + 1; g <= o->generations; g++) {
     /* offspring by binary tournament, SBX and polynomial mutation */
     for (int i = 0; i < N; i++) {
       int a = (int)(rr_rng_next(&rng) % N), b = (int)(rr_rng_next(&rng) % N);
@@ -458,6 +540,12 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     memcpy(F, F2, sizeof(double) * N * m);
     memcpy(rank, tmp, sizeof(int) * N);
     memcpy(cd, col, sizeof(double) * N);
+    if (o->generations_done) *o->generations_done = g;
+    if (o->checkpoint) {   /* before the report: a stop then leaves this generation's state */
+      ck.g = g;
+      ck.evals = evals;
+      if ((st = state_save(o->checkpoint, &ck, err))) goto done;
+    }
     if (o->progress) {
       int fs = 0;
       for (int i = 0; i < N; i++) fs += rank[i] == 0;
@@ -468,9 +556,8 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
           if (rank[i] == 0 && (!CV || CV[i] == 0)) { memcpy(F2 + c * m, F + i * m, sizeof(double) * m); c++; }
         hv = m == 1 ? NAN : rr_hypervolume(c, m, F2, ref);
       }
-      if (o->generations_done) *o->generations_done = g;
       if (o->progress(o->user, g, evals, now_s() - t0, fs, hv)) break;
-    } else if (o->generations_done) *o->generations_done = g;
+    }
   }
   memcpy(x_out, X, sizeof(double) * N * d);
   memcpy(f_out, F, sizeof(double) * N * m);

@@ -216,6 +216,13 @@ timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisat
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
 head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
 expect2 "optimise output folder missing" "cannot write" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output /nonexistent/dir/x
+# checkpoint and resume: 5 generations, then --resume to 12, equals 12 straight
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 12 --threads 1 --output "$tmp/straight" > /dev/null || bad "optimise straight"
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 5 --threads 1 --output "$tmp/rs" > /dev/null || bad "optimise first part"
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 12 --threads 1 --output "$tmp/rs" --resume > /dev/null || bad "optimise --resume"
+cmp -s "$tmp/straight-pareto.csv" "$tmp/rs-pareto.csv" && [ "$(wc -l < "$tmp/rs-history.csv")" -eq 13 ] && ok || bad "resumed run = uninterrupted run"
+expect2 "resume without a checkpoint" "no checkpoint" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output "$tmp/none" --resume
+
 # constraints: every design on the constrained front is feasible (stable at both points); the front is also JSON, each design once
 "$RR" optimise "$SRC/examples/paper-optimisation-constrained.ini" --population 60 --generations 8 --threads 2 --output "$tmp/pc" > /dev/null || bad "constrained optimise exit"
 python3 - "$tmp/pc-pareto.csv" "$tmp/pc-pareto.json" <<'PY' && ok || bad "constrained front"

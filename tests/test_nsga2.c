@@ -113,6 +113,45 @@ static void test_constr(void)
   CHECK(f1min < 0.40 && f1max > 0.98, "CONSTR: the front spans f1 %.3f .. %.3f (analytic 7/18 .. 1)", f1min, f1max);
 }
 
+/* A run stopped after 6 generations and resumed from its checkpoint gives
+   the uninterrupted run's result bit for bit; a checkpoint of another
+   problem is refused. */
+static int stop_at(void *user, int g, long ev, double secs, int fs, double hv)
+{
+  (void)ev; (void)secs; (void)fs; (void)hv;
+  return g >= *(int *)user;
+}
+
+static void test_resume(void)
+{
+  int which = 1, six = 6;
+  double lo[30], hi[30], X1[60 * 30], F1[120], X2[60 * 30], F2[120];
+  for (int j = 0; j < 30; j++) { lo[j] = 0; hi[j] = 1; }
+  rr_nsga2_opts o = rr_nsga2_opts_default();
+  o.population = 60;
+  o.generations = 15;
+  o.seed = 9;
+  rr_error e;
+  CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X1, F1, NULL, &e), e);
+  char path[300];
+  snprintf(path, sizeof path, "%s/run.ckpt", check_dir);
+  o.checkpoint = path;
+  o.progress = stop_at;
+  o.user = &six;
+  int done = 0;
+  o.generations_done = &done;
+  CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
+  CHECK(done == 6, "stopped after generation %d", done);
+  o.progress = NULL;
+  o.resume = path;
+  CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
+  CHECK(done == 15 && !memcmp(F1, F2, sizeof F1) && !memcmp(X1, X2, sizeof X1), "resumed run = uninterrupted run (to the bit)");
+  o.population = 62;
+  double X3[62 * 30], F3[124];
+  CHECK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X3, F3, NULL, &e) == RR_EINVAL && strstr(e.msg, "another problem"),
+        "a checkpoint of another population refused: %s", e.msg);
+}
+
 static void test_sort(int m)
 {
   /* random points with ties: ranks against brute-force peeling */
@@ -216,6 +255,9 @@ int main(void)
   test_zdt(1, 2.0 / 3.0, 0.985);
   test_zdt(2, 1.0 / 3.0, 0.97);
   test_constr();
+  check_tmpdir("nsga2");
+  test_resume();
+  check_cleanup();
   test_design();
   return check_done("nsga2");
 }

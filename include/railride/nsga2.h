@@ -40,6 +40,9 @@ typedef struct rr_nsga2_opts {
                               domination: feasible designs beat infeasible ones, infeasible ones
                               rank by their total violation */
   double *cv_out;          /* if not NULL: the final population's total violations (pop) */
+  const char *checkpoint;  /* if not NULL: the run's state written here after every generation */
+  const char *resume;      /* if not NULL: a checkpoint to go on from (same problem, population and
+                              seed); the result is the one an uninterrupted run gives */
 } rr_nsga2_opts;
 RR_API rr_nsga2_opts rr_nsga2_opts_default(void);
 
