@@ -37,16 +37,18 @@ typedef struct cli_common {
   int sdf_override;           /* -1: keep the vehicle's */
   int gravity;                /* -1: keep */
   unsigned given;             /* CLI_READS_* of the shared options given */
+  int progress;               /* --progress: progress on stderr even when it is not a terminal */
 } cli_common;
 
 /* Long options shared by the stability commands (ids >= 1000). */
-enum { OPT_SPEED = 1000, OPT_CONICITY, OPT_JSON, OPT_FMAX, OPT_WMIN, OPT_RMAX, OPT_SDF, OPT_GRAVITY, OPT_HELP };
+enum { OPT_SPEED = 1000, OPT_CONICITY, OPT_JSON, OPT_FMAX, OPT_WMIN, OPT_RMAX, OPT_SDF, OPT_GRAVITY, OPT_HELP, OPT_PROGRESS_ALL };
 #define CLI_COMMON_OPTIONS \
   {"speed", required_argument, 0, OPT_SPEED}, {"conicity", required_argument, 0, OPT_CONICITY}, \
   {"json", no_argument, 0, OPT_JSON}, {"fmax", required_argument, 0, OPT_FMAX}, \
   {"wmin", required_argument, 0, OPT_WMIN}, {"rmax", required_argument, 0, OPT_RMAX}, \
   {"sdf", required_argument, 0, OPT_SDF}, \
-  {"gravity-stiffness", no_argument, 0, OPT_GRAVITY}, {"help", no_argument, 0, OPT_HELP}
+  {"gravity-stiffness", no_argument, 0, OPT_GRAVITY}, {"progress", no_argument, 0, OPT_PROGRESS_ALL}, \
+  {"help", no_argument, 0, OPT_HELP}
 /* Where a command's help lists the shared options it reads (only those). */
 #define CLI_COMMON_HELP "@COMMON@\n"
 /* Which shared options a command reads (the vehicle, --sdf and
@@ -94,6 +96,17 @@ void cli_csv_num(FILE *fp, double x, char sep);
 
 /* A mode as JSON (paper: with the SDF root fields). */
 cJSON *cli_mode_json(const rr_mode *md, int paper);
+
+/* Long runs: progress with an ETA on stderr when it is a terminal (or when
+   forced by --progress), and Ctrl-C/SIGTERM caught so that a loop can stop
+   and write what it has. */
+typedef struct cli_progress { const char *what; long total, done; double t0, last; int show; } cli_progress;
+void cli_progress_start(cli_progress *p, const char *what, long total, int force);
+void cli_progress_step(cli_progress *p, long n);
+void cli_progress_end(cli_progress *p);
+void cli_catch_stops(void);
+int cli_stopped(void);   /* a stop was asked for */
+#define CLI_EXIT_STOPPED 130
 
 /* Subcommands. */
 int cmd_summary(int argc, char **argv);

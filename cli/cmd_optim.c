@@ -328,8 +328,12 @@ int cmd_sweep(int argc, char **argv)
   cli_csv_field(stdout, a.key[1], ',');
   cli_csv_field(stdout, a.objective, has_freq ? ',' : '\n');
   if (has_freq) printf("mode_freq_hz%s\n", damp_axis >= 0 ? ",k_opt_n_per_m" : "");
-  for (int i = 0; i < a.n[0] && !st; i++)
-    for (int j = 0; j < a.n[1] && !st; j++) {
+  cli_progress pr;
+  cli_progress_start(&pr, "sweep", (long)a.n[0] * a.n[1], c.progress);
+  cli_catch_stops();
+  for (int i = 0; i < a.n[0] && !st && !cli_stopped(); i++)
+    for (int j = 0; j < a.n[1] && !st && !cli_stopped(); j++) {
+      cli_progress_step(&pr, 1);
       double x[2] = {a.n[0] == 1 ? a.from[0] : a.from[0] + (a.to[0] - a.from[0]) * i / (a.n[0] - 1),
                      a.n[1] == 1 ? a.from[1] : a.from[1] + (a.to[1] - a.from[1]) * j / (a.n[1] - 1)};
       double f;
@@ -340,6 +344,7 @@ int cmd_sweep(int argc, char **argv)
       if (has_freq && damp_axis >= 0) cli_csv_num(stdout, x[damp_axis] * 2 * RR_PI * fz, '\n');
       if (!has_freq) printf("\n");
     }
+  cli_progress_end(&pr);
   rr_design_free(d);
-  return st ? cli_fail(&e, st) : 0;
+  return st ? cli_fail(&e, st) : cli_stopped() ? CLI_EXIT_STOPPED : 0;
 }

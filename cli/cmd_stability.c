@@ -314,7 +314,10 @@ int cmd_critical(int argc, char **argv)
                          .tol_ms = 1e-3 / RR_KMH, .index_modes = a.index_modes};
   int st = rr_modal_ws_new(m, &ws, &e);
   cJSON *all = c.json && c.ncon > 1 ? cJSON_CreateObject() : NULL, *arr = all ? cJSON_AddArrayToObject(all, "results") : NULL;
-  for (int i = 0; i < c.ncon && !st; i++) {
+  cli_progress pr;
+  cli_progress_start(&pr, "critical-speed", c.ncon, c.progress && c.ncon > 1);
+  cli_catch_stops();
+  for (int i = 0; i < c.ncon && !st && !cli_stopped(); i++) {
     rr_critical cr;
     if ((st = rr_critical_speed(m, c.conicities[i], &c.mo, &co, ws, &cr, &e))) break;
     if (!c.json) critical_text(&c, c.conicities[i], &a, &cr);
@@ -323,12 +326,14 @@ int cmd_critical(int argc, char **argv)
       if (arr) cJSON_AddItemToArray(arr, one);
       else cli_json_print(one);
     }
+    cli_progress_step(&pr, 1);
   }
+  if (c.ncon > 1) cli_progress_end(&pr);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) { cJSON_Delete(all); return cli_fail(&e, st); }
   if (all) cli_json_print(all);
-  return 0;
+  return cli_stopped() ? CLI_EXIT_STOPPED : 0;
 }
 
 typedef struct grid_args {
@@ -486,19 +491,24 @@ int cmd_map(int argc, char **argv)
   double *vs = malloc(sizeof(double) * (size_t)a.c_n * 2), *ls = vs ? vs + a.c_n : NULL;
   rr_stability *zs = malloc(sizeof *zs * (size_t)a.c_n);
   if (!vs || !zs) { free(vs); free(zs); rr_modal_ws_free(ws); rr_model_free(m); cJSON_Delete(root); return cli_bad("out of memory"); }
-  for (int i = 0; i < a.s_n && !st; i++) {
+  cli_progress pr;
+  cli_progress_start(&pr, "map", (long)a.s_n * a.c_n, c.progress);
+  cli_catch_stops();
+  for (int i = 0; i < a.s_n && !st && !cli_stopped(); i++) {
     for (int j = 0; j < a.c_n; j++) {
       vs[j] = lin(a.s_from, a.s_to, i, a.s_n) / RR_KMH;
       ls[j] = lin(a.c_from, a.c_to, j, a.c_n);
     }
     if ((st = rr_modal_stability_batch(m, &c.mo, ws, a.c_n, vs, ls, zs, &e))) break;
     for (int j = 0; j < a.c_n; j++) map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), ls[j], &zs[j]);
+    cli_progress_step(&pr, a.c_n);
   }
+  cli_progress_end(&pr);
   free(vs);
   free(zs);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) { cJSON_Delete(root); return cli_fail(&e, st); }
   if (root) cli_json_print(root);
-  return 0;
+  return cli_stopped() ? CLI_EXIT_STOPPED : 0;   /* what was done is written */
 }

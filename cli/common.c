@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* Option parsing, vehicle loading and output helpers shared by the commands. */
 #include <ctype.h>
 #include <errno.h>
@@ -5,6 +6,9 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <time.h>
+#include <unistd.h>
 #include "cli.h"
 
 int cli_bad(const char *fmt, ...)
@@ -120,6 +124,7 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
     else { cli_bad("--sdf: '%s' is not none, paper or physical", arg); return -1; }
     return 1;
   case OPT_GRAVITY: c->gravity = 1; return 1;
+  case OPT_PROGRESS_ALL: c->progress = 1; return 1;
   }
   return 0;
 }
@@ -200,6 +205,7 @@ static const struct { unsigned reads; const char *text; } common_help[] = {
   {0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
   {0, "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
   {CLI_READS_JSON, "  --json               JSON output\n"},
+  {0, "  --progress           progress with an ETA on stderr even when it is not a terminal\n"},
   {0, "  --help               this text\n"},
 };
 
@@ -294,4 +300,48 @@ void cli_csv_num(FILE *fp, double x, char sep)
 {
   if (isfinite(x)) fprintf(fp, "%.10g%c", x, sep);
   else fputc(sep, fp);
+}
+
+static volatile sig_atomic_t stop_flag;
+static void on_stop(int sig) { (void)sig; stop_flag = 1; }
+
+void cli_catch_stops(void)
+{
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
+int cli_stopped(void) { return stop_flag; }
+
+static double mono_s(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+void cli_progress_start(cli_progress *p, const char *what, long total, int force)
+{
+  *p = (cli_progress){.what = what, .total = total, .t0 = mono_s(), .show = force || isatty(STDERR_FILENO)};
+  p->last = p->t0;
+}
+
+void cli_progress_step(cli_progress *p, long n)
+{
+  p->done += n;
+  double now = mono_s();
+  if (!p->show || (now - p->last < 0.25 && p->done < p->total)) return;
+  p->last = now;
+  double eta = p->done ? (now - p->t0) / p->done * (p->total - p->done) : 0;
+  fprintf(stderr, "\r%s: %ld/%ld (%.0f%%)  ETA %.0f s   ", p->what, p->done, p->total, 100.0 * p->done / p->total, eta);
+}
+
+void cli_progress_end(cli_progress *p)
+{
+  if (p->show) fprintf(stderr, "\r%s: %ld/%ld in %.1f s%s\n", p->what, p->done, p->total, mono_s() - p->t0,
+                       p->done < p->total ? " (stopped)" : "             ");
 }

@@ -216,6 +216,11 @@ timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisat
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
 head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
 expect2 "optimise output folder missing" "cannot write" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output /nonexistent/dir/x
+# a long map stopped by Ctrl-C: the rows done so far are written, exit 130; --progress reports an ETA
+timeout -s INT --preserve-status 2 "$RR" map --speeds 100:600:5000 --conicities 0.02:0.6:200 --limit 1e7 --progress > "$tmp/bigmap.csv" 2> "$tmp/bigmap.err"; st=$?
+[ $st -eq 130 ] && [ "$(wc -l < "$tmp/bigmap.csv")" -gt 100 ] && grep -q "ETA" "$tmp/bigmap.err" && grep -q "stopped" "$tmp/bigmap.err" \
+  && ok || bad "map interrupted: exit $st, $(wc -l < "$tmp/bigmap.csv") rows"
+
 # checkpoint and resume: 5 generations, then --resume to 12, equals 12 straight
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 12 --threads 1 --output "$tmp/straight" > /dev/null || bad "optimise straight"
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 5 --threads 1 --output "$tmp/rs" > /dev/null || bad "optimise first part"
