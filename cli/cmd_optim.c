@@ -260,10 +260,13 @@ int cmd_optimise(int argc, char **argv)
   return done_gens < p.generations ? 130 : 0;   /* 128 + SIGINT, as a shell reports an interrupted job */
 }
 
+/* An axis: a vehicle-file key, or the operating point's speed (km/h) or
+   conicity, which then fill the objective's own arguments. */
+enum { AXIS_KEY = 0, AXIS_SPEED = 1, AXIS_CONICITY = 2 };
 typedef struct sweep_args {
   char key[2][64];
   double from[2], to[2];
-  int n[2], have[2];
+  int n[2], have[2], kind[2];
   const char *objective;
   double limit;
 } sweep_args;
@@ -271,15 +274,63 @@ typedef struct sweep_args {
 static int parse_axis(const char *opt, const char *arg, sweep_args *a, int ax)
 {
   const char *eq = strchr(arg, '=');
-  if (!eq) return cli_bad("--%s: expected section.key=FROM:TO:N", opt);
+  if (!eq) return cli_bad("--%s: expected section.key=FROM:TO:N, speed=FROM:TO:N or conicity=FROM:TO:N", opt);
   snprintf(a->key[ax], sizeof a->key[ax], "%.*s", (int)(eq - arg), arg);
+  a->have[ax] = 1;
+  if (!strcmp(a->key[ax], "speed") || !strcmp(a->key[ax], "conicity")) {
+    int sp = a->key[ax][0] == 's';
+    a->kind[ax] = sp ? AXIS_SPEED : AXIS_CONICITY;
+    if (cli_range(opt, eq + 1, sp ? "km/h" : "1", &a->from[ax], &a->to[ax], &a->n[ax])) return EXIT_BADINPUT;
+    double hi = sp ? RR_SPEED_MAX_MS * RR_KMH : RR_CONICITY_MAX;
+    if (!(fmin(a->from[ax], a->to[ax]) > 0 && fmax(a->from[ax], a->to[ax]) <= hi))
+      return cli_bad("--%s: %s must be within (0, %g]", opt, a->key[ax], hi);
+    return 0;
+  }
   const rr_vehicle_key *k = rr_vehicle_key_find(a->key[ax]);
-  if (!k) return cli_bad("--%s: '%s' is not a numeric vehicle-file key (section.key)", opt, a->key[ax]);
+  if (!k) return cli_bad("--%s: '%s' is not a numeric vehicle-file key (section.key), speed or conicity", opt, a->key[ax]);
   if (cli_range(opt, eq + 1, k->si_unit, &a->from[ax], &a->to[ax], &a->n[ax])) return EXIT_BADINPUT;
   rr_error e;
   if (rr_vehicle_key_check(k, a->from[ax], &e) || rr_vehicle_key_check(k, a->to[ax], &e)) return cli_bad("--%s: %s", opt, e.msg);
-  a->have[ax] = 1;
   return 0;
+}
+
+/* The objective at an operating point given by the axes: NAME@KMH,L[,X]
+   with KMH and L taken from the axes that set them (the rest from the
+   objective as written, which may leave them out: "index"). */
+static int objective_at(const char *obj, const double *v, const int *kind, int nax, char *out, size_t n)
+{
+  static const char *const ops[] = {"index", "sperling", "sperling_gb", "wd_rms", "rms"};
+  char name[64];
+  snprintf(name, sizeof name, "%.*s", (int)strcspn(obj, "@;"), obj);
+  int known = 0;
+  for (size_t i = 0; i < sizeof ops / sizeof ops[0]; i++) known |= !strcmp(name, ops[i]);
+  if (!known) return cli_bad("sweep: a speed or conicity axis needs an objective at an operating point (index, sperling, "
+                             "sperling_gb, wd_rms, rms), not '%s'", obj);
+  double kmh = NAN, lam = NAN;
+  char rest[128] = "", mods[128] = "";
+  const char *at = strchr(obj, '@'), *semi = strchr(obj, ';');
+  if (semi) snprintf(mods, sizeof mods, "%s", semi);
+  if (at) {
+    char args[128];
+    snprintf(args, sizeof args, "%.*s", (int)(semi ? semi - at - 1 : (long)strlen(at + 1)), at + 1);
+    char *c1 = strchr(args, ','), *c2 = c1 ? strchr(c1 + 1, ',') : NULL;
+    kmh = atof(args);
+    if (c1) lam = atof(c1 + 1);
+    if (c2) snprintf(rest, sizeof rest, "%s", c2);
+  }
+  for (int ax = 0; ax < nax; ax++) {
+    if (kind[ax] == AXIS_SPEED) kmh = v[ax];
+    if (kind[ax] == AXIS_CONICITY) lam = v[ax];
+  }
+  if (isnan(kmh) || isnan(lam))
+    return cli_bad("sweep: '%s' needs its %s from the objective (NAME@KMH,L) or an axis", obj, isnan(kmh) ? "speed" : "conicity");
+  snprintf(out, n, "%s@%.10g,%.10g%s%s", name, kmh, lam, rest, mods);
+  return 0;
+}
+
+static double axis_value(const sweep_args *a, int ax, int i)
+{
+  return a->n[ax] == 1 ? a->from[ax] : a->from[ax] + (a->to[ax] - a->from[ax]) * i / (a->n[ax] - 1);
 }
 
 static int sweep_cb(int opt, const char *arg, void *u)
@@ -292,16 +343,64 @@ static int sweep_cb(int opt, const char *arg, void *u)
   return 1;
 }
 
+/* One grid point: the design over the key axes (rebuilt when the objective
+   changes with a speed or conicity axis), the value and its mode. */
+typedef struct sweep_run {
+  const sweep_args *a;
+  const cli_common *c;
+  int nax, nkeys, key_of[2], op_axes, has_freq, damp_axis;
+  const char *keys[2];
+  rr_design *d;
+  char obj[160];
+} sweep_run;
+
+static int sweep_point(sweep_run *r, const double *v, rr_error *e)
+{
+  double x[2];
+  for (int ax = 0, k = 0; ax < r->nax; ax++)
+    if (r->a->kind[ax] == AXIS_KEY) x[k++] = v[ax];
+  if (r->op_axes || !r->d) {
+    char obj[160];
+    const char *text = r->a->objective;
+    if (r->op_axes) {
+      if (objective_at(r->a->objective, v, r->a->kind, r->nax, obj, sizeof obj)) return -1;
+      text = obj;
+    }
+    if (!r->d || strcmp(text, r->obj)) {
+      rr_design_free(r->d);
+      r->d = NULL;
+      const char *objs[1] = {text};
+      snprintf(r->obj, sizeof r->obj, "%s", text);
+      int st = rr_design_new(&r->c->veh, r->nkeys, r->keys, 1, objs, &r->d, e);
+      if (!st) st = rr_design_set_modal_opts(r->d, &r->c->mo, e);
+      if (st) return cli_fail(e, st);
+    }
+  }
+  double f;
+  int st = rr_design_evaluate(r->d, x, &f, e);
+  if (st) return cli_fail(e, st);
+  for (int ax = 0; ax < r->nax; ax++) printf("%.10g,", v[ax]);
+  printf("%.10g", f);
+  double fz = rr_design_mode_freq(r->d, 0);
+  if (r->has_freq) { putchar(','); cli_csv_num(stdout, fz, r->damp_axis >= 0 ? ',' : '\n'); }
+  if (r->has_freq && r->damp_axis >= 0) cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * fz, '\n');
+  if (!r->has_freq) printf("\n");
+  return 0;
+}
+
 int cmd_sweep(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride sweep [VEHICLE] --x section.key=FROM:TO:N --y section.key=FROM:TO:N --objective NAME[@ARGS]\n"
+      "usage: railride sweep [VEHICLE] --x AXIS=FROM:TO:N [--y AXIS=FROM:TO:N] --objective NAME[@ARGS]\n"
       "Any objective (as in problem files: index@KMH,L, zeta_low, sperling@KMH,L[,X], critical_speed@L, ...)\n"
-      "over a grid of two vehicle-file keys, CSV: x, y, objective. For index@ objectives the\n"
-      "frequency of the mode that sets the index is added, and when one axis is\n"
+      "over one or two axes, CSV: x[, y], objective. An axis is a vehicle-file key (section.key), or\n"
+      "speed (km/h) or conicity, which then set the objective's operating point (index, sperling,\n"
+      "sperling_gb, wd_rms, rms; e.g. --x conicity=0.05:0.4:8 --objective index@350). For index@\n"
+      "objectives the frequency of the mode that sets the index is added, and when one axis is\n"
       "yaw_damper.damping the optimal-dissipation stiffness k_opt = c 2 pi f of that mode\n"
       "(paper Fig. 10). Values with units are accepted: --x \"yaw_damper.damping=100 kN.s/m:4000 kN.s/m:20\".\n"
-      "  --x, --y AXIS        the two axes\n  --objective NAME     the objective\n  VEHICLE              vehicle file or built-in name\n"
+      CLI_COMMON_HELP
+      "  --x, --y AXIS        the axes (--y optional)\n  --objective NAME     the objective\n"
       "  --limit N            most grid points accepted (default 1e6)\n";
   static const struct option extra[] = {{"x", required_argument, 0, OPT_SX}, {"y", required_argument, 0, OPT_SY},
                                         {"objective", required_argument, 0, OPT_OBJ}, {"limit", required_argument, 0, OPT_OLIMIT},
@@ -311,40 +410,39 @@ int cmd_sweep(int argc, char **argv)
   int r = cli_parse(argc, argv, &c, CLI_READS_INDEX, extra, sweep_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
-  if (!a.have[0] || !a.have[1] || !a.objective) return cli_bad("sweep: --x, --y and --objective are required");
+  if (!a.have[0] || !a.objective) return cli_bad("sweep: --x and --objective are required");
+  if (a.have[1] && a.kind[0] == a.kind[1] && a.kind[0] != AXIS_KEY) return cli_bad("sweep: --x and --y are the same quantity");
+  sweep_run run = {.a = &a, .c = &c, .nax = a.have[1] ? 2 : 1, .damp_axis = -1};
+  if (!a.have[1]) a.n[1] = 1;
   if (cli_over_limit("sweep", (double)a.n[0] * a.n[1], a.limit, "points")) return EXIT_BADINPUT;
-  const char *keys[2] = {a.key[0], a.key[1]}, *objs[1] = {a.objective};
-  rr_design *d;
-  rr_error e;
-  int st = rr_design_new(&c.veh, 2, keys, 1, objs, &d, &e);
-  if (!st) st = rr_design_set_modal_opts(d, &c.mo, &e);
-  if (st) { rr_design_free(d); return cli_fail(&e, st); }
+  for (int ax = 0; ax < run.nax; ax++) {
+    if (a.kind[ax] == AXIS_KEY) run.keys[run.nkeys++] = a.key[ax];
+    else run.op_axes = 1;
+    if (!strcmp(a.key[ax], "yaw_damper.damping")) run.damp_axis = ax;
+  }
   /* the mode behind the value: its frequency, and on a yaw-damping axis the
      optimal-dissipation stiffness k = c 2 pi f of that mode (paper Fig. 10) */
-  int has_freq = !strncmp(a.objective, "index@", 6) || !strncmp(a.objective, "critical_speed@", 15), damp_axis = -1;
-  for (int ax = 0; ax < 2; ax++)
-    if (!strcmp(a.key[ax], "yaw_damper.damping")) damp_axis = ax;
-  cli_csv_field(stdout, a.key[0], ',');
-  cli_csv_field(stdout, a.key[1], ',');
-  cli_csv_field(stdout, a.objective, has_freq ? ',' : '\n');
-  if (has_freq) printf("mode_freq_hz%s\n", damp_axis >= 0 ? ",k_opt_n_per_m" : "");
+  run.has_freq = !strncmp(a.objective, "index", 5) || !strncmp(a.objective, "critical_speed@", 15);
+  if (run.op_axes) {   /* the objective checked before any output */
+    char probe[160];
+    double v0[2] = {a.from[0], a.from[1]};
+    if ((r = objective_at(a.objective, v0, a.kind, run.nax, probe, sizeof probe))) return r;
+  }
+  for (int ax = 0; ax < run.nax; ax++)
+    cli_csv_field(stdout, a.kind[ax] == AXIS_SPEED ? "speed_kmh" : a.key[ax], ',');
+  cli_csv_field(stdout, a.objective, run.has_freq ? ',' : '\n');
+  if (run.has_freq) printf("mode_freq_hz%s\n", run.damp_axis >= 0 ? ",k_opt_n_per_m" : "");
   cli_progress pr;
   cli_progress_start(&pr, "sweep", (long)a.n[0] * a.n[1], c.progress);
   cli_catch_stops();
-  for (int i = 0; i < a.n[0] && !st && !cli_stopped(); i++)
-    for (int j = 0; j < a.n[1] && !st && !cli_stopped(); j++) {
+  rr_error e;
+  for (int i = 0; i < a.n[0] && !r && !cli_stopped(); i++)
+    for (int j = 0; j < a.n[1] && !r && !cli_stopped(); j++) {
+      double v[2] = {axis_value(&a, 0, i), axis_value(&a, 1, j)};
+      r = sweep_point(&run, v, &e);
       cli_progress_step(&pr, 1);
-      double x[2] = {a.n[0] == 1 ? a.from[0] : a.from[0] + (a.to[0] - a.from[0]) * i / (a.n[0] - 1),
-                     a.n[1] == 1 ? a.from[1] : a.from[1] + (a.to[1] - a.from[1]) * j / (a.n[1] - 1)};
-      double f;
-      if ((st = rr_design_evaluate(d, x, &f, &e))) break;
-      printf("%.10g,%.10g,%.10g", x[0], x[1], f);
-      double fz = rr_design_mode_freq(d, 0);
-      if (has_freq) { putchar(','); cli_csv_num(stdout, fz, damp_axis >= 0 ? ',' : '\n'); }
-      if (has_freq && damp_axis >= 0) cli_csv_num(stdout, x[damp_axis] * 2 * RR_PI * fz, '\n');
-      if (!has_freq) printf("\n");
     }
   cli_progress_end(&pr);
-  rr_design_free(d);
-  return st ? cli_fail(&e, st) : cli_stopped() ? CLI_EXIT_STOPPED : 0;
+  rr_design_free(run.d);
+  return r ? r : cli_stopped() ? CLI_EXIT_STOPPED : 0;
 }

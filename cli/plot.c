@@ -21,7 +21,7 @@ typedef struct plot_kind {
   const char *cmd;
   const char *extra;         /* argument appended to get CSV on stdout, or NULL */
   const char *file_option;   /* the option that writes the data file, or NULL */
-  int grid;                  /* rows on a grid over the first two columns (a map) */
+  int grid;                  /* rows on a grid over the first two columns (a map); 2: when --y is given */
   void (*script)(FILE *gp, const char *data, int argc, char **argv);
 } plot_kind;
 
@@ -92,6 +92,11 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
   const char *x = arg_after(argc, argv, "--x"), *y = arg_after(argc, argv, "--y"), *o = arg_after(argc, argv, "--objective");
   char xk[128] = "x", yk[128] = "y", title[256];
   if (x) snprintf(xk, sizeof xk, "%.*s", (int)strcspn(x, "="), x);
+  if (!y) {   /* one axis: the objective (and its mode's frequency) along it */
+    fprintf(gp, "set title \"%s along %s\"\nset xlabel \"%s\"; set ylabel \"%s\"\n"
+                "plot '%s' u 1:2 w lp pt 7 ps 0.6 lw 2 notitle\n", o ? o : "objective", xk, xk, o ? o : "objective", d);
+    return;
+  }
   if (y) snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
   snprintf(title, sizeof title, "%s over %s and %s", o ? o : "objective", xk, yk);
   int centred = o && (!strncmp(o, "index", 5) || !strncmp(o, "zeta", 4));
@@ -184,7 +189,7 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
 
 static const plot_kind kinds[] = {
   {"damper", NULL, NULL, 0, script_damper},         {"locus", NULL, NULL, 0, script_locus},
-  {"map", NULL, NULL, 1, script_map},               {"sweep", NULL, NULL, 1, script_sweep},
+  {"map", NULL, NULL, 1, script_map},               {"sweep", NULL, NULL, 2, script_sweep},
   {"ride", NULL, "--psd", 0, script_psd},           {"validate", NULL, "--psd", 0, script_validate},
   {"compare", "--csv", NULL, 0, script_compare},    {"bifurcation", "--csv", NULL, 0, script_bifurcation},
   {"optimise", NULL, NULL, 0, script_optimise},     {"optimize", NULL, NULL, 0, script_optimise},
@@ -334,7 +339,7 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   char grid[PATH_MAX + 8], front[PATH_MAX];
   const char *src = file_data ? file_data : data;
   if (!r && k->script == script_optimise) src = front_file(data, front, sizeof front);
-  if (!r && k->grid) src = gridded(src, grid, sizeof grid);
+  if (!r && (k->grid == 1 || (k->grid == 2 && has_arg(n, av, "--y")))) src = gridded(src, grid, sizeof grid);
   if (!r) r = render(k, out, src, n, av);
   free(av);
   char rm[PATH_MAX + 16];

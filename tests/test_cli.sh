@@ -216,6 +216,19 @@ timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisat
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
 head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
 expect2 "optimise output folder missing" "cannot write" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output /nonexistent/dir/x
+# sweep over one axis and over the operating point: the values equal modes' index at each point
+"$RR" sweep --x conicity=0.1:0.4:4 --objective index@350 > "$tmp/swc.csv" || bad "sweep conicity axis"
+python3 - "$tmp/swc.csv" "$RR" <<'PY' && ok || bad "sweep over conicity equals modes"
+import csv, json, subprocess, sys
+rows = list(csv.reader(open(sys.argv[1])))
+assert rows[0][:2] == ['conicity', 'index@350'] and len(rows) == 5
+for r in rows[1:]:
+    d = json.loads(subprocess.run([sys.argv[2], 'modes', '--speed', '350', '--conicity', r[0], '--json'], capture_output=True, text=True).stdout)
+    assert abs(float(r[1]) - d['stability_index']) < 1e-9, (r, d['stability_index'])   # CSV: 10 digits
+PY
+"$RR" sweep --x speed=200:400:3 --y yaw_damper.series_stiffness=5MN/m:15MN/m:2 --objective "index@0,0.3" > "$tmp/sws.csv" && [ "$(wc -l < "$tmp/sws.csv")" -eq 7 ] \
+  && head -1 "$tmp/sws.csv" | grep -q '^speed_kmh,yaw_damper.series_stiffness,' && ok || bad "sweep speed x key"
+
 # a long map stopped by Ctrl-C: the rows done so far are written, exit 130; --progress reports an ETA
 timeout -s INT --preserve-status 2 "$RR" map --speeds 100:600:5000 --conicities 0.02:0.6:200 --limit 1e7 --progress > "$tmp/bigmap.csv" 2> "$tmp/bigmap.err"; st=$?
 [ $st -eq 130 ] && [ "$(wc -l < "$tmp/bigmap.csv")" -gt 100 ] && grep -q "ETA" "$tmp/bigmap.err" && grep -q "stopped" "$tmp/bigmap.err" \
