@@ -353,3 +353,13 @@ double rr_spectrum_rms(const rr_spectrum *s, double n1, double n2)
   }
   return sqrt(total);
 }
+
+rr_spectrum *rr_spectrum_new(const char *spec, rr_error *err)
+{
+  rr_spectrum *sp = malloc(sizeof *sp);
+  if (!sp) { rr_seterr(err, RR_ENOMEM, "out of memory"); return NULL; }
+  if (rr_spectrum_open(spec, sp, err)) { free(sp); return NULL; }
+  return sp;
+}
+
+void rr_spectrum_delete(rr_spectrum *sp) { free(sp); }

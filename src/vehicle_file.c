@@ -297,3 +297,13 @@ int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err)
   if (rr_vehicle_builtin(spec, veh, NULL) == RR_OK) return RR_OK;
   return rr_vehicle_load(spec, veh, err);
 }
+
+rr_vehicle *rr_vehicle_new(const char *spec, rr_error *err)
+{
+  rr_vehicle *v = malloc(sizeof *v);
+  if (!v) { rr_seterr(err, RR_ENOMEM, "out of memory"); return NULL; }
+  if (rr_vehicle_open(spec, v, err)) { free(v); return NULL; }
+  return v;
+}
+
+void rr_vehicle_delete(rr_vehicle *veh) { free(veh); }

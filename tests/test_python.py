@@ -60,6 +60,33 @@ for ex in ("python_loop.py", "pymoo_problem.py"):
     r = subprocess.run([sys.executable, os.path.join(os.environ["RR_SOURCE_DIR"], "examples", ex)], capture_output=True, text=True,
                        env=dict(os.environ, PYTHONPATH=os.path.join(os.environ["RR_SOURCE_DIR"], "python")))
     check(r.returncode == 0 and r.stdout.strip(), "example %s runs: %s" % (ex, r.stderr[-300:]))
+# Vehicle: the library's analyses as numpy arrays, against the CLI's JSON and CSV
+v = railride.Vehicle("type1")
+md = v.modes(350, 0.17)
+cm = json.loads(subprocess.run([cli, "modes", "--speed", "350", "--conicity", "0.17", "--json"], capture_output=True, check=True, text=True).stdout)
+check(abs(md["stability_index"] - cm["stability_index"]) < 1e-11 and len(md["freq_hz"]) == len(cm["modes"]) + int(np.sum(md["imag"] == 0))
+      and np.allclose(md["freq_hz"][md["imag"] > 0], [m["freq_hz"] for m in cm["modes"]], rtol=1e-12)
+      and md["name"][:len(cm["modes"])] == [m["name"] for m in cm["modes"]], "Vehicle.modes equals modes --json")
+rb = v.robust()
+check(all(abs(rb[k] - ref[k]) < 1e-12 for k in ("zeta_low", "zeta_high", "std_zeta")), "Vehicle.robust equals robust --json")
+check(abs(v.critical_speed(0.4) - 524.7) < 0.05 and np.isnan(v.critical_speed(0.05)), "Vehicle.critical_speed")
+mp = v.map([250, 350], [0.05, 0.4])
+check(abs(mp[0, 0] - ref["zeta_low"]) < 1e-12 and abs(mp[1, 1] - ref["zeta_high"]) < 1e-12, "Vehicle.map at the robust points")
+L = 17.375 / 2
+rj = json.loads(subprocess.run([cli, "ride", "--speed", "350", "--conicity", "0.17", "--json"], capture_output=True, check=True, text=True).stdout)
+rd = v.ride(350, 0.17, points=(L, 0, -L))
+pts = rj["results"][0]["points"]
+check(all(abs(rd["sperling"][i] - pts[i]["sperling"]) < 1e-12 and abs(rd["wd_rms"][i] - pts[i]["wd_rms"]) < 1e-15 for i in range(3)),
+      "Vehicle.ride equals ride --json")
+f, H = v.frf(350, 0.17, points=(0.0,))
+check(H.shape == (400, 1, 4) and H.dtype == np.complex128 and np.all(np.isfinite(H)), "Vehicle.frf shape")
+v.close()
+try:
+    v.modes(350, 0.17)
+    check(False, "a closed Vehicle raises")
+except railride.RailrideError:
+    check(True, "a closed Vehicle raises")
+
 # a closed design raises instead of crashing; the version is the library's
 d2 = railride.Design("type1", ["primary.longitudinal_stiffness"], ["zeta_low"])
 d2.close()

@@ -19,7 +19,7 @@ import os
 
 import numpy as np
 
-__all__ = ["Design", "RailrideError", "library", "__version__"]
+__all__ = ["Design", "Vehicle", "RailrideError", "library", "__version__"]
 __version__ = "0.1.0"
 
 
@@ -55,6 +55,8 @@ def library():
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
         lib.rr_design_evaluate_batch.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr, ctypes.c_int]
         lib.rr_design_evaluate_batch.restype = ctypes.c_int
+        from ._model import declare
+        declare(lib)
         lib.rr_version.restype = ctypes.c_char_p
         if lib.rr_version().decode() != __version__:
             raise RailrideError("librailride %s loaded, this package is %s" % (lib.rr_version().decode(), __version__))
@@ -124,3 +126,6 @@ class Design:
 
     def __exit__(self, *exc):
         self.close()
+
+
+from ._model import Vehicle  # noqa: E402  (needs RailrideError and library above)

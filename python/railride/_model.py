@@ -1,0 +1,299 @@
+"""The library's main entry points as numpy arrays: modes, the stability
+index and its map, robust indices, critical speed, FRFs, PSDs and ride
+indices (ctypes over librailride; see include/railride/*.h)."""
+import ctypes
+
+import numpy as np
+
+KMH = 3.6
+MODE_NAME_MAX = 48
+NGROUPS = 3
+c_double_p = ctypes.POINTER(ctypes.c_double)
+
+
+class _Error(ctypes.Structure):
+    _fields_ = [("code", ctypes.c_int), ("msg", ctypes.c_char * 512)]
+
+
+class _ModalOpts(ctypes.Structure):
+    _fields_ = [("fmax_hz", ctypes.c_double), ("w_min", ctypes.c_double), ("r_max", ctypes.c_double),
+                ("tracking", ctypes.c_int)]
+
+
+class _Mode(ctypes.Structure):
+    _fields_ = [("re", ctypes.c_double), ("im", ctypes.c_double), ("freq_hz", ctypes.c_double),
+                ("zeta", ctypes.c_double), ("energy", ctypes.c_double * NGROUPS), ("roll_share", ctypes.c_double),
+                ("oscillatory", ctypes.c_int), ("hunting", ctypes.c_int), ("in_index", ctypes.c_int),
+                ("self_consistent", ctypes.c_int), ("sdf_k", ctypes.c_double), ("name", ctypes.c_char * MODE_NAME_MAX)]
+
+
+class _ModalResult(ctypes.Structure):
+    _fields_ = [("n", ctypes.c_int), ("cap", ctypes.c_int), ("modes", ctypes.POINTER(_Mode)), ("ndof", ctypes.c_int),
+                ("shapes", ctypes.c_void_p), ("stability_index", ctypes.c_double), ("index_mode", ctypes.c_int),
+                ("zeta_max", ctypes.c_double), ("max_mode", ctypes.c_int)]
+
+
+class _Stability(ctypes.Structure):
+    _fields_ = [("index", ctypes.c_double), ("index_freq_hz", ctypes.c_double), ("zeta_max", ctypes.c_double),
+                ("max_freq_hz", ctypes.c_double)]
+
+
+class _RobustOpts(ctypes.Structure):
+    _fields_ = [("v_low_ms", ctypes.c_double), ("conicity_low", ctypes.c_double), ("v_high_ms", ctypes.c_double),
+                ("conicity_high", ctypes.c_double), ("conicity_min", ctypes.c_double),
+                ("conicity_max", ctypes.c_double), ("n_conicity", ctypes.c_int)]
+
+
+class _Robust(ctypes.Structure):
+    _fields_ = [("zeta_low", ctypes.c_double), ("zeta_high", ctypes.c_double), ("std_zeta", ctypes.c_double),
+                ("zeta_max", ctypes.c_double), ("n_unstable", ctypes.c_int), ("unstable_speed_ms", ctypes.c_double),
+                ("unstable_conicity", ctypes.c_double)]
+
+
+class _CriticalOpts(ctypes.Structure):
+    _fields_ = [("v_min_ms", ctypes.c_double), ("v_max_ms", ctypes.c_double), ("step_ms", ctypes.c_double),
+                ("tol_ms", ctypes.c_double), ("index_modes", ctypes.c_int)]
+
+
+class _Critical(ctypes.Structure):
+    _fields_ = [("found", ctypes.c_int), ("speed_ms", ctypes.c_double), ("mode", _Mode)]
+
+
+class _FrfOpts(ctypes.Structure):
+    _fields_ = [("nfreq", ctypes.c_int), ("freqs_hz", c_double_p), ("f_lo_hz", ctypes.c_double),
+                ("f_hi_hz", ctypes.c_double), ("npoints", ctypes.c_int), ("rows", c_double_p), ("rows0", c_double_p),
+                ("method", ctypes.c_int)]
+
+
+class _Comfort(ctypes.Structure):
+    _fields_ = [("rms", ctypes.c_double), ("sperling", ctypes.c_double), ("sperling_gb", ctypes.c_double),
+                ("wd_rms", ctypes.c_double)]
+
+
+def declare(lib):
+    """Argument and result types of the calls used here."""
+    P = ctypes.c_void_p
+    E = ctypes.POINTER(_Error)
+    sig = {
+        "rr_vehicle_new": (P, [ctypes.c_char_p, E]), "rr_vehicle_delete": (None, [P]),
+        "rr_model_from_vehicle": (ctypes.c_int, [P, ctypes.POINTER(P), E]), "rr_model_free": (None, [P]),
+        "rr_model_set_operating": (ctypes.c_int, [P, ctypes.c_double, ctypes.c_double, E]),
+        "rr_model_ndof": (ctypes.c_int, [P]), "rr_model_ninputs": (ctypes.c_int, [P]),
+        "rr_modal_ws_new": (ctypes.c_int, [P, ctypes.POINTER(P), E]), "rr_modal_ws_free": (None, [P]),
+        "rr_modal_opts_default": (_ModalOpts, []),
+        "rr_modal_result_alloc": (ctypes.c_int, [P, ctypes.POINTER(_ModalResult), E]),
+        "rr_modal_result_free": (None, [ctypes.POINTER(_ModalResult)]),
+        "rr_modal_solve": (ctypes.c_int, [P, ctypes.POINTER(_ModalOpts), P, ctypes.POINTER(_ModalResult), E]),
+        "rr_modal_stability_batch": (ctypes.c_int, [P, ctypes.POINTER(_ModalOpts), P, ctypes.c_int, c_double_p,
+                                                    c_double_p, ctypes.POINTER(_Stability), E]),
+        "rr_robust_opts_default": (_RobustOpts, []),
+        "rr_robust_indices": (ctypes.c_int, [P, ctypes.POINTER(_ModalOpts), ctypes.POINTER(_RobustOpts), P,
+                                             ctypes.POINTER(_Robust), E]),
+        "rr_critical_opts_default": (_CriticalOpts, []),
+        "rr_critical_speed": (ctypes.c_int, [P, ctypes.c_double, ctypes.POINTER(_ModalOpts),
+                                             ctypes.POINTER(_CriticalOpts), P, ctypes.POINTER(_Critical), E]),
+        "rr_frf_opts_default": (_FrfOpts, []),
+        "rr_frf_plan_new": (ctypes.c_int, [P, ctypes.POINTER(_FrfOpts), ctypes.POINTER(P), E]),
+        "rr_frf_plan_free": (None, [P]), "rr_frf_plan_execute": (ctypes.c_int, [P, P, E]),
+        "rr_frf_nfreq": (ctypes.c_int, [P]), "rr_frf_freqs": (c_double_p, [P]), "rr_frf_H": (c_double_p, [P]),
+        "rr_vehicle_floor_rows": (ctypes.c_int, [P, P, c_double_p, ctypes.c_int, ctypes.c_double, ctypes.c_int,
+                                                 c_double_p, c_double_p, E]),
+        "rr_spectrum_new": (P, [ctypes.c_char_p, E]), "rr_spectrum_delete": (None, [P]),
+        "rr_pem_psd": (ctypes.c_int, [P, P, P, c_double_p, E]),
+        "rr_comfort_plan_new": (ctypes.c_int, [c_double_p, ctypes.c_int, ctypes.c_int, ctypes.POINTER(P), E]),
+        "rr_comfort_plan_free": (None, [P]),
+        "rr_comfort_execute": (ctypes.c_int, [P, c_double_p, ctypes.c_int, ctypes.POINTER(_Comfort), E]),
+    }
+    for name, (res, args) in sig.items():
+        f = getattr(lib, name)
+        f.restype, f.argtypes = res, args
+
+
+def _ptr(a):
+    return a.ctypes.data_as(c_double_p)
+
+
+class Vehicle:
+    """A vehicle (built-in name or file) and its linear model, for the
+    library's analyses. Speeds in km/h, everything else SI.
+
+        v = railride.Vehicle("type1")
+        v.modes(350, 0.17)["freq_hz"]; v.stability_index(350, 0.17)
+        v.map(np.linspace(100, 500, 41), np.linspace(0.02, 0.5, 25))
+        f, G = v.psd(350, 0.17); v.ride(350, 0.17)["sperling"]
+    """
+
+    def __init__(self, spec="type1"):
+        from . import library, RailrideError
+        self._lib, self._Err = library(), RailrideError
+        err = _Error()
+        self._veh = self._lib.rr_vehicle_new(spec.encode(), ctypes.byref(err))
+        if not self._veh:
+            raise RailrideError(err.msg.decode())
+        self._m, self._ws = ctypes.c_void_p(), ctypes.c_void_p()
+        self._call("rr_model_from_vehicle", self._veh, ctypes.byref(self._m))
+        self._call("rr_modal_ws_new", self._m, ctypes.byref(self._ws))
+
+    def _call(self, name, *args):
+        err = _Error()
+        st = getattr(self._lib, name)(*args, ctypes.byref(err))
+        if st:
+            raise self._Err(err.msg.decode())
+
+    def _live(self):
+        if not getattr(self, "_veh", None):
+            raise self._Err("this Vehicle is closed")
+
+    def _at(self, speed_kmh, conicity):
+        self._live()
+        self._call("rr_model_set_operating", self._m, speed_kmh / KMH, float(conicity))
+
+    def _opts(self, fmax, wmin, rmax):
+        o = self._lib.rr_modal_opts_default()
+        o.fmax_hz, o.w_min, o.r_max = fmax, wmin, rmax
+        return o
+
+    def modes(self, speed_kmh, conicity, fmax=10.0, wmin=1e-3, rmax=0.5):
+        """Every mode: arrays freq_hz, real, imag, zeta, energy (n x 3: carbody,
+        frames, wheelsets), roll_share, hunting, in_index, name; with the vehicle
+        stability_index and zeta_max (any oscillatory mode)."""
+        self._at(speed_kmh, conicity)
+        res = _ModalResult()
+        self._call("rr_modal_result_alloc", self._m, ctypes.byref(res))
+        try:
+            o = self._opts(fmax, wmin, rmax)
+            self._call("rr_modal_solve", self._m, ctypes.byref(o), self._ws, ctypes.byref(res))
+            ms = [res.modes[i] for i in range(res.n)]
+            out = {"freq_hz": np.array([m.freq_hz for m in ms]), "real": np.array([m.re for m in ms]),
+                   "imag": np.array([m.im for m in ms]), "zeta": np.array([m.zeta for m in ms]),
+                   "energy": np.array([list(m.energy) for m in ms]).reshape(-1, NGROUPS),
+                   "roll_share": np.array([m.roll_share for m in ms]),
+                   "hunting": np.array([bool(m.hunting) for m in ms]),
+                   "in_index": np.array([bool(m.in_index) for m in ms]),
+                   "name": [m.name.decode() for m in ms],
+                   "stability_index": res.stability_index if res.index_mode >= 0 else float("nan"),
+                   "zeta_max": res.zeta_max}
+        finally:
+            self._lib.rr_modal_result_free(ctypes.byref(res))
+        return out
+
+    def map(self, speeds_kmh, conicities, fmax=10.0, wmin=1e-3, rmax=0.5, what="index"):
+        """The stability index (or what="zeta_max") over speeds x conicities:
+        an array (len(speeds), len(conicities)); NaN where no mode qualifies."""
+        self._live()
+        v = np.ascontiguousarray(np.atleast_1d(np.asarray(speeds_kmh, dtype=np.float64)))
+        lam = np.ascontiguousarray(np.atleast_1d(np.asarray(conicities, dtype=np.float64)))
+        o = self._opts(fmax, wmin, rmax)
+        out = np.empty((v.size, lam.size))
+        res = (_Stability * lam.size)()
+        for i, s in enumerate(v):
+            vs = np.full(lam.size, s / KMH)
+            self._call("rr_modal_stability_batch", self._m, ctypes.byref(o), self._ws, lam.size, _ptr(vs), _ptr(lam), res)
+            for j in range(lam.size):
+                x = res[j].index if what == "index" else res[j].zeta_max
+                out[i, j] = x if x != -1 else float("nan")
+        return out
+
+    def stability_index(self, speed_kmh, conicity, **kw):
+        """The vehicle stability index at one point (NaN when no mode qualifies)."""
+        return float(self.map([speed_kmh], [conicity], **kw)[0, 0])
+
+    def robust(self, fmax=10.0, wmin=1e-3, rmax=0.5):
+        """zeta_low, zeta_high, std_zeta (the paper's Table 1), zeta_max, n_unstable."""
+        self._live()
+        o, r, out = self._opts(fmax, wmin, rmax), self._lib.rr_robust_opts_default(), _Robust()
+        self._call("rr_robust_indices", self._m, ctypes.byref(o), ctypes.byref(r), self._ws, ctypes.byref(out))
+        return {"zeta_low": out.zeta_low, "zeta_high": out.zeta_high, "std_zeta": out.std_zeta,
+                "zeta_max": out.zeta_max, "n_unstable": out.n_unstable}
+
+    def critical_speed(self, conicity, vmin=10.0, vmax=600.0, index_modes=False, fmax=10.0, wmin=1e-3, rmax=0.5):
+        """The lowest speed (km/h) at which an oscillatory mode has zeta >= 0; NaN when stable to vmax."""
+        self._live()
+        co = self._lib.rr_critical_opts_default()
+        co.v_min_ms, co.v_max_ms, co.index_modes = vmin / KMH, vmax / KMH, int(index_modes)
+        o, out = self._opts(fmax, wmin, rmax), _Critical()
+        self._call("rr_critical_speed", self._m, float(conicity), ctypes.byref(o), ctypes.byref(co), self._ws,
+                   ctypes.byref(out))
+        return out.speed_ms * KMH if out.found else float("nan")
+
+    def _plan(self, points, height, nfreq, f_lo, f_hi):
+        x = np.ascontiguousarray(np.atleast_1d(np.asarray(points, dtype=np.float64)))
+        n = self._lib.rr_model_ndof(self._m)
+        rows, rows0 = np.zeros(x.size * n), np.zeros(x.size * n)
+        self._call("rr_vehicle_floor_rows", self._m, self._veh, _ptr(x), x.size, float(height), 0, _ptr(rows), _ptr(rows0))
+        o = self._lib.rr_frf_opts_default()
+        o.nfreq, o.f_lo_hz, o.f_hi_hz, o.npoints, o.rows = nfreq, f_lo, f_hi, x.size, _ptr(rows)
+        plan = ctypes.c_void_p()
+        self._call("rr_frf_plan_new", self._m, ctypes.byref(o), ctypes.byref(plan))
+        return plan, rows, x
+
+    def frf(self, speed_kmh, conicity, points=(0.0,), height=1.2, nfreq=400, f_lo=0.3, f_hi=30.0):
+        """Frequencies (Hz) and the floor's lateral acceleration FRFs H (nfreq x
+        points x wheelsets, complex, (m/s^2)/m) at floor points x (m from the centre)."""
+        self._at(speed_kmh, conicity)
+        plan, rows, x = self._plan(points, height, nfreq, f_lo, f_hi)
+        try:
+            self._call("rr_frf_plan_execute", plan, self._m)
+            nf, ni = self._lib.rr_frf_nfreq(plan), self._lib.rr_model_ninputs(self._m)
+            f = np.ctypeslib.as_array(self._lib.rr_frf_freqs(plan), shape=(nf,)).copy()
+            H = np.ctypeslib.as_array(self._lib.rr_frf_H(plan), shape=(nf * x.size * ni * 2,)).copy()
+        finally:
+            self._lib.rr_frf_plan_free(plan)
+        return f, H.view(np.complex128).reshape(nf, x.size, ni)
+
+    def psd(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=(0.0,), height=1.2, nfreq=400,
+            f_lo=0.3, f_hi=30.0):
+        """Frequencies (Hz) and the floor's lateral acceleration PSD G (nfreq x
+        points, (m/s^2)^2/Hz) by the pseudo-excitation method."""
+        self._at(speed_kmh, conicity)
+        err = _Error()
+        sp = self._lib.rr_spectrum_new(spectrum.encode(), ctypes.byref(err))
+        if not sp:
+            raise self._Err(err.msg.decode())
+        plan, rows, x = self._plan(points, height, nfreq, f_lo, f_hi)
+        try:
+            self._call("rr_frf_plan_execute", plan, self._m)
+            nf = self._lib.rr_frf_nfreq(plan)
+            G = np.empty(nf * x.size)
+            self._call("rr_pem_psd", plan, self._m, sp, _ptr(G))
+            f = np.ctypeslib.as_array(self._lib.rr_frf_freqs(plan), shape=(nf,)).copy()
+        finally:
+            self._lib.rr_frf_plan_free(plan)
+            self._lib.rr_spectrum_delete(sp)
+        return f, G.reshape(nf, x.size)
+
+    def ride(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=(0.0,), height=1.2):
+        """Ride indices at each floor point: arrays rms (m/s^2), sperling (filter
+        method), sperling_gb (GB/T 5599), wd_rms (ISO 2631-1 Wd, m/s^2)."""
+        f, G = self.psd(speed_kmh, conicity, spectrum, points, height)
+        plan = ctypes.c_void_p()
+        f = np.ascontiguousarray(f)
+        self._call("rr_comfort_plan_new", _ptr(f), f.size, 0, ctypes.byref(plan))
+        out = {k: np.empty(G.shape[1]) for k in ("rms", "sperling", "sperling_gb", "wd_rms")}
+        try:
+            Gc = np.ascontiguousarray(G)
+            for p in range(G.shape[1]):
+                c = _Comfort()
+                col = Gc[:, p:].ctypes.data_as(c_double_p)
+                self._call("rr_comfort_execute", plan, col, G.shape[1], ctypes.byref(c))
+                for k in out:
+                    out[k][p] = getattr(c, k)
+        finally:
+            self._lib.rr_comfort_plan_free(plan)
+        return out
+
+    def close(self):
+        if getattr(self, "_veh", None):
+            self._lib.rr_modal_ws_free(self._ws)
+            self._lib.rr_model_free(self._m)
+            self._lib.rr_vehicle_delete(self._veh)
+            self._veh = None
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
