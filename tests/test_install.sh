@@ -6,6 +6,7 @@
 # the whole tree moved (relocatable), and internal symbols hidden.
 set -u
 BUILD=${RR_BUILD_DIR:?RR_BUILD_DIR must name the build tree}
+FLAGS=${RR_DOWNSTREAM_FLAGS:-}   # e.g. the sanitizers' runtime when the library was built with them
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
@@ -37,7 +38,7 @@ int main(void)
 C
 # pkg-config
 PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --exists railride && ok || bad "pkg-config finds railride"
-cc -std=c11 "$tmp/main.c" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) -o "$tmp/main_pc" \
+cc -std=c11 $FLAGS "$tmp/main.c" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) -o "$tmp/main_pc" \
   && "$tmp/main_pc" | grep -q '^-0\.[0-9]* ' && ok || bad "downstream C by pkg-config"
 # find_package
 mkdir -p "$tmp/down"
@@ -50,7 +51,7 @@ add_executable(main main.c)
 target_link_libraries(main PRIVATE railride::railride)
 file(WRITE ${CMAKE_BINARY_DIR}/spectra.txt "${railride_SPECTRA_DIR}")
 CM
-cmake -S "$tmp/down" -B "$tmp/down/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" > "$tmp/down.log" 2>&1 \
+cmake -S "$tmp/down" -B "$tmp/down/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" -DCMAKE_C_FLAGS="$FLAGS" > "$tmp/down.log" 2>&1 \
   && cmake --build "$tmp/down/build" >> "$tmp/down.log" 2>&1 && "$tmp/down/build/main" | grep -q '^-0\.[0-9]* ' \
   && ok || { cat "$tmp/down.log"; bad "downstream C by find_package(railride)"; }
 [ -f "$(cat "$tmp/down/build/spectra.txt" 2>/dev/null)/wuhan-guangzhou.txt" ] && ok || bad "railride_SPECTRA_DIR"
@@ -68,7 +69,7 @@ int main()
   return std::abs(k - rr_complex(1e7, 0) * rr_complex(0, 1e7) / rr_complex(1e7, 1e7)) < 1e-6 ? 0 : 1;
 }
 CC
-  c++ "$tmp/main.cc" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) -o "$tmp/main_cc" \
+  c++ $FLAGS "$tmp/main.cc" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) -o "$tmp/main_cc" \
     && "$tmp/main_cc" > /dev/null && ok || bad "C++ program on the installed headers"
 else
   bad "no C++ compiler (Debian package g++)"
