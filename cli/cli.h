@@ -89,6 +89,9 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols);
 /* One CSV field, quoted (RFC 4180) when it holds a comma, quote or newline,
    then the separator sep. */
 void cli_csv_field(FILE *fp, const char *text, char sep);
+/* A vehicle-file key as a CSV column name with its SI unit appended
+   (yaw_damper.damping_n_s_per_m); dimensionless keys as they are. */
+void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep);
 
 /* A CSV number, or an empty field where there is none (a NaN marks "no
    such mode"): railride never writes nan or inf. */
@@ -104,6 +107,9 @@ typedef struct cli_progress { const char *what; long total, done; double t0, las
 void cli_progress_start(cli_progress *p, const char *what, long total, int force);
 void cli_progress_step(cli_progress *p, long n);
 void cli_progress_end(cli_progress *p);
+/* An rr_progress for a library call: it drives p and stops the call on
+   Ctrl-C (after cli_catch_stops). */
+rr_progress cli_progress_hook(cli_progress *p);
 void cli_catch_stops(void);
 int cli_stopped(void);   /* a stop was asked for */
 #define CLI_EXIT_STOPPED 130

@@ -107,13 +107,15 @@ static cJSON *assumptions_json(const rr_vehicle *veh, const rr_profile *p)
   return o;
 }
 
-static void assumptions_comment(FILE *fp, const rr_vehicle *veh, const rr_profile *p)
+/* The assumptions beside a CSV: on stderr, so that the CSV itself reads
+   with a plain CSV reader. */
+static void assumptions_note(const char *cmd, const rr_vehicle *veh, const rr_profile *p)
 {
   char d[512];
   rr_profile_describe(p, d, sizeof d);
-  fprintf(fp, "# nonlinear model: %s; friction %g; flange clearance %g mm, stiffness %g kN/mm; Shen-Hedrick-Elkins "
-              "creep saturation; linear suspension\n",
-          d, veh->friction, veh->flange_clearance * 1e3, veh->flange_stiffness * 1e-6);
+  fprintf(stderr, "railride %s: nonlinear model: %s; friction %g; flange clearance %g mm, stiffness %g kN/mm; "
+                  "Shen-Hedrick-Elkins creep saturation; linear suspension\n",
+          cmd, d, veh->friction, veh->flange_clearance * 1e3, veh->flange_stiffness * 1e-6);
 }
 
 /* ---- simulate ---- */
@@ -205,9 +207,9 @@ static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
     if (!r && (st = rr_simulate(nl, z0, &so, Z, ns, &e))) r = cli_fail(&e, st);
   }
   if (!r) {
-    assumptions_comment(stdout, &c->veh, p);
-    printf("# speed %g km/h; integration: SUNDIALS CVODE BDF, relative tolerance %g, absolute %g m\n", c->speed_kmh,
-           rr_sim_opts_default().rtol, rr_sim_opts_default().atol_m);
+    assumptions_note("simulate", &c->veh, p);
+    fprintf(stderr, "railride simulate: speed %g km/h; SUNDIALS CVODE BDF, relative tolerance %g, absolute %g m\n",
+            c->speed_kmh, rr_sim_opts_default().rtol, rr_sim_opts_default().atol_m);
     sim_header(stdout, m, rr_nonlinear_ninputs(nl));
     sim_rows(stdout, nl, Z, ns, a->fs, u);
   }
@@ -226,8 +228,8 @@ int cmd_simulate(int argc, char **argv)
       "spring; docs/model.md, \"Nonlinear model\") by SUNDIALS CVODE: from a lateral disturbance\n"
       "of every wheelset, a random track realisation of a spectrum (the same realisations as\n"
       "`validate` for the same --duration, --fs and --seed), or a measured alignment record\n"
-      "(CSV distance_m, alignment_m, resampled at the speed). CSV on standard output, '#' lines\n"
-      "first (the model's assumptions): t_s, every DOF (m or rad), per wheelset the track\n"
+      "(CSV distance_m, alignment_m, resampled at the speed). CSV on standard output (the model's\n"
+      "assumptions on stderr): t_s, every DOF (m or rad), per wheelset the track\n"
       "alignment, saturated creep force Fy and yaw moment Mz, and the flange force.\n" CLI_COMMON_HELP
       "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
       "  --duration S         simulated time, s (default 10)\n"
@@ -290,7 +292,7 @@ static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_ar
                            const rr_cycle *pts, double secs)
 {
   if (a->csv) {
-    assumptions_comment(stdout, &c->veh, p);
+    assumptions_note("bifurcation", &c->veh, p);
     printf("speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual\n");
     for (int i = 0; i < b->npoints; i++)
       printf("%.10g,%.10g,%.10g,%d,%.10g,%.3g\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m, 1 / pts[i].period_s,
@@ -387,7 +389,7 @@ static void bif_print_scan(const cli_common *c, const rr_profile *p, const nl_ar
   scan_read(up, down, nv, &v_lin, &v_nl);
   const char *type = !isfinite(v_lin) ? "none" : v_nl < v_lin ? "subcritical" : "supercritical";
   if (a->csv) {
-    assumptions_comment(stdout, &c->veh, p);
+    assumptions_note("bifurcation", &c->veh, p);
     printf("sweep,speed_kmh,amplitude_m,frequency_hz\n");
     for (int s = 0; s < 2; s++)
       for (int i = 0; i < nv; i++) {
@@ -454,7 +456,7 @@ int cmd_bifurcation(int argc, char **argv)
       "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
       "  --speeds A:B         speed range, km/h (default 100:600)\n"
       "  --method M           continuation (default) or scan\n"
-      "  --csv                the branch as CSV ('#' line first: the assumptions)\n"
+      "  --csv                the branch as CSV (the assumptions on stderr)\n"
       "  --step KMH           scan: speed step (default 5 km/h)\n"
       "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s measured)\n"
       "  --limit N            scan: most simulated seconds accepted (default 1e5)\n";

@@ -54,7 +54,7 @@ static int same_design(const double *a, const double *b, int n) { return !memcmp
 static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X, const double *F, const int *rank,
                        const double *cv, int N, double *best, double *worst)
 {
-  for (int j = 0; j < p->nvar; j++) cli_csv_field(fp, p->keys[j], ',');
+  for (int j = 0; j < p->nvar; j++) cli_csv_key_field(fp, p->keys[j], ',');
   for (int k = 0; k < p->nobj; k++) cli_csv_field(fp, p->objs[k], k + 1 < p->nobj || p->ncon ? ',' : '\n');
   if (p->ncon) fprintf(fp, "feasible,violation\n");
   cJSON *root = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(root, "front");
@@ -144,8 +144,9 @@ int cmd_optimise(int argc, char **argv)
       "NSGA-II over the problem file's variables (vehicle-file keys with bounds) and objectives;\n"
       "writes PREFIX-pareto.csv and .json (the non-dominated designs, each once: variables in SI,\n"
       "objectives; with constraints, feasible and total violation),\n"
-      "PREFIX-history.csv (per generation: evaluations, seconds, front size, hypervolume with the\n"
-      "initial population's worst values +10% as reference) and a summary. Progress with an ETA\n"
+      "PREFIX-history.csv (per generation: evaluations, seconds, front size; every 10th and the\n"
+      "last the hypervolume, 2 or 3 objectives, with the initial population's worst values +10% as\n"
+      "reference, empty otherwise) and a summary. Progress with an ETA\n"
       "on stderr when it is a terminal (or with --progress). Ctrl-C or SIGTERM stops after the\n"
       "generation in progress and writes its front (exit status 130). PREFIX-checkpoint.bin holds\n"
       "the run's state after every generation; --resume goes on from it (the same problem,\n"
@@ -428,8 +429,10 @@ int cmd_sweep(int argc, char **argv)
     double v0[2] = {a.from[0], a.from[1]};
     if ((r = objective_at(a.objective, v0, a.kind, run.nax, probe, sizeof probe))) return r;
   }
-  for (int ax = 0; ax < run.nax; ax++)
-    cli_csv_field(stdout, a.kind[ax] == AXIS_SPEED ? "speed_kmh" : a.key[ax], ',');
+  for (int ax = 0; ax < run.nax; ax++) {
+    if (a.kind[ax] == AXIS_KEY) cli_csv_key_field(stdout, a.key[ax], ',');
+    else cli_csv_field(stdout, a.kind[ax] == AXIS_SPEED ? "speed_kmh" : a.key[ax], ',');
+  }
   cli_csv_field(stdout, a.objective, run.has_freq ? ',' : '\n');
   if (run.has_freq) printf("mode_freq_hz%s\n", run.damp_axis >= 0 ? ",k_opt_n_per_m" : "");
   cli_progress pr;

@@ -178,7 +178,8 @@ int cmd_ride(int argc, char **argv)
       "then the one-sided acceleration PSD, RMS, Sperling (filter and GB/T 5599 line methods)\n"
       "and the Wd-weighted RMS at each floor point. The yaw damper SDF, when on, is taken at\n"
       "each frequency (paper mode: real k_sdf(f); physical: complex).\n" CLI_COMMON_HELP RIDE_HELP
-      "  --psd FILE.csv       write f_hz and each (conicity, point) PSD\n";
+      "  --psd FILE.csv       write f_hz, each (conicity, point) PSD ((m/s^2)^2/Hz) and sperling_weight,\n"
+      "                       the lateral Sperling weighting |B(f)|^2 applied to the PSDs\n";
   static const struct option extra[] = {RIDE_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
@@ -202,13 +203,14 @@ int cmd_ride(int argc, char **argv)
     if (!fp) { free(pts); free(psd); free(freqs); return cli_bad("--psd: cannot write %s", a.psd_path); }
     fprintf(fp, "f_hz");
     for (int k = 0; k < a.ncon; k++)
-      for (int q = 0; q < np; q++) fprintf(fp, ",psd_c%g_x%g", a.conicities[k], a.rs.x[q]);
-    fprintf(fp, "\n");
+      for (int q = 0; q < np; q++) fprintf(fp, ",psd_c%g_x%gm_m2s-4_per_hz", a.conicities[k], a.rs.x[q]);
+    fprintf(fp, ",sperling_weight\n");
     for (int i = 0; i < nf; i++) {
       fprintf(fp, "%.10g", freqs[i]);
       for (int k = 0; k < a.ncon; k++)
         for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", psd[((size_t)k * nf + i) * np + q]);
-      fprintf(fp, "\n");
+      double b = rr_sperling_filter(freqs[i], RR_AXIS_LATERAL);
+      fprintf(fp, ",%.10g\n", b * b);
     }
     fclose(fp);
   }
@@ -261,7 +263,7 @@ int cmd_frf(int argc, char **argv)
       "usage: railride frf [VEHICLE] --speed KMH --conicity L [--points X,..] [--band LO:HI:N] [--json]\n"
       "Complex FRF of carbody floor lateral acceleration per unit track alignment at each\n"
       "wheelset (input 1..4, no time lag) and the lagged sum over the four (input 'sum').\n"
-      "CSV columns: f_hz,x,input,re,im,magnitude,phase_deg ((m/s^2)/m).\n" CLI_COMMON_HELP RIDE_HELP;
+      "CSV columns: f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg ((m/s^2)/m = 1/s^2).\n" CLI_COMMON_HELP RIDE_HELP;
   static const struct option extra[] = {RIDE_OPTIONS, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
@@ -283,7 +285,7 @@ int cmd_frf(int argc, char **argv)
   double v = rr_model_speed(m), xin[16];
   for (int i = 0; i < ni; i++) xin[i] = rr_model_input_x(m, i);
   cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "frf") : NULL;
-  if (!c.json) printf("f_hz,x,input,re,im,magnitude,phase_deg\n");
+  if (!c.json) printf("f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg\n");
   for (int k = 0; k < a.rs.nfreq; k++)
     for (int q = 0; q < np; q++)
       for (int i = 0; i <= ni; i++) {

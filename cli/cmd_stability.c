@@ -373,7 +373,8 @@ int cmd_locus(int argc, char **argv)
                              "Root locus: each oscillatory mode followed from point to point by eigenvector\n"
                              "correlation (MAC). Over speed (default 20:500:25 km/h at --conicity, default 0.17)\n"
                              "or conicity (default 0.02:0.5:25 at --speed, default 350 km/h). CSV columns:\n"
-                             "branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets\n" CLI_COMMON_HELP
+                             "branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,\n"
+                             "e_wheelsets,roll_share,hunting_related (e_*: kinetic energy shares)\n" CLI_COMMON_HELP
                              "  --over P             parameter swept (--over before --range)\n  --range FROM:TO:N    its values\n"
                              "  --limit N            most points accepted (default 1e5)\n";
   static const struct option extra[] = {{"over", required_argument, 0, OPT_PARAM}, {"range", required_argument, 0, OPT_RANGE},
@@ -401,13 +402,18 @@ int cmd_locus(int argc, char **argv)
   for (int i = 0; i < a.n; i++) vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? RR_KMH : 1.0);
   rr_error e;
   int nb = 0;
-  int st = rr_locus(m, (rr_locus_param)a.param, vals, a.n, &c.mo, pts, &nb, &e);
+  cli_progress pr;
+  cli_progress_start(&pr, "locus", a.n, c.progress);
+  cli_catch_stops();
+  rr_progress hook = cli_progress_hook(&pr);
+  int st = rr_locus(m, (rr_locus_param)a.param, vals, a.n, &c.mo, &hook, pts, &nb, &e);
+  cli_progress_end(&pr);
   double v0 = rr_model_speed(m) * RR_KMH, l0 = rr_model_conicity(m);
   rr_model_free(m);
-  if (st) { free(vals); free(pts); return cli_fail(&e, st); }
+  if (st && st != RR_ESTOPPED) { free(vals); free(pts); return cli_fail(&e, st); }   /* stopped: the points done */
   cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
   if (!c.json)
-    printf("branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets,"
+    printf("branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,e_wheelsets,"
            "roll_share,hunting_related\n");
   for (int b = 0; b < nb; b++)
     for (int p = 0; p < a.n; p++) {
@@ -435,7 +441,7 @@ int cmd_locus(int argc, char **argv)
   if (root) cli_json_print(root);
   free(vals);
   free(pts);
-  return 0;
+  return st == RR_ESTOPPED ? CLI_EXIT_STOPPED : 0;
 }
 
 static void map_point(cJSON *arr, double v, double l, const rr_stability *z)

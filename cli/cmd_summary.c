@@ -17,6 +17,7 @@ typedef struct summary {
   rr_vehicle vr[2];            /* constant series stiffness, SDF */
   ride_point rp[2][NLAMS][3];
   ride_setup rs;
+  cli_progress pr;             /* a step per analysis: modes, robust, each critical speed and ride point */
 } summary;
 
 static int stability_part(cli_common *c, summary *s, rr_error *e)
@@ -28,8 +29,13 @@ static int stability_part(cli_common *c, summary *s, rr_error *e)
   int st = rr_modal_ws_new(m, &ws, e);
   if (!st) st = rr_modal_result_alloc(m, &s->res, e);
   if (!st) st = rr_modal_solve(m, &c->mo, ws, &s->res, e);
+  cli_progress_step(&s->pr, 1);
   if (!st) st = rr_robust_indices(m, &c->mo, NULL, ws, &s->rb, e);
-  for (int i = 0; i < NLAMS && !st; i++) st = rr_critical_speed(m, lams[i], &c->mo, NULL, ws, &s->crit[i], e);
+  cli_progress_step(&s->pr, 1);
+  for (int i = 0; i < NLAMS && !st; i++) {
+    st = rr_critical_speed(m, lams[i], &c->mo, NULL, ws, &s->crit[i], e);
+    cli_progress_step(&s->pr, 1);
+  }
   rr_modal_ws_free(ws);
   rr_model_free(m);
   return st;
@@ -43,11 +49,12 @@ static int ride_part(const cli_common *c, summary *s, rr_error *e)
   s->vr[0] = s->vr[1] = c->veh;
   s->vr[0].sdf_mode = RR_SDF_NONE;
   s->vr[1].sdf_mode = c->veh.sdf_mode != RR_SDF_NONE ? c->veh.sdf_mode : RR_SDF_PAPER;
-  s->have_curve = c->veh.sdf.kind != RR_CURVE_UNSET;
   int st = RR_OK;
   for (int k = 0; k < (s->have_curve ? 2 : 1) && !st; k++)
-    for (int i = 0; i < NLAMS && !st; i++)
+    for (int i = 0; i < NLAMS && !st; i++) {
       st = ride_eval(&s->vr[k], c->speed_kmh, lams[i], &s->rs, s->rp[k][i], NULL, NULL, e);
+      cli_progress_step(&s->pr, 1);
+    }
   return st;
 }
 
@@ -174,9 +181,12 @@ int cmd_summary(int argc, char **argv)
   summary *s = calloc(1, sizeof *s);
   if (!s) return cli_bad("out of memory");
   rr_error e;
+  s->have_curve = c.veh.sdf.kind != RR_CURVE_UNSET;
+  cli_progress_start(&s->pr, "summary", 2 + NLAMS + NLAMS * (s->have_curve ? 2 : 1), c.progress);
   int st = stability_part(&c, s, &e);
   if (st < 0) { free(s); return -st; }   /* message printed */
   if (!st) st = ride_part(&c, s, &e);
+  cli_progress_end(&s->pr);
   if (!st && c.json) summary_json(&c, s);
   if (!st && !c.json) {
     printf("railride stability summary: vehicle %s (yaw damper SDF: %s)\n\n", c.veh.name, sdf_name(c.veh.sdf_mode));

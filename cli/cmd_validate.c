@@ -67,7 +67,8 @@ int cmd_validate(int argc, char **argv)
       "  --fs HZ              sample rate (default 256)\n  --nseg N             Welch segment length (default 4096)\n"
       "  --spectrum S         spectrum name or file (default wuhan-guangzhou)\n  --points X1,..       floor points (default +L, 0, -L)\n"
       "  --floor-height H     (default 1.2 m)\n  --roll-gravity       sense a_y + g phi_c\n"
-      "  --psd FILE.csv       write f_hz and the Welch and PEM PSDs of each point\n"
+      "  --psd FILE.csv       write f_hz, the Welch and PEM PSDs of each point ((m/s^2)^2/Hz) and\n"
+      "                       welch_sigma_rel, the relative spread of one Welch bin\n"
       "  --limit N            most samples (duration x fs) accepted (default 4194304)\n"
       "Verdict: PASS when RMS and Sperling agree within 1 % at every point and every band within\n"
       "4 sigma; FAIL exits with status 1.\n";
@@ -102,13 +103,22 @@ int cmd_validate(int argc, char **argv)
   a.vo.rows0 = a.rs.roll_gravity ? rows0 : NULL;
   rr_validate_result res;
   struct timespec t0, t1;
+  cli_progress pr;
+  cli_progress_start(&pr, "validate", 3 + np, c.progress);
+  a.vo.progress = cli_progress_hook(&pr);
+  cli_catch_stops();
   clock_gettime(CLOCK_MONOTONIC, &t0);
   if (!st) st = rr_validate(m, &sp, &a.vo, &res, &e);
+  cli_progress_end(&pr);
   clock_gettime(CLOCK_MONOTONIC, &t1);
   double secs = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec);
   free(rows);
   free(rows0);
   rr_model_free(m);
+  if (st == RR_ESTOPPED) {   /* one result: nothing partial to write */
+    fprintf(stderr, "railride: validate: stopped by a signal (%s); nothing written\n", e.msg);
+    return CLI_EXIT_STOPPED;
+  }
   if (st) return cli_fail(&e, st);
   double emax = 0, zmax = 0;
   for (int q = 0; q < np; q++) {
@@ -119,14 +129,14 @@ int cmd_validate(int argc, char **argv)
     FILE *fp = fopen(a.psd_path, "w");
     if (!fp) { rr_validate_result_free(&res); return cli_bad("--psd: cannot write %s", a.psd_path); }
     fprintf(fp, "f_hz");
-    for (int q = 0; q < np; q++) fprintf(fp, ",welch_x%g", a.rs.x[q]);
-    for (int q = 0; q < np; q++) fprintf(fp, ",pem_x%g", a.rs.x[q]);
-    fprintf(fp, "\n");
+    for (int q = 0; q < np; q++) fprintf(fp, ",welch_x%gm_m2s-4_per_hz", a.rs.x[q]);
+    for (int q = 0; q < np; q++) fprintf(fp, ",pem_x%gm_m2s-4_per_hz", a.rs.x[q]);
+    fprintf(fp, ",welch_sigma_rel\n");
     for (int k = 0; k < res.nwelch; k++) {
       fprintf(fp, "%.10g", res.welch_f[k]);
       for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res.welch_P[(size_t)q * res.nwelch + k]);
       for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res.pem_P[(size_t)q * res.nwelch + k]);
-      fprintf(fp, "\n");
+      fprintf(fp, ",%.6g\n", res.bin_sigma);
     }
     fclose(fp);
   }

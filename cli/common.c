@@ -280,6 +280,28 @@ void cli_csv_field(FILE *fp, const char *text, char sep)
   fprintf(fp, "\"%c", sep);
 }
 
+/* "N.s/m" -> "n_s_per_m", "kg.m2" -> "kg_m2", "1" -> "" */
+static void unit_suffix(const char *unit, char *out, size_t cap)
+{
+  size_t k = 0;
+  for (const char *p = unit; *p && k + 6 < cap; p++) {
+    if (*p == '/') k += (size_t)snprintf(out + k, cap - k, "_per_");
+    else if (*p == '.' || *p == ' ') out[k++] = '_';
+    else if (*p != '^') out[k++] = (char)tolower((unsigned char)*p);
+  }
+  out[k] = 0;
+  if (!strcmp(out, "1")) out[0] = 0;
+}
+
+void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep)
+{
+  const rr_vehicle_key *key = rr_vehicle_key_find(section_dot_key);
+  char unit[64] = "", name[256];
+  if (key && key->si_unit) unit_suffix(key->si_unit, unit, sizeof unit);
+  snprintf(name, sizeof name, "%s%s%s", section_dot_key, unit[0] ? "_" : "", unit);
+  cli_csv_field(fp, name, sep);
+}
+
 int cli_limit(const char *arg, double *limit)
 {
   char *end;
@@ -339,6 +361,16 @@ void cli_progress_step(cli_progress *p, long n)
   double eta = p->done ? (now - p->t0) / p->done * (p->total - p->done) : 0;
   fprintf(stderr, "\r%s: %ld/%ld (%.0f%%)  ETA %.0f s   ", p->what, p->done, p->total, 100.0 * p->done / p->total, eta);
 }
+
+static int progress_hook(void *user, long done, long total)
+{
+  cli_progress *p = user;
+  p->total = total;
+  cli_progress_step(p, done - p->done);
+  return cli_stopped();
+}
+
+rr_progress cli_progress_hook(cli_progress *p) { return (rr_progress){.fn = progress_hook, .user = p}; }
 
 void cli_progress_end(cli_progress *p)
 {

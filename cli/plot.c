@@ -58,16 +58,17 @@ static void script_locus(FILE *gp, const char *d, int argc, char **argv)
               "set xlabel 'real part (1/s)'; set ylabel 'frequency (Hz)'; set cblabel '%s'\n"
               "set xzeroaxis; set yzeroaxis; set palette rgb 33,13,10\n"
               "set arrow from 0, graph 0 to 0, graph 1 nohead dt 2 lw 1.5\n"
-              "plot '%s' u 'real':'freq_hz':'%s' w p pt 7 ps 0.6 palette notitle\n",
+              "plot '%s' u 'real_per_s':'freq_hz':'%s' w p pt 7 ps 0.6 palette notitle\n",
           by_conicity ? "conicity" : "speed", by_conicity ? "conicity" : "speed (km/h)", d,
           by_conicity ? "conicity" : "speed_kmh");
 }
 
 /* A filled map over the first two columns (gridded: a blank line between
    rows, see gridded()), interpolated, with the zero contour drawn when the
-   values cross zero (a stability index: blue stable, red unstable, white 0). */
+   values cross zero (a stability index: blue stable, red unstable, white 0).
+   overlay: a further splot clause drawn as a zero contour, or "". */
 static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const char *yl, const char *zl,
-                       const char *title, int centred)
+                       const char *title, int centred, const char *overlay)
 {
   fprintf(gp, "set title \"%s\"\nset xlabel \"%s\"; set ylabel \"%s\"; set cblabel \"%s\"\n"
               "stats '%s' u %d nooutput\n", title, xl, yl, zl, d, zcol);
@@ -77,48 +78,79 @@ static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const 
                 "set contour base; set cntrparam levels discrete 0\n");
   else fprintf(gp, "set palette rgb 33,13,10\nset contour base; set cntrparam levels auto 8\n");
   fprintf(gp, "set pm3d map interpolate 4,4; set cntrlabel onecolor; set key opaque\n"
-              "splot '%s' u 1:2:%d w pm3d notitle, '' u 1:2:%d w l nosurface lw %s lc 'black' %s\n",
-          d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle");
+              "splot '%s' u 1:2:%d w pm3d notitle, '' u 1:2:%d w l nosurface lw %s lc 'black' %s%s\n",
+          d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle", overlay);
 }
 
 static void script_map(FILE *gp, const char *d, int argc, char **argv)
 {
   (void)argc; (void)argv;
-  map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index", "Vehicle stability index (negative is stable)", 1);
+  map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index", "Vehicle stability index (negative is stable)", 1, "");
+}
+
+/* An axis label: the key with its SI unit, "speed (km/h)", "conicity". */
+static void axis_label(const char *key, char *out, size_t n)
+{
+  const rr_vehicle_key *k = rr_vehicle_key_find(key);
+  if (!strcmp(key, "speed")) snprintf(out, n, "speed (km/h)");
+  else if (k && k->si_unit && strcmp(k->si_unit, "1")) snprintf(out, n, "%s (%s)", key, k->si_unit);
+  else snprintf(out, n, "%s", key);
 }
 
 static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
 {
   const char *x = arg_after(argc, argv, "--x"), *y = arg_after(argc, argv, "--y"), *o = arg_after(argc, argv, "--objective");
-  char xk[128] = "x", yk[128] = "y", title[256];
+  char xk[128] = "x", yk[128] = "y", xl[160], yl[160], title[256];
   if (x) snprintf(xk, sizeof xk, "%.*s", (int)strcspn(x, "="), x);
+  axis_label(xk, xl, sizeof xl);
   if (!y) {   /* one axis: the objective (and its mode's frequency) along it */
     fprintf(gp, "set title \"%s along %s\"\nset xlabel \"%s\"; set ylabel \"%s\"\n"
-                "plot '%s' u 1:2 w lp pt 7 ps 0.6 lw 2 notitle\n", o ? o : "objective", xk, xk, o ? o : "objective", d);
+                "plot '%s' u 1:2 w lp pt 7 ps 0.6 lw 2 notitle\n", o ? o : "objective", xk, xl, o ? o : "objective", d);
     return;
   }
-  if (y) snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
+  snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
+  axis_label(yk, yl, sizeof yl);
   snprintf(title, sizeof title, "%s over %s and %s", o ? o : "objective", xk, yk);
   int centred = o && (!strncmp(o, "index", 5) || !strncmp(o, "zeta", 4));
-  map_script(gp, d, 3, xk, yk, o ? o : "objective", title, centred);
+  /* yaw damping against series stiffness with an index objective: the sweep
+     writes k_opt = c 2 pi f (column 5) of the mode that sets the index; the
+     line k = c w is where the stiffness axis equals it (paper Fig. 10) */
+  char overlay[160] = "";
+  int kx = !strcmp(xk, "yaw_damper.series_stiffness"), ky = !strcmp(yk, "yaw_damper.series_stiffness");
+  int cx = !strcmp(xk, "yaw_damper.damping"), cy = !strcmp(yk, "yaw_damper.damping");
+  if (o && !strncmp(o, "index", 5) && ((kx && cy) || (ky && cx)))
+    snprintf(overlay, sizeof overlay, ", '' u 1:2:($%d - $5) w l nosurface lw 2 dt 2 lc 'dark-green' t 'k = c w'", kx ? 1 : 2);
+  map_script(gp, d, 3, xl, yl, o ? o : "objective", title, centred, overlay);
 }
 
+/* The PSDs (columns 2 .. n-1) and, on the right axis, the Sperling
+   weighting |B(f)|^2 (the last column) that the index applies to them. */
 static void script_psd(FILE *gp, const char *d, int argc, char **argv)
 {
   (void)argc; (void)argv;
-  fprintf(gp, "set title 'Carbody floor lateral acceleration PSD (PEM)'\n"
+  fprintf(gp, "set title 'Carbody floor lateral acceleration PSD (PEM) and the Sperling weighting'\n"
               "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set format y '%%.0e'\n"
-              "plot for [i=2:*] '%s' u 1:i w l lw 2 t columnhead(i)\n", d);
+              "set logscale y2; set y2label 'Sperling weighting |B(f)|^2'; set y2tics; set ytics nomirror; set key below\n"
+              "stats '%s' skip 1 nooutput; n = STATS_columns\n"
+              "plot for [i=2:n-1] '%s' u 1:i w l lw 2 t columnhead(i), "
+              "'' u 1:n axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'Sperling weighting (right)'\n", d, d);
 }
 
+/* Welch PSDs of the time run, the PEM expectation, and around the PEM the
+   +-2 sigma band a Welch bin spreads over (the last column, relative). */
 static void script_validate(FILE *gp, const char *d, int argc, char **argv)
 {
   (void)argc; (void)argv;
-  fprintf(gp, "set title 'Time-domain run (Welch) against the PEM'\n"
+  fprintf(gp, "set title 'Time-domain run (Welch) against the PEM (band: 2 sigma of a Welch bin)'\n"
               "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set format y '%%.0e'\n"
-              "stats '%s' skip 1 nooutput; n = (STATS_columns - 1) / 2\n"
-              "plot for [i=2:1+n] '%s' u 1:(column(i) > 0 ? column(i) : 1/0) w l lw 1 t columnhead(i), "
-              "for [i=2+n:1+2*n] '' u 1:(column(i) > 0 ? column(i) : 1/0) w l lw 2.5 dt 2 t columnhead(i)\n", d, d);
+              "stats '%s' skip 1 nooutput; n = (STATS_columns - 2) / 2; s = STATS_columns\n"
+              "set style fill transparent solid 0.25 noborder; set xrange [0.25:35]; set key below\n"
+              "pos(v) = v > 0 ? v : 1/0\n"
+              "stats '%s' u (pos(column(2 + n))) nooutput; set yrange [STATS_min / 10:*]\n"
+              "plot for [i=2+n:1+2*n] '%s' u 1:(pos(column(i) * (1 - 2 * column(s)))):(pos(column(i) * (1 + 2 * column(s)))) "
+              "w filledcurves lc i-n-1 notitle, "
+              "for [i=2:1+n] '' u 1:(pos(column(i))) w l lw 1 lc i-1 t columnhead(i), "
+              "for [i=2+n:1+2*n] '' u 1:(pos(column(i))) w l lw 2.5 dt 2 lc i-n-1 t columnhead(i)\n", d, d, d);
 }
 
 static void script_compare(FILE *gp, const char *d, int argc, char **argv)

@@ -24,11 +24,11 @@ import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-KEYS = {  # Pareto CSV column -> (section, key, unit scale, unit)
-    "primary.longitudinal_stiffness": ("primary", "longitudinal_stiffness", 1e-6, "kN/mm"),
-    "lateral_damper.damping": ("lateral_damper", "damping", 1e-3, "kN.s/m"),
-    "yaw_damper.damping": ("yaw_damper", "damping", 1e-3, "kN.s/m"),
-    "yaw_damper.series_stiffness": ("yaw_damper", "series_stiffness", 1e-6, "MN/m"),
+KEYS = {  # Pareto CSV column (key_SI-unit) -> (section, key, unit scale, unit)
+    "primary.longitudinal_stiffness_n_per_m": ("primary", "longitudinal_stiffness", 1e-6, "kN/mm"),
+    "lateral_damper.damping_n_s_per_m": ("lateral_damper", "damping", 1e-3, "kN.s/m"),
+    "yaw_damper.damping_n_s_per_m": ("yaw_damper", "damping", 1e-3, "kN.s/m"),
+    "yaw_damper.series_stiffness_n_per_m": ("yaw_damper", "series_stiffness", 1e-6, "MN/m"),
 }
 
 

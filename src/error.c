@@ -15,8 +15,15 @@ const char *rr_strerror(int status)
   case RR_ELAPACK: return "LAPACK routine failed";
   case RR_ENOCONV: return "iteration did not converge";
   case RR_EUNSUP: return "unsupported combination of options";
+  case RR_ESTOPPED: return "stopped by the caller";
   default: return "unknown status";
   }
+}
+
+int rr_progress_step(const rr_progress *pr, long done, long total, rr_error *err)
+{
+  if (!pr || !pr->fn || !pr->fn(pr->user, done, total)) return RR_OK;
+  return rr_seterr(err, RR_ESTOPPED, "stopped after %ld of %ld steps", done, total);
 }
 
 int rr_seterr(rr_error *err, int code, const char *fmt, ...)

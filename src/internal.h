@@ -33,4 +33,8 @@ int rr_seterr(rr_error *err, int code, const char *fmt, ...) RR_PRINTF(3, 4);
 
 #define RR_G 9.81
 
+/* Reports a step to the caller's progress callback (if any); RR_ESTOPPED,
+   with err filled, when the callback asks to stop. */
+int rr_progress_step(const rr_progress *pr, long done, long total, rr_error *err);
+
 #endif

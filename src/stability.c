@@ -175,8 +175,42 @@ static rr_locus_point locus_point(double param, const rr_mode *md, double mac)
                           .roll_share = md->roll_share, .hunting = md->hunting};
 }
 
+/* A point where a branch has no match (or that was not reached). */
+static rr_locus_point locus_gap(double param)
+{
+  return (rr_locus_point){.param = param, .re = NAN, .im = NAN, .freq_hz = NAN, .zeta = NAN, .mac = 0,
+                          .energy = {NAN, NAN, NAN}, .roll_share = NAN, .hunting = 0};
+}
+
+/* The modes of res assigned to the nb branches whose last shapes are prev,
+   greedily, best correlations first; prev takes the new shapes. */
+static void locus_match(const rr_modal_result *res, int n, int nb, double param, double complex *prev, int *used,
+                        int *done, rr_locus_point *row)
+{
+  for (int i = 0; i < res->n; i++) used[i] = 0;
+  for (int b = 0; b < nb; b++) done[b] = 0;
+  for (int round = 0; round < nb; round++) {
+    double bestmac = -1;
+    int bb = -1, bi = -1;
+    for (int b = 0; b < nb; b++) {
+      if (done[b]) continue;
+      for (int i = 0; i < res->n; i++) {
+        if (used[i]) continue;
+        double mac = rr_mac(prev + (size_t)b * n, res->shapes + (size_t)i * n, n);
+        if (mac > bestmac) { bestmac = mac; bb = b; bi = i; }
+      }
+    }
+    if (bb < 0) break;
+    done[bb] = used[bi] = 1;
+    row[bb] = locus_point(param, &res->modes[bi], bestmac);
+    memcpy(prev + (size_t)bb * n, res->shapes + (size_t)bi * n, (size_t)n * sizeof *prev);
+  }
+  for (int b = 0; b < nb; b++)
+    if (!done[b]) row[b] = locus_gap(param);
+}
+
 int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts, const rr_modal_opts *o,
-             rr_locus_point *out, int *nbranch, rr_error *err)
+             const rr_progress *pr, rr_locus_point *out, int *nbranch, rr_error *err)
 {
   double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
   rr_modal_ws *ws = NULL;
@@ -184,60 +218,37 @@ int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts, 
   int st = rr_modal_ws_new(m, &ws, err);
   if (st) return st;
   if ((st = rr_modal_result_alloc(m, &res, err))) { rr_modal_ws_free(ws); return st; }
-  int n = rr_model_ndof(m), nb = 0;
+  int n = rr_model_ndof(m), nb = 0, p = 0;
   double complex *prev = NULL;
-  int *used = NULL;
-  for (int p = 0; p < npts; p++) {
+  int *used = NULL, *done = NULL;
+  for (; p < npts; p++) {
     st = param == RR_LOCUS_SPEED ? rr_model_set_operating(m, values[p], l0, err) : rr_model_set_operating(m, v0, values[p], err);
     if (st) goto out;
     if ((st = rr_modal_solve(m, o, ws, &res, err))) goto out;
-    if (p == 0) {
+    if (p == 0) {   /* the branches: the oscillatory modes at the first point */
       for (int i = 0; i < res.n; i++) nb += res.modes[i].oscillatory;
       prev = malloc((size_t)(nb ? nb : 1) * (size_t)n * sizeof *prev);
       used = malloc((size_t)res.cap * sizeof *used);
-      if (!prev || !used) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto out; }
-      int b = 0;
-      for (int i = 0; i < res.n; i++) {
+      done = malloc((size_t)(nb ? nb : 1) * sizeof *done);
+      if (!prev || !used || !done) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto out; }
+      for (int i = 0, b = 0; i < res.n; i++) {
         if (!res.modes[i].oscillatory) continue;
         memcpy(prev + (size_t)b * n, res.shapes + (size_t)i * n, (size_t)n * sizeof *prev);
         out[b++] = locus_point(values[p], &res.modes[i], 1.0);
       }
-      continue;
+    } else {
+      locus_match(&res, n, nb, values[p], prev, used, done, out + (size_t)p * nb);
     }
-    /* greedy assignment, best correlations first */
-    for (int i = 0; i < res.n; i++) used[i] = 0;
-    int *done = calloc((size_t)(nb ? nb : 1), sizeof(int));
-    if (!done) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto out; }
-    for (int round = 0; round < nb; round++) {
-      double bestmac = -1;
-      int bb = -1, bi = -1;
-      for (int b = 0; b < nb; b++) {
-        if (done[b]) continue;
-        for (int i = 0; i < res.n; i++) {
-          if (used[i]) continue;
-          double mac = rr_mac(prev + (size_t)b * n, res.shapes + (size_t)i * n, n);
-          if (mac > bestmac) { bestmac = mac; bb = b; bi = i; }
-        }
-      }
-      if (bb < 0) break;
-      done[bb] = 1;
-      used[bi] = 1;
-      out[(size_t)p * nb + bb] = locus_point(values[p], &res.modes[bi], bestmac);
-      memcpy(prev + (size_t)bb * n, res.shapes + (size_t)bi * n, (size_t)n * sizeof *prev);
-    }
-    for (int b = 0; b < nb; b++)
-      if (!done[b]) {
-        out[(size_t)p * nb + b] = (rr_locus_point){.param = values[p], .re = NAN, .im = NAN, .freq_hz = NAN,
-                                                   .zeta = NAN, .mac = 0, .energy = {NAN, NAN, NAN},
-                                                   .roll_share = NAN, .hunting = 0};
-      }
-    free(done);
+    if ((st = rr_progress_step(pr, p + 1, npts, err))) { p++; break; }
   }
+  for (; p < npts; p++)   /* not reached (stopped) */
+    for (int b = 0; b < nb; b++) out[(size_t)p * nb + b] = locus_gap(values[p]);
   *nbranch = nb;
 out:
   rr_model_set_operating(m, v0, l0, NULL);
   free(prev);
   free(used);
+  free(done);
   rr_modal_result_free(&res);
   rr_modal_ws_free(ws);
   return st;

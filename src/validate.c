@@ -169,9 +169,12 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
   }
   double xin[RR_SYS_MAX_INPUTS];
   for (int i = 0; i < ni; i++) xin[i] = m->contacts[i].x;
+  long step = 0, nsteps = 3 + np;
   if ((st = rr_track_realise(sp, m->speed, xin, ni, o->fs_hz, ns, o->f_lo_hz, o->f_hi_hz, o->seed, u, du, err))) goto done;
+  if ((st = rr_progress_step(&o->progress, ++step, nsteps, err))) goto done;
   if ((st = rr_lti_discretise(N, ni, A, Bs, dt, &dv, err))) goto done;
   if ((st = rr_lti_periodic(&dv, ns, u, du, ny, C, D, E, y, err))) goto done;
+  if ((st = rr_progress_step(&o->progress, ++step, nsteps, err))) goto done;
   r->seconds_simulated = 2 * ns * dt;   /* two passes over the period */
   /* the Sperling weighting as a filter in the time domain */
   double fA[9], fB[3], fC[3], zero = 0;
@@ -207,6 +210,7 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
     rr_sperling_filter_index(r->welch_f + kb0, P + kb0, nb, 1, RR_AXIS_LATERAL, &pt->sperling_welch, err);
     rr_sperling_gb_index(r->welch_f + kb0, P + kb0, nb, 1, RR_AXIS_LATERAL, &pt->sperling_gb_welch, err);
     rr_weighted_rms(r->welch_f + kb0, P + kb0, nb, 1, RR_ISO_WD, &pt->wd_rms_welch, err);
+    st = rr_progress_step(&o->progress, ++step, nsteps, err);
   }
   if (st) goto done;
   {
@@ -239,13 +243,14 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
     }
     free(fl);
     free(Gl);
-    if (st) goto done;
+    if (st || (st = rr_progress_step(&o->progress, ++step, nsteps, err))) goto done;
   }
   /* 1/3-octave bands wholly inside the band; expected spread of a band from
      K Hann segments at 50% overlap (variance factor 1 + 2 c^2, c = 0.167)
      over M bins of which 1/1.5 are independent (Hann ENBW 1.5 bins):
      sigma = sqrt((1 + 2 c^2) / K * 1.5 / M), M >= 1.5 */
   double df = o->fs_hz / o->nseg;
+  r->bin_sigma = sqrt((1 + 2 * 0.167 * 0.167) / r->navg);
   for (int q = 0; q < np; q++) {
     rr_validate_point *pt = &r->points[q];
     const double *P = r->welch_P + (size_t)q * nh, *Q = r->pem_P + (size_t)q * nh;
@@ -262,7 +267,7 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
       pt->band_fc[i] = fc;
       pt->band_time[i] = pt_time;
       pt->band_pem[i] = pt_pem;
-      pt->band_sigma[i] = sqrt((1 + 2 * 0.167 * 0.167) / r->navg * 1.5 / fmax(M, 1.5));
+      pt->band_sigma[i] = r->bin_sigma * sqrt(1.5 / fmax(M, 1.5));
       double e = fabs(pt_time - pt_pem) / pt_pem;
       if (e > pt->band_error_max) pt->band_error_max = e;
       if (e / pt->band_sigma[i] > pt->band_z_max) pt->band_z_max = e / pt->band_sigma[i];

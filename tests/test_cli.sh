@@ -59,7 +59,7 @@ json_check "critical keys" "'critical_speed_kmh' in d and (d['critical_speed_kmh
 json_check "stable to range end" "d['critical_speed_kmh'] is None and d['stable_to_range_end']" < "$tmp/c2.json"
 
 "$RR" locus --over speed --range 100:400:4 > "$tmp/l.csv" || bad "locus exit"
-head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real,imag,stability_index,mac,e_carbody,e_frames,e_wheelsets,roll_share,hunting_related' && ok || bad "locus header"
+head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,e_wheelsets,roll_share,hunting_related' && ok || bad "locus header"
 "$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 > "$tmp/map.csv" || bad "map exit"
 [ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable' && ok || bad "map shape"
 "$RR" damper --freqs 0.1:10:5 > "$tmp/d.csv" || bad "damper exit"
@@ -70,7 +70,7 @@ grep -q "vehicle stability index" "$tmp/s.txt" && ok || bad "summary text"
 "$RR" ride --speed 350 --conicity 0.05,0.2 --json --psd "$tmp/psd.csv" > "$tmp/ride.json" || bad "ride exit"
 json_check "ride keys" "d['spectrum']=='wuhan-guangzhou' and [r['conicity'] for r in d['results']]==[0.05,0.2] and all(len(r['points'])==3 and all(set(p)>={'x','rms','sperling','sperling_gb','wd_rms'} for p in r['points']) for r in d['results'])" < "$tmp/ride.json"
 json_check "ride methods stated" "all(k in d['methods'] for k in ('sperling','sperling_gb','wd_rms'))" < "$tmp/ride.json"
-head -1 "$tmp/psd.csv" | grep -q '^f_hz,psd_c0.05_x8.6875,psd_c0.05_x0,psd_c0.05_x-8.6875,psd_c0.2_x8.6875' && [ "$(wc -l < "$tmp/psd.csv")" -eq 401 ] && ok || bad "psd csv"
+head -1 "$tmp/psd.csv" | grep -q '^f_hz,psd_c0.05_x8.6875m_m2s-4_per_hz,psd_c0.05_x0m_m2s-4_per_hz,psd_c0.05_x-8.6875m_m2s-4_per_hz,psd_c0.2_x8.6875m_m2s-4_per_hz,.*,sperling_weight$' && [ "$(wc -l < "$tmp/psd.csv")" -eq 401 ] && ok || bad "psd csv"
 # the PSD file integrates to the reported RMS (trapezoid), checked in Python
 python3 - "$tmp/psd.csv" "$tmp/ride.json" <<'PY' && ok || bad "psd csv integrates to rms"
 import csv, json, sys
@@ -88,7 +88,7 @@ import json,sys
 a=json.load(open('$tmp/rm.json'))['results'][0]['points']; b=json.load(open('$tmp/rd.json'))['results'][0]['points']
 sys.exit(0 if all(abs(p[k]-q[k])<=1e-9*abs(q[k]) for p,q in zip(a,b) for k in ('rms','sperling','sperling_gb','wd_rms')) else 1)" && ok || bad "ride modal vs direct"
 "$RR" frf --speed 350 --conicity 0.2 --band 1:10:3 > "$tmp/frf.csv" || bad "frf exit"
-[ "$(head -1 "$tmp/frf.csv")" = "f_hz,x,input,re,im,magnitude,phase_deg" ] && [ "$(wc -l < "$tmp/frf.csv")" -eq 46 ] && ok || bad "frf csv shape"
+[ "$(head -1 "$tmp/frf.csv")" = "f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg" ] && [ "$(wc -l < "$tmp/frf.csv")" -eq 46 ] && ok || bad "frf csv shape"
 "$RR" compare --conicities 0.1:0.3:2 --json > "$tmp/cmp.json" || bad "compare exit"
 json_check "compare rows" "len(d['rows'])==4 and {r['vehicle'] for r in d['rows']}=={'type1','type2'} and all(set(r)>={'conicity','stability_index_const','stability_index_sdf','sperling_const','sperling_sdf'} for r in d['rows'])" < "$tmp/cmp.json"
 "$RR" summary --json > "$tmp/sum.json" || bad "summary json"
@@ -99,7 +99,7 @@ json_check "validate verdict" "d['verdict']=='PASS' and d['tolerances']['rms_and
 "$RR" critical-speed --conicity 0.05,0.4,0.6 --json > "$tmp/crits.json" || bad "critical-speed list exit"
 json_check "critical-speed over a conicity list" "[r['conicity'] for r in d['results']]==[0.05,0.4,0.6] and d['results'][0]['critical_speed_kmh'] is None and abs(d['results'][1]['critical_speed_kmh']-524.7)<0.05 and abs(d['results'][2]['critical_speed_kmh']-422.1)<0.05" < "$tmp/crits.json"
 json_check "validate keys" "all(isinstance(d[k],float) for k in ('sperling_pem','sperling_time','rms_pem','rms_time','psd_band_error_max')) and len(d['points'])==3 and abs(d['rms_time']/d['rms_pem']-1)<2e-3 and abs(d['sperling_time']/d['sperling_pem']-1)<1e-3 and d['psd_band_z_max']<4" < "$tmp/val.json"
-head -1 "$tmp/v.csv" | grep -q '^f_hz,welch_x8.6875,welch_x0,welch_x-8.6875,pem_x8.6875' && ok || bad "validate psd csv"
+head -1 "$tmp/v.csv" | grep -q '^f_hz,welch_x8.6875m_m2s-4_per_hz,welch_x0m_m2s-4_per_hz,welch_x-8.6875m_m2s-4_per_hz,pem_x8.6875m_m2s-4_per_hz,.*,welch_sigma_rel$' && ok || bad "validate psd csv"
 expect2 "validate paper mode" "paper-mode SDF has no time-domain form" "$RR" validate --speed 300 --conicity 0.2 --sdf paper --duration 16
 printf '[vehicle]\nbase = type1\n[yaw_damper]\ndamping = 0\n[lateral_damper]\ndamping = 0\n' > "$tmp/nod.ini"
 expect2 "validate unstable vehicle" "unstable at 300 km/h" "$RR" validate "$tmp/nod.ini" --speed 300 --conicity 0.2 --duration 16 --nseg 256
@@ -109,7 +109,7 @@ expect2 "validate seed" "--seed" "$RR" validate --speed 300 --conicity 0.2 --see
 
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 12 --generations 2 --threads 2 --output "$tmp/po" --progress > "$tmp/po.txt" 2> "$tmp/po.err" || bad "optimise exit"
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 12 --generations 2 --threads 2 --output "$tmp/po2" > /dev/null 2> "$tmp/po2.err" && [ ! -s "$tmp/po2.err" ] && ok || bad "optimise: no progress when stderr is not a terminal"
-head -1 "$tmp/po-pareto.csv" | grep -qx 'primary.longitudinal_stiffness,lateral_damper.damping,yaw_damper.damping,yaw_damper.series_stiffness,zeta_low,zeta_high,std_zeta' && [ "$(wc -l < "$tmp/po-pareto.csv")" -ge 2 ] && ok || bad "optimise pareto csv"
+head -1 "$tmp/po-pareto.csv" | grep -qx 'primary.longitudinal_stiffness_n_per_m,lateral_damper.damping_n_s_per_m,yaw_damper.damping_n_s_per_m,yaw_damper.series_stiffness_n_per_m,zeta_low,zeta_high,std_zeta' && [ "$(wc -l < "$tmp/po-pareto.csv")" -ge 2 ] && ok || bad "optimise pareto csv"
 grep -q "evals/s" "$tmp/po.err" && grep -q "hypervolume" "$tmp/po.err" && grep -q "ETA" "$tmp/po.err" && ok || bad "optimise progress"
 # the Pareto rows are mutually non-dominated and within the bounds (checked in Python)
 python3 - "$tmp/po-pareto.csv" <<'PY' && ok || bad "pareto rows non-dominated and in bounds"
@@ -123,7 +123,7 @@ ok = ok and not any(dom(a, b) for a in F for b in F)
 sys.exit(0 if ok else 1)
 PY
 "$RR" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:2" --objective index@350,0.17 > "$tmp/sw.csv" || bad "sweep exit"
-[ "$(head -1 "$tmp/sw.csv")" = 'yaw_damper.damping,yaw_damper.series_stiffness,"index@350,0.17",mode_freq_hz,k_opt_n_per_m' ] && [ "$(wc -l < "$tmp/sw.csv")" -eq 7 ] && ok || bad "sweep csv"
+[ "$(head -1 "$tmp/sw.csv")" = 'yaw_damper.damping_n_s_per_m,yaw_damper.series_stiffness_n_per_m,"index@350,0.17",mode_freq_hz,k_opt_n_per_m' ] && [ "$(wc -l < "$tmp/sw.csv")" -eq 7 ] && ok || bad "sweep csv"
 printf '[problem]\npopulation = 7\n[variables]\nprimary.longitudinal_stiffness = 10 kN/mm .. 120 kN/mm\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p1.ini"
 expect2 "odd population" "p1.ini:2: \[problem\] population" "$RR" optimise "$tmp/p1.ini"
 printf '[problem]\n[variables]\nprimary.stiffness = 1 .. 2\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p2.ini"
@@ -164,23 +164,24 @@ expect2 "conicity list where one value" "one value expected" "$RR" modes --speed
 expect2 "bad band" "--band" "$RR" ride --speed 300 --conicity 0.2 --band 10:1:5
 
 # The nonlinear model: simulate's CSV, bifurcation's JSON against critical-speed.
-"$RR" simulate --speed 350 --profile worn --duration 2 --fs 100 > "$tmp/sim.csv" || bad "simulate exit"
-python3 - "$tmp/sim.csv" <<'PY' && ok || bad "simulate csv"
+"$RR" simulate --speed 350 --profile worn --duration 2 --fs 100 > "$tmp/sim.csv" 2> "$tmp/sim.err" || bad "simulate exit"
+python3 - "$tmp/sim.csv" "$tmp/sim.err" <<'PY' && ok || bad "simulate csv"
 import csv, math, sys
-rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if not l.startswith('#'))]
+rows = list(csv.reader(open(sys.argv[1])))
 head = rows[0]
 assert head[0] == 't_s' and head[1] == 'y_c_m' and head[2] == 'psi_c_rad' and len(head) == 1 + 17 + 16, head
 assert head[-4:] == ['yt_w4_m', 'Fy_w4_N', 'Mz_w4_Nm', 'flange_w4_N'], head[-4:]
 assert len(rows) == 202 and all(math.isfinite(float(x)) for r in rows[1:] for x in r)
 assert abs(float(rows[1][head.index('y_w1_m')]) - 5e-3) < 1e-15      # the default disturbance
-assert any('friction 0.3' in l for l in open(sys.argv[1]) if l.startswith('#'))
+assert not any(l.startswith('#') for l in open(sys.argv[1]))              # plain CSV
+assert 'friction 0.3' in open(sys.argv[2]).read()                          # the assumptions on stderr
 PY
 printf 'distance_m,alignment_m\n' > "$tmp/track.csv"
 python3 -c "import math; [print(f'{0.25*i},{1e-3*math.sin(2*math.pi*0.25*i/30)}') for i in range(4000)]" >> "$tmp/track.csv"
 "$RR" simulate --speed 300 --profile worn --duration 5 --fs 100 --track "$tmp/track.csv" > "$tmp/simt.csv" || bad "simulate --track exit"
 python3 - "$tmp/simt.csv" <<'PY' && ok || bad "simulate --track: each wheelset reads the record at its position"
 import csv, math, sys
-rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if not l.startswith('#'))]
+rows = list(csv.reader(open(sys.argv[1])))
 h = rows[0]; r = rows[101]; v = 300 / 3.6; t = float(r[0])
 # the last wheelset starts at the record's start; the first is 2 (L + b) = 19.875 m ahead
 for w, dx in ((4, 0.0), (1, 19.875)):
@@ -207,7 +208,7 @@ PY
 "$RR" bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4 --json > "$tmp/scan.json" || bad "scan exit"
 json_check "bifurcation scan" "d['method']=='scan' and len(d['branch'])==6 and [p['sweep'] for p in d['branch']]==['up']*3+['down']*3 and d['branch'][0]['amplitude_m']==0 and d['branch'][2]['amplitude_m']>3e-4 and d['type']=='supercritical'" < "$tmp/scan.json"
 "$RR" bifurcation --profile "$SRC/examples/tread-worn.csv" --speeds 100:545 --csv > "$tmp/bif.csv" || bad "bifurcation csv"
-head -2 "$tmp/bif.csv" | tail -1 | grep -q '^speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual$' && ok || bad "bifurcation csv header"
+head -1 "$tmp/bif.csv" | grep -q '^speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual$' && ok || bad "bifurcation csv header"
 
 # Long runs: Ctrl-C stops after the generation in progress and writes its front
 timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 400 --generations 100000 \
@@ -215,6 +216,14 @@ timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisat
 [ $st -eq 130 ] && grep -q "stopped by a signal after generation" "$tmp/int.out" && [ "$(wc -l < "$tmp/int-pareto.csv")" -gt 1 ] \
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
 head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
+# locus, validate, summary: progress on request; a stopped locus writes the points done
+"$RR" summary --progress 2> "$tmp/sp.err" > /dev/null && grep -q "summary: 11/11 in" "$tmp/sp.err" && ok || bad "summary --progress"
+"$RR" validate --speed 350 --conicity 0.2 --duration 32 --fs 128 --nseg 512 --progress 2> "$tmp/vp.err" > /dev/null \
+  && grep -q "validate: 6/6 in" "$tmp/vp.err" && ok || bad "validate --progress"
+timeout -s INT --preserve-status 2 "$RR" locus --range 20:500:100000 --limit 1e6 --progress > "$tmp/lint.csv" 2> "$tmp/lint.err"; st=$?
+[ $st -eq 130 ] && grep -q "(stopped)" "$tmp/lint.err" && [ "$(wc -l < "$tmp/lint.csv")" -gt 10 ] \
+  && python3 -c "import csv,sys; r=list(csv.reader(open(sys.argv[1]))); sys.exit(0 if all(len(x)==len(r[0]) for x in r) else 1)" "$tmp/lint.csv" \
+  && ok || bad "locus interrupted: exit $st, $(tail -c 200 "$tmp/lint.err")"
 expect2 "optimise output folder missing" "cannot write" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output /nonexistent/dir/x
 # sweep over one axis and over the operating point: the values equal modes' index at each point
 "$RR" sweep --x conicity=0.1:0.4:4 --objective index@350 > "$tmp/swc.csv" || bad "sweep conicity axis"
@@ -227,7 +236,7 @@ for r in rows[1:]:
     assert abs(float(r[1]) - d['stability_index']) < 1e-9, (r, d['stability_index'])   # CSV: 10 digits
 PY
 "$RR" sweep --x speed=200:400:3 --y yaw_damper.series_stiffness=5MN/m:15MN/m:2 --objective "index@0,0.3" > "$tmp/sws.csv" && [ "$(wc -l < "$tmp/sws.csv")" -eq 7 ] \
-  && head -1 "$tmp/sws.csv" | grep -q '^speed_kmh,yaw_damper.series_stiffness,' && ok || bad "sweep speed x key"
+  && head -1 "$tmp/sws.csv" | grep -q '^speed_kmh,yaw_damper.series_stiffness_n_per_m,' && ok || bad "sweep speed x key"
 
 # a long map stopped by Ctrl-C: the rows done so far are written, exit 130; --progress reports an ETA
 timeout -s INT --preserve-status 2 "$RR" map --speeds 100:600:5000 --conicities 0.02:0.6:200 --limit 1e7 --progress > "$tmp/bigmap.csv" 2> "$tmp/bigmap.err"; st=$?

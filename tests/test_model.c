@@ -285,6 +285,13 @@ static void test_paper_roots(void)
   rr_model_free(m);
 }
 
+static int stop_at_30(void *user, long done, long total)
+{
+  (void)total;
+  *(long *)user = done;
+  return done >= 30;
+}
+
 /* Root loci follow mode shapes (MAC), not sort order: along a fine conicity
    sweep every branch stays correlated step to step and continuous in
    frequency, even where branches cross in frequency. */
@@ -301,7 +308,7 @@ static void test_locus_tracking(void)
   for (int i = 0; i < NP; i++) vals[i] = 0.02 + 0.48 * i / (NP - 1);
   rr_locus_point *pts = malloc(sizeof(rr_locus_point) * NP * rr_model_state_size(m));
   int nb = 0;
-  CHECK_OK(rr_locus(m, 1, vals, NP, NULL, pts, &nb, &e), e);
+  CHECK_OK(rr_locus(m, 1, vals, NP, NULL, NULL, pts, &nb, &e), e);
   CHECK(nb >= 10, "branches %d", nb);
   int lowmac = 0, jumps = 0, crossings = 0;
   for (int b = 0; b < nb; b++)
@@ -320,6 +327,20 @@ static void test_locus_tracking(void)
   CHECK(lowmac == 0, "%d steps with MAC < 0.9", lowmac);
   CHECK(jumps == 0, "%d frequency jumps > 0.3 Hz along a branch", jumps);
   CHECK(crossings > 0, "the sweep should contain branch crossings to be a test (%d)", crossings);
+  /* a progress callback that stops after 30 points: RR_ESTOPPED, the points
+     done as in the full run, the rest NaN */
+  rr_locus_point *part = malloc(sizeof(rr_locus_point) * NP * rr_model_state_size(m));
+  long calls = 0;
+  rr_progress pr = {.fn = stop_at_30, .user = &calls};
+  int nb2 = 0, st = rr_locus(m, 1, vals, NP, NULL, &pr, part, &nb2, &e);
+  CHECK(st == RR_ESTOPPED && e.code == RR_ESTOPPED && calls == 30 && nb2 == nb, "stopped locus: status %d, %ld calls", st, calls);
+  int same = 1, gaps = 1;
+  for (int i = 0; i < NP * nb; i++) {
+    if (i < 30 * nb) same &= !memcmp(&part[i], &pts[i], sizeof part[i]);
+    else gaps &= isnan(part[i].re) && part[i].param == vals[i / nb];
+  }
+  CHECK(same && gaps, "stopped locus: points done bit-identical (%d), the rest NaN (%d)", same, gaps);
+  free(part);
   free(pts);
   rr_model_free(m);
 }

@@ -19,4 +19,13 @@ typedef double complex rr_complex;
 #define RR_API
 #endif
 
+/* Progress of a long call: fn(user, done, total) after each step; a nonzero
+ * return stops the call, which then returns RR_ESTOPPED with the steps it
+ * finished in place (each function says what that leaves). fn NULL: none. */
+typedef int (*rr_progress_fn)(void *user, long done, long total);
+typedef struct rr_progress {
+  rr_progress_fn fn;
+  void *user;
+} rr_progress;
+
 #endif

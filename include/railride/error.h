@@ -20,7 +20,8 @@ enum rr_status {
   RR_EUNIT = 5,    /* unknown unit or unit of the wrong dimension */
   RR_ELAPACK = 6,  /* a LAPACK routine failed (e.g. QR iteration did not converge) */
   RR_ENOCONV = 7,  /* an iteration did not converge */
-  RR_EUNSUP = 8    /* combination of options not supported */
+  RR_EUNSUP = 8,   /* combination of options not supported */
+  RR_ESTOPPED = 9  /* stopped by the caller's progress callback (rr_progress) */
 };
 
 #define RR_ERROR_MSG_MAX 512

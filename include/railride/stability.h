@@ -57,7 +57,8 @@ RR_API int rr_critical_speed(rr_model *m, double conicity, const rr_modal_opts *
 /* Root locus: modes followed along a parameter by eigenvector correlation.
  * For each point p and branch b fills out[p * nbranch + b]; *nbranch is the
  * number of oscillatory modes at the first point. out must hold
- * npts * (state size) entries. */
+ * npts * (state size) entries. pr (may be NULL): progress per point; when it
+ * stops the call (RR_ESTOPPED), the points not reached have re = NaN. */
 typedef enum rr_locus_param { RR_LOCUS_SPEED = 0, RR_LOCUS_CONICITY = 1 } rr_locus_param;
 typedef struct rr_locus_point {
   double param, re, im, freq_hz, zeta, mac;
@@ -66,7 +67,7 @@ typedef struct rr_locus_point {
   int hunting;
 } rr_locus_point;
 RR_API int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
-             const rr_modal_opts *o, rr_locus_point *out, int *nbranch, rr_error *err);
+             const rr_modal_opts *o, const rr_progress *pr, rr_locus_point *out, int *nbranch, rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -71,6 +71,8 @@ typedef struct rr_validate_opts {
   int nfreq;              /* PEM grid (400, log-spaced) */
   int npoints;
   const double *rows, *rows0;   /* floor points as in rr_frf_opts */
+  rr_progress progress;   /* steps: the track, the time run, each point, the PEM lines (none);
+                             a stop returns RR_ESTOPPED and no result */
 } rr_validate_opts;
 RR_API rr_validate_opts rr_validate_opts_default(void);
 
@@ -88,6 +90,7 @@ typedef struct rr_validate_point {
 
 typedef struct rr_validate_result {
   int npoints, navg, nwelch;
+  double bin_sigma;            /* relative standard deviation of one Welch bin, sqrt((1 + 2 c^2) / navg) */
   double *welch_f, *welch_P;   /* nwelch, npoints x nwelch */
   double *pem_P;               /* the Welch estimator's expectation under the PEM spectrum (the
                                   PEM seen through the Hann window), npoints x nwelch, 0 outside the band */
