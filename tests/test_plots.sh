@@ -28,6 +28,17 @@ png validate validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 2
 png bifurcation bifurcation --profile worn --speeds 100:560
 png optimise optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 5 --output "$tmp/po"
 png scan bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4
+png sweepkc sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:5" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:5" --objective "index@350,0.17"
+# what each picture must show besides its curves (gnuplot's SVG keeps legend texts)
+svg_has() {  # svg_has WHAT TEXT ARGS...: railride ARGS --plot F.svg shows TEXT
+  local what=$1 text=$2; shift 2
+  "$RR" "$@" --plot "$tmp/t.svg" > /dev/null 2>&1 && grep -q "$text" "$tmp/t.svg" && ok || bad "$what: no '$text' in the picture"
+}
+svg_has "sweep: the k = c w line" "k = c w" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:5" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:5" --objective "index@350,0.17"
+svg_has "sweep: axis units" "yaw_damper.damping (N.s/m)" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:3" --objective "index@350,0.17"
+svg_has "ride: the Sperling weighting" "Sperling weighting (right)" ride --speed 300 --conicity 0.2
+svg_has "validate: the spread band" "2 sigma of a Welch bin" validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256
+svg_has "map: the zero contour" "index = 0" map --speeds 200:600:4 --conicities 0.05:0.5:4
 # the data still reaches standard output where the command prints CSV
 head -1 "$tmp/map.out" | grep -q '^speed_kmh,conicity,stability_index' && ok || bad "map --plot: the CSV still printed"
 # SVG and PDF by extension
