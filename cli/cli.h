@@ -111,6 +111,7 @@ void cli_progress_end(cli_progress *p);
    Ctrl-C (after cli_catch_stops). */
 rr_progress cli_progress_hook(cli_progress *p);
 void cli_catch_stops(void);
+double cli_now_s(void);   /* a monotonic clock, s */
 int cli_stopped(void);   /* a stop was asked for */
 #define CLI_EXIT_STOPPED 130
 
@@ -123,8 +124,6 @@ int cmd_critical(int argc, char **argv);
 int cmd_locus(int argc, char **argv);
 int cmd_map(int argc, char **argv);
 int cmd_damper(int argc, char **argv);
-
-#endif
 
 /* Runs getopt_long over argv with the shared options plus `extra` (NULL-
  * terminated, ids < 1000 or >= 2000), calling extra_cb for those. Loads the
@@ -175,3 +174,5 @@ int cmd_keys(int argc, char **argv);
 int cmd_objectives(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);
 int cmd_bifurcation(int argc, char **argv);
+
+#endif

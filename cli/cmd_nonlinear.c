@@ -25,13 +25,6 @@ typedef struct nl_args {
 enum { OPT_PROFILE = 5000, OPT_NDUR, OPT_NFS, OPT_DIST, OPT_NSPEC, OPT_NSEED, OPT_TRACK, OPT_SPEEDS, OPT_METHOD,
        OPT_CSV, OPT_STEP, OPT_SETTLE, OPT_NLIMIT };
 
-static double now_s(void)
-{
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
 static int speeds_option(nl_args *a, const char *arg)
 {
   char buf[256];
@@ -348,10 +341,10 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
   if (!pts) return cli_bad("out of memory");
   rr_bifurcation b;
   rr_error e;
-  double t0 = now_s();
+  double t0 = cli_now_s();
   int st = rr_bifurcation_continue(&c->veh, p, NULL, &o, pts, NULL, o.max_points, &b, &e);
   if (st) { free(pts); return cli_fail(&e, st); }
-  bif_print_cont(c, p, a, &b, pts, now_s() - t0);
+  bif_print_cont(c, p, a, &b, pts, cli_now_s() - t0);
   free(pts);
   return 0;
 }
@@ -433,9 +426,9 @@ static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
   rr_scan_opts so = rr_scan_opts_default();
   so.settle_s = a->settle;
   rr_error e;
-  double t0 = now_s();
+  double t0 = cli_now_s();
   int st = rr_bifurcation_scan(&c->veh, p, NULL, vs, nv, &so, up, down, &e);
-  if (!st) bif_print_scan(c, p, a, up, down, nv, now_s() - t0);
+  if (!st) bif_print_scan(c, p, a, up, down, nv, cli_now_s() - t0);
   free(vs); free(up); free(down);
   return st ? cli_fail(&e, st) : 0;
 }

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
+#include "parallel.h"
 
 static int whole(const char *v, long lo, long hi, long *out)
 {
@@ -25,16 +26,19 @@ typedef struct eval_ctx {
   rr_design *d;
   int threads;
   const rr_problem *p;
+  const double *x;   /* the batch being evaluated */
 } eval_ctx;
 
-/* Objectives (maximised ones negated) and then the constraints' violations,
-   value - bound for <=, bound - value for >= (NSGA-II counts those > 0). */
-static int eval_batch(void *user, int n, const double *x, double *f)
+/* Designs lo..hi-1 of the batch: objectives (maximised ones negated) and
+   then the constraints' violations, value - bound for <=, bound - value for
+   >= (NSGA-II counts those > 0). */
+static int eval_items(void *user, long lo, long hi, void *out)
 {
   eval_ctx *c = user;
   const rr_problem *p = c->p;
-  int w = p->nobj + p->ncon;
-  rr_design_evaluate_batch(c->d, n, x, f, c->threads);
+  int w = p->nobj + p->ncon, n = (int)(hi - lo);
+  double *f = out;
+  rr_design_evaluate_batch(c->d, n, c->x + lo * p->nvar, f, c->threads);
   for (int i = 0; i < n; i++) {
     for (int k = 0; k < p->nobj; k++)
       if (p->maximize[k]) f[i * w + k] = -f[i * w + k];
@@ -44,6 +48,15 @@ static int eval_batch(void *user, int n, const double *x, double *f)
     }
   }
   return 0;
+}
+
+/* A generation's batch: in one piece on one process, in chunks over the
+   ranks under MPI (every rank then holds every design's values). */
+static int eval_batch(void *user, int n, const double *x, double *f)
+{
+  eval_ctx *c = user;
+  c->x = x;
+  return cli_par_for(n, n, sizeof(double) * (size_t)(c->p->nobj + c->p->ncon), eval_items, c, f, NULL, NULL);
 }
 
 static int same_design(const double *a, const double *b, int n) { return !memcmp(a, b, sizeof(double) * (size_t)n); }
@@ -93,21 +106,6 @@ static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X,
   return nfront;
 }
 
-/* Ctrl-C or SIGTERM: the run stops after the generation in progress and
-   writes what it has. */
-static volatile sig_atomic_t stop_requested;
-static void on_stop(int sig) { (void)sig; stop_requested = 1; }
-
-static void catch_stops(void)
-{
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_stop;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
-}
-
 typedef struct run_log {
   int total, show;   /* generations; progress on stderr */
   FILE *history;     /* PREFIX-history.csv */
@@ -127,7 +125,36 @@ static int progress(void *user, int gen, long evals, double secs, int front, dou
     if (!isnan(hv)) fprintf(stderr, "  hypervolume %.6g", hv);
     fprintf(stderr, "  ETA %.0f s   %s", eta, gen == l->total ? "\n" : "");
   }
-  return stop_requested;
+  return cli_par_any_stopped();   /* Ctrl-C, SIGTERM: every rank stops after this generation */
+}
+
+/* PREFIX-pareto.csv, -pareto.json and -history.csv opened (rank 0; the
+   other ranks write to /dev/null), -checkpoint.bin named and, to resume,
+   checked. Returns 0 or the exit status (message printed). */
+static int open_outputs(const char *prefix, int resume, char *path, char *hpath, char *jpath, char *cpath, FILE **fp,
+                        FILE **fj, FILE **fh)
+{
+  const size_t n = PATH_MAX + 16;
+  snprintf(cpath, n, "%s-checkpoint.bin", prefix);
+  snprintf(path, n, "%s-pareto.csv", prefix);
+  snprintf(hpath, n, "%s-history.csv", prefix);
+  snprintf(jpath, n, "%s-pareto.json", prefix);
+  *fp = *fj = *fh = NULL;
+  if (resume && access(cpath, R_OK)) return cli_bad("optimise --resume: no checkpoint %s", cpath);
+  int rank0 = cli_par_rank() == 0;
+  const char *fail = NULL;
+  if (!(*fp = fopen(rank0 ? path : "/dev/null", "w"))) fail = path;
+  else if (!(*fj = fopen(rank0 ? jpath : "/dev/null", "w"))) fail = jpath;
+  else if (!(*fh = fopen(rank0 ? hpath : "/dev/null", resume ? "a" : "w"))) fail = hpath;
+  if (fail) {
+    int r = cli_bad("optimise: cannot write %s: %s", fail, strerror(errno));
+    if (*fp) fclose(*fp);
+    if (*fj) fclose(*fj);
+    *fp = *fj = NULL;
+    return r;
+  }
+  if (!resume) fprintf(*fh, "generation,evaluations,seconds,front_size,hypervolume\n");
+  return 0;
 }
 
 enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ, OPT_OLIMIT, OPT_PROGRESS, OPT_RESUME };
@@ -195,16 +222,15 @@ int cmd_optimise(int argc, char **argv)
   if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs")) return EXIT_BADINPUT;
   /* the outputs are opened before the run, so that a bad folder shows now */
   char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16], cpath[PATH_MAX + 16];
-  snprintf(cpath, sizeof cpath, "%s-checkpoint.bin", p.output);
-  if (a.resume && access(cpath, R_OK)) return cli_bad("optimise --resume: no checkpoint %s", cpath);
-  snprintf(path, sizeof path, "%s-pareto.csv", p.output);
-  snprintf(hpath, sizeof hpath, "%s-history.csv", p.output);
-  snprintf(jpath, sizeof jpath, "%s-pareto.json", p.output);
-  FILE *fp = fopen(path, "w"), *fj = fp ? fopen(jpath, "w") : NULL;
-  if (!fp || !fj) { if (fp) fclose(fp); return cli_bad("optimise: cannot write %s: %s", fp ? jpath : path, strerror(errno)); }
-  run_log log = {.total = p.generations, .show = a.progress || isatty(STDERR_FILENO), .history = fopen(hpath, a.resume ? "a" : "w")};
-  if (!log.history) { fclose(fp); fclose(fj); return cli_bad("optimise: cannot write %s: %s", hpath, strerror(errno)); }
-  if (!a.resume) fprintf(log.history, "generation,evaluations,seconds,front_size,hypervolume\n");
+  FILE *fp, *fj;
+  run_log log = {.total = p.generations, .show = (a.progress || isatty(STDERR_FILENO)) && cli_par_rank() == 0};
+  int r = cli_par_all(open_outputs(p.output, a.resume, path, hpath, jpath, cpath, &fp, &fj, &log.history));
+  if (r) {   /* another rank's failure: this one's files closed too */
+    if (fp) fclose(fp);
+    if (fj) fclose(fj);
+    if (log.history) fclose(log.history);
+    return r;
+  }
   rr_vehicle v;
   st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
   if (st) { fclose(fp); fclose(fj); fclose(log.history); return cli_fail(&e, st); }
@@ -214,7 +240,7 @@ int cmd_optimise(int argc, char **argv)
   for (int i = 0; i < p.ncon; i++) objs[p.nobj + i] = p.cons[i];   /* constraints: evaluated after the objectives */
   rr_design *d;
   if ((st = rr_design_new(&v, p.nvar, keys, p.nobj + p.ncon, objs, &d, &e))) { fclose(fp); fclose(fj); fclose(log.history); return cli_fail(&e, st); }
-  eval_ctx ec = {d, p.threads, &p};
+  eval_ctx ec = {.d = d, .threads = p.threads, .p = &p};
   rr_nsga2_opts o = rr_nsga2_opts_default();
   o.population = p.population;
   o.generations = p.generations;
@@ -224,19 +250,17 @@ int cmd_optimise(int argc, char **argv)
   o.user = &log;
   o.generations_done = &done_gens;
   o.ncon = p.ncon;
-  o.checkpoint = cpath;
+  o.checkpoint = cli_par_rank() == 0 ? cpath : NULL;   /* every rank holds the same state: rank 0 writes it */
   o.resume = a.resume ? cpath : NULL;
-  catch_stops();
+  cli_catch_stops();
   int N = p.population;
   double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj), *cv = malloc(sizeof(double) * N);
   int *rank = malloc(sizeof(int) * N);
   o.cv_out = cv;
   if (!X || !F || !rank || !cv) { free(X); free(F); free(rank); free(cv); rr_design_free(d); fclose(fp); fclose(fj); fclose(log.history); return cli_bad("out of memory"); }
-  struct timespec t0, t1;
-  clock_gettime(CLOCK_MONOTONIC, &t0);
+  double t0 = cli_now_s();
   st = rr_nsga2_run(p.nvar, p.nobj, p.lo, p.hi, eval_batch, &ec, &o, X, F, rank, &e);
-  clock_gettime(CLOCK_MONOTONIC, &t1);
-  double secs = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec);
+  double secs = cli_now_s() - t0;
   rr_design_free(d);
   fclose(log.history);
   if (st) { free(X); free(F); free(rank); free(cv); fclose(fp); fclose(fj); return cli_fail(&e, st); }
@@ -355,7 +379,10 @@ typedef struct sweep_run {
   char obj[160];
 } sweep_run;
 
-static int sweep_point(sweep_run *r, const double *v, rr_error *e)
+/* A point's value and the frequency of the mode behind it. */
+typedef struct sweep_val { double f, freq_hz; } sweep_val;
+
+static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *e)
 {
   double x[2];
   for (int ax = 0, k = 0; ax < r->nax; ax++)
@@ -377,15 +404,31 @@ static int sweep_point(sweep_run *r, const double *v, rr_error *e)
       if (st) return cli_fail(e, st);
     }
   }
-  double f;
-  int st = rr_design_evaluate(r->d, x, &f, e);
+  int st = rr_design_evaluate(r->d, x, &out->f, e);
   if (st) return cli_fail(e, st);
+  out->freq_hz = rr_design_mode_freq(r->d, 0);
+  return 0;
+}
+
+static void sweep_row(const sweep_run *r, const double *v, const sweep_val *p)
+{
   for (int ax = 0; ax < r->nax; ax++) printf("%.10g,", v[ax]);
-  printf("%.10g", f);
-  double fz = rr_design_mode_freq(r->d, 0);
-  if (r->has_freq) { putchar(','); cli_csv_num(stdout, fz, r->damp_axis >= 0 ? ',' : '\n'); }
-  if (r->has_freq && r->damp_axis >= 0) cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * fz, '\n');
+  printf("%.10g", p->f);
+  if (r->has_freq) { putchar(','); cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : '\n'); }
+  if (r->has_freq && r->damp_axis >= 0) cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * p->freq_hz, '\n');
   if (!r->has_freq) printf("\n");
+}
+
+/* Grid points lo..hi-1 (row-major over --x, --y). */
+static int sweep_points(void *user, long lo, long hi, void *out)
+{
+  sweep_run *r = user;
+  rr_error e;
+  for (long k = lo; k < hi; k++) {
+    double v[2] = {axis_value(r->a, 0, (int)(k / r->a->n[1])), axis_value(r->a, 1, (int)(k % r->a->n[1]))};
+    int st = sweep_point(r, v, (sweep_val *)out + (k - lo), &e);
+    if (st) return st;
+  }
   return 0;
 }
 
@@ -436,16 +479,20 @@ int cmd_sweep(int argc, char **argv)
   cli_csv_field(stdout, a.objective, run.has_freq ? ',' : '\n');
   if (run.has_freq) printf("mode_freq_hz%s\n", run.damp_axis >= 0 ? ",k_opt_n_per_m" : "");
   cli_progress pr;
-  cli_progress_start(&pr, "sweep", (long)a.n[0] * a.n[1], c.progress);
+  long npts = (long)a.n[0] * a.n[1];
+  sweep_val *vals = malloc(sizeof *vals * (size_t)npts);
+  unsigned char *done = calloc((size_t)npts, 1);
+  if (!vals || !done) { free(vals); free(done); return cli_bad("out of memory"); }
+  cli_progress_start(&pr, "sweep", npts, c.progress);
   cli_catch_stops();
-  rr_error e;
-  for (int i = 0; i < a.n[0] && !r && !cli_stopped(); i++)
-    for (int j = 0; j < a.n[1] && !r && !cli_stopped(); j++) {
-      double v[2] = {axis_value(&a, 0, i), axis_value(&a, 1, j)};
-      r = sweep_point(&run, v, &e);
-      cli_progress_step(&pr, 1);
-    }
+  r = cli_par_for(npts, 1, sizeof *vals, sweep_points, &run, vals, done, &pr);   /* over MPI ranks under mpirun */
   cli_progress_end(&pr);
   rr_design_free(run.d);
+  for (long k = 0; k < npts && !r; k++) {   /* a stopped run: the points done */
+    double v[2] = {axis_value(&a, 0, (int)(k / a.n[1])), axis_value(&a, 1, (int)(k % a.n[1]))};
+    if (done[k]) sweep_row(&run, v, &vals[k]);
+  }
+  free(vals);
+  free(done);
   return r ? r : cli_stopped() ? CLI_EXIT_STOPPED : 0;
 }

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
+#include "parallel.h"
 
 #define RUN_PARSE(reads, extra, cb, user, help) do { \
     int r_ = cli_parse(argc, argv, &c, reads, extra, cb, user, help); \
@@ -286,6 +287,25 @@ static void critical_text(const cli_common *c, double conicity, const crit_args 
          md->hunting ? "hunting-related" : "not hunting-related");
 }
 
+/* Critical speeds at conicities lo..hi-1 of the list. */
+typedef struct crit_list {
+  rr_model *m;
+  rr_modal_ws *ws;
+  const cli_common *c;
+  const rr_critical_opts *co;
+} crit_list;
+
+static int crit_items(void *user, long lo, long hi, void *out)
+{
+  crit_list *w = user;
+  rr_error e;
+  for (long i = lo; i < hi; i++) {
+    int st = rr_critical_speed(w->m, w->c->conicities[i], &w->c->mo, w->co, w->ws, (rr_critical *)out + (i - lo), &e);
+    if (st) return cli_fail(&e, st);
+  }
+  return 0;
+}
+
 int cmd_critical(int argc, char **argv)
 {
   static const char help[] =
@@ -313,25 +333,28 @@ int cmd_critical(int argc, char **argv)
   rr_critical_opts co = {.v_min_ms = a.vmin / RR_KMH, .v_max_ms = a.vmax / RR_KMH, .step_ms = a.step / RR_KMH,
                          .tol_ms = 1e-3 / RR_KMH, .index_modes = a.index_modes};
   int st = rr_modal_ws_new(m, &ws, &e);
-  cJSON *all = c.json && c.ncon > 1 ? cJSON_CreateObject() : NULL, *arr = all ? cJSON_AddArrayToObject(all, "results") : NULL;
+  if (st) { rr_model_free(m); return cli_fail(&e, st); }
+  /* the conicities computed (over MPI ranks under mpirun), then written */
+  rr_critical crs[64];
+  unsigned char done[64] = {0};
+  crit_list w = {.m = m, .ws = ws, .c = &c, .co = &co};
   cli_progress pr;
   cli_progress_start(&pr, "critical-speed", c.ncon, c.progress && c.ncon > 1);
   cli_catch_stops();
-  for (int i = 0; i < c.ncon && !st && !cli_stopped(); i++) {
-    rr_critical cr;
-    if ((st = rr_critical_speed(m, c.conicities[i], &c.mo, &co, ws, &cr, &e))) break;
-    if (!c.json) critical_text(&c, c.conicities[i], &a, &cr);
-    else {
-      cJSON *one = critical_json(&c, c.conicities[i], &a, &cr, c.veh.sdf_mode == RR_SDF_PAPER);
-      if (arr) cJSON_AddItemToArray(arr, one);
-      else cli_json_print(one);
-    }
-    cli_progress_step(&pr, 1);
-  }
+  r = cli_par_for(c.ncon, 1, sizeof crs[0], crit_items, &w, crs, done, &pr);
   if (c.ncon > 1) cli_progress_end(&pr);
   rr_modal_ws_free(ws);
   rr_model_free(m);
-  if (st) { cJSON_Delete(all); return cli_fail(&e, st); }
+  if (r) return r;
+  cJSON *all = c.json && c.ncon > 1 ? cJSON_CreateObject() : NULL, *arr = all ? cJSON_AddArrayToObject(all, "results") : NULL;
+  for (int i = 0; i < c.ncon && done[i]; i++) {   /* a stopped run: the leading ones done */
+    if (!c.json) critical_text(&c, c.conicities[i], &a, &crs[i]);
+    else {
+      cJSON *one = critical_json(&c, c.conicities[i], &a, &crs[i], c.veh.sdf_mode == RR_SDF_PAPER);
+      if (arr) cJSON_AddItemToArray(arr, one);
+      else cli_json_print(one);
+    }
+  }
   if (all) cli_json_print(all);
   return cli_stopped() ? CLI_EXIT_STOPPED : 0;
 }
@@ -367,6 +390,72 @@ static int grid_cb(int opt, const char *arg, void *u)
 
 static double lin(double a, double b, int i, int n) { return n == 1 ? a : a + (b - a) * i / (n - 1); }
 
+/* The locus over MPI ranks: windows of points whose eigen-solves (the cost)
+   are spread over the ranks as records (rr_locus_solve), then followed in
+   order on every rank (rr_locus_follow): rr_locus's result to the bit. */
+#define LOCUS_WINDOW_PER_RANK 64   /* points a rank solves per window: the records' memory stays small */
+
+typedef struct locus_solve_job {
+  rr_model *m;
+  rr_modal_ws *ws;
+  rr_modal_result res;
+  const cli_common *c;
+  rr_locus_param param;
+  const double *vals;        /* the window's values */
+  size_t rs;                 /* record size */
+} locus_solve_job;
+
+static int locus_solve_items(void *user, long lo, long hi, void *out)
+{
+  locus_solve_job *w = user;
+  rr_error e;
+  for (long p = lo; p < hi; p++) {
+    int st = rr_locus_solve(w->m, w->param, w->vals[p], &w->c->mo, w->ws, &w->res, (char *)out + (size_t)(p - lo) * w->rs, &e);
+    if (st) return cli_fail(&e, st);
+  }
+  return 0;
+}
+
+/* Fills pts and *nb as rr_locus does; *ndone: the points followed (fewer
+   after Ctrl-C, the rest NaN). */
+static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, const double *vals, long n, rr_locus_point *pts,
+                     int *nb, long *ndone, cli_progress *pr)
+{
+  double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
+  locus_solve_job w = {.m = m, .c = c, .param = param, .rs = rr_locus_record_size(m)};
+  long win = (long)cli_par_size() * LOCUS_WINDOW_PER_RANK;
+  char *recs = malloc(w.rs * (size_t)(win < n ? win : n));
+  unsigned char *done = malloc((size_t)win);
+  rr_locus_tracker *t = NULL;
+  rr_error e;
+  int r = recs && done ? 0 : cli_bad("out of memory"), st = RR_OK;
+  if (!r && ((st = rr_modal_ws_new(m, &w.ws, &e)) || (st = rr_modal_result_alloc(m, &w.res, &e)) ||
+             (st = rr_locus_tracker_new(m, &t, &e))))
+    r = cli_fail(&e, st);
+  *nb = 0;
+  *ndone = 0;
+  for (long lo = 0; lo < n && !r; lo += win) {
+    long len = lo + win < n ? win : n - lo, ok = 0;
+    w.vals = vals + lo;
+    memset(done, 0, (size_t)len);
+    r = cli_par_for(len, 1, w.rs, locus_solve_items, &w, recs, done, NULL);
+    while (ok < len && done[ok]) ok++;   /* after Ctrl-C: the window's leading points solved */
+    if (!r && ok && (st = rr_locus_follow(t, vals + lo, (int)ok, recs, pts + (size_t)lo * *nb, nb, &e))) r = cli_fail(&e, st);
+    *ndone += ok;
+    if (pr) cli_progress_step(pr, ok);
+    if (ok < len) break;
+  }
+  for (long p = *ndone; p < n && !r; p++)   /* a stopped run: the points not followed */
+    for (int b = 0; b < *nb; b++) pts[p * *nb + b] = (rr_locus_point){.param = vals[p], .re = NAN, .im = NAN};
+  rr_model_set_operating(m, v0, l0, NULL);
+  rr_locus_tracker_free(t);
+  rr_modal_result_free(&w.res);
+  rr_modal_ws_free(w.ws);
+  free(recs);
+  free(done);
+  return r;
+}
+
 int cmd_locus(int argc, char **argv)
 {
   static const char help[] = "usage: railride locus [VEHICLE] [--over speed|conicity] [--range FROM:TO:N] [--speed KMH | --conicity L] [--json]\n"
@@ -401,12 +490,20 @@ int cmd_locus(int argc, char **argv)
   if (!vals || !pts) { free(vals); free(pts); rr_model_free(m); return cli_bad("out of memory"); }
   for (int i = 0; i < a.n; i++) vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? RR_KMH : 1.0);
   rr_error e;
-  int nb = 0;
+  int nb = 0, st = 0;
+  long ndone = a.n;
   cli_progress pr;
-  cli_progress_start(&pr, "locus", a.n, c.progress);
   cli_catch_stops();
-  rr_progress hook = cli_progress_hook(&pr);
-  int st = rr_locus(m, (rr_locus_param)a.param, vals, a.n, &c.mo, &hook, pts, &nb, &e);
+  if (cli_par_size() > 1) {   /* under mpirun: blocks of points over the ranks */
+    cli_progress_start(&pr, "locus", a.n, c.progress);
+    r = locus_mpi(m, &c, (rr_locus_param)a.param, vals, a.n, pts, &nb, &ndone, &pr);
+    if (r) { cli_progress_end(&pr); rr_model_free(m); free(vals); free(pts); return r; }
+    if (ndone < a.n) st = RR_ESTOPPED;
+  } else {
+    cli_progress_start(&pr, "locus", a.n, c.progress);
+    rr_progress hook = cli_progress_hook(&pr);
+    st = rr_locus(m, (rr_locus_param)a.param, vals, a.n, &c.mo, &hook, pts, &nb, &e);
+  }
   cli_progress_end(&pr);
   double v0 = rr_model_speed(m) * RR_KMH, l0 = rr_model_conicity(m);
   rr_model_free(m);
@@ -464,6 +561,33 @@ static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
   cJSON_AddItemToArray(arr, o);
 }
 
+/* The map's speed rows lo..hi-1, each row's conicities through the batched
+   index (SIMD lanes). */
+typedef struct map_rows {
+  rr_model *m;
+  rr_modal_ws *ws;
+  const cli_common *c;
+  const grid_args *a;
+  double *vs, *ls;      /* a row's operating points (c_n each) */
+  rr_error e;
+} map_rows;
+
+static int map_rows_eval(void *user, long lo, long hi, void *out)
+{
+  map_rows *w = user;
+  const grid_args *a = w->a;
+  rr_stability *zs = out;
+  for (long i = lo; i < hi; i++) {
+    for (int j = 0; j < a->c_n; j++) {
+      w->vs[j] = lin(a->s_from, a->s_to, (int)i, a->s_n) / RR_KMH;
+      w->ls[j] = lin(a->c_from, a->c_to, j, a->c_n);
+    }
+    int st = rr_modal_stability_batch(w->m, &w->c->mo, w->ws, a->c_n, w->vs, w->ls, zs + (i - lo) * a->c_n, &w->e);
+    if (st) return cli_fail(&w->e, st);
+  }
+  return 0;
+}
+
 int cmd_map(int argc, char **argv)
 {
   static const char help[] =
@@ -487,34 +611,32 @@ int cmd_map(int argc, char **argv)
   rr_model *m;
   int r = cli_model(&c, &m, 0, 0);
   if (r) return r;
-  rr_error e;
-  rr_modal_ws *ws;
-  int st = rr_modal_ws_new(m, &ws, &e);
-  if (st) { rr_model_free(m); return cli_fail(&e, st); }
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
-  if (!c.json) printf("speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n");
-  /* one speed's conicities at a time, through the batched index */
-  double *vs = malloc(sizeof(double) * (size_t)a.c_n * 2), *ls = vs ? vs + a.c_n : NULL;
-  rr_stability *zs = malloc(sizeof *zs * (size_t)a.c_n);
-  if (!vs || !zs) { free(vs); free(zs); rr_modal_ws_free(ws); rr_model_free(m); cJSON_Delete(root); return cli_bad("out of memory"); }
+  map_rows w = {.m = m, .c = &c, .a = &a};
+  int st = rr_modal_ws_new(m, &w.ws, &w.e);
+  if (st) { rr_model_free(m); return cli_fail(&w.e, st); }
+  /* the rows computed (over MPI ranks when run under mpirun), then written */
+  size_t npts = (size_t)a.s_n * (size_t)a.c_n;
+  w.vs = malloc(sizeof(double) * (size_t)a.c_n * 2);
+  w.ls = w.vs ? w.vs + a.c_n : NULL;
+  rr_stability *zs = malloc(sizeof *zs * npts);
+  unsigned char *done = calloc((size_t)a.s_n, 1);
+  if (!w.vs || !zs || !done) { free(w.vs); free(zs); free(done); rr_modal_ws_free(w.ws); rr_model_free(m); return cli_bad("out of memory"); }
   cli_progress pr;
-  cli_progress_start(&pr, "map", (long)a.s_n * a.c_n, c.progress);
+  cli_progress_start(&pr, "map", a.s_n, c.progress);
   cli_catch_stops();
-  for (int i = 0; i < a.s_n && !st && !cli_stopped(); i++) {
-    for (int j = 0; j < a.c_n; j++) {
-      vs[j] = lin(a.s_from, a.s_to, i, a.s_n) / RR_KMH;
-      ls[j] = lin(a.c_from, a.c_to, j, a.c_n);
-    }
-    if ((st = rr_modal_stability_batch(m, &c.mo, ws, a.c_n, vs, ls, zs, &e))) break;
-    for (int j = 0; j < a.c_n; j++) map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), ls[j], &zs[j]);
-    cli_progress_step(&pr, a.c_n);
-  }
+  r = cli_par_for(a.s_n, 1, sizeof *zs * (size_t)a.c_n, map_rows_eval, &w, zs, done, &pr);
   cli_progress_end(&pr);
-  free(vs);
-  free(zs);
-  rr_modal_ws_free(ws);
+  free(w.vs);
+  rr_modal_ws_free(w.ws);
   rr_model_free(m);
-  if (st) { cJSON_Delete(root); return cli_fail(&e, st); }
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
+  if (!r && !c.json) printf("speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n");
+  for (int i = 0; i < a.s_n && !r; i++)   /* a stopped run: the rows done */
+    for (int j = 0; j < a.c_n && done[i]; j++)
+      map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), lin(a.c_from, a.c_to, j, a.c_n), &zs[(size_t)i * a.c_n + j]);
+  free(zs);
+  free(done);
+  if (r) { cJSON_Delete(root); return r; }
   if (root) cli_json_print(root);
   return cli_stopped() ? CLI_EXIT_STOPPED : 0;   /* what was done is written */
 }

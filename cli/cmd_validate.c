@@ -102,16 +102,14 @@ int cmd_validate(int argc, char **argv)
   a.vo.rows = rows;
   a.vo.rows0 = a.rs.roll_gravity ? rows0 : NULL;
   rr_validate_result res;
-  struct timespec t0, t1;
   cli_progress pr;
   cli_progress_start(&pr, "validate", 3 + np, c.progress);
   a.vo.progress = cli_progress_hook(&pr);
   cli_catch_stops();
-  clock_gettime(CLOCK_MONOTONIC, &t0);
+  double t0 = cli_now_s();
   if (!st) st = rr_validate(m, &sp, &a.vo, &res, &e);
   cli_progress_end(&pr);
-  clock_gettime(CLOCK_MONOTONIC, &t1);
-  double secs = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec);
+  double secs = cli_now_s() - t0;
   free(rows);
   free(rows0);
   rr_model_free(m);

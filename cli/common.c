@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "cli.h"
+#include "parallel.h"
 
 int cli_bad(const char *fmt, ...)
 {
@@ -339,7 +340,7 @@ void cli_catch_stops(void)
 
 int cli_stopped(void) { return stop_flag; }
 
-static double mono_s(void)
+double cli_now_s(void)
 {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
@@ -348,14 +349,15 @@ static double mono_s(void)
 
 void cli_progress_start(cli_progress *p, const char *what, long total, int force)
 {
-  *p = (cli_progress){.what = what, .total = total, .t0 = mono_s(), .show = force || isatty(STDERR_FILENO)};
+  *p = (cli_progress){.what = what, .total = total, .t0 = cli_now_s(),
+                      .show = (force || isatty(STDERR_FILENO)) && cli_par_rank() == 0};   /* one progress line per job */
   p->last = p->t0;
 }
 
 void cli_progress_step(cli_progress *p, long n)
 {
   p->done += n;
-  double now = mono_s();
+  double now = cli_now_s();
   if (!p->show || (now - p->last < 0.25 && p->done < p->total)) return;
   p->last = now;
   double eta = p->done ? (now - p->t0) / p->done * (p->total - p->done) : 0;
@@ -374,6 +376,6 @@ rr_progress cli_progress_hook(cli_progress *p) { return (rr_progress){.fn = prog
 
 void cli_progress_end(cli_progress *p)
 {
-  if (p->show) fprintf(stderr, "\r%s: %ld/%ld in %.1f s%s\n", p->what, p->done, p->total, mono_s() - p->t0,
+  if (p->show) fprintf(stderr, "\r%s: %ld/%ld in %.1f s%s\n", p->what, p->done, p->total, cli_now_s() - p->t0,
                        p->done < p->total ? " (stopped)" : "             ");
 }

@@ -1,6 +1,7 @@
 /* railride: command-line entry point and subcommand dispatch. */
 #include <string.h>
 #include "cli.h"
+#include "parallel.h"
 #include "plot.h"
 #include "railride/version.h"
 
@@ -29,13 +30,22 @@ static const struct { const char *name; int (*fn)(int, char **); const char *wha
 };
 #define NCMDS (int)(sizeof cmds / sizeof cmds[0])
 
+/* The commands whose loops split over MPI ranks (cli_par_for). */
+static int distributed(const char *name)
+{
+  static const char *const names[] = {"optimise", "optimize", "sweep", "map", "critical-speed", "locus"};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+    if (!strcmp(name, names[i])) return 1;
+  return 0;
+}
+
 static void usage(FILE *fp)
 {
   fprintf(fp, "usage: railride COMMAND [VEHICLE] [options]   (railride COMMAND --help; railride --version)\n\ncommands:\n");
   for (int i = 0; i < NCMDS; i++) fprintf(fp, "  %-15s %s\n", cmds[i].name, cmds[i].what);
 }
 
-int main(int argc, char **argv)
+static int run(int argc, char **argv)
 {
   /* Problems here are small (40x40): BLAS threads only cost. */
   openblas_set_num_threads(1);
@@ -44,9 +54,19 @@ int main(int argc, char **argv)
   if (!strcmp(argv[1], "--version")) { printf("railride %s (library %s)\n", RR_VERSION_STRING, rr_version()); return 0; }
   for (int i = 0; i < NCMDS; i++)
     if (!strcmp(argv[1], cmds[i].name)) {
+      if (cli_par_size() > 1 && !distributed(cmds[i].name)) {   /* one rank is enough */
+        if (cli_par_rank() != 0) return 0;
+        fprintf(stderr, "railride %s: not distributed over MPI ranks; rank 0 runs it alone\n", cmds[i].name);
+      }
       int handled, r = cli_plot_run(cmds[i].name, cmds[i].fn, argc - 1, argv + 1, &handled);
       return handled ? r : cmds[i].fn(argc - 1, argv + 1);
     }
   fprintf(stderr, "railride: unknown command '%s' (railride --help lists them)\n", argv[1]);
   return EXIT_BADINPUT;
+}
+
+int main(int argc, char **argv)
+{
+  cli_par_init(&argc, &argv);
+  return cli_par_finalize(run(argc, argv));
 }

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "cli.h"
+#include "parallel.h"
 #include "plot.h"
 
 #define PLOT_W 900
@@ -372,7 +373,7 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   const char *src = file_data ? file_data : data;
   if (!r && k->script == script_optimise) src = front_file(data, front, sizeof front);
   if (!r && (k->grid == 1 || (k->grid == 2 && has_arg(n, av, "--y")))) src = gridded(src, grid, sizeof grid);
-  if (!r) r = render(k, out, src, n, av);
+  if (!r && cli_par_rank() == 0) r = render(k, out, src, n, av);   /* one picture from an MPI job */
   free(av);
   char rm[PATH_MAX + 16];
   snprintf(rm, sizeof rm, "rm -rf '%s'", dir);

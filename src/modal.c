@@ -30,7 +30,7 @@ static int result_init(rr_modal_result *res, int cap, int n)
 }
 
 /* Room for the largest state of any SDF mode the model may switch to. */
-static int state_cap(const rr_model *m)
+int rr_modal_state_cap(const rr_model *m)
 {
   int N = 2 * m->n + m->nmx + m->nsdf;
   if (m->nsdf == 0)
@@ -40,7 +40,7 @@ static int state_cap(const rr_model *m)
 
 int rr_modal_result_alloc(const rr_model *m, rr_modal_result *res, rr_error *err)
 {
-  if (result_init(res, state_cap(m), m->n)) {
+  if (result_init(res, rr_modal_state_cap(m), m->n)) {
     rr_modal_result_free(res);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
@@ -102,7 +102,7 @@ int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err)
   *out = NULL;
   rr_modal_ws *ws = calloc(1, sizeof *ws);
   if (!ws) return rr_seterr(err, RR_ENOMEM, "out of memory");
-  ws->N = state_cap(m);
+  ws->N = rr_modal_state_cap(m);
   ws->n = m->n;
   int st = RR_OK;
   if (ws_alloc(ws)) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto fail; }

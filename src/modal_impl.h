@@ -25,6 +25,10 @@ struct rr_modal_ws {
   double complex *dsz;
 };
 
+/* Room for the largest state of any SDF mode the model may switch to: the
+   modes a result holds at most. */
+int rr_modal_state_cap(const rr_model *m);
+
 /* Eigenvalues this small are zero to working precision (see modal.c). */
 int rr_modal_is_osc(double re, double im, double anorm);
 double rr_modal_max_abs(const double *A, int N);

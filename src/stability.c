@@ -1,6 +1,7 @@
 /* Stability studies built on the modal solver: robust indices (paper
  * Table 1), critical speed, root loci tracked by eigenvector correlation. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include "railride/stability.h"
@@ -209,47 +210,118 @@ static void locus_match(const rr_modal_result *res, int n, int nb, double param,
     if (!done[b]) row[b] = locus_gap(param);
 }
 
+/* A record: the count of modes, then cap modes, then cap x ndof shapes. */
+typedef struct record_head { int n, cap, ndof, pad; } record_head;
+
+size_t rr_locus_record_size(const rr_model *m)
+{
+  size_t cap = (size_t)rr_modal_state_cap(m);
+  return sizeof(record_head) + cap * sizeof(rr_mode) + cap * (size_t)m->n * sizeof(double complex);
+}
+
+/* The record as a modal result (a view: nothing allocated). */
+static rr_modal_result record_view(const void *record)
+{
+  const record_head *h = record;
+  rr_mode *modes = (rr_mode *)(void *)((char *)(uintptr_t)record + sizeof *h);
+  return (rr_modal_result){.n = h->n, .cap = h->cap, .ndof = h->ndof, .modes = modes,
+                           .shapes = (double complex *)(void *)(modes + h->cap)};
+}
+
+int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_modal_opts *o, rr_modal_ws *ws,
+                   rr_modal_result *res, void *record, rr_error *err)
+{
+  int st = param == RR_LOCUS_SPEED ? rr_model_set_operating(m, value, rr_model_conicity(m), err)
+                                   : rr_model_set_operating(m, rr_model_speed(m), value, err);
+  if (st || (st = rr_modal_solve(m, o, ws, res, err))) return st;
+  record_head *h = record;
+  int cap = rr_modal_state_cap(m);
+  *h = (record_head){.n = res->n, .cap = cap, .ndof = m->n};
+  rr_modal_result v = record_view(record);
+  memcpy(v.modes, res->modes, (size_t)res->n * sizeof *v.modes);
+  memcpy(v.shapes, res->shapes, (size_t)res->n * (size_t)m->n * sizeof *v.shapes);
+  memset(v.modes + res->n, 0, (size_t)(cap - res->n) * sizeof *v.modes);   /* plain bytes to copy */
+  memset(v.shapes + (size_t)res->n * m->n, 0, (size_t)(cap - res->n) * (size_t)m->n * sizeof *v.shapes);
+  return RR_OK;
+}
+
+struct rr_locus_tracker {
+  int n, cap, nb;           /* ndof, modes at most, branches (-1 before the first record) */
+  double complex *prev;     /* each branch's last shape (cap x n) */
+  int *used, *done;         /* cap each */
+};
+
+int rr_locus_tracker_new(const rr_model *m, rr_locus_tracker **out, rr_error *err)
+{
+  rr_locus_tracker *t = calloc(1, sizeof *t);
+  *out = NULL;
+  if (!t) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  *t = (rr_locus_tracker){.n = m->n, .cap = rr_modal_state_cap(m), .nb = -1};
+  t->prev = malloc((size_t)t->cap * (size_t)t->n * sizeof *t->prev);
+  t->used = malloc((size_t)t->cap * sizeof *t->used);
+  t->done = malloc((size_t)t->cap * sizeof *t->done);
+  if (!t->prev || !t->used || !t->done) { rr_locus_tracker_free(t); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  *out = t;
+  return RR_OK;
+}
+
+void rr_locus_tracker_free(rr_locus_tracker *t)
+{
+  if (!t) return;
+  free(t->prev);
+  free(t->used);
+  free(t->done);
+  free(t);
+}
+
+int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const void *records, rr_locus_point *out,
+                    int *nbranch, rr_error *err)
+{
+  size_t rs = sizeof(record_head) + (size_t)t->cap * (sizeof(rr_mode) + (size_t)t->n * sizeof(double complex));
+  for (int p = 0; p < npts; p++) {
+    rr_modal_result res = record_view((const char *)records + (size_t)p * rs);
+    if (res.cap != t->cap || res.ndof != t->n || res.n < 0 || res.n > t->cap)
+      return rr_seterr(err, RR_EINVAL, "locus: record %d is not one of this model's", p);
+    if (t->nb < 0) {   /* the branches: the oscillatory modes at the first point */
+      t->nb = 0;
+      for (int i = 0; i < res.n; i++) {
+        if (!res.modes[i].oscillatory) continue;
+        memcpy(t->prev + (size_t)t->nb * t->n, res.shapes + (size_t)i * t->n, (size_t)t->n * sizeof *t->prev);
+        out[t->nb++] = locus_point(values[p], &res.modes[i], 1.0);
+      }
+    } else {
+      locus_match(&res, t->n, t->nb, values[p], t->prev, t->used, t->done, out + (size_t)p * t->nb);
+    }
+  }
+  *nbranch = t->nb;
+  return RR_OK;
+}
+
 int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts, const rr_modal_opts *o,
              const rr_progress *pr, rr_locus_point *out, int *nbranch, rr_error *err)
 {
   double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
   rr_modal_ws *ws = NULL;
-  rr_modal_result res;
-  int st = rr_modal_ws_new(m, &ws, err);
-  if (st) return st;
-  if ((st = rr_modal_result_alloc(m, &res, err))) { rr_modal_ws_free(ws); return st; }
-  int n = rr_model_ndof(m), nb = 0, p = 0;
-  double complex *prev = NULL;
-  int *used = NULL, *done = NULL;
-  for (; p < npts; p++) {
-    st = param == RR_LOCUS_SPEED ? rr_model_set_operating(m, values[p], l0, err) : rr_model_set_operating(m, v0, values[p], err);
-    if (st) goto out;
-    if ((st = rr_modal_solve(m, o, ws, &res, err))) goto out;
-    if (p == 0) {   /* the branches: the oscillatory modes at the first point */
-      for (int i = 0; i < res.n; i++) nb += res.modes[i].oscillatory;
-      prev = malloc((size_t)(nb ? nb : 1) * (size_t)n * sizeof *prev);
-      used = malloc((size_t)res.cap * sizeof *used);
-      done = malloc((size_t)(nb ? nb : 1) * sizeof *done);
-      if (!prev || !used || !done) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto out; }
-      for (int i = 0, b = 0; i < res.n; i++) {
-        if (!res.modes[i].oscillatory) continue;
-        memcpy(prev + (size_t)b * n, res.shapes + (size_t)i * n, (size_t)n * sizeof *prev);
-        out[b++] = locus_point(values[p], &res.modes[i], 1.0);
-      }
-    } else {
-      locus_match(&res, n, nb, values[p], prev, used, done, out + (size_t)p * nb);
-    }
-    if ((st = rr_progress_step(pr, p + 1, npts, err))) { p++; break; }
+  rr_locus_tracker *t = NULL;
+  rr_modal_result res = {0};
+  void *rec = malloc(rr_locus_record_size(m));
+  int st = rec ? RR_OK : rr_seterr(err, RR_ENOMEM, "out of memory"), nb = 0, p = 0;
+  if (!st) st = rr_modal_ws_new(m, &ws, err);
+  if (!st) st = rr_modal_result_alloc(m, &res, err);
+  if (!st) st = rr_locus_tracker_new(m, &t, err);
+  for (; p < npts && !st; p++) {
+    st = rr_locus_solve(m, param, values[p], o, ws, &res, rec, err);
+    if (!st) st = rr_locus_follow(t, values + p, 1, rec, out + (size_t)p * (nb > 0 ? nb : 0), &nb, err);
+    if (!st && (st = rr_progress_step(pr, p + 1, npts, err))) p++;
   }
-  for (; p < npts; p++)   /* not reached (stopped) */
-    for (int b = 0; b < nb; b++) out[(size_t)p * nb + b] = locus_gap(values[p]);
-  *nbranch = nb;
-out:
+  if (st == RR_ESTOPPED)   /* the points not reached */
+    for (p -= 1; p < npts; p++)
+      for (int b = 0; b < nb; b++) out[(size_t)p * nb + b] = locus_gap(values[p]);
+  if (!st || st == RR_ESTOPPED) *nbranch = nb;
   rr_model_set_operating(m, v0, l0, NULL);
-  free(prev);
-  free(used);
-  free(done);
+  rr_locus_tracker_free(t);
   rr_modal_result_free(&res);
   rr_modal_ws_free(ws);
+  free(rec);
   return st;
 }

@@ -69,6 +69,26 @@ typedef struct rr_locus_point {
 RR_API int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
              const rr_modal_opts *o, const rr_progress *pr, rr_locus_point *out, int *nbranch, rr_error *err);
 
+/* rr_locus in two steps, so that the eigen-solves (its cost) can be spread
+ * over threads or processes and the branches followed after, with the same
+ * result to the bit:
+ * - rr_locus_solve: one point's modes and shapes into a record of
+ *   rr_locus_record_size(m) bytes (plain data: records may be copied between
+ *   processes running the same build). res: scratch from
+ *   rr_modal_result_alloc. Leaves the model at that point.
+ * - rr_locus_follow: the branches through npts records in order, into
+ *   out[p * nbranch + b]; a tracker goes on from where its last call ended,
+ *   so windows of points may be followed one after another. *nbranch: the
+ *   oscillatory modes of the first record the tracker saw. */
+typedef struct rr_locus_tracker rr_locus_tracker;
+RR_API size_t rr_locus_record_size(const rr_model *m);
+RR_API int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_modal_opts *o, rr_modal_ws *ws,
+                          rr_modal_result *res, void *record, rr_error *err);
+RR_API int rr_locus_tracker_new(const rr_model *m, rr_locus_tracker **out, rr_error *err);
+RR_API void rr_locus_tracker_free(rr_locus_tracker *t);
+RR_API int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const void *records,
+                           rr_locus_point *out, int *nbranch, rr_error *err);
+
 #ifdef __cplusplus
 }
 #endif
