@@ -1,5 +1,5 @@
 #define _POSIX_C_SOURCE 200809L
-/* The nonlinear model's speed (issue 12): 60 s of simulated running at
+/* The nonlinear model's speed: 60 s of simulated running at
  * 350 km/h, and a whole bifurcation diagram (100-600 km/h) by continuation
  * against the scan method at equal resolution: the scan's speed step is the
  * continuation's median step between neighbouring cycles, over the whole
@@ -19,7 +19,7 @@ static void simulate(const char *veh_name, const char *prof)
   rr_vehicle_open(veh_name, &v, &e);
   rr_profile_open(prof, &p, &e);
   rr_nonlinear *nl;
-  if (rr_nonlinear_from_vehicle(&v, &p, NULL, 350 / 3.6, &nl, &e)) { printf("%s\n", e.msg); return; }
+  if (rr_nonlinear_from_vehicle(&v, &p, NULL, 350 / RR_KMH, &nl, &e)) { printf("%s\n", e.msg); return; }
   int N = rr_nonlinear_size(nl), ns = 60 * 200 + 1;
   double *z = calloc(N, sizeof(double)), *out = malloc(sizeof(double) * N * ns), t[5];
   for (int w = 0; w < 4; w++) z[rr_nonlinear_index_y(nl, w)] = 5e-3;
@@ -51,16 +51,16 @@ static void diagram(const char *veh_name, const char *prof, int with_scan)
   if (st) { printf("%s %s: %s\n", veh_name, prof, e.msg); return; }
   double steps[400];
   int ns = 0;
-  for (int i = 1; i < b.npoints; i++) steps[ns++] = fabs(c[i].speed_ms - c[i - 1].speed_ms) * 3.6;
+  for (int i = 1; i < b.npoints; i++) steps[ns++] = fabs(c[i].speed_ms - c[i - 1].speed_ms) * RR_KMH;
   double step = ns ? bench_median(steps, ns) : 5;
   printf("continuation %s %s: %d cycles in %.2f s (Hopf %.2f km/h, nonlinear critical %.2f km/h, %s), median step %.2f km/h\n",
-         veh_name, prof, b.npoints, tc, b.hopf_speed_ms * 3.6, b.nonlinear_critical_ms * 3.6,
+         veh_name, prof, b.npoints, tc, b.hopf_speed_ms * RR_KMH, b.nonlinear_critical_ms * RR_KMH,
          b.type == RR_BIF_SUPERCRITICAL ? "supercritical" : b.type == RR_BIF_SUBCRITICAL ? "subcritical" : "none", step);
   if (!with_scan) return;
   int nv = (int)floor(500 / step) + 1;
   double *vs = malloc(sizeof(double) * nv);
   rr_scan_point *up = malloc(sizeof *up * nv), *down = malloc(sizeof *down * nv);
-  for (int i = 0; i < nv; i++) vs[i] = (100 + i * step) / 3.6;
+  for (int i = 0; i < nv; i++) vs[i] = (100 + i * step) / RR_KMH;
   t0 = bench_now();
   st = rr_bifurcation_scan(&v, &p, NULL, vs, nv, NULL, up, down, &e);
   double ts = bench_now() - t0;

@@ -21,7 +21,7 @@ static void run(const char *label, int sdf, int method, int reps)
   rr_error e;
   rr_spectrum sp;
   if (rr_model_from_vehicle(&v, &m, &e) || rr_spectrum_open("wuhan-guangzhou", &sp, &e)) { fprintf(stderr, "%s\n", e.msg); exit(1); }
-  rr_model_set_operating(m, 350 / 3.6, 0.17, &e);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e);
   double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 17];
   rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 0, rows, NULL, &e);
   rr_frf_opts o = rr_frf_opts_default();

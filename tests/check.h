@@ -5,9 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 static int check_pass, check_fail;
 

@@ -74,7 +74,7 @@ static void test_restrained_critical_speed(void)
 {
   const double m = 1639, Iz = 822, f11 = 1e7, f22 = 1e7, ky = 5e6, kpsi = 2e6;
   rr_model *mod = wheelset(m, Iz, f11, f22, ky, kpsi);
-  /* Closed form from the 4x4 characteristic polynomial (issue 2). */
+  /* Closed form from the 4x4 characteristic polynomial. */
   double C = 2 * f22, Cx = 2 * f11;
   double A = m * Cx * l0 * l0 + Iz * C, Bq = m * kpsi + Iz * ky, D = C * Cx * l0 * l0;
   double E = C * kpsi + ky * Cx * l0 * l0, F = ky * kpsi + C * Cx * lam * l0 / r0;
@@ -142,7 +142,7 @@ static void test_maxwell_limit(void)
     CHECK_OK(st, e);
     if (st) return;
     CHECK(rr_model_nmaxwell(m) == (k == 0 ? 0 : 6), "Maxwell count %d", rr_model_nmaxwell(m));
-    rr_model_set_operating(m, 300 / 3.6, 0.3, &e);
+    rr_model_set_operating(m, 300 / RR_KMH, 0.3, &e);
     rr_modal_ws *ws;
     rr_modal_ws_new(m, &ws, &e);
     CHECK_OK(rr_modal_stability_index(m, NULL, ws, &idx[k], &e), e);

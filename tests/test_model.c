@@ -10,8 +10,8 @@
 #include <string.h>
 #include "check.h"
 #include "railride/railride.h"
-#include "eigdec.h"   /* internal: the ride evaluation's eigendecomposition */
-#include "hqr.h"      /* internal: eigenvalues of several matrices in SIMD lanes */
+#include "eigen_decomposition.h"   /* internal: the ride evaluation's eigendecomposition */
+#include "hessenberg_qr.h"      /* internal: eigenvalues of several matrices in SIMD lanes */
 
 enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
 
@@ -22,7 +22,7 @@ static void test_entries(void)
   rr_model *m;
   rr_error e;
   CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
-  const double V = 350 / 3.6, lam = 0.17;
+  const double V = 350 / RR_KMH, lam = 0.17;
   rr_model_set_operating(m, V, lam, &e);
   CHECK(rr_model_ndof(m) == 17 && rr_model_ninputs(m) == 4 && rr_model_state_size(m) == 40, "sizes");
   const char *names[17] = {"y_c", "psi_c", "phi_c", "y_f1", "psi_f1", "phi_f1", "y_f2", "psi_f2", "phi_f2",
@@ -108,7 +108,7 @@ static void test_two_routes(int sdf_mode)
   rr_model *m;
   rr_error e;
   CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
-  rr_model_set_operating(m, 300 / 3.6, 0.25, &e);
+  rr_model_set_operating(m, 300 / RR_KMH, 0.25, &e);
   int n = 17, N = rr_model_state_size(m);
   CHECK(N == (sdf_mode == RR_SDF_PHYSICAL ? 44 : 40), "state size %d", N);
   double *A = malloc(sizeof(double) * N * N), *Bs = malloc(sizeof(double) * N * 4);
@@ -120,7 +120,7 @@ static void test_two_routes(int sdf_mode)
   const double *B = rr_model_B(m);
   double freqs[3] = {0.7, 2.9, 11.0};
   for (int fi = 0; fi < 3; fi++) {
-    double complex s = I * 2 * M_PI * freqs[fi];
+    double complex s = I * 2 * RR_PI * freqs[fi];
     for (int i = 0; i < N; i++)
       for (int j = 0; j < N; j++) G[i * N + j] = (i == j ? s : 0) - A[i * N + j];
     for (int i = 0; i < N; i++) x[i] = Bs[i * 4 + 2];
@@ -155,7 +155,7 @@ static void test_fast_vs_full(void)
     rr_modal_opts o = rr_modal_opts_default();
     for (double sp = 100; sp <= 500; sp += 50)
       for (double lam = 0.02; lam <= 0.6; lam += 0.07) {
-        rr_model_set_operating(m, sp / 3.6, lam, &e);
+        rr_model_set_operating(m, sp / RR_KMH, lam, &e);
         double z;
         rr_modal_stability_index(m, &o, ws, &z, &e);
         rr_modal_solve(m, &o, ws, &r, &e);
@@ -190,7 +190,7 @@ static void test_fast_vs_full(void)
     rr_modal_ws *ws;
     rr_modal_result res;
     rr_model_from_vehicle(&v, &m, &e);
-    rr_model_set_operating(m, (i % 2 ? 350 : 250) / 3.6, 0.05 + 0.35 * r[4], &e);
+    rr_model_set_operating(m, (i % 2 ? 350 : 250) / RR_KMH, 0.05 + 0.35 * r[4], &e);
     rr_modal_ws_new(m, &ws, &e);
     rr_modal_result_alloc(m, &res, &e);
     double z;
@@ -215,7 +215,7 @@ static void test_roll_mode_excluded(void)
   rr_vehicle v;
   rr_vehicle_default(&v);
   rr_model_from_vehicle(&v, &m, &e);
-  rr_model_set_operating(m, 350 / 3.6, 0.17, &e);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e);
   rr_modal_ws *ws;
   rr_modal_result r;
   rr_modal_ws_new(m, &ws, &e);
@@ -230,7 +230,7 @@ static void test_roll_mode_excluded(void)
   CHECK_CLOSE(r.stability_index, z_roll, 1e-12, 0, "w_min = 0, r_max = 1 count every mode");
   /* zero conicity: free lateral drift is a double zero eigenvalue, which rounding
      splits into a tiny complex pair; it is real, not a hunting mode */
-  rr_model_set_operating(m, 350 / 3.6, 0.0, &e);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.0, &e);
   rr_modal_solve(m, NULL, ws, &r, &e);
   CHECK(r.index_mode >= 0 && r.modes[r.index_mode].freq_hz > 0.1, "zero conicity: index from a real mode (%g Hz)",
         r.index_mode >= 0 ? r.modes[r.index_mode].freq_hz : -1);
@@ -239,7 +239,7 @@ static void test_roll_mode_excluded(void)
   CHECK_CLOSE(zf, r.stability_index, 1e-10, 0, "zero conicity: fast index");
   rr_critical cr;
   rr_critical_speed(m, 0.0, NULL, NULL, ws, &cr, &e);
-  CHECK(!cr.found, "zero conicity: no critical speed (got %g km/h)", cr.speed_ms * 3.6);
+  CHECK(!cr.found, "zero conicity: no critical speed (got %g km/h)", cr.speed_ms * RR_KMH);
   rr_modal_result_free(&r);
   rr_modal_ws_free(ws);
   rr_model_free(m);
@@ -255,7 +255,7 @@ static void test_paper_roots(void)
   rr_model *m;
   rr_error e;
   rr_model_from_vehicle(&v, &m, &e);
-  rr_model_set_operating(m, 350 / 3.6, 0.3, &e);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.3, &e);
   rr_modal_ws *ws;
   rr_modal_result r;
   rr_modal_ws_new(m, &ws, &e);
@@ -311,7 +311,7 @@ static void test_locus_tracking(void)
   rr_model *m;
   rr_error e;
   rr_model_from_vehicle(&v, &m, &e);
-  rr_model_set_operating(m, 350 / 3.6, 0.1, &e);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.1, &e);
   enum { NP = 80 };
   double vals[NP];
   for (int i = 0; i < NP; i++) vals[i] = 0.02 + 0.48 * i / (NP - 1);
@@ -428,7 +428,7 @@ static void test_eigdec(void)
     double *A = malloc(sizeof(double) * N * N);
     for (double kmh = 100; kmh <= 500; kmh += 200)
       for (double lam = 0.02; lam < 0.6; lam += 0.19) {
-        CHECK_OK(rr_model_set_operating(m, kmh / 3.6, lam, &e), e);
+        CHECK_OK(rr_model_set_operating(m, kmh / RR_KMH, lam, &e), e);
         CHECK_OK(rr_model_state_matrix(m, 0, A, &e), e);
         double res, dist;
         eigdec_check(N, A, &res, &dist);
@@ -568,7 +568,7 @@ static void test_index_batch(void)
   double v[11], lam[11];
   rr_stability zb[11];
   for (int p = 0; p < 11; p++) {
-    v[p] = (150 + 40 * p) / 3.6;
+    v[p] = (150 + 40 * p) / RR_KMH;
     lam[p] = 0.03 + 0.045 * ((p * 7) % 11);
   }
   double worst = 0;
@@ -581,16 +581,16 @@ static void test_index_batch(void)
     rr_error e;
     CHECK_OK(rr_model_from_vehicle(&veh, &m, &e), e);
     CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
-    CHECK_OK(rr_model_set_operating(m, 300 / 3.6, 0.2, &e), e);
+    CHECK_OK(rr_model_set_operating(m, 300 / RR_KMH, 0.2, &e), e);
     CHECK_OK(rr_modal_stability_batch(m, NULL, ws, 11, v, lam, zb, &e), e);
-    CHECK(rr_model_speed(m) == 300 / 3.6 && rr_model_conicity(m) == 0.2, "index batch: operating point not restored");
+    CHECK(rr_model_speed(m) == 300 / RR_KMH && rr_model_conicity(m) == 0.2, "index batch: operating point not restored");
     for (int p = 0; p < 11; p++) {
       rr_stability z;
       CHECK_OK(rr_model_set_operating(m, v[p], lam[p], &e), e);
       CHECK_OK(rr_modal_stability(m, NULL, ws, &z, &e), e);
       worst = fmax(worst, fmax(fabs(z.index - zb[p].index), fabs(z.zeta_max - zb[p].zeta_max)));
     }
-    double vbad[2] = {300 / 3.6, 0};
+    double vbad[2] = {300 / RR_KMH, 0};
     CHECK(rr_modal_stability_batch(m, NULL, ws, 2, vbad, lam, zb, &e) == RR_EINVAL, "index batch: zero speed accepted");
     rr_modal_ws_free(ws);
     rr_model_free(m);

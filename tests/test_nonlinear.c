@@ -9,7 +9,7 @@
 #include "railride/railride.h"
 #include "orbit.h"
 
-#define KMH (1 / 3.6)
+#define KMH (1 / RR_KMH)   /* m/s per km/h */
 
 static rr_nonlinear *vehicle_nl(const char *veh_name, const char *prof, double kmh, rr_vehicle *veh, rr_profile *p)
 {
@@ -102,7 +102,7 @@ static void test_growth_rate(void)
   double vr = V[k * N + b], vi = V[k * N + b + 1], den = vr * vr + vi * vi, cr = vr / den * 1e-9, ci = -vi / den * 1e-9;
   double *z0 = malloc(sizeof(double) * N);
   for (int i = 0; i < N; i++) z0[i] = cr * V[i * N + b] - ci * V[i * N + b + 1];
-  double T = 2 * M_PI / wi[b];
+  double T = 2 * RR_PI / wi[b];
   int periods = 20, ns = periods * 8 + 1;
   rr_sim_opts so = rr_sim_opts_default();
   so.duration_s = periods * T;
@@ -152,7 +152,7 @@ static void test_van_der_pol(void)
     if (pts[i].p > 0.05) continue;
     double mu = pts[i].p;
     CHECK_CLOSE(pts[i].amp, 2 * sqrt(mu), 0.01, 0, "van der Pol amplitude vs 2 sqrt(mu)");
-    CHECK_CLOSE(pts[i].T, 2 * M_PI, 0.01, 0, "van der Pol period vs 2 pi");
+    CHECK_CLOSE(pts[i].T, 2 * RR_PI, 0.01, 0, "van der Pol period vs 2 pi");
     CHECK(pts[i].stable && pts[i].residual <= 1e-8, "van der Pol cycle stable, residual %g", pts[i].residual);
   }
 }
@@ -259,8 +259,8 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   rr_critical cr;
   st = rr_critical_speed(m, rr_profile_conicity(&p, 0), NULL, &co, ws, &cr, &e);
   CHECK_OK(st, e);
-  CHECK(fabs(b.hopf_speed_branch_ms - cr.speed_ms) * 3.6 <= 0.1, "branch's Hopf %.4f vs critical-speed %.4f km/h",
-        b.hopf_speed_branch_ms * 3.6, cr.speed_ms * 3.6);
+  CHECK(fabs(b.hopf_speed_branch_ms - cr.speed_ms) * RR_KMH <= 0.1, "branch's Hopf %.4f vs critical-speed %.4f km/h",
+        b.hopf_speed_branch_ms * RR_KMH, cr.speed_ms * RR_KMH);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   int N = 0, checked_stable = 0, checked_unstable = 0, first_stable = -1, worst = -1;
@@ -314,7 +314,7 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
         checked_stable, checked_unstable);
   if (want_type == RR_BIF_SUBCRITICAL)
     CHECK(b.nonlinear_critical_ms < b.hopf_speed_ms - 5 * KMH, "subcritical: nonlinear critical %.2f below Hopf %.2f km/h",
-          b.nonlinear_critical_ms * 3.6, b.hopf_speed_ms * 3.6);
+          b.nonlinear_critical_ms * RR_KMH, b.hopf_speed_ms * RR_KMH);
   else CHECK_CLOSE(b.nonlinear_critical_ms, b.hopf_speed_ms, 1e-12, 0, "supercritical: nonlinear = linear critical speed");
   free(pts);
   free(Z);

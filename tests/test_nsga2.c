@@ -220,7 +220,7 @@ static void test_design(void)
   CHECK_CLOSE(f[1], rb.zeta_high, 1e-13, 0, "zeta_high via design");
   CHECK_CLOSE(f[2], rb.std_zeta, 1e-12, 0, "std_zeta via design");
   double z;
-  rr_model_set_operating(m, 300 / 3.6, 0.3, &e);
+  rr_model_set_operating(m, 300 / RR_KMH, 0.3, &e);
   rr_modal_stability_index(m, NULL, ws, &z, &e);
   CHECK_CLOSE(f[3], z, 1e-13, 0, "index via design");
   CHECK(f[4] > 1 && f[4] < 4, "sperling via design %g", f[4]);

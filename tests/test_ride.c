@@ -15,7 +15,7 @@ static void test_spectra(void)
 {
   rr_spectrum s;
   rr_error e;
-  /* published RMS over 2-200 m (REFERENCES.md; issue 3 for the alignment) */
+  /* published RMS over 2-200 m (the published track spectrum tables) */
   const char *names[4] = {"tbt3352-alignment", "tbt3352-vertical", "tbt3352-crosslevel", "tbt3352-gauge"};
   const double rms_mm[4] = {0.6678, 1.2203, 0.5235, 0.3437};
   for (int i = 0; i < 4; i++) {
@@ -33,9 +33,9 @@ static void test_spectra(void)
   /* German alignment, rad/m: S_n(n) = 2 pi S_W(2 pi n); over all W the integral is
      A Oc^2 pi / (2 Or Oc (Or + Oc)) */
   CHECK_OK(rr_spectrum_open("german-low-alignment", &s, &e), e);
-  double A = 2.119e-7, Oc = 0.8246, Or = 0.0206, n = 0.05, W = 2 * M_PI * n;
-  CHECK_CLOSE(rr_spectrum_eval(&s, n), 2 * M_PI * A * Oc * Oc / ((W * W + Or * Or) * (W * W + Oc * Oc)), 1e-13, 0, "rad/m conversion");
-  double total = A * Oc * Oc * M_PI / (2 * Or * Oc * (Or + Oc));
+  double A = 2.119e-7, Oc = 0.8246, Or = 0.0206, n = 0.05, W = 2 * RR_PI * n;
+  CHECK_CLOSE(rr_spectrum_eval(&s, n), 2 * RR_PI * A * Oc * Oc / ((W * W + Or * Or) * (W * W + Oc * Oc)), 1e-13, 0, "rad/m conversion");
+  double total = A * Oc * Oc * RR_PI / (2 * Or * Oc * (Or + Oc));
   CHECK_CLOSE(pow(rr_spectrum_rms(&s, 1e-13, 1e5), 2), total, 1e-8, 0, "German alignment variance in closed form");
   /* file forms: table (log-log) and rational7 against their formulas; two-sided doubles */
   const char *p = write_file("t.txt", "name = t\ndirection = lateral\nform = table\nfreq_unit = 1/m\npsd_unit = m^2/(1/m)\nsided = two\nvalid = 0.01 1\n"
@@ -70,7 +70,7 @@ static rr_model *vehicle_model(const char *base, int sdf, const char *table)
   if (table) rr_sdf_table_load(table, &v.sdf, &e);
   rr_model *m;
   if (rr_model_from_vehicle(&v, &m, &e)) { fprintf(stderr, "%s\n", e.msg); return NULL; }
-  rr_model_set_operating(m, 350 / 3.6, 0.2, &e);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.2, &e);
   return m;
 }
 
@@ -134,7 +134,7 @@ static void test_near_defective(void)
   const int route[] = {RR_FRF_MODAL, RR_FRF_MODAL, RR_FRF_MODAL, RR_FRF_DIRECT, RR_FRF_DIRECT, RR_FRF_DIRECT};
   for (int c = 0; c < 6; c++) {
     rr_error e;
-    CHECK_OK(rr_model_set_operating(m, 300 / 3.6, lam[c], &e), e);
+    CHECK_OK(rr_model_set_operating(m, 300 / RR_KMH, lam[c], &e), e);
     CHECK_OK(rr_frf_plan_execute(pm, m, &e), e);
     CHECK_OK(rr_frf_plan_execute(pd, m, &e), e);
     CHECK(rr_frf_route(pm) == route[c], "conicity %g: route %d, expected %d", lam[c], rr_frf_route(pm), route[c]);
@@ -169,7 +169,7 @@ static void test_pem(void)
   /* the direct product H S H^* with the 4x4 cross-spectral matrix of the inputs */
   double worst = 0;
   for (int k = 0; k < 400; k++) {
-    double w = 2 * M_PI * f[k], Gt = rr_spectrum_eval(&s, f[k] / v) / v;
+    double w = 2 * RR_PI * f[k], Gt = rr_spectrum_eval(&s, f[k] / v) / v;
     for (int q = 0; q < 3; q++) {
       const double complex *h = H + (k * 3 + q) * 4;
       double complex acc = 0;
@@ -187,7 +187,7 @@ static void test_pem(void)
   double complex ones[4] = {1, 1, 1, 1};
   double L = 8.6875, b = 1.25;
   for (double fr = 0.3; fr < 30; fr *= 1.7) {
-    double w = 2 * M_PI * fr, cb = cos(w * b / v), cl = cos(w * L / v);
+    double w = 2 * RR_PI * fr, cb = cos(w * b / v), cl = cos(w * L / v);
     CHECK_CLOSE(rr_pem_combine(ones, x, 4, w, v, 1.0), 16 * cb * cb * cl * cl, 1e-12, 1e-12, "lag factor");
   }
   /* at low frequency the car follows the track: sum_i H_pi / (-w^2) -> 1 */
@@ -202,7 +202,7 @@ static void test_pem(void)
   rr_frf_plan_execute(p0, m, &e);
   double complex sum = 0;
   for (int i = 0; i < 4; i++) sum += rr_frf_H(p0)[i];
-  double w0 = 2 * M_PI * 0.002;
+  double w0 = 2 * RR_PI * 0.002;
   CHECK_CLOSE(creal(sum / (-w0 * w0)), 1, 0, 1e-3, "quasi-static following");
   rr_frf_plan_free(p0);
   free(G);

@@ -33,7 +33,7 @@ static void test_roll_out_hunting_in(void)
     CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
     CHECK_OK(rr_modal_result_alloc(m, &r, &e), e);
     for (int p = 0; p < 4; p++) {
-      CHECK_OK(rr_model_set_operating(m, pts[p][0] / 3.6, pts[p][1], &e), e);
+      CHECK_OK(rr_model_set_operating(m, pts[p][0] / RR_KMH, pts[p][1], &e), e);
       CHECK_OK(rr_modal_solve(m, NULL, ws, &r, &e), e);
       int nroll = 0, car = -1;
       for (int i = 0; i < r.n; i++) {
@@ -88,7 +88,7 @@ static double critical(const char *name, double lam, int index_modes, rr_mode *m
   if (md) *md = cr.mode;
   rr_modal_ws_free(ws);
   rr_model_free(m);
-  return cr.found ? cr.speed_ms * 3.6 : INFINITY;
+  return cr.found ? cr.speed_ms * RR_KMH : INFINITY;
 }
 
 static void test_headline(void)
@@ -119,7 +119,7 @@ static void test_verdict_any_mode(void)
   rr_error e;
   CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
   CHECK_OK(rr_modal_result_alloc(m, &r, &e), e);
-  CHECK_OK(rr_model_set_operating(m, 350 / 3.6, 2.0, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 2.0, &e), e);
   CHECK_OK(rr_modal_stability(m, NULL, ws, &s, &e), e);
   CHECK_OK(rr_modal_solve(m, NULL, ws, &r, &e), e);
   CHECK(!rr_modal_stable(s.zeta_max) && !rr_modal_stable(r.zeta_max), "conicity 2: verdict stable (zeta_max %g)",
@@ -134,7 +134,7 @@ static void test_verdict_any_mode(void)
   CHECK_CLOSE(s.zeta_max, r.zeta_max, 0, 1e-10, "zeta_max: fast and full");
   /* w_min = 0, r_max = 1: the index over every mode in the band */
   rr_modal_opts all = {.fmax_hz = 10, .w_min = 0, .r_max = 1};
-  CHECK_OK(rr_model_set_operating(m, 350 / 3.6, 0.17, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
   CHECK_OK(rr_modal_stability(m, &all, ws, &s, &e), e);
   CHECK_OK(rr_modal_solve(m, &all, ws, &r, &e), e);
   double zb = -1;
@@ -164,7 +164,7 @@ static void test_objective_modifiers(void)
   rr_stability s;
   rr_modal_opts o = {.fmax_hz = 20, .w_min = 0, .r_max = 1};
   CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
-  CHECK_OK(rr_model_set_operating(m, 350 / 3.6, 0.17, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
   CHECK_OK(rr_modal_stability(m, &o, ws, &s, &e), e);
   CHECK_CLOSE(f[0], s.index, 0, 1e-14, "index with modifiers");
   CHECK(fabs(f[0] - f[1]) > 1e-3, "modifiers change the index (%g vs %g)", f[0], f[1]);
@@ -213,7 +213,7 @@ static void test_sdf_fast_vs_reference(void)
     rr_modal_result a, b;
     rr_error e;
     CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
-    CHECK_OK(rr_model_set_operating(m, (150 + 350 * r[4]) / 3.6, 0.02 + 0.5 * r[5], &e), e);
+    CHECK_OK(rr_model_set_operating(m, (150 + 350 * r[4]) / RR_KMH, 0.02 + 0.5 * r[5], &e), e);
     CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
     CHECK_OK(rr_modal_result_alloc(m, &a, &e), e);
     CHECK_OK(rr_modal_result_alloc(m, &b, &e), e);

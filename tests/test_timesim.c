@@ -151,7 +151,7 @@ static void test_validation_run(void)
   rr_error e;
   rr_spectrum sp;
   rr_model_from_vehicle(&v, &m, &e);
-  rr_model_set_operating(m, 350 / 3.6, 0.2, &e);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.2, &e);
   rr_spectrum_open("wuhan-guangzhou", &sp, &e);
   double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[51];
   rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 0, rows, NULL, &e);
@@ -179,7 +179,7 @@ static void test_validation_run(void)
   v.sdf_mode = RR_SDF_PAPER;
   rr_model *mp;
   rr_model_from_vehicle(&v, &mp, &e);
-  rr_model_set_operating(mp, 350 / 3.6, 0.2, &e);
+  rr_model_set_operating(mp, 350 / RR_KMH, 0.2, &e);
   CHECK(rr_validate(mp, &sp, &o, &r, &e) == RR_EUNSUP, "paper mode refused");
   rr_model_free(mp);
   rr_model_free(m);

@@ -16,6 +16,11 @@ enum rr_iso_weighting { RR_ISO_WB = 0, RR_ISO_WC = 1, RR_ISO_WD = 2, RR_ISO_WK =
 
 /* Sperling weighting filter |B(f)|: B_s vertical, 1.25 B_s lateral. */
 RR_API double rr_sperling_filter(double f_hz, int axis);
+/* The Sperling weighting B(f) as a continuous state-space filter (3 states):
+ * |C (j w I - A)^-1 B| = rr_sperling_filter(f, axis). A 3x3, B 3, C 3. */
+RR_API void rr_sperling_filter_ss(int axis, double *A, double *B, double *C);
+/* Sperling's index from the weighted RMS acceleration a_w (m/s^2): 4.42 a_w^0.3. */
+RR_API double rr_sperling_from_weighted_rms(double aw_ms2);
 /* GB/T 5599 frequency correction factor F(f). */
 RR_API double rr_sperling_gb_factor(double f_hz, int axis);
 /* ISO 8041 frequency weighting H(j 2 pi f), band limits included. */

@@ -1,4 +1,4 @@
-/* railride: time-domain validation of the frequency domain (issue 4).
+/* railride: time-domain validation of the frequency domain.
  * A random track realisation (spectral method, seeded), exact discretisation
  * of the linear state space with a cubic Hermite hold on the inputs (values
  * and exact derivatives from the realisation), the periodic steady state of
@@ -57,9 +57,6 @@ RR_API int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const 
  * per segment, one-sided (m/s^2)^2/Hz. f, P: nseg/2 + 1 entries. */
 RR_API int rr_welch_psd(const double *x, int n, double fs_hz, int nseg, double *f, double *P, int *navg, rr_error *err);
 
-/* The Sperling weighting B(f) as a continuous state-space filter (3 states):
- * |C (j w I - A)^-1 B| = rr_sperling_filter(f, axis). A 3x3, B 3, C 3. */
-RR_API void rr_sperling_filter_ss(int axis, double *A, double *B, double *C);
 
 /* Validation of the PEM against a time-domain run. */
 typedef struct rr_validate_opts {

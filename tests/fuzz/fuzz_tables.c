@@ -21,7 +21,7 @@ static void record(const uint8_t *data, size_t size)
   rr_track_record r;
   rr_error e;
   if (rr_track_record_load(fuzz_file("t.csv", data, size), &r, &e)) return;
-  double x[4] = {9.9375, 7.4375, -7.4375, -9.9375}, v = 300 / 3.6, fs = 100;
+  double x[4] = {9.9375, 7.4375, -7.4375, -9.9375}, v = 300 / RR_KMH, fs = 100;
   double dur = rr_track_record_duration(&r, v, x, 4);
   int ns = dur > 0 ? (int)fmin(floor(dur * fs) + 1, 2000) : 0;
   if (ns >= 2) {

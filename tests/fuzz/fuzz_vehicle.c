@@ -7,7 +7,7 @@ static void fuzz_nonlinear(const rr_vehicle *v)
 {
   rr_nonlinear *nl;
   rr_error e;
-  if (v->profile.kind == RR_PROFILE_NONE || rr_nonlinear_from_vehicle(v, NULL, NULL, 300 / 3.6, &nl, &e)) return;
+  if (v->profile.kind == RR_PROFILE_NONE || rr_nonlinear_from_vehicle(v, NULL, NULL, 300 / RR_KMH, &nl, &e)) return;
   int N = rr_nonlinear_size(nl);
   double *z = calloc((size_t)N, sizeof(double)), *dz = malloc(sizeof(double) * (size_t)N);
   for (int w = 0; w < rr_nonlinear_ninputs(nl); w++) z[rr_nonlinear_index_y(nl, w)] = 0.01 * (w + 1);

@@ -1,10 +1,10 @@
-/* Eigenvalues of small dense matrices: elmhes + hqr (see hqr.h). */
+/* Eigenvalues of small dense matrices: elmhes + hqr (see hessenberg_qr.h). */
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
-#include "hqr.h"
+#include "hessenberg_qr.h"
 #include "internal.h"
 
 #define A(i, j) a[(i) * n + (j)]
@@ -73,7 +73,7 @@ static double sgn(double a, double b) { return b >= 0 ? fabs(a) : -fabs(a); }
  * The control (deflation, roots, shifts, where a sweep starts) runs per
  * matrix ("lane"), on a strided view: entry (i, j) at a[(i ld + j) st]. The
  * bulge-chasing sweep, where the time goes, exists twice: for one matrix,
- * and for 4 or 8 matrices at once in SIMD lanes (rr_eig_batch, hqr_lanes.h). */
+ * and for 4 or 8 matrices at once in SIMD lanes (rr_eig_batch, hessenberg_qr_lanes.h). */
 #define E(i, j) a[((size_t)(i) * ld + (j)) * st]
 
 typedef struct {
@@ -267,13 +267,13 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
   }
 }
 
-/* ---- several matrices at once in SIMD lanes (hqr_lanes.h) ---- */
+/* ---- several matrices at once in SIMD lanes (hessenberg_qr_lanes.h) ---- */
 #define QRW 4
-#include "hqr_lanes.h"
+#include "hessenberg_qr_lanes.h"
 #undef QRW
 #if RR_HAVE_V4
 #define QRW 8
-#include "hqr_lanes.h"
+#include "hessenberg_qr_lanes.h"
 #undef QRW
 #endif
 

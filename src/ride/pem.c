@@ -8,8 +8,8 @@
 #include <string.h>
 #include "railride/pem.h"
 #include "model_impl.h"
-#include "clu.h"
-#include "eigdec.h"
+#include "complex_lu.h"
+#include "eigen_decomposition.h"
 #include "internal.h"
 
 #define MAXU 8

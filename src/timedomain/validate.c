@@ -8,22 +8,8 @@
 #include "railride/pem.h"
 #include "railride/timesim.h"
 #include "model_impl.h"
-#include "hqr.h"
+#include "hessenberg_qr.h"
 #include "internal.h"
-
-void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
-{
-  /* B(f) = g |p (c + 0.25 p)| / |1 + 1.563 p + 0.277 p^2 + 0.0368 p^3|, p = j f = s / (2 pi),
-     c^2 = 1.911: docs/model.md section 7's formula is the modulus of this stable rational filter. */
-  double g = 0.588 * (axis == RR_AXIS_LATERAL ? 1.25 : 1.0), tp = 2 * RR_PI;
-  double a3 = 0.0368 / (tp * tp * tp);
-  double d2 = 0.277 / (tp * tp) / a3, d1 = 1.563 / tp / a3, d0 = 1.0 / a3;
-  double n2 = g * 0.25 / (tp * tp) / a3, n1 = g * sqrt(1.911) / tp / a3;
-  const double Av[9] = {0, 1, 0, 0, 0, 1, -d0, -d1, -d2};
-  memcpy(A, Av, sizeof Av);
-  B[0] = 0; B[1] = 0; B[2] = 1;
-  C[0] = 0; C[1] = n1; C[2] = n2;
-}
 
 rr_validate_opts rr_validate_opts_default(void)
 {
@@ -139,7 +125,7 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
     free(wi);
     if (!bad && remax > 0) {
       st = rr_seterr(err, RR_EINVAL, "validate: the vehicle is unstable at %g km/h, conicity %g (eigenvalue %.4g%+.4gi, %.3g Hz): "
-                     "no steady state to compare", m->speed * 3.6, m->conicity, remax, 2 * RR_PI * fr, fr);
+                     "no steady state to compare", m->speed * RR_KMH, m->conicity, remax, 2 * RR_PI * fr, fr);
       goto done;
     }
   }
@@ -194,7 +180,7 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
     if ((st = rr_lti_periodic(&dfl, ns, a, ad, 1, fC, &zero, NULL, aw, err))) break;
     ss = 0;
     for (int k = 0; k < ns; k++) ss += aw[k] * aw[k];
-    pt->sperling_time = 4.42 * pow(sqrt(ss / ns), 0.3);
+    pt->sperling_time = rr_sperling_from_weighted_rms(sqrt(ss / ns));
     pt->rms_pem = rr_psd_rms(fp, Gp + q, o->nfreq, np);
     rr_sperling_filter_index(fp, Gp + q, o->nfreq, np, RR_AXIS_LATERAL, &pt->sperling_pem, err);
     rr_sperling_gb_index(fp, Gp + q, o->nfreq, np, RR_AXIS_LATERAL, &pt->sperling_gb_pem, err);

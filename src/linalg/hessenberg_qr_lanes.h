@@ -1,5 +1,5 @@
 /* Eigenvalues of up to QRW matrices in SIMD lanes: a template, included by
- * hqr.c once per lane count QRW (4: AVX2 or SSE2; 8: AVX-512), after the
+ * hessenberg_qr.c once per lane count QRW (4: AVX2 or SSE2; 8: AVX-512), after the
  * single-matrix control it shares (qr_lane, lane_init, lane_advance).
  * Layout: entry (i, j) of lane c at b[((i ld + j) QRW + c], ld = n + 1;
  * row and column n are zero padding, so that a lane whose block ends early

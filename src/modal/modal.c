@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "modal_impl.h"
-#include "clu.h"
-#include "dyn_solver.h"
-#include "hqr.h"
+#include "complex_lu.h"
+#include "dynamic_stiffness.h"
+#include "hessenberg_qr.h"
 #include "internal.h"
 
 rr_modal_opts rr_modal_opts_default(void)

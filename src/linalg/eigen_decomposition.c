@@ -1,9 +1,9 @@
-/* Eigendecomposition by hqr + Hessenberg inverse iteration (see eigdec.h). */
+/* Eigendecomposition by hqr + Hessenberg inverse iteration (see eigen_decomposition.h). */
 #include <float.h>
 #include <math.h>
 #include <string.h>
-#include "eigdec.h"
-#include "hqr.h"
+#include "eigen_decomposition.h"
+#include "hessenberg_qr.h"
 #include "internal.h"
 
 /* LU of the Hessenberg matrix H - mu I with partial pivoting: row k+1 is the

@@ -20,8 +20,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "modal_impl.h"
-#include "dyn_solver.h"
-#include "hqr.h"
+#include "dynamic_stiffness.h"
+#include "hessenberg_qr.h"
 #include "internal.h"
 
 #define MAC_MIN 0.9          /* consecutive shapes on a branch correlate at least this */

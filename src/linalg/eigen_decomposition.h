@@ -1,6 +1,6 @@
 /* Eigendecomposition A = V diag(lambda) V^-1 of a small dense real matrix
  * (n <= 64) without LAPACK's Schur-vector machinery: eigenvalues by elmhes +
- * hqr (hqr.c), then each eigenvector by inverse iteration on the Hessenberg
+ * hqr (hessenberg_qr.c), then each eigenvector by inverse iteration on the Hessenberg
  * matrix (O(n^2) a vector) and elmhes' eliminations undone (EISPACK's
  * elmbak). Used where a modal expansion needs the whole basis many times
  * (the ride evaluation); callers pair V with its own inverse, so near-equal

@@ -1,17 +1,49 @@
 /* Ride indices from the acceleration PSD (docs/model.md section 7). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "railride/comfort.h"
 #include "internal.h"
 
-/* The Sperling weighting squared, B(f)^2 (docs/model.md section 7). */
+/* The Sperling weighting (docs/model.md section 7), the one home of its
+   constants: B(f) = g |p (c + n2 p)| / |1 + d1 p + d2 p^2 + d3 p^3|, p = j f,
+   c^2 = c2, g = gain (x lateral for the lateral axis). */
+static const struct {
+  double gain, lateral, c2, n2, d1, d2, d3;
+} sperling_b = {.gain = 0.588, .lateral = 1.25, .c2 = 1.911, .n2 = 0.25, .d1 = 1.563, .d2 = 0.277, .d3 = 0.0368};
+#define SPERLING_W_FACTOR 4.42     /* Wz = 4.42 a_w^0.3 (a_w in m/s^2) */
+#define SPERLING_W_EXPONENT 0.3
+#define SPERLING_GB_FACTOR 3.57    /* GB/T 5599: W = 3.57 (sum a^3 F / f)^0.1 */
+#define SPERLING_GB_EXPONENT 0.1
+
+static double sperling_gain(int axis) { return sperling_b.gain * (axis == RR_AXIS_LATERAL ? sperling_b.lateral : 1.0); }
+
+/* B(f)^2 */
 static double sperling2(double f, int axis)
 {
-  double f2 = f * f;
-  double num = 1.911 * f2 + (0.25 * f2) * (0.25 * f2);
-  double a = 1 - 0.277 * f2, b = 1.563 * f - 0.0368 * f2 * f;
-  double B2 = (0.588 * 0.588) * num / (a * a + b * b);
-  return axis == RR_AXIS_LATERAL ? (1.25 * 1.25) * B2 : B2;
+  double f2 = f * f, g = sperling_gain(axis);
+  double num = sperling_b.c2 * f2 + (sperling_b.n2 * f2) * (sperling_b.n2 * f2);
+  double a = 1 - sperling_b.d2 * f2, b = sperling_b.d1 * f - sperling_b.d3 * f2 * f;
+  return (g * g) * num / (a * a + b * b);
+}
+
+double rr_sperling_from_weighted_rms(double aw) { return SPERLING_W_FACTOR * pow(aw, SPERLING_W_EXPONENT); }
+
+/* The same B as a state-space filter in s = 2 pi j f (controllable form). */
+void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
+{
+  double g = sperling_gain(axis), tp = 2 * RR_PI;
+  double a3 = sperling_b.d3 / (tp * tp * tp);
+  double d2 = sperling_b.d2 / (tp * tp) / a3, d1 = sperling_b.d1 / tp / a3, d0 = 1.0 / a3;
+  double n2 = g * sperling_b.n2 / (tp * tp) / a3, n1 = g * sqrt(sperling_b.c2) / tp / a3;
+  const double Av[9] = {0, 1, 0, 0, 0, 1, -d0, -d1, -d2};
+  memcpy(A, Av, sizeof Av);
+  B[0] = 0;
+  B[1] = 0;
+  B[2] = 1;
+  C[0] = 0;
+  C[1] = n1;
+  C[2] = n2;
 }
 
 double rr_sperling_filter(double f, int axis)
@@ -125,7 +157,7 @@ int rr_sperling_filter_index(const double *f, const double *G, int n, int stride
   int st = check_grid(f, n, err);
   if (st) return st;
   double aw = sqrt(trapz_weighted(f, G, n, stride, sperling2, axis));
-  *Wz = 4.42 * pow(aw, 0.3);
+  *Wz = rr_sperling_from_weighted_rms(aw);
   return RR_OK;
 }
 
@@ -140,7 +172,7 @@ int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, in
   for (int k = 0, r; k < RR_GB_BANDS_MAX && (r = gb_band_at(f, n, axis, k, &b)) >= 0; k++)
     if (r) { sum += gb_term(&b, G, stride); bands++; }
   if (!bands) return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz", f[0], f[n - 1]);
-  *W = 3.57 * pow(sum, 0.1);
+  *W = SPERLING_GB_FACTOR * pow(sum, SPERLING_GB_EXPONENT);
   return RR_OK;
 }
 
@@ -229,8 +261,8 @@ int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride, rr
   double sum = 0;
   for (int k = 0; k < p->nb; k++) sum += gb_term(&p->band[k], G, stride);
   *out = (rr_comfort){.rms = sqrt(trapz_tab(p->f, G, p->n, stride, NULL)),
-                      .sperling = 4.42 * pow(sqrt(trapz_tab(p->f, G, p->n, stride, p->gs)), 0.3),
-                      .sperling_gb = 3.57 * pow(sum, 0.1),
+                      .sperling = rr_sperling_from_weighted_rms(sqrt(trapz_tab(p->f, G, p->n, stride, p->gs))),
+                      .sperling_gb = SPERLING_GB_FACTOR * pow(sum, SPERLING_GB_EXPONENT),
                       .wd_rms = sqrt(trapz_tab(p->f, G, p->n, stride, p->gw))};
   if (isfinite(out->rms) && isfinite(out->sperling) && isfinite(out->sperling_gb) && isfinite(out->wd_rms)) return RR_OK;
   return rr_seterr(err, RR_EINVAL, "comfort: the PSD is not finite");

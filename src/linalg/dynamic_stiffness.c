@@ -1,8 +1,8 @@
 /* The dynamic stiffness of a model, formed and factored sparsely (see
- * dyn_solver.h). */
+ * dynamic_stiffness.h). */
 #include <math.h>
 #include <string.h>
-#include "dyn_solver.h"
+#include "dynamic_stiffness.h"
 
 void rr_model_sparsity(rr_model *m)
 {

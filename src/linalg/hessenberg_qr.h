@@ -11,7 +11,7 @@
  * not converge (the caller falls back to LAPACK). */
 int rr_eig_small(int n, double *a, double *wr, double *wi);
 
-/* The two halves, for callers that also want eigenvectors (eigdec.c).
+/* The two halves, for callers that also want eigenvectors (eigen_decomposition.c).
  * rr_elmhes leaves the Hessenberg matrix in a's upper part and, below the
  * subdiagonal, the multipliers: a(i, m-1) for row i > m of step m, whose row
  * interchange is perm[m] (n <= 64). rr_hqr destroys its argument; pairs come
