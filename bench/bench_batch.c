@@ -7,19 +7,22 @@
 #include "railride/railride.h"
 #include "bench_util.h"
 
-
 int main(int argc, char **argv)
 {
   openblas_set_num_threads(1);
   int n = argc > 1 ? atoi(argv[1]) : 4000;
   rr_vehicle v;
   rr_vehicle_default(&v);
-  const char *keys[4] = {"primary.longitudinal_stiffness", "lateral_damper.damping", "yaw_damper.damping", "yaw_damper.series_stiffness"};
+  const char *keys[4] = {"primary.longitudinal_stiffness", "lateral_damper.damping",
+                         "yaw_damper.damping", "yaw_damper.series_stiffness"};
   const char *objs[3] = {"zeta_low", "zeta_high", "std_zeta"};
   const double lo[4] = {10e6, 5e3, 100e3, 1e6}, hi[4] = {120e6, 60e3, 4000e3, 30e6};
   rr_design *d;
   rr_error e;
-  if (rr_design_new(&v, 4, keys, 3, objs, &d, &e)) { fprintf(stderr, "%s\n", e.msg); return 1; }
+  if (rr_design_new(&v, 4, keys, 3, objs, &d, &e)) {
+    fprintf(stderr, "%s\n", e.msg);
+    return 1;
+  }
   double *x = malloc(sizeof(double) * n * 4), *f = malloc(sizeof(double) * n * 3);
   unsigned s = 1;
   for (int i = 0; i < n * 4; i++) {
@@ -28,7 +31,7 @@ int main(int argc, char **argv)
   }
   double rate[3] = {0, 0, 0};
   for (int t = 1; t <= 2; t++) {
-    rr_design_evaluate_batch(d, 64, x, f, t);   /* warm: thread contexts */
+    rr_design_evaluate_batch(d, 64, x, f, t); /* warm: thread contexts */
     double t0 = bench_now();
     rr_design_evaluate_batch(d, n, x, f, t);
     rate[t] = n / (bench_now() - t0);

@@ -6,7 +6,6 @@
 #include "railride/railride.h"
 #include "bench_util.h"
 
-
 /* Paper-mode SDF (type1, paper Table 2 curve): the index by the fast
    tracking and by the reference, the robust triple, one critical speed. */
 static void bench_sdf_paper(void)
@@ -17,7 +16,10 @@ static void bench_sdf_paper(void)
   rr_error e;
   rr_vehicle_default(&v);
   v.sdf_mode = RR_SDF_PAPER;
-  if (rr_model_from_vehicle(&v, &m, &e) || rr_modal_ws_new(m, &ws, &e)) { fprintf(stderr, "%s\n", e.msg); return; }
+  if (rr_model_from_vehicle(&v, &m, &e) || rr_modal_ws_new(m, &ws, &e)) {
+    fprintf(stderr, "%s\n", e.msg);
+    return;
+  }
   rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e);
   double z = 0, t0;
   rr_modal_opts ref = rr_modal_opts_default();
@@ -37,7 +39,8 @@ static void bench_sdf_paper(void)
   rr_critical cr;
   t0 = bench_now();
   rr_critical_speed(m, 0.4, NULL, NULL, ws, &cr, &e);
-  printf("sdf_paper_critical_speed_s %.2f  (conicity 0.4: %.3f km/h)\n", bench_now() - t0, cr.speed_ms * RR_KMH);
+  printf("sdf_paper_critical_speed_s %.2f  (conicity 0.4: %.3f km/h)\n", bench_now() - t0,
+         cr.speed_ms * RR_KMH);
   rr_modal_ws_free(ws);
   rr_model_free(m);
 }
@@ -51,7 +54,8 @@ int main(void)
   rr_error e;
   rr_modal_ws *ws;
   rr_modal_result r;
-  if (rr_model_from_vehicle(&v, &m, &e) || rr_modal_ws_new(m, &ws, &e) || rr_modal_result_alloc(m, &r, &e)) {
+  if (rr_model_from_vehicle(&v, &m, &e) || rr_modal_ws_new(m, &ws, &e) ||
+      rr_modal_result_alloc(m, &r, &e)) {
     fprintf(stderr, "%s\n", e.msg);
     return 1;
   }
@@ -68,7 +72,10 @@ int main(void)
   /* eight conicities at 350 km/h through the batched index (two groups of four lanes) */
   double vb[8], lb[8];
   rr_stability zb[8];
-  for (int i = 0; i < 8; i++) { vb[i] = 350 / RR_KMH; lb[i] = 0.05 * (i + 1); }
+  for (int i = 0; i < 8; i++) {
+    vb[i] = 350 / RR_KMH;
+    lb[i] = 0.05 * (i + 1);
+  }
   t0 = bench_now();
   for (int i = 0; i < reps / 8; i++) rr_modal_stability_batch(m, NULL, ws, 8, vb, lb, zb, &e);
   printf("stability_index_batch_per_point_us %.1f\n", (bench_now() - t0) / (reps / 8) / 8 * 1e6);

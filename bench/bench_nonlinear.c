@@ -19,7 +19,10 @@ static void simulate(const char *veh_name, const char *prof)
   rr_vehicle_open(veh_name, &v, &e);
   rr_profile_open(prof, &p, &e);
   rr_nonlinear *nl;
-  if (rr_nonlinear_from_vehicle(&v, &p, NULL, 350 / RR_KMH, &nl, &e)) { printf("%s\n", e.msg); return; }
+  if (rr_nonlinear_from_vehicle(&v, &p, NULL, 350 / RR_KMH, &nl, &e)) {
+    printf("%s\n", e.msg);
+    return;
+  }
   int N = rr_nonlinear_size(nl), ns = 60 * 200 + 1;
   double *z = calloc(N, sizeof(double)), *out = malloc(sizeof(double) * N * ns), t[5];
   for (int w = 0; w < 4; w++) z[rr_nonlinear_index_y(nl, w)] = 5e-3;
@@ -30,9 +33,11 @@ static void simulate(const char *veh_name, const char *prof)
     rr_simulate(nl, z, &so, out, ns, &e);
     t[r] = bench_now() - t0;
   }
-  printf("simulate %s %s: 60 s at 350 km/h (5 mm disturbance, 200 samples/s) in %.3f s (median of 5)\n", veh_name, prof,
-         bench_median(t, 5));
-  free(z); free(out);
+  printf("simulate %s %s: 60 s at 350 km/h (5 mm disturbance, 200 samples/s) in %.3f s (median of "
+         "5)\n",
+         veh_name, prof, bench_median(t, 5));
+  free(z);
+  free(out);
   rr_nonlinear_free(nl);
 }
 
@@ -48,14 +53,22 @@ static void diagram(const char *veh_name, const char *prof, int with_scan)
   double t0 = bench_now();
   int st = rr_bifurcation_continue(&v, &p, NULL, NULL, c, NULL, 400, &b, &e);
   double tc = bench_now() - t0;
-  if (st) { printf("%s %s: %s\n", veh_name, prof, e.msg); return; }
+  if (st) {
+    printf("%s %s: %s\n", veh_name, prof, e.msg);
+    return;
+  }
   double steps[400];
   int ns = 0;
-  for (int i = 1; i < b.npoints; i++) steps[ns++] = fabs(c[i].speed_ms - c[i - 1].speed_ms) * RR_KMH;
+  for (int i = 1; i < b.npoints; i++)
+    steps[ns++] = fabs(c[i].speed_ms - c[i - 1].speed_ms) * RR_KMH;
   double step = ns ? bench_median(steps, ns) : 5;
-  printf("continuation %s %s: %d cycles in %.2f s (Hopf %.2f km/h, nonlinear critical %.2f km/h, %s), median step %.2f km/h\n",
+  printf("continuation %s %s: %d cycles in %.2f s (Hopf %.2f km/h, nonlinear critical %.2f km/h, "
+         "%s), median step %.2f km/h\n",
          veh_name, prof, b.npoints, tc, b.hopf_speed_ms * RR_KMH, b.nonlinear_critical_ms * RR_KMH,
-         b.type == RR_BIF_SUPERCRITICAL ? "supercritical" : b.type == RR_BIF_SUBCRITICAL ? "subcritical" : "none", step);
+         b.type == RR_BIF_SUPERCRITICAL ? "supercritical"
+         : b.type == RR_BIF_SUBCRITICAL ? "subcritical"
+                                        : "none",
+         step);
   if (!with_scan) return;
   int nv = (int)floor(500 / step) + 1;
   double *vs = malloc(sizeof(double) * nv);
@@ -64,9 +77,14 @@ static void diagram(const char *veh_name, const char *prof, int with_scan)
   t0 = bench_now();
   st = rr_bifurcation_scan(&v, &p, NULL, vs, nv, NULL, up, down, &e);
   double ts = bench_now() - t0;
-  if (st) printf("scan: %s\n", e.msg);
-  else printf("scan %s %s: %d speeds up and down in %.2f s: continuation %.1fx faster\n", veh_name, prof, nv, ts, ts / tc);
-  free(vs); free(up); free(down);
+  if (st)
+    printf("scan: %s\n", e.msg);
+  else
+    printf("scan %s %s: %d speeds up and down in %.2f s: continuation %.1fx faster\n", veh_name,
+           prof, nv, ts, ts / tc);
+  free(vs);
+  free(up);
+  free(down);
 }
 
 int main(int argc, char **argv)

@@ -42,9 +42,14 @@ int main(void)
     int *rank = malloc(sizeof(int) * N);
     rr_error e;
     double t0 = bench_now();
-    if (rr_nsga2_run(NVAR, NOBJ, lo, hi, dtlz2, NULL, &o, X, F, rank, &e)) { fprintf(stderr, "%s\n", e.msg); return 1; }
+    if (rr_nsga2_run(NVAR, NOBJ, lo, hi, dtlz2, NULL, &o, X, F, rank, &e)) {
+      fprintf(stderr, "%s\n", e.msg);
+      return 1;
+    }
     printf("%d %.6f\n", N, (bench_now() - t0) / G);
-    free(X); free(F); free(rank);
+    free(X);
+    free(F);
+    free(rank);
   }
   return 0;
 }

@@ -11,7 +11,6 @@
 
 #define RR_BATCHES 15
 
-
 static void run(const char *label, int sdf, int method, int reps)
 {
   rr_vehicle v;
@@ -20,7 +19,10 @@ static void run(const char *label, int sdf, int method, int reps)
   rr_model *m;
   rr_error e;
   rr_spectrum sp;
-  if (rr_model_from_vehicle(&v, &m, &e) || rr_spectrum_open("wuhan-guangzhou", &sp, &e)) { fprintf(stderr, "%s\n", e.msg); exit(1); }
+  if (rr_model_from_vehicle(&v, &m, &e) || rr_spectrum_open("wuhan-guangzhou", &sp, &e)) {
+    fprintf(stderr, "%s\n", e.msg);
+    exit(1);
+  }
   rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e);
   double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 17];
   rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 0, rows, NULL, &e);
@@ -51,9 +53,11 @@ static void run(const char *label, int sdf, int method, int reps)
     tb[b] = (bench_now() - t0) / reps;
     te[b] = texec / reps;
   }
-  double med = bench_median(tb, RR_BATCHES), best = tb[0];   /* sorted by the median */
-  printf("ride_%s_us %.1f  (median of %d batches of %d, best %.1f; frf execute %.1f us; W = %.4f %.4f %.4f)\n", label,
-         med * 1e6, RR_BATCHES, reps, best * 1e6, bench_median(te, RR_BATCHES) * 1e6, W[0], W[1], W[2]);
+  double med = bench_median(tb, RR_BATCHES), best = tb[0]; /* sorted by the median */
+  printf("ride_%s_us %.1f  (median of %d batches of %d, best %.1f; frf execute %.1f us; W = %.4f "
+         "%.4f %.4f)\n",
+         label, med * 1e6, RR_BATCHES, reps, best * 1e6, bench_median(te, RR_BATCHES) * 1e6, W[0],
+         W[1], W[2]);
   rr_frf_plan_free(p);
   rr_comfort_plan_free(cp);
   rr_model_free(m);

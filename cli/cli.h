@@ -25,30 +25,43 @@
 
 /* Options most commands share. */
 typedef struct cli_common {
-  const char *vehicle_spec;   /* NULL: built-in default */
+  const char *vehicle_spec; /* NULL: built-in default */
   rr_vehicle veh;
   double speed_kmh, conicity;
   int have_speed, have_conicity;
-  double conicities[64];      /* --conicity L1,L2,... (list commands) */
+  double conicities[64]; /* --conicity L1,L2,... (list commands) */
   int ncon;
-  int conicity_list;          /* set by commands that take a list */
+  int conicity_list; /* set by commands that take a list */
   int json;
   rr_modal_opts mo;
-  int sdf_override;           /* -1: keep the vehicle's */
-  int gravity;                /* -1: keep */
-  unsigned given;             /* CLI_READS_* of the shared options given */
-  int progress;               /* --progress: progress on stderr even when it is not a terminal */
+  int sdf_override; /* -1: keep the vehicle's */
+  int gravity;      /* -1: keep */
+  unsigned given;   /* CLI_READS_* of the shared options given */
+  int progress;     /* --progress: progress on stderr even when it is not a terminal */
 } cli_common;
 
 /* Long options shared by the stability commands (ids >= 1000). */
-enum { OPT_SPEED = 1000, OPT_CONICITY, OPT_JSON, OPT_FMAX, OPT_WMIN, OPT_RMAX, OPT_SDF, OPT_GRAVITY, OPT_HELP, OPT_PROGRESS_ALL };
-#define CLI_COMMON_OPTIONS \
-  {"speed", required_argument, 0, OPT_SPEED}, {"conicity", required_argument, 0, OPT_CONICITY}, \
-  {"json", no_argument, 0, OPT_JSON}, {"fmax", required_argument, 0, OPT_FMAX}, \
-  {"wmin", required_argument, 0, OPT_WMIN}, {"rmax", required_argument, 0, OPT_RMAX}, \
-  {"sdf", required_argument, 0, OPT_SDF}, \
-  {"gravity-stiffness", no_argument, 0, OPT_GRAVITY}, {"progress", no_argument, 0, OPT_PROGRESS_ALL}, \
-  {"help", no_argument, 0, OPT_HELP}
+enum {
+  OPT_SPEED = 1000,
+  OPT_CONICITY,
+  OPT_JSON,
+  OPT_FMAX,
+  OPT_WMIN,
+  OPT_RMAX,
+  OPT_SDF,
+  OPT_GRAVITY,
+  OPT_HELP,
+  OPT_PROGRESS_ALL
+};
+#define CLI_COMMON_OPTIONS                                                                         \
+  {"speed", required_argument, 0, OPT_SPEED}, {"conicity", required_argument, 0, OPT_CONICITY},    \
+      {"json", no_argument, 0, OPT_JSON}, {"fmax", required_argument, 0, OPT_FMAX},                \
+      {"wmin", required_argument, 0, OPT_WMIN}, {"rmax", required_argument, 0, OPT_RMAX},          \
+      {"sdf", required_argument, 0, OPT_SDF}, {"gravity-stiffness", no_argument, 0, OPT_GRAVITY},  \
+      {"progress", no_argument, 0, OPT_PROGRESS_ALL},                                              \
+  {                                                                                                \
+    "help", no_argument, 0, OPT_HELP                                                               \
+  }
 /* Where a command's help lists the shared options it reads (only those). */
 #define CLI_COMMON_HELP "@COMMON@\n"
 /* Which shared options a command reads (the vehicle, --sdf and
@@ -66,15 +79,16 @@ int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity);
 /* Parses a number option with units into `unit`; prints the error. */
 int cli_number(const char *opt, const char *arg, const char *unit, double *out);
 /* The same, within [lo, hi] (the message gives the range). */
-int cli_number_in(const char *opt, const char *arg, const char *unit, double lo, double hi, double *out);
+int cli_number_in(const char *opt, const char *arg, const char *unit, double lo, double hi,
+                  double *out);
 /* The message for getopt's ':' (missing value) or '?' (unknown option); returns EXIT_BADINPUT. */
 int cli_getopt_error(const char *cmd, int opt, const char *word);
 /* Work caps: a command refuses a job larger than its limit (--limit N
    raises it); each returns EXIT_BADINPUT after printing, or 0. */
-#define CLI_LIMIT_GRID 1e6          /* map and sweep points */
-#define CLI_LIMIT_LOCUS 1e5         /* locus points */
-#define CLI_LIMIT_DESIGNS 1e8       /* optimise: population x (generations + 1) */
-#define CLI_LIMIT_SAMPLES 4194304   /* validate: duration x fs */
+#define CLI_LIMIT_GRID 1e6        /* map and sweep points */
+#define CLI_LIMIT_LOCUS 1e5       /* locus points */
+#define CLI_LIMIT_DESIGNS 1e8     /* optimise: population x (generations + 1) */
+#define CLI_LIMIT_SAMPLES 4194304 /* validate: duration x fs */
 int cli_limit(const char *arg, double *limit);
 int cli_over_limit(const char *cmd, double work, double limit, const char *unit);
 /* Parses FROM:TO:N. */
@@ -103,7 +117,12 @@ cJSON *cli_mode_json(const rr_mode *md, int paper);
 /* Long runs: progress with an ETA on stderr when it is a terminal (or when
    forced by --progress), and Ctrl-C/SIGTERM caught so that a loop can stop
    and write what it has. */
-typedef struct cli_progress { const char *what; long total, done; double t0, last; int show; } cli_progress;
+typedef struct cli_progress {
+  const char *what;
+  long total, done;
+  double t0, last;
+  int show;
+} cli_progress;
 void cli_progress_start(cli_progress *p, const char *what, long total, int force);
 void cli_progress_step(cli_progress *p, long n);
 void cli_progress_end(cli_progress *p);
@@ -111,8 +130,8 @@ void cli_progress_end(cli_progress *p);
    Ctrl-C (after cli_catch_stops). */
 rr_progress cli_progress_hook(cli_progress *p);
 void cli_catch_stops(void);
-double cli_now_s(void);   /* a monotonic clock, s */
-int cli_stopped(void);   /* a stop was asked for */
+double cli_now_s(void); /* a monotonic clock, s */
+int cli_stopped(void);  /* a stop was asked for */
 #define CLI_EXIT_STOPPED 130
 
 /* Subcommands. */
@@ -129,39 +148,44 @@ int cmd_damper(int argc, char **argv);
  * terminated, ids < 1000 or >= 2000), calling extra_cb for those. Loads the
  * vehicle. Returns 0 to go on, or an exit status (help printed: -1 -> 0). */
 typedef int (*cli_extra_cb)(int opt, const char *arg, void *user);
-int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
-              void *user, const char *usage_text);
+int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+              cli_extra_cb cb, void *user, const char *usage_text);
 /* The same, with --conicity taking a comma list into c->conicities. */
-int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
-                   void *user, const char *usage_text);
+int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+                   cli_extra_cb cb, void *user, const char *usage_text);
 #define CLI_HELP_SHOWN (-1)
 
 /* Ride evaluation shared by ride, compare and summary. */
 typedef struct ride_setup {
-  const char *spectrum;       /* name or file (default wuhan-guangzhou) */
-  double x[16];               /* floor points, m (default +L, 0, -L) */
+  const char *spectrum; /* name or file (default wuhan-guangzhou) */
+  double x[16];         /* floor points, m (default +L, 0, -L) */
   int npoints;
-  double h_p;                 /* floor height (default 1.2 m) */
+  double h_p; /* floor height (default 1.2 m) */
   int roll_gravity;
   double f_lo, f_hi;
   int nfreq;
-  int method;                 /* RR_FRF_MODAL / RR_FRF_DIRECT */
+  int method; /* RR_FRF_MODAL / RR_FRF_DIRECT */
 } ride_setup;
-typedef struct ride_point { double x, rms, sperling, sperling_gb, wd_rms, nmv; } ride_point;
+typedef struct ride_point {
+  double x, rms, sperling, sperling_gb, wd_rms, nmv;
+} ride_point;
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
 /* The floor-point options every ride-type command takes. */
 enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
-#define RIDE_SETUP_OPTIONS \
-  {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS}, \
-  {"floor-height", required_argument, 0, OPT_HEIGHT}, {"roll-gravity", no_argument, 0, OPT_ROLLG}
+#define RIDE_SETUP_OPTIONS                                                                         \
+  {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS},  \
+      {"floor-height", required_argument, 0, OPT_HEIGHT},                                          \
+  {                                                                                                \
+    "roll-gravity", no_argument, 0, OPT_ROLLG                                                      \
+  }
 /* Handles one of them: 0 taken, 1 error (printed), -1 not one of them. */
 int ride_setup_option(ride_setup *r, int opt, const char *arg);
 /* After parsing: the floor points default to +L, 0, -L of the vehicle loaded
    (the defaults set before parsing were the built-in vehicle's). */
 void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv);
 /* Evaluates the ride at one operating point; psd (nfreq x npoints) optional. */
-int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r, ride_point *out,
-              double *psd, double *freqs, rr_error *err);
+int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r,
+              ride_point *out, double *psd, double *freqs, rr_error *err);
 cJSON *ride_methods_json(void);
 
 int cmd_ride(int argc, char **argv);

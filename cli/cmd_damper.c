@@ -5,7 +5,7 @@
 #include "cli.h"
 
 typedef struct damper_args {
-  int element;            /* 0 yaw, 1 lateral */
+  int element; /* 0 yaw, 1 lateral */
   double k, c;
   int have_k, have_c;
   double f_from, f_to;
@@ -18,9 +18,12 @@ static int damper_cb(int opt, const char *arg, void *u)
   damper_args *a = u;
   switch (opt) {
   case OPT_ELEMENT:
-    if (!strcmp(arg, "yaw")) a->element = 0;
-    else if (!strcmp(arg, "lateral")) a->element = 1;
-    else return cli_bad("--element: 'yaw' or 'lateral' expected, got '%s'", arg);
+    if (!strcmp(arg, "yaw"))
+      a->element = 0;
+    else if (!strcmp(arg, "lateral"))
+      a->element = 1;
+    else
+      return cli_bad("--element: 'yaw' or 'lateral' expected, got '%s'", arg);
     return 0;
   case OPT_K:
     if (cli_number("k", arg, "N/m", &a->k)) return 1;
@@ -43,7 +46,8 @@ static int damper_cb(int opt, const char *arg, void *u)
 int cmd_damper(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride damper [VEHICLE] [--element yaw|lateral] [--k N/M] [--c NS/M] [--freqs FROM:TO:N] [--json]\n"
+      "usage: railride damper [VEHICLE] [--element yaw|lateral] [--k N/M] [--c NS/M] [--freqs "
+      "FROM:TO:N] [--json]\n"
       "Dynamic stiffness k_e = k c jw / (k + c jw) of a damper c in series with a spring k\n"
       "(with the vehicle's SDF curve for the yaw damper when sdf is on): storage (equivalent\n"
       "stiffness), loss, equivalent damping loss/w, dissipation factor loss/storage, over\n"
@@ -52,8 +56,11 @@ int cmd_damper(int argc, char **argv)
       "  --element E          yaw (default) or lateral damper of the vehicle\n"
       "  --k, --c             override series stiffness (N/m) and damping (N s/m)\n"
       "  --freqs FROM:TO:N    frequency grid, Hz\n";
-  static const struct option extra[] = {{"element", required_argument, 0, OPT_ELEMENT}, {"k", required_argument, 0, OPT_K},
-                                        {"c", required_argument, 0, OPT_C}, {"freqs", required_argument, 0, OPT_FREQS}, {0, 0, 0, 0}};
+  static const struct option extra[] = {{"element", required_argument, 0, OPT_ELEMENT},
+                                        {"k", required_argument, 0, OPT_K},
+                                        {"c", required_argument, 0, OPT_C},
+                                        {"freqs", required_argument, 0, OPT_FREQS},
+                                        {0, 0, 0, 0}};
   cli_common c;
   damper_args a = {0, 0, 0, 0, 0, 0.1, 30, 200};
   int r = cli_parse(argc, argv, &c, CLI_READS_JSON, extra, damper_cb, &a, help);
@@ -65,7 +72,8 @@ int cmd_damper(int argc, char **argv)
   if (a.have_k) k = a.k;
   if (a.have_c) cd = a.c;
   if (!(cd > 0)) return cli_bad("damping is 0: no damper characteristics");
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL,
+        *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
   if (root) {
     cJSON_AddNumberToObject(root, "k", k);
     cJSON_AddNumberToObject(root, "c", cd);
@@ -74,15 +82,21 @@ int cmd_damper(int argc, char **argv)
     cJSON_AddBoolToObject(root, "sdf", sdf);
   } else {
     /* the CSV stays plain (pandas.read_csv): the summary goes to stderr */
-    fprintf(stderr, "railride: %s %s damper: c = %g N s/m, k = %g N/m%s; omega_opt = k/c = %g rad/s (%g Hz)\n", c.veh.name,
-            a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "", k / cd, k / cd / (2 * RR_PI));
-    printf("freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation\n");
+    fprintf(
+        stderr,
+        "railride: %s %s damper: c = %g N s/m, k = %g N/m%s; omega_opt = k/c = %g rad/s (%g Hz)\n",
+        c.veh.name, a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "",
+        k / cd, k / cd / (2 * RR_PI));
+    printf(
+        "freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation\n");
   }
   for (int i = 0; i < a.n; i++) {
     double f = a.n == 1 ? a.f_from : a.f_from * pow(a.f_to / a.f_from, (double)i / (a.n - 1));
     double w = 2 * RR_PI * f;
     double complex ks = k;
-    if (sdf) ks = c.veh.sdf_mode == RR_SDF_PAPER ? rr_sdf_storage(&c.veh.sdf, f) : rr_sdf_complex(&c.veh.sdf, w);
+    if (sdf)
+      ks = c.veh.sdf_mode == RR_SDF_PAPER ? rr_sdf_storage(&c.veh.sdf, f)
+                                          : rr_sdf_complex(&c.veh.sdf, w);
     double complex ke = rr_maxwell_stiffness(ks, cd, I * w);
     double st = creal(ke), lo = cimag(ke);
     if (root) {

@@ -7,17 +7,22 @@ static int want_json(int argc, char **argv, const char *help)
 {
   int json = 0;
   for (int i = 1; i < argc; i++) {
-    if (!strcmp(argv[i], "--json")) json = 1;
-    else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { fputs(help, stdout); return -1; }
-    else return -2 - i;
+    if (!strcmp(argv[i], "--json"))
+      json = 1;
+    else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+      fputs(help, stdout);
+      return -1;
+    } else
+      return -2 - i;
   }
   return json;
 }
 
 int cmd_keys(int argc, char **argv)
 {
-  static const char help[] = "usage: railride keys [--json]\n"
-                             "The vehicle-file keys: section, key, SI unit, physical range accepted, meaning.\n";
+  static const char help[] =
+      "usage: railride keys [--json]\n"
+      "The vehicle-file keys: section, key, SI unit, physical range accepted, meaning.\n";
   int j = want_json(argc, argv, help);
   if (j == -1) return 0;
   if (j < -1) return cli_bad("keys: unknown argument '%s'", argv[-2 - j]);
@@ -40,8 +45,8 @@ int cmd_keys(int argc, char **argv)
       cJSON_AddStringToObject(o, "meaning", k[i].doc);
       cJSON_AddItemToArray(arr, o);
     } else if (num) {
-      printf("[%s] %-24s %-8s %8g .. %-8g%s  %s\n", k[i].section, k[i].key, k[i].si_unit, k[i].min, k[i].max,
-             (k[i].flags & RR_KEY_INF_OK) ? " or inf" : "", k[i].doc);
+      printf("[%s] %-24s %-8s %8g .. %-8g%s  %s\n", k[i].section, k[i].key, k[i].si_unit, k[i].min,
+             k[i].max, (k[i].flags & RR_KEY_INF_OK) ? " or inf" : "", k[i].doc);
     } else {
       printf("[%s] %-24s %-8s %21s  %s\n", k[i].section, k[i].key, "-", "", k[i].doc);
     }
@@ -52,10 +57,11 @@ int cmd_keys(int argc, char **argv)
 
 int cmd_objectives(int argc, char **argv)
 {
-  static const char help[] = "usage: railride objectives [--json]\n"
-                             "The objective names of problem files, `sweep --objective` and the Python Design,\n"
-                             "with their arguments, units and meaning. Modifiers follow ';': sdf=none|paper|physical,\n"
-                             "spectrum=NAME (ride), fmax=HZ, wmin=W, rmax=R (stability), index_modes (critical_speed).\n";
+  static const char help[] =
+      "usage: railride objectives [--json]\n"
+      "The objective names of problem files, `sweep --objective` and the Python Design,\n"
+      "with their arguments, units and meaning. Modifiers follow ';': sdf=none|paper|physical,\n"
+      "spectrum=NAME (ride), fmax=HZ, wmin=W, rmax=R (stability), index_modes (critical_speed).\n";
   int j = want_json(argc, argv, help);
   if (j == -1) return 0;
   if (j < -1) return cli_bad("objectives: unknown argument '%s'", argv[-2 - j]);

@@ -11,9 +11,9 @@
 #include <time.h>
 #include "cli.h"
 
-#define SIM_DISTURBANCE_DEFAULT 5e-3   /* m, on every wheelset, when no track is given */
-#define SIM_FS_DEFAULT 256.0           /* Hz: the validation's sample rate, hence its realisations */
-#define SIM_DURATION_MAX 1e4           /* s */
+#define SIM_DISTURBANCE_DEFAULT 5e-3 /* m, on every wheelset, when no track is given */
+#define SIM_FS_DEFAULT 256.0         /* Hz: the validation's sample rate, hence its realisations */
+#define SIM_DURATION_MAX 1e4         /* s */
 #define SCAN_STEP_DEFAULT_KMH 5.0
 
 typedef struct nl_args {
@@ -22,15 +22,29 @@ typedef struct nl_args {
   unsigned long long seed;
   int have_seed, have_disturbance, csv;
 } nl_args;
-enum { OPT_PROFILE = 5000, OPT_NDUR, OPT_NFS, OPT_DIST, OPT_NSPEC, OPT_NSEED, OPT_TRACK, OPT_SPEEDS, OPT_METHOD,
-       OPT_CSV, OPT_STEP, OPT_SETTLE, OPT_NLIMIT };
+enum {
+  OPT_PROFILE = 5000,
+  OPT_NDUR,
+  OPT_NFS,
+  OPT_DIST,
+  OPT_NSPEC,
+  OPT_NSEED,
+  OPT_TRACK,
+  OPT_SPEEDS,
+  OPT_METHOD,
+  OPT_CSV,
+  OPT_STEP,
+  OPT_SETTLE,
+  OPT_NLIMIT
+};
 
 static int speeds_option(nl_args *a, const char *arg)
 {
   char buf[256];
   snprintf(buf, sizeof buf, "%s", arg);
   char *colon = strchr(buf, ':');
-  if (!colon || strchr(colon + 1, ':')) return cli_bad("--speeds: expected FROM:TO (km/h), got '%s'", arg);
+  if (!colon || strchr(colon + 1, ':'))
+    return cli_bad("--speeds: expected FROM:TO (km/h), got '%s'", arg);
   *colon = 0;
   if (cli_number_in("speeds", buf, "km/h", 1, RR_SPEED_MAX_MS * RR_KMH, &a->v_lo) ||
       cli_number_in("speeds", colon + 1, "km/h", 1, RR_SPEED_MAX_MS * RR_KMH, &a->v_hi))
@@ -43,9 +57,12 @@ static int nl_cb(int opt, const char *arg, void *u)
   nl_args *a = u;
   switch (opt) {
   case OPT_PROFILE: a->profile = arg; return 0;
-  case OPT_NDUR: return cli_number_in("duration", arg, "s", 1e-3, SIM_DURATION_MAX, &a->duration) ? 1 : 0;
+  case OPT_NDUR:
+    return cli_number_in("duration", arg, "s", 1e-3, SIM_DURATION_MAX, &a->duration) ? 1 : 0;
   case OPT_NFS: return cli_number_in("fs", arg, "Hz", 1, 1e5, &a->fs) ? 1 : 0;
-  case OPT_DIST: a->have_disturbance = 1; return cli_number_in("disturbance", arg, "m", -0.05, 0.05, &a->disturbance) ? 1 : 0;
+  case OPT_DIST:
+    a->have_disturbance = 1;
+    return cli_number_in("disturbance", arg, "m", -0.05, 0.05, &a->disturbance) ? 1 : 0;
   case OPT_NSPEC: a->spectrum = arg; return 0;
   case OPT_NSEED: {
     char *end;
@@ -80,7 +97,8 @@ static int nl_profile(const nl_args *a, const rr_vehicle *veh, rr_profile *p)
     return st ? cli_bad("--profile: %s", e.msg) : 0;
   }
   if (veh->profile.kind == RR_PROFILE_NONE)
-    return cli_bad("no tread profile: give --profile new|worn|FILE.csv or [contact] conicity_poly / conicity_table");
+    return cli_bad("no tread profile: give --profile new|worn|FILE.csv or [contact] conicity_poly "
+                   "/ conicity_table");
   *p = veh->profile;
   return 0;
 }
@@ -95,8 +113,10 @@ static cJSON *assumptions_json(const rr_vehicle *veh, const rr_profile *p)
   cJSON_AddNumberToObject(o, "friction", veh->friction);
   cJSON_AddNumberToObject(o, "flange_clearance_m", veh->flange_clearance);
   cJSON_AddNumberToObject(o, "flange_stiffness_n_per_m", veh->flange_stiffness);
-  cJSON_AddStringToObject(o, "creep_saturation", "Shen-Hedrick-Elkins, per wheel, static wheel load");
-  cJSON_AddStringToObject(o, "suspension", "linear, as the linear model (Maxwell dampers included)");
+  cJSON_AddStringToObject(o, "creep_saturation",
+                          "Shen-Hedrick-Elkins, per wheel, static wheel load");
+  cJSON_AddStringToObject(o, "suspension",
+                          "linear, as the linear model (Maxwell dampers included)");
   return o;
 }
 
@@ -106,15 +126,18 @@ static void assumptions_note(const char *cmd, const rr_vehicle *veh, const rr_pr
 {
   char d[512];
   rr_profile_describe(p, d, sizeof d);
-  fprintf(stderr, "railride %s: nonlinear model: %s; friction %g; flange clearance %g mm, stiffness %g kN/mm; "
-                  "Shen-Hedrick-Elkins creep saturation; linear suspension\n",
-          cmd, d, veh->friction, veh->flange_clearance * 1e3, veh->flange_stiffness * 1e-6);
+  fprintf(
+      stderr,
+      "railride %s: nonlinear model: %s; friction %g; flange clearance %g mm, stiffness %g kN/mm; "
+      "Shen-Hedrick-Elkins creep saturation; linear suspension\n",
+      cmd, d, veh->friction, veh->flange_clearance * 1e3, veh->flange_stiffness * 1e-6);
 }
 
 /* ---- simulate ---- */
 
 /* The track inputs: a realisation, a record, or none (NULL). */
-static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, double **u, double **du)
+static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, double **u,
+                     double **du)
 {
   *u = *du = NULL;
   if (!a->spectrum && !a->track) return 0;
@@ -139,7 +162,8 @@ static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, 
   rr_spectrum sp;
   if ((st = rr_spectrum_open(a->spectrum, &sp, &e))) return cli_fail(&e, st);
   rr_validate_opts vo = rr_validate_opts_default();
-  st = rr_track_realise(&sp, v, x, ni, a->fs, ns, vo.f_lo_hz, vo.f_hi_hz, a->have_seed ? a->seed : vo.seed, *u, *du, &e);
+  st = rr_track_realise(&sp, v, x, ni, a->fs, ns, vo.f_lo_hz, vo.f_hi_hz,
+                        a->have_seed ? a->seed : vo.seed, *u, *du, &e);
   return st ? cli_fail(&e, st) : 0;
 }
 
@@ -150,11 +174,13 @@ static void sim_header(FILE *fp, const rr_model *m, int nw)
     const char *nm = rr_model_dof_name(m, i);
     fprintf(fp, ",%s_%s", nm, nm[0] == 'y' ? "m" : "rad");
   }
-  for (int w = 1; w <= nw; w++) fprintf(fp, ",yt_w%d_m,Fy_w%d_N,Mz_w%d_Nm,flange_w%d_N", w, w, w, w);
+  for (int w = 1; w <= nw; w++)
+    fprintf(fp, ",yt_w%d_m,Fy_w%d_N,Mz_w%d_Nm,flange_w%d_N", w, w, w, w);
   fputc('\n', fp);
 }
 
-static void sim_rows(FILE *fp, const rr_nonlinear *nl, const double *Z, int ns, double fs, const double *u)
+static void sim_rows(FILE *fp, const rr_nonlinear *nl, const double *Z, int ns, double fs,
+                     const double *u)
 {
   int N = rr_nonlinear_size(nl), n = rr_nonlinear_ndof(nl), nw = rr_nonlinear_ninputs(nl);
   for (int k = 0; k < ns; k++) {
@@ -201,12 +227,17 @@ static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
   }
   if (!r) {
     assumptions_note("simulate", &c->veh, p);
-    fprintf(stderr, "railride simulate: speed %g km/h; SUNDIALS CVODE BDF, relative tolerance %g, absolute %g m\n",
+    fprintf(stderr,
+            "railride simulate: speed %g km/h; SUNDIALS CVODE BDF, relative tolerance %g, absolute "
+            "%g m\n",
             c->speed_kmh, rr_sim_opts_default().rtol, rr_sim_opts_default().atol_m);
     sim_header(stdout, m, rr_nonlinear_ninputs(nl));
     sim_rows(stdout, nl, Z, ns, a->fs, u);
   }
-  free(u); free(du); free(Z); free(z0);
+  free(u);
+  free(du);
+  free(Z);
+  free(z0);
   rr_nonlinear_free(nl);
   rr_model_free(m);
   return r;
@@ -215,28 +246,36 @@ static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
 int cmd_simulate(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride simulate [VEHICLE] --speed KMH [--profile new|worn|FILE.csv] [--duration S]\n"
-      "                         [--disturbance Y0] [--spectrum S [--seed N] | --track FILE.csv] [--fs HZ]\n"
+      "usage: railride simulate [VEHICLE] --speed KMH [--profile new|worn|FILE.csv] [--duration "
+      "S]\n"
+      "                         [--disturbance Y0] [--spectrum S [--seed N] | --track FILE.csv] "
+      "[--fs HZ]\n"
       "Time histories of the nonlinear vehicle (conicity lambda(a), creep saturation, flange\n"
       "spring; docs/model.md, \"Nonlinear model\") by SUNDIALS CVODE: from a lateral disturbance\n"
       "of every wheelset, a random track realisation of a spectrum (the same realisations as\n"
       "`validate` for the same --duration, --fs and --seed), or a measured alignment record\n"
       "(CSV distance_m, alignment_m, resampled at the speed). CSV on standard output (the model's\n"
       "assumptions on stderr): t_s, every DOF (m or rad), per wheelset the track\n"
-      "alignment, saturated creep force Fy and yaw moment Mz, and the flange force.\n" CLI_COMMON_HELP
+      "alignment, saturated creep force Fy and yaw moment Mz, and the flange "
+      "force.\n" CLI_COMMON_HELP
       "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
       "  --duration S         simulated time, s (default 10)\n"
-      "  --disturbance Y0     initial lateral displacement of every wheelset (default 5 mm without a track)\n"
+      "  --disturbance Y0     initial lateral displacement of every wheelset (default 5 mm without "
+      "a track)\n"
       "  --spectrum S         track irregularity spectrum (name or file)\n"
       "  --seed N             realisation seed (default 1)\n"
       "  --track FILE.csv     measured alignment record: distance_m, alignment_m\n"
       "  --fs HZ              output (and track) samples per second (default 256)\n"
       "  --limit N            most output samples (duration x fs) accepted (default 4194304)\n";
-  static const struct option extra[] = {
-      {"profile", required_argument, 0, OPT_PROFILE}, {"duration", required_argument, 0, OPT_NDUR},
-      {"fs", required_argument, 0, OPT_NFS}, {"disturbance", required_argument, 0, OPT_DIST},
-      {"spectrum", required_argument, 0, OPT_NSPEC}, {"seed", required_argument, 0, OPT_NSEED},
-      {"track", required_argument, 0, OPT_TRACK}, {"limit", required_argument, 0, OPT_NLIMIT}, {0, 0, 0, 0}};
+  static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
+                                        {"duration", required_argument, 0, OPT_NDUR},
+                                        {"fs", required_argument, 0, OPT_NFS},
+                                        {"disturbance", required_argument, 0, OPT_DIST},
+                                        {"spectrum", required_argument, 0, OPT_NSPEC},
+                                        {"seed", required_argument, 0, OPT_NSEED},
+                                        {"track", required_argument, 0, OPT_TRACK},
+                                        {"limit", required_argument, 0, OPT_NLIMIT},
+                                        {0, 0, 0, 0}};
   cli_common c;
   nl_args a = {.duration = 10, .fs = SIM_FS_DEFAULT, .limit = CLI_LIMIT_SAMPLES};
   int r = cli_parse(argc, argv, &c, CLI_READS_SPEED, extra, nl_cb, &a, help);
@@ -255,18 +294,24 @@ int cmd_simulate(int argc, char **argv)
 
 static const char *type_name(int t)
 {
-  return t == RR_BIF_SUPERCRITICAL ? "supercritical" : t == RR_BIF_SUBCRITICAL ? "subcritical" : "none";
+  return t == RR_BIF_SUPERCRITICAL ? "supercritical"
+         : t == RR_BIF_SUBCRITICAL ? "subcritical"
+                                   : "none";
 }
 
 static const char *end_name(int e)
 {
-  static const char *names[] = {"left the speed range", "beyond the amplitude limit", "point limit reached",
-                                "continuation stalled (a grazing corner or a secondary bifurcation)",
-                                "linear model: no limit cycles"};
+  static const char *names[] = {
+      "left the speed range", "beyond the amplitude limit", "point limit reached",
+      "continuation stalled (a grazing corner or a secondary bifurcation)",
+      "linear model: no limit cycles"};
   return e >= 0 && e <= 4 ? names[e] : "?";
 }
 
-static cJSON *num_or_null(double x) { return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull(); }
+static cJSON *num_or_null(double x)
+{
+  return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull();
+}
 
 static cJSON *bif_head(const cli_common *c, const rr_profile *p, const nl_args *a)
 {
@@ -281,23 +326,25 @@ static cJSON *bif_head(const cli_common *c, const rr_profile *p, const nl_args *
   return o;
 }
 
-static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_args *a, const rr_bifurcation *b,
-                           const rr_cycle *pts, double secs)
+static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_args *a,
+                           const rr_bifurcation *b, const rr_cycle *pts, double secs)
 {
   if (a->csv) {
     assumptions_note("bifurcation", &c->veh, p);
     printf("speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual\n");
     for (int i = 0; i < b->npoints; i++)
-      printf("%.10g,%.10g,%.10g,%d,%.10g,%.3g\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m, 1 / pts[i].period_s,
-             pts[i].stable, pts[i].floquet_max, pts[i].residual);
+      printf("%.10g,%.10g,%.10g,%d,%.10g,%.3g\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m,
+             1 / pts[i].period_s, pts[i].stable, pts[i].floquet_max, pts[i].residual);
     return;
   }
   if (c->json) {
     cJSON *o = bif_head(c, p, a);
     cJSON_AddItemToObject(o, "linear_critical_speed_kmh", num_or_null(b->hopf_speed_ms * RR_KMH));
     cJSON_AddItemToObject(o, "hopf_frequency_hz", num_or_null(b->hopf_freq_hz));
-    cJSON_AddItemToObject(o, "hopf_speed_from_branch_kmh", num_or_null(b->hopf_speed_branch_ms * RR_KMH));
-    cJSON_AddItemToObject(o, "nonlinear_critical_speed_kmh", num_or_null(b->nonlinear_critical_ms * RR_KMH));
+    cJSON_AddItemToObject(o, "hopf_speed_from_branch_kmh",
+                          num_or_null(b->hopf_speed_branch_ms * RR_KMH));
+    cJSON_AddItemToObject(o, "nonlinear_critical_speed_kmh",
+                          num_or_null(b->nonlinear_critical_ms * RR_KMH));
     cJSON_AddStringToObject(o, "type", type_name(b->type));
     cJSON_AddStringToObject(o, "branch_end", end_name(b->end));
     cJSON *arr = cJSON_AddArrayToObject(o, "branch");
@@ -318,18 +365,22 @@ static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_ar
   char d[512];
   rr_profile_describe(p, d, sizeof d);
   printf("%s, tread %s: %s\n", c->veh.name, p->name, d);
-  printf("friction %g, flange clearance %g mm, flange stiffness %g kN/mm\n", c->veh.friction, c->veh.flange_clearance * 1e3,
-         c->veh.flange_stiffness * 1e-6);
-  if (!b->hopf) { printf("the straight-track equilibrium is stable to %g km/h: no Hopf point\n", RR_SPEED_MAX_MS * RR_KMH); return; }
-  printf("linear critical speed (Hopf)  %9.3f km/h  (%.3f Hz; from the branch %.3f)\n", b->hopf_speed_ms * RR_KMH,
-         b->hopf_freq_hz, b->hopf_speed_branch_ms * RR_KMH);
+  printf("friction %g, flange clearance %g mm, flange stiffness %g kN/mm\n", c->veh.friction,
+         c->veh.flange_clearance * 1e3, c->veh.flange_stiffness * 1e-6);
+  if (!b->hopf) {
+    printf("the straight-track equilibrium is stable to %g km/h: no Hopf point\n",
+           RR_SPEED_MAX_MS * RR_KMH);
+    return;
+  }
+  printf("linear critical speed (Hopf)  %9.3f km/h  (%.3f Hz; from the branch %.3f)\n",
+         b->hopf_speed_ms * RR_KMH, b->hopf_freq_hz, b->hopf_speed_branch_ms * RR_KMH);
   printf("nonlinear critical speed      %9.3f km/h\n", b->nonlinear_critical_ms * RR_KMH);
-  printf("bifurcation                   %s; %d cycles, branch end: %s (%.2f s)\n", type_name(b->type), b->npoints,
-         end_name(b->end), secs);
+  printf("bifurcation                   %s; %d cycles, branch end: %s (%.2f s)\n",
+         type_name(b->type), b->npoints, end_name(b->end), secs);
   printf("%12s %12s %10s %8s %10s\n", "speed_kmh", "amplitude_mm", "freq_hz", "stable", "max|mu|");
   for (int i = 0; i < b->npoints; i++)
-    printf("%12.3f %12.4f %10.4f %8s %10.5f\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m * 1e3, 1 / pts[i].period_s,
-           pts[i].stable ? "yes" : "no", pts[i].floquet_max);
+    printf("%12.3f %12.4f %10.4f %8s %10.5f\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m * 1e3,
+           1 / pts[i].period_s, pts[i].stable ? "yes" : "no", pts[i].floquet_max);
 }
 
 static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args *a)
@@ -343,7 +394,10 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
   rr_error e;
   double t0 = cli_now_s();
   int st = rr_bifurcation_continue(&c->veh, p, NULL, &o, pts, NULL, o.max_points, &b, &e);
-  if (st) { free(pts); return cli_fail(&e, st); }
+  if (st) {
+    free(pts);
+    return cli_fail(&e, st);
+  }
   bif_print_cont(c, p, a, &b, pts, cli_now_s() - t0);
   free(pts);
   return 0;
@@ -352,7 +406,8 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
 /* The scan's reading, as the paper reads its figure: the linear critical
    speed where the up-sweep's amplitude leaves zero, the nonlinear one the
    lowest speed with a cycle on either sweep. */
-static void scan_read(const rr_scan_point *up, const rr_scan_point *down, int nv, double *v_lin, double *v_nl)
+static void scan_read(const rr_scan_point *up, const rr_scan_point *down, int nv, double *v_lin,
+                      double *v_nl)
 {
   *v_lin = *v_nl = NAN;
   for (int i = 0; i < nv && !isfinite(*v_lin); i++)
@@ -375,8 +430,8 @@ static void scan_points_json(cJSON *arr, const rr_scan_point *s, int nv, const c
   }
 }
 
-static void bif_print_scan(const cli_common *c, const rr_profile *p, const nl_args *a, const rr_scan_point *up,
-                           const rr_scan_point *down, int nv, double secs)
+static void bif_print_scan(const cli_common *c, const rr_profile *p, const nl_args *a,
+                           const rr_scan_point *up, const rr_scan_point *down, int nv, double secs)
 {
   double v_lin, v_nl;
   scan_read(up, down, nv, &v_lin, &v_nl);
@@ -406,22 +461,32 @@ static void bif_print_scan(const cli_common *c, const rr_profile *p, const nl_ar
     cli_json_print(o);
     return;
   }
-  printf("%s, tread %s (scan, %g km/h steps, %g s to settle, %.2f s)\n", c->veh.name, p->name, a->step_kmh, a->settle, secs);
-  printf("linear critical speed     %9.1f km/h (amplitude leaves zero on the way up)\n", v_lin * RR_KMH);
+  printf("%s, tread %s (scan, %g km/h steps, %g s to settle, %.2f s)\n", c->veh.name, p->name,
+         a->step_kmh, a->settle, secs);
+  printf("linear critical speed     %9.1f km/h (amplitude leaves zero on the way up)\n",
+         v_lin * RR_KMH);
   printf("nonlinear critical speed  %9.1f km/h (lowest speed with a cycle)\n", v_nl * RR_KMH);
-  printf("bifurcation               %s\n%12s %14s %14s\n", type, "speed_kmh", "up_amp_mm", "down_amp_mm");
+  printf("bifurcation               %s\n%12s %14s %14s\n", type, "speed_kmh", "up_amp_mm",
+         "down_amp_mm");
   for (int i = 0; i < nv; i++)
-    printf("%12.2f %14.4f %14.4f\n", up[i].speed_ms * RR_KMH, up[i].amplitude_m * 1e3, down[i].amplitude_m * 1e3);
+    printf("%12.2f %14.4f %14.4f\n", up[i].speed_ms * RR_KMH, up[i].amplitude_m * 1e3,
+           down[i].amplitude_m * 1e3);
 }
 
 static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
 {
   int nv = (int)floor((a->v_hi - a->v_lo) / a->step_kmh + 1e-9) + 1;
   double work = 2.0 * nv * (a->settle + 2);
-  if (cli_over_limit("bifurcation --method scan", work, a->limit, "simulated seconds")) return EXIT_BADINPUT;
+  if (cli_over_limit("bifurcation --method scan", work, a->limit, "simulated seconds"))
+    return EXIT_BADINPUT;
   double *vs = malloc(sizeof(double) * (size_t)nv);
   rr_scan_point *up = malloc(sizeof *up * (size_t)nv), *down = malloc(sizeof *down * (size_t)nv);
-  if (!vs || !up || !down) { free(vs); free(up); free(down); return cli_bad("out of memory"); }
+  if (!vs || !up || !down) {
+    free(vs);
+    free(up);
+    free(down);
+    return cli_bad("out of memory");
+  }
   for (int i = 0; i < nv; i++) vs[i] = (a->v_lo + i * a->step_kmh) / RR_KMH;
   rr_scan_opts so = rr_scan_opts_default();
   so.settle_s = a->settle;
@@ -429,7 +494,9 @@ static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
   double t0 = cli_now_s();
   int st = rr_bifurcation_scan(&c->veh, p, NULL, vs, nv, &so, up, down, &e);
   if (!st) bif_print_scan(c, p, a, up, down, nv, cli_now_s() - t0);
-  free(vs); free(up); free(down);
+  free(vs);
+  free(up);
+  free(down);
   return st ? cli_fail(&e, st) : 0;
 }
 
@@ -451,16 +518,21 @@ int cmd_bifurcation(int argc, char **argv)
       "  --method M           continuation (default) or scan\n"
       "  --csv                the branch as CSV (the assumptions on stderr)\n"
       "  --step KMH           scan: speed step (default 5 km/h)\n"
-      "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s measured)\n"
+      "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s "
+      "measured)\n"
       "  --limit N            scan: most simulated seconds accepted (default 1e5)\n";
   static const struct option extra[] = {
       {"profile", required_argument, 0, OPT_PROFILE}, {"speeds", required_argument, 0, OPT_SPEEDS},
-      {"method", required_argument, 0, OPT_METHOD}, {"csv", no_argument, 0, OPT_CSV},
-      {"step", required_argument, 0, OPT_STEP}, {"settle", required_argument, 0, OPT_SETTLE},
-      {"limit", required_argument, 0, OPT_NLIMIT}, {0, 0, 0, 0}};
+      {"method", required_argument, 0, OPT_METHOD},   {"csv", no_argument, 0, OPT_CSV},
+      {"step", required_argument, 0, OPT_STEP},       {"settle", required_argument, 0, OPT_SETTLE},
+      {"limit", required_argument, 0, OPT_NLIMIT},    {0, 0, 0, 0}};
   cli_common c;
-  nl_args a = {.method = "continuation", .v_lo = 100, .v_hi = 600, .step_kmh = SCAN_STEP_DEFAULT_KMH,
-               .settle = rr_scan_opts_default().settle_s, .limit = 1e5};
+  nl_args a = {.method = "continuation",
+               .v_lo = 100,
+               .v_hi = 600,
+               .step_kmh = SCAN_STEP_DEFAULT_KMH,
+               .settle = rr_scan_opts_default().settle_s,
+               .limit = 1e5};
   int r = cli_parse(argc, argv, &c, CLI_READS_JSON, extra, nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;

@@ -26,7 +26,7 @@ typedef struct eval_ctx {
   rr_design *d;
   int threads;
   const rr_problem *p;
-  const double *x;   /* the batch being evaluated */
+  const double *x; /* the batch being evaluated */
 } eval_ctx;
 
 /* Designs lo..hi-1 of the batch: objectives (maximised ones negated) and
@@ -56,30 +56,40 @@ static int eval_batch(void *user, int n, const double *x, double *f)
 {
   eval_ctx *c = user;
   c->x = x;
-  return cli_par_for(n, n, sizeof(double) * (size_t)(c->p->nobj + c->p->ncon), eval_items, c, f, NULL, NULL);
+  return cli_par_for(n, n, sizeof(double) * (size_t)(c->p->nobj + c->p->ncon), eval_items, c, f,
+                     NULL, NULL);
 }
 
-static int same_design(const double *a, const double *b, int n) { return !memcmp(a, b, sizeof(double) * (size_t)n); }
+static int same_design(const double *a, const double *b, int n)
+{
+  return !memcmp(a, b, sizeof(double) * (size_t)n);
+}
 
 /* The final front (rank 0, duplicates once) as CSV and JSON; best and worst
    of each objective over it. With constraints: feasible and violation
    columns. Returns the designs written. */
-static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X, const double *F, const int *rank,
-                       const double *cv, int N, double *best, double *worst)
+static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X, const double *F,
+                       const int *rank, const double *cv, int N, double *best, double *worst)
 {
   for (int j = 0; j < p->nvar; j++) cli_csv_key_field(fp, p->keys[j], ',');
-  for (int k = 0; k < p->nobj; k++) cli_csv_field(fp, p->objs[k], k + 1 < p->nobj || p->ncon ? ',' : '\n');
+  for (int k = 0; k < p->nobj; k++)
+    cli_csv_field(fp, p->objs[k], k + 1 < p->nobj || p->ncon ? ',' : '\n');
   if (p->ncon) fprintf(fp, "feasible,violation\n");
   cJSON *root = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(root, "front");
   int nfront = 0;
-  for (int k = 0; k < p->nobj; k++) { best[k] = INFINITY; worst[k] = -INFINITY; }
+  for (int k = 0; k < p->nobj; k++) {
+    best[k] = INFINITY;
+    worst[k] = -INFINITY;
+  }
   for (int i = 0; i < N; i++) {
     if (rank[i] != 0) continue;
     int dup = 0;
-    for (int q = 0; q < i && !dup; q++) dup = rank[q] == 0 && same_design(X + (size_t)q * p->nvar, X + (size_t)i * p->nvar, p->nvar);
+    for (int q = 0; q < i && !dup; q++)
+      dup = rank[q] == 0 && same_design(X + (size_t)q * p->nvar, X + (size_t)i * p->nvar, p->nvar);
     if (dup) continue;
     nfront++;
-    cJSON *o = cJSON_CreateObject(), *vars = cJSON_AddObjectToObject(o, "variables"), *objs = cJSON_AddObjectToObject(o, "objectives");
+    cJSON *o = cJSON_CreateObject(), *vars = cJSON_AddObjectToObject(o, "variables"),
+          *objs = cJSON_AddObjectToObject(o, "objectives");
     for (int j = 0; j < p->nvar; j++) {
       fprintf(fp, "%.10g,", X[i * p->nvar + j]);
       cJSON_AddNumberToObject(vars, p->keys[j], X[i * p->nvar + j]);
@@ -87,7 +97,8 @@ static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X,
     for (int k = 0; k < p->nobj; k++) {
       double fk = F[i * p->nobj + k];
       fprintf(fp, "%.10g%s", fk, k + 1 < p->nobj || p->ncon ? "," : "\n");
-      cJSON_AddItemToObject(objs, p->objs[k], isfinite(fk) ? cJSON_CreateNumber(fk) : cJSON_CreateNull());
+      cJSON_AddItemToObject(objs, p->objs[k],
+                            isfinite(fk) ? cJSON_CreateNumber(fk) : cJSON_CreateNull());
       double sk = p->maximize[k] ? -fk : fk;
       if (sk < best[k]) best[k] = sk;
       if (sk > worst[k]) worst[k] = sk;
@@ -96,19 +107,24 @@ static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X,
       fprintf(fp, "%d,", cv[i] == 0);
       cli_csv_num(fp, cv[i], '\n');
       cJSON_AddBoolToObject(o, "feasible", cv[i] == 0);
-      cJSON_AddItemToObject(o, "violation", isfinite(cv[i]) ? cJSON_CreateNumber(cv[i]) : cJSON_CreateNull());
+      cJSON_AddItemToObject(o, "violation",
+                            isfinite(cv[i]) ? cJSON_CreateNumber(cv[i]) : cJSON_CreateNull());
     }
     cJSON_AddItemToArray(arr, o);
   }
   char *text = cJSON_Print(root);
-  if (text) { fputs(text, fj); fputc('\n', fj); free(text); }
+  if (text) {
+    fputs(text, fj);
+    fputc('\n', fj);
+    free(text);
+  }
   cJSON_Delete(root);
   return nfront;
 }
 
 typedef struct run_log {
-  int total, show;   /* generations; progress on stderr */
-  FILE *history;     /* PREFIX-history.csv */
+  int total, show; /* generations; progress on stderr */
+  FILE *history;   /* PREFIX-history.csv */
 } run_log;
 
 static int progress(void *user, int gen, long evals, double secs, int front, double hv)
@@ -121,18 +137,19 @@ static int progress(void *user, int gen, long evals, double secs, int front, dou
   }
   if (l->show) {
     double eta = secs / gen * (l->total - gen);
-    fprintf(stderr, "\rgen %4d/%d  evals %9ld  %8.0f evals/s  front %5d", gen, l->total, evals, evals / secs, front);
+    fprintf(stderr, "\rgen %4d/%d  evals %9ld  %8.0f evals/s  front %5d", gen, l->total, evals,
+            evals / secs, front);
     if (!isnan(hv)) fprintf(stderr, "  hypervolume %.6g", hv);
     fprintf(stderr, "  ETA %.0f s   %s", eta, gen == l->total ? "\n" : "");
   }
-  return cli_par_any_stopped();   /* Ctrl-C, SIGTERM: every rank stops after this generation */
+  return cli_par_any_stopped(); /* Ctrl-C, SIGTERM: every rank stops after this generation */
 }
 
 /* PREFIX-pareto.csv, -pareto.json and -history.csv opened (rank 0; the
    other ranks write to /dev/null), -checkpoint.bin named and, to resume,
    checked. Returns 0 or the exit status (message printed). */
-static int open_outputs(const char *prefix, int resume, char *path, char *hpath, char *jpath, char *cpath, FILE **fp,
-                        FILE **fj, FILE **fh)
+static int open_outputs(const char *prefix, int resume, char *path, char *hpath, char *jpath,
+                        char *cpath, FILE **fp, FILE **fj, FILE **fh)
 {
   const size_t n = PATH_MAX + 16;
   snprintf(cpath, n, "%s-checkpoint.bin", prefix);
@@ -143,9 +160,12 @@ static int open_outputs(const char *prefix, int resume, char *path, char *hpath,
   if (resume && access(cpath, R_OK)) return cli_bad("optimise --resume: no checkpoint %s", cpath);
   int rank0 = cli_par_rank() == 0;
   const char *fail = NULL;
-  if (!(*fp = fopen(rank0 ? path : "/dev/null", "w"))) fail = path;
-  else if (!(*fj = fopen(rank0 ? jpath : "/dev/null", "w"))) fail = jpath;
-  else if (!(*fh = fopen(rank0 ? hpath : "/dev/null", resume ? "a" : "w"))) fail = hpath;
+  if (!(*fp = fopen(rank0 ? path : "/dev/null", "w")))
+    fail = path;
+  else if (!(*fj = fopen(rank0 ? jpath : "/dev/null", "w")))
+    fail = jpath;
+  else if (!(*fh = fopen(rank0 ? hpath : "/dev/null", resume ? "a" : "w")))
+    fail = hpath;
   if (fail) {
     int r = cli_bad("optimise: cannot write %s: %s", fail, strerror(errno));
     if (*fp) fclose(*fp);
@@ -157,9 +177,27 @@ static int open_outputs(const char *prefix, int resume, char *path, char *hpath,
   return 0;
 }
 
-enum { OPT_POP = 5000, OPT_GEN, OPT_OSEED, OPT_THREADS, OPT_OUT, OPT_SX, OPT_SY, OPT_OBJ, OPT_OLIMIT, OPT_PROGRESS, OPT_RESUME };
+enum {
+  OPT_POP = 5000,
+  OPT_GEN,
+  OPT_OSEED,
+  OPT_THREADS,
+  OPT_OUT,
+  OPT_SX,
+  OPT_SY,
+  OPT_OBJ,
+  OPT_OLIMIT,
+  OPT_PROGRESS,
+  OPT_RESUME
+};
 
-typedef struct optim_args { long pop, gen, threads; long long seed; const char *out; double limit; int progress, resume; } optim_args;
+typedef struct optim_args {
+  long pop, gen, threads;
+  long long seed;
+  const char *out;
+  double limit;
+  int progress, resume;
+} optim_args;
 
 /* The largest population whose NSGA-II arrays stay within ~2 GB. */
 #define CLI_POPULATION_MAX 2000000
@@ -167,27 +205,36 @@ typedef struct optim_args { long pop, gen, threads; long long seed; const char *
 int cmd_optimise(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride optimise PROBLEM.ini [--population N] [--generations N] [--seed N] [--threads N] [--output PREFIX]\n"
+      "usage: railride optimise PROBLEM.ini [--population N] [--generations N] [--seed N] "
+      "[--threads N] [--output PREFIX]\n"
       "NSGA-II over the problem file's variables (vehicle-file keys with bounds) and objectives;\n"
       "writes PREFIX-pareto.csv and .json (the non-dominated designs, each once: variables in SI,\n"
       "objectives; with constraints, feasible and total violation),\n"
       "PREFIX-history.csv (per generation: evaluations, seconds, front size; every 10th and the\n"
-      "last the hypervolume, 2 or 3 objectives, with the initial population's worst values +10% as\n"
+      "last the hypervolume, 2 or 3 objectives, with the initial population's worst values +10% "
+      "as\n"
       "reference, empty otherwise) and a summary. Progress with an ETA\n"
       "on stderr when it is a terminal (or with --progress). Ctrl-C or SIGTERM stops after the\n"
       "generation in progress and writes its front (exit status 130). PREFIX-checkpoint.bin holds\n"
       "the run's state after every generation; --resume goes on from it (the same problem,\n"
       "population and seed: the result is the uninterrupted run's). See\n"
       "examples/paper-optimisation.ini.\n"
-      "  --limit N            most designs evaluated, population x (generations + 1) (default 1e8)\n"
+      "  --limit N            most designs evaluated, population x (generations + 1) (default "
+      "1e8)\n"
       "  --progress           progress on stderr even when it is not a terminal\n"
       "  --resume             go on from PREFIX-checkpoint.bin\n";
-  static const struct option opts[] = {{"population", required_argument, 0, OPT_POP}, {"generations", required_argument, 0, OPT_GEN},
-                                       {"seed", required_argument, 0, OPT_OSEED}, {"threads", required_argument, 0, OPT_THREADS},
-                                       {"output", required_argument, 0, OPT_OUT}, {"limit", required_argument, 0, OPT_OLIMIT},
-                                       {"progress", no_argument, 0, OPT_PROGRESS}, {"resume", no_argument, 0, OPT_RESUME},
-                                       {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
-  optim_args a = {.pop = -1, .gen = -1, .threads = -1, .seed = -1, .out = NULL, .limit = CLI_LIMIT_DESIGNS};
+  static const struct option opts[] = {{"population", required_argument, 0, OPT_POP},
+                                       {"generations", required_argument, 0, OPT_GEN},
+                                       {"seed", required_argument, 0, OPT_OSEED},
+                                       {"threads", required_argument, 0, OPT_THREADS},
+                                       {"output", required_argument, 0, OPT_OUT},
+                                       {"limit", required_argument, 0, OPT_OLIMIT},
+                                       {"progress", no_argument, 0, OPT_PROGRESS},
+                                       {"resume", no_argument, 0, OPT_RESUME},
+                                       {"help", no_argument, 0, 'h'},
+                                       {0, 0, 0, 0}};
+  optim_args a = {
+      .pop = -1, .gen = -1, .threads = -1, .seed = -1, .out = NULL, .limit = CLI_LIMIT_DESIGNS};
   optind = 1;
   opterr = 0;
   int opt;
@@ -195,12 +242,28 @@ int cmd_optimise(int argc, char **argv)
     long k;
     switch (opt) {
     case 'h': fputs(help, stdout); return 0;
-    case OPT_POP: if (whole(optarg, 4, 10000000, &k) || k % 2) return cli_bad("--population: an even whole number >= 4 expected"); a.pop = k; break;
-    case OPT_GEN: if (whole(optarg, 0, 1000000, &k)) return cli_bad("--generations: a whole number >= 0 expected"); a.gen = k; break;
-    case OPT_OSEED: if (whole(optarg, 0, LONG_MAX, &k)) return cli_bad("--seed: a whole number >= 0 expected"); a.seed = k; break;
-    case OPT_THREADS: if (whole(optarg, 0, 1024, &k)) return cli_bad("--threads: a whole number >= 0 expected"); a.threads = k; break;
+    case OPT_POP:
+      if (whole(optarg, 4, 10000000, &k) || k % 2)
+        return cli_bad("--population: an even whole number >= 4 expected");
+      a.pop = k;
+      break;
+    case OPT_GEN:
+      if (whole(optarg, 0, 1000000, &k))
+        return cli_bad("--generations: a whole number >= 0 expected");
+      a.gen = k;
+      break;
+    case OPT_OSEED:
+      if (whole(optarg, 0, LONG_MAX, &k)) return cli_bad("--seed: a whole number >= 0 expected");
+      a.seed = k;
+      break;
+    case OPT_THREADS:
+      if (whole(optarg, 0, 1024, &k)) return cli_bad("--threads: a whole number >= 0 expected");
+      a.threads = k;
+      break;
     case OPT_OUT: a.out = optarg; break;
-    case OPT_OLIMIT: if (cli_limit(optarg, &a.limit)) return EXIT_BADINPUT; break;
+    case OPT_OLIMIT:
+      if (cli_limit(optarg, &a.limit)) return EXIT_BADINPUT;
+      break;
     case OPT_PROGRESS: a.progress = 1; break;
     case OPT_RESUME: a.resume = 1; break;
     default: return cli_getopt_error("optimise", opt, argv[optind - 1]);
@@ -219,13 +282,16 @@ int cmd_optimise(int argc, char **argv)
   if (a.out) snprintf(p.output, sizeof p.output, "%s", a.out);
   if (p.population > CLI_POPULATION_MAX)
     return cli_bad("optimise: population %d exceeds %d (memory)", p.population, CLI_POPULATION_MAX);
-  if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs")) return EXIT_BADINPUT;
+  if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs"))
+    return EXIT_BADINPUT;
   /* the outputs are opened before the run, so that a bad folder shows now */
   char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16], cpath[PATH_MAX + 16];
   FILE *fp, *fj;
-  run_log log = {.total = p.generations, .show = (a.progress || isatty(STDERR_FILENO)) && cli_par_rank() == 0};
-  int r = cli_par_all(open_outputs(p.output, a.resume, path, hpath, jpath, cpath, &fp, &fj, &log.history));
-  if (r) {   /* another rank's failure: this one's files closed too */
+  run_log log = {.total = p.generations,
+                 .show = (a.progress || isatty(STDERR_FILENO)) && cli_par_rank() == 0};
+  int r = cli_par_all(
+      open_outputs(p.output, a.resume, path, hpath, jpath, cpath, &fp, &fj, &log.history));
+  if (r) { /* another rank's failure: this one's files closed too */
     if (fp) fclose(fp);
     if (fj) fclose(fj);
     if (log.history) fclose(log.history);
@@ -233,13 +299,24 @@ int cmd_optimise(int argc, char **argv)
   }
   rr_vehicle v;
   st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
-  if (st) { fclose(fp); fclose(fj); fclose(log.history); return cli_fail(&e, st); }
+  if (st) {
+    fclose(fp);
+    fclose(fj);
+    fclose(log.history);
+    return cli_fail(&e, st);
+  }
   const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
   for (int i = 0; i < p.nvar; i++) keys[i] = p.keys[i];
   for (int i = 0; i < p.nobj; i++) objs[i] = p.objs[i];
-  for (int i = 0; i < p.ncon; i++) objs[p.nobj + i] = p.cons[i];   /* constraints: evaluated after the objectives */
+  for (int i = 0; i < p.ncon; i++)
+    objs[p.nobj + i] = p.cons[i]; /* constraints: evaluated after the objectives */
   rr_design *d;
-  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj + p.ncon, objs, &d, &e))) { fclose(fp); fclose(fj); fclose(log.history); return cli_fail(&e, st); }
+  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj + p.ncon, objs, &d, &e))) {
+    fclose(fp);
+    fclose(fj);
+    fclose(log.history);
+    return cli_fail(&e, st);
+  }
   eval_ctx ec = {.d = d, .threads = p.threads, .p = &p};
   rr_nsga2_opts o = rr_nsga2_opts_default();
   o.population = p.population;
@@ -250,20 +327,40 @@ int cmd_optimise(int argc, char **argv)
   o.user = &log;
   o.generations_done = &done_gens;
   o.ncon = p.ncon;
-  o.checkpoint = cli_par_rank() == 0 ? cpath : NULL;   /* every rank holds the same state: rank 0 writes it */
+  o.checkpoint =
+      cli_par_rank() == 0 ? cpath : NULL; /* every rank holds the same state: rank 0 writes it */
   o.resume = a.resume ? cpath : NULL;
   cli_catch_stops();
   int N = p.population;
-  double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj), *cv = malloc(sizeof(double) * N);
+  double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj),
+         *cv = malloc(sizeof(double) * N);
   int *rank = malloc(sizeof(int) * N);
   o.cv_out = cv;
-  if (!X || !F || !rank || !cv) { free(X); free(F); free(rank); free(cv); rr_design_free(d); fclose(fp); fclose(fj); fclose(log.history); return cli_bad("out of memory"); }
+  if (!X || !F || !rank || !cv) {
+    free(X);
+    free(F);
+    free(rank);
+    free(cv);
+    rr_design_free(d);
+    fclose(fp);
+    fclose(fj);
+    fclose(log.history);
+    return cli_bad("out of memory");
+  }
   double t0 = cli_now_s();
   st = rr_nsga2_run(p.nvar, p.nobj, p.lo, p.hi, eval_batch, &ec, &o, X, F, rank, &e);
   double secs = cli_now_s() - t0;
   rr_design_free(d);
   fclose(log.history);
-  if (st) { free(X); free(F); free(rank); free(cv); fclose(fp); fclose(fj); return cli_fail(&e, st); }
+  if (st) {
+    free(X);
+    free(F);
+    free(rank);
+    free(cv);
+    fclose(fp);
+    fclose(fj);
+    return cli_fail(&e, st);
+  }
   for (int i = 0; i < N; i++)
     for (int k = 0; k < p.nobj; k++)
       if (p.maximize[k]) F[i * p.nobj + k] = -F[i * p.nobj + k];
@@ -273,16 +370,28 @@ int cmd_optimise(int argc, char **argv)
   fclose(fp);
   fclose(fj);
   long evals = (long)N * (done_gens + 1);
-  printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", argv[optind], N, p.generations, p.seed);
-  if (done_gens < p.generations) printf("  stopped by a signal after generation %d of %d: the front below is that generation's\n", done_gens, p.generations);
+  printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", argv[optind],
+         N, p.generations, p.seed);
+  if (done_gens < p.generations)
+    printf(
+        "  stopped by a signal after generation %d of %d: the front below is that generation's\n",
+        done_gens, p.generations);
   printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, secs, evals / secs);
-  printf("  Pareto front: %d designs, written to %s (also %s; history: %s)\n", nfront, path, jpath, hpath);
-  if (p.ncon) printf("  constraints: %d of the front's designs feasible%s\n", nfeas, nfeas ? "" : " (none: the front is the least violating)");
+  printf("  Pareto front: %d designs, written to %s (also %s; history: %s)\n", nfront, path, jpath,
+         hpath);
+  if (p.ncon)
+    printf("  constraints: %d of the front's designs feasible%s\n", nfeas,
+           nfeas ? "" : " (none: the front is the least violating)");
   for (int k = 0; k < p.nobj; k++)
-    printf("  %-28s %s: best %.6g, range on the front %.6g .. %.6g\n", p.objs[k], p.maximize[k] ? "max" : "min",
-           p.maximize[k] ? -best[k] : best[k], p.maximize[k] ? -worst[k] : best[k], p.maximize[k] ? -best[k] : worst[k]);
-  free(X); free(F); free(rank); free(cv);
-  return done_gens < p.generations ? 130 : 0;   /* 128 + SIGINT, as a shell reports an interrupted job */
+    printf("  %-28s %s: best %.6g, range on the front %.6g .. %.6g\n", p.objs[k],
+           p.maximize[k] ? "max" : "min", p.maximize[k] ? -best[k] : best[k],
+           p.maximize[k] ? -worst[k] : best[k], p.maximize[k] ? -best[k] : worst[k]);
+  free(X);
+  free(F);
+  free(rank);
+  free(cv);
+  return done_gens < p.generations ? 130
+                                   : 0; /* 128 + SIGINT, as a shell reports an interrupted job */
 }
 
 /* An axis: a vehicle-file key, or the operating point's speed (km/h) or
@@ -299,38 +408,48 @@ typedef struct sweep_args {
 static int parse_axis(const char *opt, const char *arg, sweep_args *a, int ax)
 {
   const char *eq = strchr(arg, '=');
-  if (!eq) return cli_bad("--%s: expected section.key=FROM:TO:N, speed=FROM:TO:N or conicity=FROM:TO:N", opt);
+  if (!eq)
+    return cli_bad("--%s: expected section.key=FROM:TO:N, speed=FROM:TO:N or conicity=FROM:TO:N",
+                   opt);
   snprintf(a->key[ax], sizeof a->key[ax], "%.*s", (int)(eq - arg), arg);
   a->have[ax] = 1;
   if (!strcmp(a->key[ax], "speed") || !strcmp(a->key[ax], "conicity")) {
     int sp = a->key[ax][0] == 's';
     a->kind[ax] = sp ? AXIS_SPEED : AXIS_CONICITY;
-    if (cli_range(opt, eq + 1, sp ? "km/h" : "1", &a->from[ax], &a->to[ax], &a->n[ax])) return EXIT_BADINPUT;
+    if (cli_range(opt, eq + 1, sp ? "km/h" : "1", &a->from[ax], &a->to[ax], &a->n[ax]))
+      return EXIT_BADINPUT;
     double hi = sp ? RR_SPEED_MAX_MS * RR_KMH : RR_CONICITY_MAX;
     if (!(fmin(a->from[ax], a->to[ax]) > 0 && fmax(a->from[ax], a->to[ax]) <= hi))
       return cli_bad("--%s: %s must be within (0, %g]", opt, a->key[ax], hi);
     return 0;
   }
   const rr_vehicle_key *k = rr_vehicle_key_find(a->key[ax]);
-  if (!k) return cli_bad("--%s: '%s' is not a numeric vehicle-file key (section.key), speed or conicity", opt, a->key[ax]);
+  if (!k)
+    return cli_bad("--%s: '%s' is not a numeric vehicle-file key (section.key), speed or conicity",
+                   opt, a->key[ax]);
   if (cli_range(opt, eq + 1, k->si_unit, &a->from[ax], &a->to[ax], &a->n[ax])) return EXIT_BADINPUT;
   rr_error e;
-  if (rr_vehicle_key_check(k, a->from[ax], &e) || rr_vehicle_key_check(k, a->to[ax], &e)) return cli_bad("--%s: %s", opt, e.msg);
+  if (rr_vehicle_key_check(k, a->from[ax], &e) || rr_vehicle_key_check(k, a->to[ax], &e))
+    return cli_bad("--%s: %s", opt, e.msg);
   return 0;
 }
 
 /* The objective at an operating point given by the axes: NAME@KMH,L[,X]
    with KMH and L taken from the axes that set them (the rest from the
    objective as written, which may leave them out: "index"). */
-static int objective_at(const char *obj, const double *v, const int *kind, int nax, char *out, size_t n)
+static int objective_at(const char *obj, const double *v, const int *kind, int nax, char *out,
+                        size_t n)
 {
   static const char *const ops[] = {"index", "sperling", "sperling_gb", "wd_rms", "rms"};
   char name[64];
   snprintf(name, sizeof name, "%.*s", (int)strcspn(obj, "@;"), obj);
   int known = 0;
   for (size_t i = 0; i < sizeof ops / sizeof ops[0]; i++) known |= !strcmp(name, ops[i]);
-  if (!known) return cli_bad("sweep: a speed or conicity axis needs an objective at an operating point (index, sperling, "
-                             "sperling_gb, wd_rms, rms), not '%s'", obj);
+  if (!known)
+    return cli_bad("sweep: a speed or conicity axis needs an objective at an operating point "
+                   "(index, sperling, "
+                   "sperling_gb, wd_rms, rms), not '%s'",
+                   obj);
   double kmh = NAN, lam = NAN;
   char rest[128] = "", mods[128] = "";
   const char *at = strchr(obj, '@'), *semi = strchr(obj, ';');
@@ -348,7 +467,8 @@ static int objective_at(const char *obj, const double *v, const int *kind, int n
     if (kind[ax] == AXIS_CONICITY) lam = v[ax];
   }
   if (isnan(kmh) || isnan(lam))
-    return cli_bad("sweep: '%s' needs its %s from the objective (NAME@KMH,L) or an axis", obj, isnan(kmh) ? "speed" : "conicity");
+    return cli_bad("sweep: '%s' needs its %s from the objective (NAME@KMH,L) or an axis", obj,
+                   isnan(kmh) ? "speed" : "conicity");
   snprintf(out, n, "%s@%.10g,%.10g%s%s", name, kmh, lam, rest, mods);
   return 0;
 }
@@ -363,7 +483,10 @@ static int sweep_cb(int opt, const char *arg, void *u)
   sweep_args *a = u;
   if (opt == OPT_SX) return parse_axis("x", arg, a, 0);
   if (opt == OPT_SY) return parse_axis("y", arg, a, 1);
-  if (opt == OPT_OBJ) { a->objective = arg; return 0; }
+  if (opt == OPT_OBJ) {
+    a->objective = arg;
+    return 0;
+  }
   if (opt == OPT_OLIMIT) return cli_limit(arg, &a->limit) ? 1 : 0;
   return 1;
 }
@@ -380,7 +503,9 @@ typedef struct sweep_run {
 } sweep_run;
 
 /* A point's value and the frequency of the mode behind it. */
-typedef struct sweep_val { double f, freq_hz; } sweep_val;
+typedef struct sweep_val {
+  double f, freq_hz;
+} sweep_val;
 
 static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *e)
 {
@@ -414,8 +539,12 @@ static void sweep_row(const sweep_run *r, const double *v, const sweep_val *p)
 {
   for (int ax = 0; ax < r->nax; ax++) printf("%.10g,", v[ax]);
   printf("%.10g", p->f);
-  if (r->has_freq) { putchar(','); cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : '\n'); }
-  if (r->has_freq && r->damp_axis >= 0) cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * p->freq_hz, '\n');
+  if (r->has_freq) {
+    putchar(',');
+    cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : '\n');
+  }
+  if (r->has_freq && r->damp_axis >= 0)
+    cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * p->freq_hz, '\n');
   if (!r->has_freq) printf("\n");
 }
 
@@ -425,7 +554,8 @@ static int sweep_points(void *user, long lo, long hi, void *out)
   sweep_run *r = user;
   rr_error e;
   for (long k = lo; k < hi; k++) {
-    double v[2] = {axis_value(r->a, 0, (int)(k / r->a->n[1])), axis_value(r->a, 1, (int)(k % r->a->n[1]))};
+    double v[2] = {axis_value(r->a, 0, (int)(k / r->a->n[1])),
+                   axis_value(r->a, 1, (int)(k % r->a->n[1]))};
     int st = sweep_point(r, v, (sweep_val *)out + (k - lo), &e);
     if (st) return st;
   }
@@ -435,19 +565,24 @@ static int sweep_points(void *user, long lo, long hi, void *out)
 int cmd_sweep(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride sweep [VEHICLE] --x AXIS=FROM:TO:N [--y AXIS=FROM:TO:N] --objective NAME[@ARGS]\n"
-      "Any objective (as in problem files: index@KMH,L, zeta_low, sperling@KMH,L[,X], critical_speed@L, ...)\n"
-      "over one or two axes, CSV: x[, y], objective. An axis is a vehicle-file key (section.key), or\n"
+      "usage: railride sweep [VEHICLE] --x AXIS=FROM:TO:N [--y AXIS=FROM:TO:N] --objective "
+      "NAME[@ARGS]\n"
+      "Any objective (as in problem files: index@KMH,L, zeta_low, sperling@KMH,L[,X], "
+      "critical_speed@L, ...)\n"
+      "over one or two axes, CSV: x[, y], objective. An axis is a vehicle-file key (section.key), "
+      "or\n"
       "speed (km/h) or conicity, which then set the objective's operating point (index, sperling,\n"
       "sperling_gb, wd_rms, rms; e.g. --x conicity=0.05:0.4:8 --objective index@350). For index@\n"
       "objectives the frequency of the mode that sets the index is added, and when one axis is\n"
       "yaw_damper.damping the optimal-dissipation stiffness k_opt = c 2 pi f of that mode\n"
-      "(paper Fig. 10). Values with units are accepted: --x \"yaw_damper.damping=100 kN.s/m:4000 kN.s/m:20\".\n"
-      CLI_COMMON_HELP
+      "(paper Fig. 10). Values with units are accepted: --x \"yaw_damper.damping=100 kN.s/m:4000 "
+      "kN.s/m:20\".\n" CLI_COMMON_HELP
       "  --x, --y AXIS        the axes (--y optional)\n  --objective NAME     the objective\n"
       "  --limit N            most grid points accepted (default 1e6)\n";
-  static const struct option extra[] = {{"x", required_argument, 0, OPT_SX}, {"y", required_argument, 0, OPT_SY},
-                                        {"objective", required_argument, 0, OPT_OBJ}, {"limit", required_argument, 0, OPT_OLIMIT},
+  static const struct option extra[] = {{"x", required_argument, 0, OPT_SX},
+                                        {"y", required_argument, 0, OPT_SY},
+                                        {"objective", required_argument, 0, OPT_OBJ},
+                                        {"limit", required_argument, 0, OPT_OLIMIT},
                                         {0, 0, 0, 0}};
   cli_common c;
   sweep_args a = {.limit = CLI_LIMIT_GRID};
@@ -455,26 +590,31 @@ int cmd_sweep(int argc, char **argv)
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!a.have[0] || !a.objective) return cli_bad("sweep: --x and --objective are required");
-  if (a.have[1] && a.kind[0] == a.kind[1] && a.kind[0] != AXIS_KEY) return cli_bad("sweep: --x and --y are the same quantity");
+  if (a.have[1] && a.kind[0] == a.kind[1] && a.kind[0] != AXIS_KEY)
+    return cli_bad("sweep: --x and --y are the same quantity");
   sweep_run run = {.a = &a, .c = &c, .nax = a.have[1] ? 2 : 1, .damp_axis = -1};
   if (!a.have[1]) a.n[1] = 1;
   if (cli_over_limit("sweep", (double)a.n[0] * a.n[1], a.limit, "points")) return EXIT_BADINPUT;
   for (int ax = 0; ax < run.nax; ax++) {
-    if (a.kind[ax] == AXIS_KEY) run.keys[run.nkeys++] = a.key[ax];
-    else run.op_axes = 1;
+    if (a.kind[ax] == AXIS_KEY)
+      run.keys[run.nkeys++] = a.key[ax];
+    else
+      run.op_axes = 1;
     if (!strcmp(a.key[ax], "yaw_damper.damping")) run.damp_axis = ax;
   }
   /* the mode behind the value: its frequency, and on a yaw-damping axis the
      optimal-dissipation stiffness k = c 2 pi f of that mode (paper Fig. 10) */
   run.has_freq = !strncmp(a.objective, "index", 5) || !strncmp(a.objective, "critical_speed@", 15);
-  if (run.op_axes) {   /* the objective checked before any output */
+  if (run.op_axes) { /* the objective checked before any output */
     char probe[160];
     double v0[2] = {a.from[0], a.from[1]};
     if ((r = objective_at(a.objective, v0, a.kind, run.nax, probe, sizeof probe))) return r;
   }
   for (int ax = 0; ax < run.nax; ax++) {
-    if (a.kind[ax] == AXIS_KEY) cli_csv_key_field(stdout, a.key[ax], ',');
-    else cli_csv_field(stdout, a.kind[ax] == AXIS_SPEED ? "speed_kmh" : a.key[ax], ',');
+    if (a.kind[ax] == AXIS_KEY)
+      cli_csv_key_field(stdout, a.key[ax], ',');
+    else
+      cli_csv_field(stdout, a.kind[ax] == AXIS_SPEED ? "speed_kmh" : a.key[ax], ',');
   }
   cli_csv_field(stdout, a.objective, run.has_freq ? ',' : '\n');
   if (run.has_freq) printf("mode_freq_hz%s\n", run.damp_axis >= 0 ? ",k_opt_n_per_m" : "");
@@ -482,13 +622,18 @@ int cmd_sweep(int argc, char **argv)
   long npts = (long)a.n[0] * a.n[1];
   sweep_val *vals = malloc(sizeof *vals * (size_t)npts);
   unsigned char *done = calloc((size_t)npts, 1);
-  if (!vals || !done) { free(vals); free(done); return cli_bad("out of memory"); }
+  if (!vals || !done) {
+    free(vals);
+    free(done);
+    return cli_bad("out of memory");
+  }
   cli_progress_start(&pr, "sweep", npts, c.progress);
   cli_catch_stops();
-  r = cli_par_for(npts, 1, sizeof *vals, sweep_points, &run, vals, done, &pr);   /* over MPI ranks under mpirun */
+  r = cli_par_for(npts, 1, sizeof *vals, sweep_points, &run, vals, done,
+                  &pr); /* over MPI ranks under mpirun */
   cli_progress_end(&pr);
   rr_design_free(run.d);
-  for (long k = 0; k < npts && !r; k++) {   /* a stopped run: the points done */
+  for (long k = 0; k < npts && !r; k++) { /* a stopped run: the points done */
     double v[2] = {axis_value(&a, 0, (int)(k / a.n[1])), axis_value(&a, 1, (int)(k % a.n[1]))};
     if (done[k]) sweep_row(&run, v, &vals[k]);
   }

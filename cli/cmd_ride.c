@@ -34,10 +34,16 @@ cJSON *ride_methods_json(void)
 {
   cJSON *m = cJSON_CreateObject();
   cJSON_AddStringToObject(m, "rms", "unweighted RMS, trapezoid over the band");
-  cJSON_AddStringToObject(m, "sperling", "Sperling Wz, weighting-filter method: 4.42 a_w^0.3, lateral B_w = 1.25 B_s (docs/model.md section 7)");
-  cJSON_AddStringToObject(m, "sperling_gb", "Sperling W, GB/T 5599 line method: 0.2 Hz bands from 0.5 Hz, lateral F(f)");
+  cJSON_AddStringToObject(m, "sperling",
+                          "Sperling Wz, weighting-filter method: 4.42 a_w^0.3, lateral B_w = 1.25 "
+                          "B_s (docs/model.md section 7)");
+  cJSON_AddStringToObject(
+      m, "sperling_gb",
+      "Sperling W, GB/T 5599 line method: 0.2 Hz bands from 0.5 Hz, lateral F(f)");
   cJSON_AddStringToObject(m, "wd_rms", "ISO 2631-1 / EN 12299 Wd-weighted RMS (ISO 8041 Wd)");
-  cJSON_AddStringToObject(m, "en12299_nmv", "6 a_wd from the RMS, lateral axis only (stationary model: no 5 s percentile scatter)");
+  cJSON_AddStringToObject(
+      m, "en12299_nmv",
+      "6 a_wd from the RMS, lateral axis only (stationary model: no 5 s percentile scatter)");
   return m;
 }
 
@@ -49,13 +55,16 @@ static void warn_if_unstable(rr_model *m, double speed_kmh, double conicity)
   rr_stability s;
   if (rr_modal_ws_new(m, &ws, NULL)) return;
   if (!rr_modal_stability(m, NULL, ws, &s, NULL) && !rr_modal_stable(s.zeta_max))
-    fprintf(stderr, "railride: warning: unstable at %g km/h, conicity %g (a mode at %.4g Hz has zeta %.4g): the PEM "
-            "response is not a steady state\n", speed_kmh, conicity, s.max_freq_hz, s.zeta_max);
+    fprintf(stderr,
+            "railride: warning: unstable at %g km/h, conicity %g (a mode at %.4g Hz has zeta "
+            "%.4g): the PEM "
+            "response is not a steady state\n",
+            speed_kmh, conicity, s.max_freq_hz, s.zeta_max);
   rr_modal_ws_free(ws);
 }
 
-int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r, ride_point *out,
-              double *psd, double *freqs, rr_error *err)
+int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r,
+              ride_point *out, double *psd, double *freqs, rr_error *err)
 {
   rr_model *m = NULL;
   rr_frf_plan *plan = NULL;
@@ -71,9 +80,15 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   rows = malloc(sizeof(double) * n * np);
   rows0 = malloc(sizeof(double) * n * np);
   G = malloc(sizeof(double) * r->nfreq * np);
-  if (!rows || !rows0 || !G) { st = RR_ENOMEM; snprintf(err->msg, sizeof err->msg, "out of memory"); goto out; }
-  if ((st = rr_vehicle_floor_rows(m, veh, r->x, np, r->h_p, r->roll_gravity, rows, rows0, err))) goto out;
-  rr_frf_opts o = {r->nfreq, NULL, r->f_lo, r->f_hi, np, rows, r->roll_gravity ? rows0 : NULL, r->method};
+  if (!rows || !rows0 || !G) {
+    st = RR_ENOMEM;
+    snprintf(err->msg, sizeof err->msg, "out of memory");
+    goto out;
+  }
+  if ((st = rr_vehicle_floor_rows(m, veh, r->x, np, r->h_p, r->roll_gravity, rows, rows0, err)))
+    goto out;
+  rr_frf_opts o = {r->nfreq, NULL, r->f_lo, r->f_hi, np, rows, r->roll_gravity ? rows0 : NULL,
+                   r->method};
   if ((st = rr_frf_plan_new(m, &o, &plan, err))) goto out;
   if ((st = rr_frf_plan_execute(plan, m, err))) goto out;
   if ((st = rr_pem_psd(plan, m, &sp, G, err))) goto out;
@@ -82,13 +97,19 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   for (int q = 0; q < np && !st; q++) {
     rr_comfort c;
     if ((st = rr_comfort_execute(cp, G + q, np, &c, err))) break;
-    out[q] = (ride_point){.x = r->x[q], .rms = c.rms, .sperling = c.sperling, .sperling_gb = c.sperling_gb,
-                          .wd_rms = c.wd_rms, .nmv = rr_en12299_comfort(c.wd_rms)};
+    out[q] = (ride_point){.x = r->x[q],
+                          .rms = c.rms,
+                          .sperling = c.sperling,
+                          .sperling_gb = c.sperling_gb,
+                          .wd_rms = c.wd_rms,
+                          .nmv = rr_en12299_comfort(c.wd_rms)};
   }
   if (psd) memcpy(psd, G, sizeof(double) * r->nfreq * np);
   if (freqs) memcpy(freqs, f, sizeof(double) * r->nfreq);
 out:
-  free(rows); free(rows0); free(G);
+  free(rows);
+  free(rows0);
+  free(G);
   rr_comfort_plan_free(cp);
   rr_frf_plan_free(plan);
   rr_model_free(m);
@@ -110,9 +131,12 @@ int ride_setup_option(ride_setup *r, int opt, const char *arg)
   case OPT_POINTS:
     if (cli_list("points", arg, "m", r->x, 16, &r->npoints)) return 1;
     for (int i = 0; i < r->npoints; i++)
-      if (!(fabs(r->x[i]) <= CLI_FLOOR_X_MAX)) return cli_bad("--points: %g m outside -%g .. %g m", r->x[i], CLI_FLOOR_X_MAX, CLI_FLOOR_X_MAX);
+      if (!(fabs(r->x[i]) <= CLI_FLOOR_X_MAX))
+        return cli_bad("--points: %g m outside -%g .. %g m", r->x[i], CLI_FLOOR_X_MAX,
+                       CLI_FLOOR_X_MAX);
     return 0;
-  case OPT_HEIGHT: return cli_number_in("floor-height", arg, "m", 0, CLI_FLOOR_H_MAX, &r->h_p) ? 1 : 0;
+  case OPT_HEIGHT:
+    return cli_number_in("floor-height", arg, "m", 0, CLI_FLOOR_H_MAX, &r->h_p) ? 1 : 0;
   case OPT_ROLLG: r->roll_gravity = 1; return 0;
   }
   return -1;
@@ -126,15 +150,19 @@ static int ride_cb(int opt, const char *arg, void *u)
   switch (opt) {
   case OPT_BAND:
     if (cli_range("band", arg, "Hz", &a->rs.f_lo, &a->rs.f_hi, &a->rs.nfreq)) return 1;
-    if (!(a->rs.f_lo >= CLI_BAND_LO_MIN && a->rs.f_hi > a->rs.f_lo && a->rs.f_hi <= CLI_BAND_HI_MAX && a->rs.nfreq >= 2 &&
-          a->rs.nfreq <= CLI_BAND_N_MAX))
-      return cli_bad("--band: need %g <= LO < HI <= %g Hz and 2 <= N <= %d", CLI_BAND_LO_MIN, CLI_BAND_HI_MAX, CLI_BAND_N_MAX);
+    if (!(a->rs.f_lo >= CLI_BAND_LO_MIN && a->rs.f_hi > a->rs.f_lo &&
+          a->rs.f_hi <= CLI_BAND_HI_MAX && a->rs.nfreq >= 2 && a->rs.nfreq <= CLI_BAND_N_MAX))
+      return cli_bad("--band: need %g <= LO < HI <= %g Hz and 2 <= N <= %d", CLI_BAND_LO_MIN,
+                     CLI_BAND_HI_MAX, CLI_BAND_N_MAX);
     return 0;
   case OPT_PSD: a->psd_path = arg; return 0;
   case OPT_METHOD:
-    if (!strcmp(arg, "modal")) a->rs.method = RR_FRF_MODAL;
-    else if (!strcmp(arg, "direct")) a->rs.method = RR_FRF_DIRECT;
-    else return cli_bad("--method: modal or direct expected, got '%s'", arg);
+    if (!strcmp(arg, "modal"))
+      a->rs.method = RR_FRF_MODAL;
+    else if (!strcmp(arg, "direct"))
+      a->rs.method = RR_FRF_DIRECT;
+    else
+      return cli_bad("--method: modal or direct expected, got '%s'", arg);
     return 0;
   }
   return 1;
@@ -142,28 +170,36 @@ static int ride_cb(int opt, const char *arg, void *u)
 
 /* Parsing shared by ride and frf: defaults, options, floor points of the
    vehicle loaded. Returns 0 to go on, or an exit status (-1 after --help). */
-static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const struct option *extra,
-                      const char *help, int conicity_list);
+static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
+                      const struct option *extra, const char *help, int conicity_list);
 
-#define RIDE_OPTIONS \
-  RIDE_SETUP_OPTIONS, \
-  {"band", required_argument, 0, OPT_BAND}, {"method", required_argument, 0, OPT_METHOD}
-#define RIDE_HELP \
-  "  --spectrum S         track alignment spectrum: a name in spectra/ or a file (default wuhan-guangzhou)\n" \
-  "  --points X1,X2,..    floor points along the car, m (default +L, 0, -L)\n" \
-  "  --floor-height H     floor height above rail, m (default 1.2)\n" \
-  "  --roll-gravity       the accelerometer senses a_y + g phi_c\n" \
-  "  --band LO:HI:N       log-spaced frequency grid, Hz (default 0.3:30:400)\n" \
-  "  --method M           modal (default: modal expansion + SMW) or direct (a solve per frequency)\n"
+#define RIDE_OPTIONS                                                                               \
+  RIDE_SETUP_OPTIONS, {"band", required_argument, 0, OPT_BAND},                                    \
+  {                                                                                                \
+    "method", required_argument, 0, OPT_METHOD                                                     \
+  }
+#define RIDE_HELP                                                                                  \
+  "  --spectrum S         track alignment spectrum: a name in spectra/ or a file (default "        \
+  "wuhan-guangzhou)\n"                                                                             \
+  "  --points X1,X2,..    floor points along the car, m (default +L, 0, -L)\n"                     \
+  "  --floor-height H     floor height above rail, m (default 1.2)\n"                              \
+  "  --roll-gravity       the accelerometer senses a_y + g phi_c\n"                                \
+  "  --band LO:HI:N       log-spaced frequency grid, Hz (default 0.3:30:400)\n"                    \
+  "  --method M           modal (default: modal expansion + SMW) or direct (a solve per "          \
+  "frequency)\n"
 
-static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const struct option *extra,
-                      const char *help, int conicity_list)
+static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
+                      const struct option *extra, const char *help, int conicity_list)
 {
   memset(a, 0, sizeof *a);
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a->rs, &tmp);
-  int r = conicity_list ? cli_parse_list(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra, ride_cb, a, help) : cli_parse(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra, ride_cb, a, help);
+  int r = conicity_list
+              ? cli_parse_list(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON,
+                               extra, ride_cb, a, help)
+              : cli_parse(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON,
+                          extra, ride_cb, a, help);
   if (r) return r;
   ride_setup_points(&a->rs, &c->veh, argc, argv);
   return 0;
@@ -172,15 +208,18 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const 
 int cmd_ride(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride ride [VEHICLE] --speed KMH --conicity L[,L2,...] [--spectrum NAME|FILE] [--json] [--psd FILE.csv]\n"
+      "usage: railride ride [VEHICLE] --speed KMH --conicity L[,L2,...] [--spectrum NAME|FILE] "
+      "[--json] [--psd FILE.csv]\n"
       "Carbody floor lateral acceleration by the pseudo-excitation method (PEM): the track\n"
       "alignment PSD drives each wheelset with its time lag; complex responses over the band,\n"
       "then the one-sided acceleration PSD, RMS, Sperling (filter and GB/T 5599 line methods)\n"
       "and the Wd-weighted RMS at each floor point. The yaw damper SDF, when on, is taken at\n"
       "each frequency (paper mode: real k_sdf(f); physical: complex).\n" CLI_COMMON_HELP RIDE_HELP
-      "  --psd FILE.csv       write f_hz, each (conicity, point) PSD ((m/s^2)^2/Hz) and sperling_weight,\n"
+      "  --psd FILE.csv       write f_hz, each (conicity, point) PSD ((m/s^2)^2/Hz) and "
+      "sperling_weight,\n"
       "                       the lateral Sperling weighting |B(f)|^2 applied to the PSDs\n";
-  static const struct option extra[] = {RIDE_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
+  static const struct option extra[] = {
+      RIDE_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
   int r = ride_parse(argc, argv, &c, &a, extra, help, 1);
@@ -192,18 +231,35 @@ int cmd_ride(int argc, char **argv)
   int np = a.rs.npoints, nf = a.rs.nfreq;
   ride_point *pts = malloc(sizeof(ride_point) * np * a.ncon);
   double *psd = malloc(sizeof(double) * nf * np * a.ncon), *freqs = malloc(sizeof(double) * nf);
-  if (!pts || !psd || !freqs) { free(pts); free(psd); free(freqs); return cli_bad("out of memory"); }
+  if (!pts || !psd || !freqs) {
+    free(pts);
+    free(psd);
+    free(freqs);
+    return cli_bad("out of memory");
+  }
   rr_error e;
   for (int k = 0; k < a.ncon; k++) {
-    int st = ride_eval(&c.veh, c.speed_kmh, a.conicities[k], &a.rs, pts + k * np, psd + (size_t)k * nf * np, freqs, &e);
-    if (st) { free(pts); free(psd); free(freqs); return cli_fail(&e, st); }
+    int st = ride_eval(&c.veh, c.speed_kmh, a.conicities[k], &a.rs, pts + k * np,
+                       psd + (size_t)k * nf * np, freqs, &e);
+    if (st) {
+      free(pts);
+      free(psd);
+      free(freqs);
+      return cli_fail(&e, st);
+    }
   }
   if (a.psd_path) {
     FILE *fp = fopen(a.psd_path, "w");
-    if (!fp) { free(pts); free(psd); free(freqs); return cli_bad("--psd: cannot write %s", a.psd_path); }
+    if (!fp) {
+      free(pts);
+      free(psd);
+      free(freqs);
+      return cli_bad("--psd: cannot write %s", a.psd_path);
+    }
     fprintf(fp, "f_hz");
     for (int k = 0; k < a.ncon; k++)
-      for (int q = 0; q < np; q++) fprintf(fp, ",psd_c%g_x%gm_m2s-4_per_hz", a.conicities[k], a.rs.x[q]);
+      for (int q = 0; q < np; q++)
+        fprintf(fp, ",psd_c%g_x%gm_m2s-4_per_hz", a.conicities[k], a.rs.x[q]);
     fprintf(fp, ",sperling_weight\n");
     for (int i = 0; i < nf; i++) {
       fprintf(fp, "%.10g", freqs[i]);
@@ -243,27 +299,34 @@ int cmd_ride(int argc, char **argv)
     }
     cli_json_print(root);
   } else {
-    printf("%s at %g km/h, spectrum %s, band %g-%g Hz (%d points), floor height %g m\n", c.veh.name, c.speed_kmh,
-           a.rs.spectrum, a.rs.f_lo, a.rs.f_hi, nf, a.rs.h_p);
-    printf("Sperling: weighting-filter method (W) and GB/T 5599 line method (W_gb); wd_rms: ISO 2631-1 Wd\n");
-    printf("%9s %9s %12s %9s %9s %12s\n", "conicity", "x_m", "rms_m/s2", "W", "W_gb", "wd_rms_m/s2");
+    printf("%s at %g km/h, spectrum %s, band %g-%g Hz (%d points), floor height %g m\n", c.veh.name,
+           c.speed_kmh, a.rs.spectrum, a.rs.f_lo, a.rs.f_hi, nf, a.rs.h_p);
+    printf("Sperling: weighting-filter method (W) and GB/T 5599 line method (W_gb); wd_rms: ISO "
+           "2631-1 Wd\n");
+    printf("%9s %9s %12s %9s %9s %12s\n", "conicity", "x_m", "rms_m/s2", "W", "W_gb",
+           "wd_rms_m/s2");
     for (int k = 0; k < a.ncon; k++)
       for (int q = 0; q < np; q++) {
         const ride_point *p = &pts[k * np + q];
-        printf("%9.4g %9.4g %12.5g %9.4f %9.4f %12.5g\n", a.conicities[k], p->x, p->rms, p->sperling, p->sperling_gb, p->wd_rms);
+        printf("%9.4g %9.4g %12.5g %9.4f %9.4f %12.5g\n", a.conicities[k], p->x, p->rms,
+               p->sperling, p->sperling_gb, p->wd_rms);
       }
   }
-  free(pts); free(psd); free(freqs);
+  free(pts);
+  free(psd);
+  free(freqs);
   return 0;
 }
 
 int cmd_frf(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride frf [VEHICLE] --speed KMH --conicity L [--points X,..] [--band LO:HI:N] [--json]\n"
+      "usage: railride frf [VEHICLE] --speed KMH --conicity L [--points X,..] [--band LO:HI:N] "
+      "[--json]\n"
       "Complex FRF of carbody floor lateral acceleration per unit track alignment at each\n"
       "wheelset (input 1..4, no time lag) and the lagged sum over the four (input 'sum').\n"
-      "CSV columns: f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg ((m/s^2)/m = 1/s^2).\n" CLI_COMMON_HELP RIDE_HELP;
+      "CSV columns: f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg ((m/s^2)/m = "
+      "1/s^2).\n" CLI_COMMON_HELP RIDE_HELP;
   static const struct option extra[] = {RIDE_OPTIONS, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
@@ -275,25 +338,37 @@ int cmd_frf(int argc, char **argv)
   double *rows = malloc(sizeof(double) * n * np), *rows0 = malloc(sizeof(double) * n * np);
   rr_error e;
   rr_frf_plan *plan = NULL;
-  int st = rr_vehicle_floor_rows(m, &c.veh, a.rs.x, np, a.rs.h_p, a.rs.roll_gravity, rows, rows0, &e);
-  rr_frf_opts o = {a.rs.nfreq, NULL, a.rs.f_lo, a.rs.f_hi, np, rows, a.rs.roll_gravity ? rows0 : NULL, a.rs.method};
+  int st =
+      rr_vehicle_floor_rows(m, &c.veh, a.rs.x, np, a.rs.h_p, a.rs.roll_gravity, rows, rows0, &e);
+  rr_frf_opts o = {
+      a.rs.nfreq, NULL, a.rs.f_lo, a.rs.f_hi, np, rows, a.rs.roll_gravity ? rows0 : NULL,
+      a.rs.method};
   if (!st) st = rr_frf_plan_new(m, &o, &plan, &e);
   if (!st) st = rr_frf_plan_execute(plan, m, &e);
-  if (st) { free(rows); free(rows0); rr_frf_plan_free(plan); rr_model_free(m); return cli_fail(&e, st); }
+  if (st) {
+    free(rows);
+    free(rows0);
+    rr_frf_plan_free(plan);
+    rr_model_free(m);
+    return cli_fail(&e, st);
+  }
   const double *f = rr_frf_freqs(plan);
   const double complex *H = rr_frf_H(plan);
   double v = rr_model_speed(m), xin[16];
   for (int i = 0; i < ni; i++) xin[i] = rr_model_input_x(m, i);
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "frf") : NULL;
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL,
+        *arr = root ? cJSON_AddArrayToObject(root, "frf") : NULL;
   if (!c.json) printf("f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg\n");
   for (int k = 0; k < a.rs.nfreq; k++)
     for (int q = 0; q < np; q++)
       for (int i = 0; i <= ni; i++) {
         double complex h;
-        if (i < ni) h = H[((size_t)k * np + q) * ni + i];
+        if (i < ni)
+          h = H[((size_t)k * np + q) * ni + i];
         else {
           h = 0;
-          for (int j = 0; j < ni; j++) h += H[((size_t)k * np + q) * ni + j] * cexp(I * 2 * RR_PI * f[k] * xin[j] / v);
+          for (int j = 0; j < ni; j++)
+            h += H[((size_t)k * np + q) * ni + j] * cexp(I * 2 * RR_PI * f[k] * xin[j] / v);
         }
         char inp[8];
         snprintf(inp, sizeof inp, i < ni ? "%d" : "sum", i + 1);
@@ -306,22 +381,31 @@ int cmd_frf(int argc, char **argv)
           cJSON_AddNumberToObject(ob, "im", cimag(h));
           cJSON_AddItemToArray(arr, ob);
         } else {
-          printf("%.10g,%.6g,%s,%.10g,%.10g,%.10g,%.6f\n", f[k], a.rs.x[q], inp, creal(h), cimag(h), cabs(h), carg(h) * 180 / RR_PI);
+          printf("%.10g,%.6g,%s,%.10g,%.10g,%.10g,%.6f\n", f[k], a.rs.x[q], inp, creal(h), cimag(h),
+                 cabs(h), carg(h) * 180 / RR_PI);
         }
       }
   if (root) cli_json_print(root);
-  free(rows); free(rows0);
+  free(rows);
+  free(rows0);
   rr_frf_plan_free(plan);
   rr_model_free(m);
   return 0;
 }
 
-typedef struct cmp_args { ride_args ra; double c_from, c_to; int c_n, csv; } cmp_args;
+typedef struct cmp_args {
+  ride_args ra;
+  double c_from, c_to;
+  int c_n, csv;
+} cmp_args;
 
 static int cmp_cb(int opt, const char *arg, void *u)
 {
   cmp_args *a = u;
-  if (opt == OPT_CMP_CSV) { a->csv = 1; return 0; }
+  if (opt == OPT_CMP_CSV) {
+    a->csv = 1;
+    return 0;
+  }
   if (opt == OPT_CMP_CON) {
     if (cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n)) return 1;
     if (!(a->c_from >= 0 && a->c_to >= 0)) return cli_bad("--conicities: must be >= 0");
@@ -330,7 +414,8 @@ static int cmp_cb(int opt, const char *arg, void *u)
   return ride_cb(opt, arg, &a->ra);
 }
 
-static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_args *a, int sdf_mode, cJSON *jarr)
+static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_args *a, int sdf_mode,
+                       cJSON *jarr)
 {
   rr_vehicle vc = *base, vs = *base;
   vc.sdf_mode = RR_SDF_NONE;
@@ -344,15 +429,25 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
   if (!st) st = rr_model_from_vehicle(&vs, &ms, &e);
   if (!st) st = rr_modal_ws_new(mc, &wc, &e);
   if (!st) st = rr_modal_ws_new(ms, &wsd, &e);
-  if (st) { rr_model_free(mc); rr_model_free(ms); rr_modal_ws_free(wc); return cli_fail(&e, st); }
+  if (st) {
+    rr_model_free(mc);
+    rr_model_free(ms);
+    rr_modal_ws_free(wc);
+    return cli_fail(&e, st);
+  }
   ride_setup rs = a->ra.rs;
   rs.npoints = 3;
-  rs.x[0] = base->bogie_half_spacing; rs.x[1] = 0; rs.x[2] = -base->bogie_half_spacing;
+  rs.x[0] = base->bogie_half_spacing;
+  rs.x[1] = 0;
+  rs.x[2] = -base->bogie_half_spacing;
   if (!jarr && !a->csv) {
-    printf("\n%s: yaw damper series stiffness constant (k = %g MN/m) vs SDF (%s mode, K1 %g Hz, K2 %g MN/m, K3 %g MN/m)\n",
-           base->name, base->yaw_series_stiffness / 1e6, sdf_mode == RR_SDF_PAPER ? "paper" : "physical", base->sdf.k1_hz,
-           base->sdf.k2 / 1e6, base->sdf.k3 / 1e6);
-    printf("at %g km/h, spectrum %s; Sperling W (filter method), max over floor points +L, 0, -L\n", c->speed_kmh, rs.spectrum);
+    printf("\n%s: yaw damper series stiffness constant (k = %g MN/m) vs SDF (%s mode, K1 %g Hz, K2 "
+           "%g MN/m, K3 %g MN/m)\n",
+           base->name, base->yaw_series_stiffness / 1e6,
+           sdf_mode == RR_SDF_PAPER ? "paper" : "physical", base->sdf.k1_hz, base->sdf.k2 / 1e6,
+           base->sdf.k3 / 1e6);
+    printf("at %g km/h, spectrum %s; Sperling W (filter method), max over floor points +L, 0, -L\n",
+           c->speed_kmh, rs.spectrum);
     printf("%9s %12s %12s %10s %10s\n", "conicity", "zeta_const", "zeta_sdf", "W_const", "W_sdf");
   }
   for (int i = 0; i < a->c_n && !st; i++) {
@@ -384,44 +479,59 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
       printf("%9.4f %12.6f %12.6f %10.4f %10.4f\n", lam, zc, zs, wcmax, wsmax);
     }
   }
-  rr_modal_ws_free(wc); rr_modal_ws_free(wsd);
-  rr_model_free(mc); rr_model_free(ms);
+  rr_modal_ws_free(wc);
+  rr_modal_ws_free(wsd);
+  rr_model_free(mc);
+  rr_model_free(ms);
   return st ? cli_fail(&e, st) : 0;
 }
 
 int cmd_compare(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride compare [VEHICLE] [--speed KMH] [--conicities FROM:TO:N] [--sdf paper|physical] [--json|--csv]\n"
+      "usage: railride compare [VEHICLE] [--speed KMH] [--conicities FROM:TO:N] [--sdf "
+      "paper|physical] [--json|--csv]\n"
       "SDF against constant series stiffness of the yaw damper (paper Fig. 12-13): the vehicle\n"
       "stability index and the Sperling index side by side over conicity (default 0.02:0.6:12\n"
-      "at 350 km/h). Without VEHICLE: the built-in Type 1 and Type 2, each with its Table 2 curve.\n"
-      "The SDF mode defaults to paper (self-consistent modes; k_sdf(f) in the frequency domain).\n" CLI_COMMON_HELP RIDE_HELP
-      "  --conicities FROM:TO:N  conicity grid\n"
-      "  --csv                vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n";
-  static const struct option extra[] = {RIDE_OPTIONS, {"conicities", required_argument, 0, OPT_CMP_CON},
-                                        {"csv", no_argument, 0, OPT_CMP_CSV}, {0, 0, 0, 0}};
+      "at 350 km/h). Without VEHICLE: the built-in Type 1 and Type 2, each with its Table 2 "
+      "curve.\n"
+      "The SDF mode defaults to paper (self-consistent modes; k_sdf(f) in the frequency "
+      "domain).\n" CLI_COMMON_HELP RIDE_HELP "  --conicities FROM:TO:N  conicity grid\n"
+      "  --csv                "
+      "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n";
+  static const struct option extra[] = {RIDE_OPTIONS,
+                                        {"conicities", required_argument, 0, OPT_CMP_CON},
+                                        {"csv", no_argument, 0, OPT_CMP_CSV},
+                                        {0, 0, 0, 0}};
   cli_common c;
   cmp_args a;
   memset(&a, 0, sizeof a);
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.ra.rs, &tmp);
-  a.c_from = 0.02; a.c_to = 0.6; a.c_n = 12;
-  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX, extra, cmp_cb, &a, help);
+  a.c_from = 0.02;
+  a.c_to = 0.6;
+  a.c_n = 12;
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX, extra,
+                    cmp_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = 350;
   if (a.csv && c.json) return cli_bad("compare: --json or --csv, not both");
-  if (a.csv) printf("vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n");
+  if (a.csv)
+    printf(
+        "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n");
   int mode = c.sdf_override > 0 ? c.sdf_override : RR_SDF_PAPER;
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "rows") : NULL;
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL,
+        *arr = root ? cJSON_AddArrayToObject(root, "rows") : NULL;
   if (root) {
     cJSON_AddNumberToObject(root, "speed_kmh", c.speed_kmh);
     cJSON_AddStringToObject(root, "sdf", mode == RR_SDF_PAPER ? "paper" : "physical");
-    cJSON_AddStringToObject(root, "sperling_method", "weighting filter, max over floor points +L, 0, -L");
+    cJSON_AddStringToObject(root, "sperling_method",
+                            "weighting filter, max over floor points +L, 0, -L");
   }
-  if (c.vehicle_spec) r = compare_one(&c.veh, &c, &a, mode, arr);
+  if (c.vehicle_spec)
+    r = compare_one(&c.veh, &c, &a, mode, arr);
   else {
     const char *names[2] = {"type1", "type2"};
     for (int i = 0; i < 2 && !r; i++) {
@@ -431,7 +541,10 @@ int cmd_compare(int argc, char **argv)
       r = compare_one(&v, &c, &a, mode, arr);
     }
   }
-  if (r) { cJSON_Delete(root); return r; }
+  if (r) {
+    cJSON_Delete(root);
+    return r;
+  }
   if (root) cli_json_print(root);
   return 0;
 }

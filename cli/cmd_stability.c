@@ -5,18 +5,21 @@
 #include "cli.h"
 #include "parallel.h"
 
-#define RUN_PARSE(reads, extra, cb, user, help) do { \
-    int r_ = cli_parse(argc, argv, &c, reads, extra, cb, user, help); \
-    if (r_ == CLI_HELP_SHOWN) return 0; \
-    if (r_) return r_; } while (0)
+#define RUN_PARSE(reads, extra, cb, user, help)                                                    \
+  do {                                                                                             \
+    int r_ = cli_parse(argc, argv, &c, reads, extra, cb, user, help);                              \
+    if (r_ == CLI_HELP_SHOWN) return 0;                                                            \
+    if (r_) return r_;                                                                             \
+  } while (0)
 
 static const char *energy_names[RR_NGROUPS] = {"carbody", "frames", "wheelsets"};
 
 int cmd_matrices(int argc, char **argv)
 {
-  static const char help[] = "usage: railride matrices [VEHICLE] --speed KMH --conicity L [--json]\n"
-                             "Prints M, C, K (17x17), B (17x4), the Maxwell elements and the state matrix A.\n"
-                             "In paper SDF mode A is taken at the curve's lowest stiffness.\n" CLI_COMMON_HELP;
+  static const char help[] =
+      "usage: railride matrices [VEHICLE] --speed KMH --conicity L [--json]\n"
+      "Prints M, C, K (17x17), B (17x4), the Maxwell elements and the state matrix A.\n"
+      "In paper SDF mode A is taken at the curve's lowest stiffness.\n" CLI_COMMON_HELP;
   cli_common c;
   rr_model *m;
   RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, NULL, NULL, NULL, help);
@@ -25,12 +28,20 @@ int cmd_matrices(int argc, char **argv)
   int n = rr_model_ndof(m), ni = rr_model_ninputs(m), N = rr_model_state_size(m);
   double *A = malloc(sizeof(double) * (size_t)N * N);
   rr_error e;
-  if (!A) { rr_model_free(m); return cli_bad("out of memory"); }
+  if (!A) {
+    rr_model_free(m);
+    return cli_bad("out of memory");
+  }
   int st = rr_model_state_matrix(m, 0, A, &e);
-  if (st) { free(A); rr_model_free(m); return cli_fail(&e, st); }
+  if (st) {
+    free(A);
+    rr_model_free(m);
+    return cli_fail(&e, st);
+  }
   if (c.json) {
     cJSON *root = cJSON_CreateObject(), *dofs = cJSON_AddArrayToObject(root, "dofs");
-    for (int i = 0; i < n; i++) cJSON_AddItemToArray(dofs, cJSON_CreateString(rr_model_dof_name(m, i)));
+    for (int i = 0; i < n; i++)
+      cJSON_AddItemToArray(dofs, cJSON_CreateString(rr_model_dof_name(m, i)));
     cJSON_AddNumberToObject(root, "speed_kmh", c.speed_kmh);
     cJSON_AddNumberToObject(root, "conicity", c.conicity);
     cJSON_AddItemToObject(root, "M", cli_json_matrix(rr_model_M(m), n, n));
@@ -68,7 +79,8 @@ int cmd_matrices(int argc, char **argv)
     for (int i = 0; i < rr_model_nmaxwell(m); i++) {
       rr_maxwell_info info;
       rr_model_maxwell(m, i, &info);
-      printf("  %-24s k = %.6g N/m  c = %.6g N s/m%s\n", info.name, info.k, info.c, info.sdf ? "  (SDF)" : "");
+      printf("  %-24s k = %.6g N/m  c = %.6g N s/m%s\n", info.name, info.k, info.c,
+             info.sdf ? "  (SDF)" : "");
     }
     printf("State matrix A: %d x %d (use --json for its entries)\n", N, N);
   }
@@ -101,10 +113,13 @@ cJSON *cli_mode_json(const rr_mode *md, int paper)
 /* The verdict line (docs/model.md: any oscillatory mode with zeta >= 0). */
 static void print_verdict(const rr_modal_result *res)
 {
-  if (res->max_mode < 0) { printf("verdict: stable (no oscillatory mode)\n"); return; }
+  if (res->max_mode < 0) {
+    printf("verdict: stable (no oscillatory mode)\n");
+    return;
+  }
   const rr_mode *md = &res->modes[res->max_mode];
-  printf("verdict: %s (least damped mode: %s at %.4f Hz, zeta %.6f)\n", rr_modal_stable(res->zeta_max) ? "stable" : "UNSTABLE",
-         md->name, md->freq_hz, md->zeta);
+  printf("verdict: %s (least damped mode: %s at %.4f Hz, zeta %.6f)\n",
+         rr_modal_stable(res->zeta_max) ? "stable" : "UNSTABLE", md->name, md->freq_hz, md->zeta);
 }
 
 /* Solves the modes of a model; caller frees res. */
@@ -122,8 +137,10 @@ static int solve_modes(rr_model *m, const rr_modal_opts *mo, rr_modal_result *re
 static void modes_json(const cli_common *c, const rr_modal_result *res, int paper)
 {
   cJSON *root = cJSON_CreateObject();
-  if (res->index_mode >= 0) cJSON_AddNumberToObject(root, "stability_index", res->stability_index);
-  else cJSON_AddNullToObject(root, "stability_index");
+  if (res->index_mode >= 0)
+    cJSON_AddNumberToObject(root, "stability_index", res->stability_index);
+  else
+    cJSON_AddNullToObject(root, "stability_index");
   cJSON_AddBoolToObject(root, "stable", rr_modal_stable(res->zeta_max));
   cJSON_AddNumberToObject(root, "zeta_max", res->zeta_max);
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
@@ -140,48 +157,61 @@ static void modes_json(const cli_common *c, const rr_modal_result *res, int pape
 static void modes_table(const cli_common *c, const rr_modal_result *res, int paper)
 {
   printf("%s at %.6g km/h, conicity %.6g%s\n", c->veh.name, c->speed_kmh, c->conicity,
-         paper ? " (SDF paper mode: self-consistent modes)" : c->veh.sdf_mode == RR_SDF_PHYSICAL ? " (SDF physical mode)" : "");
-  printf("%10s %12s %12s %10s %9s %9s %9s %9s  %-30s %s\n", "freq_hz", "real", "imag", "zeta", "E_car", "E_frame",
-         "E_wheel", "roll", "mode", "flags");
+         paper                                ? " (SDF paper mode: self-consistent modes)"
+         : c->veh.sdf_mode == RR_SDF_PHYSICAL ? " (SDF physical mode)"
+                                              : "");
+  printf("%10s %12s %12s %10s %9s %9s %9s %9s  %-30s %s\n", "freq_hz", "real", "imag", "zeta",
+         "E_car", "E_frame", "E_wheel", "roll", "mode", "flags");
   for (int i = 0; i < res->n; i++) {
     const rr_mode *md = &res->modes[i];
     if (md->im <= 0) continue;
-    printf("%10.4f %12.5g %12.5g %10.5f %9.2e %9.2e %9.2e %9.2e  %-30s %s%s%s\n", md->freq_hz, md->re, md->im, md->zeta,
-           md->energy[0], md->energy[1], md->energy[2], md->roll_share, md->name, md->in_index ? "index " : "",
-           md->hunting ? "hunting" : "", md->self_consistent ? "" : " not-self-consistent");
+    printf("%10.4f %12.5g %12.5g %10.5f %9.2e %9.2e %9.2e %9.2e  %-30s %s%s%s\n", md->freq_hz,
+           md->re, md->im, md->zeta, md->energy[0], md->energy[1], md->energy[2], md->roll_share,
+           md->name, md->in_index ? "index " : "", md->hunting ? "hunting" : "",
+           md->self_consistent ? "" : " not-self-consistent");
   }
   if (res->index_mode >= 0)
-    printf("vehicle stability index: %.6f (%s at %.4f Hz)\n", res->stability_index, res->modes[res->index_mode].name,
-           res->modes[res->index_mode].freq_hz);
+    printf("vehicle stability index: %.6f (%s at %.4f Hz)\n", res->stability_index,
+           res->modes[res->index_mode].name, res->modes[res->index_mode].freq_hz);
   else
-    printf("vehicle stability index: none (no hunting-related oscillatory mode below %g Hz)\n", c->mo.fmax_hz);
+    printf("vehicle stability index: none (no hunting-related oscillatory mode below %g Hz)\n",
+           c->mo.fmax_hz);
   print_verdict(res);
 }
 
 int cmd_modes(int argc, char **argv)
 {
-  static const char help[] = "usage: railride modes [VEHICLE] --speed KMH --conicity L [--fmax HZ] [--json]\n"
-                             "Eigenvalues of the state matrix: frequency, stability index zeta = Re/|lambda|\n"
-                             "(negative is stable), kinetic-energy shares, roll share and a name by dominant\n"
-                             "motion. The vehicle stability index is the largest zeta over hunting-related modes\n"
-                             "(wheelset share >= wmin, roll share < rmax) below fmax; the verdict counts every\n"
-                             "oscillatory mode, of any frequency and shape.\n" CLI_COMMON_HELP;
+  static const char help[] =
+      "usage: railride modes [VEHICLE] --speed KMH --conicity L [--fmax HZ] [--json]\n"
+      "Eigenvalues of the state matrix: frequency, stability index zeta = Re/|lambda|\n"
+      "(negative is stable), kinetic-energy shares, roll share and a name by dominant\n"
+      "motion. The vehicle stability index is the largest zeta over hunting-related modes\n"
+      "(wheelset share >= wmin, roll share < rmax) below fmax; the verdict counts every\n"
+      "oscillatory mode, of any frequency and shape.\n" CLI_COMMON_HELP;
   cli_common c;
   rr_model *m;
-  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL, NULL, NULL, help);
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL, NULL,
+            NULL, help);
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   rr_modal_result res;
-  if ((r = solve_modes(m, &c.mo, &res))) { rr_model_free(m); return r; }
+  if ((r = solve_modes(m, &c.mo, &res))) {
+    rr_model_free(m);
+    return r;
+  }
   int paper = c.veh.sdf_mode == RR_SDF_PAPER;
-  if (c.json) modes_json(&c, &res, paper);
-  else modes_table(&c, &res, paper);
+  if (c.json)
+    modes_json(&c, &res, paper);
+  else
+    modes_table(&c, &res, paper);
   rr_modal_result_free(&res);
   rr_model_free(m);
   return 0;
 }
 
-typedef struct robust_args { rr_robust_opts ro; } robust_args;
+typedef struct robust_args {
+  rr_robust_opts ro;
+} robust_args;
 enum { OPT_NCON = 2000 };
 
 static int robust_cb(int opt, const char *arg, void *u)
@@ -190,7 +220,8 @@ static int robust_cb(int opt, const char *arg, void *u)
   if (opt == OPT_NCON) {
     char *end;
     long k = strtol(arg, &end, 10);
-    if (*end || k < 1 || k > 10000) return cli_bad("--n-conicity: whole number >= 1 expected, got '%s'", arg);
+    if (*end || k < 1 || k > 10000)
+      return cli_bad("--n-conicity: whole number >= 1 expected, got '%s'", arg);
     a->ro.n_conicity = (int)k;
     return 0;
   }
@@ -199,12 +230,14 @@ static int robust_cb(int opt, const char *arg, void *u)
 
 int cmd_robust(int argc, char **argv)
 {
-  static const char help[] = "usage: railride robust [VEHICLE] [--n-conicity N] [--json]\n"
-                             "Robust stability indices (paper Table 1): zeta_low at 250 km/h, conicity 0.05;\n"
-                             "zeta_high at 350 km/h, 0.40; std_zeta: population standard deviation of the index\n"
-                             "at 350 km/h over N (default 8) conicities from 0.05 to 0.40.\n" CLI_COMMON_HELP
-                             "  --n-conicity N       number of conicities for std_zeta\n";
-  static const struct option extra[] = {{"n-conicity", required_argument, 0, OPT_NCON}, {0, 0, 0, 0}};
+  static const char help[] =
+      "usage: railride robust [VEHICLE] [--n-conicity N] [--json]\n"
+      "Robust stability indices (paper Table 1): zeta_low at 250 km/h, conicity 0.05;\n"
+      "zeta_high at 350 km/h, 0.40; std_zeta: population standard deviation of the index\n"
+      "at 350 km/h over N (default 8) conicities from 0.05 to 0.40.\n" CLI_COMMON_HELP
+      "  --n-conicity N       number of conicities for std_zeta\n";
+  static const struct option extra[] = {{"n-conicity", required_argument, 0, OPT_NCON},
+                                        {0, 0, 0, 0}};
   cli_common c;
   robust_args a = {rr_robust_opts_default()};
   RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX, extra, robust_cb, &a, help);
@@ -234,22 +267,35 @@ int cmd_robust(int argc, char **argv)
     printf("%s robust stability indices (negative is stable)\n", c.veh.name);
     printf("  zeta_low  (250 km/h, conicity 0.05): %10.6f\n", rb.zeta_low);
     printf("  zeta_high (350 km/h, conicity 0.40): %10.6f\n", rb.zeta_high);
-    printf("  std_zeta  (350 km/h, %d conicities 0.05-0.40): %10.6f\n", a.ro.n_conicity, rb.std_zeta);
-    if (stable) printf("verdict: stable at every point (largest zeta of any mode %.6f)\n", rb.zeta_max);
-    else printf("verdict: UNSTABLE at %d of the points (first: %g km/h, conicity %g; largest zeta %.6f)\n", rb.n_unstable,
-                rb.unstable_speed_ms * RR_KMH, rb.unstable_conicity, rb.zeta_max);
+    printf("  std_zeta  (350 km/h, %d conicities 0.05-0.40): %10.6f\n", a.ro.n_conicity,
+           rb.std_zeta);
+    if (stable)
+      printf("verdict: stable at every point (largest zeta of any mode %.6f)\n", rb.zeta_max);
+    else
+      printf("verdict: UNSTABLE at %d of the points (first: %g km/h, conicity %g; largest zeta "
+             "%.6f)\n",
+             rb.n_unstable, rb.unstable_speed_ms * RR_KMH, rb.unstable_conicity, rb.zeta_max);
   }
   return 0;
 }
 
-typedef struct crit_args { double vmin, vmax, step; int index_modes; } crit_args;
+typedef struct crit_args {
+  double vmin, vmax, step;
+  int index_modes;
+} crit_args;
 enum { OPT_VMIN = 2100, OPT_VMAX, OPT_STEP, OPT_INDEX_MODES };
 
 static int crit_cb(int opt, const char *arg, void *u)
 {
   crit_args *a = u;
-  if (opt == OPT_INDEX_MODES) { a->index_modes = 1; return 0; }
-  double *dst = opt == OPT_VMIN ? &a->vmin : opt == OPT_VMAX ? &a->vmax : opt == OPT_STEP ? &a->step : NULL;
+  if (opt == OPT_INDEX_MODES) {
+    a->index_modes = 1;
+    return 0;
+  }
+  double *dst = opt == OPT_VMIN   ? &a->vmin
+                : opt == OPT_VMAX ? &a->vmax
+                : opt == OPT_STEP ? &a->step
+                                  : NULL;
   if (!dst) return 1;
   const char *name = opt == OPT_VMIN ? "vmin" : opt == OPT_VMAX ? "vmax" : "step";
   if (cli_number(name, arg, "km/h", dst)) return 1;
@@ -258,31 +304,40 @@ static int crit_cb(int opt, const char *arg, void *u)
   return 0;
 }
 
-static cJSON *critical_json(const cli_common *c, double conicity, const crit_args *a, const rr_critical *cr, int paper)
+static cJSON *critical_json(const cli_common *c, double conicity, const crit_args *a,
+                            const rr_critical *cr, int paper)
 {
   cJSON *root = cJSON_CreateObject();
-  if (cr->found) cJSON_AddNumberToObject(root, "critical_speed_kmh", cr->speed_ms * RR_KMH);
-  else cJSON_AddNullToObject(root, "critical_speed_kmh");
+  if (cr->found)
+    cJSON_AddNumberToObject(root, "critical_speed_kmh", cr->speed_ms * RR_KMH);
+  else
+    cJSON_AddNullToObject(root, "critical_speed_kmh");
   cJSON_AddBoolToObject(root, "stable_to_range_end", !cr->found);
   cJSON_AddNumberToObject(root, "conicity", conicity);
   cJSON_AddStringToObject(root, "rule", a->index_modes ? "index modes" : "any oscillatory mode");
   double range[2] = {a->vmin, a->vmax};
   cJSON_AddItemToObject(root, "range_kmh", cJSON_CreateDoubleArray(range, 2));
-  if (cr->found) cJSON_AddItemToObject(root, "mode", cli_mode_json(&cr->mode, paper));
-  else cJSON_AddNullToObject(root, "mode");
+  if (cr->found)
+    cJSON_AddItemToObject(root, "mode", cli_mode_json(&cr->mode, paper));
+  else
+    cJSON_AddNullToObject(root, "mode");
   (void)c;
   return root;
 }
 
-static void critical_text(const cli_common *c, double conicity, const crit_args *a, const rr_critical *cr)
+static void critical_text(const cli_common *c, double conicity, const crit_args *a,
+                          const rr_critical *cr)
 {
   const rr_mode *md = &cr->mode;
   if (!cr->found) {
-    printf("%s at conicity %g: stable to the range's end (%g km/h)\n", c->veh.name, conicity, a->vmax);
+    printf("%s at conicity %g: stable to the range's end (%g km/h)\n", c->veh.name, conicity,
+           a->vmax);
     return;
   }
-  printf("%s critical speed at conicity %g: %.3f km/h\n", c->veh.name, conicity, cr->speed_ms * RR_KMH);
-  printf("  unstable mode: %s at %.4f Hz (energy carbody %.3f, frames %.3f, wheelsets %.3f; roll %.3f; %s)\n",
+  printf("%s critical speed at conicity %g: %.3f km/h\n", c->veh.name, conicity,
+         cr->speed_ms * RR_KMH);
+  printf("  unstable mode: %s at %.4f Hz (energy carbody %.3f, frames %.3f, wheelsets %.3f; roll "
+         "%.3f; %s)\n",
          md->name, md->freq_hz, md->energy[0], md->energy[1], md->energy[2], md->roll_share,
          md->hunting ? "hunting-related" : "not hunting-related");
 }
@@ -300,7 +355,8 @@ static int crit_items(void *user, long lo, long hi, void *out)
   crit_list *w = user;
   rr_error e;
   for (long i = lo; i < hi; i++) {
-    int st = rr_critical_speed(w->m, w->c->conicities[i], &w->c->mo, w->co, w->ws, (rr_critical *)out + (i - lo), &e);
+    int st = rr_critical_speed(w->m, w->c->conicities[i], &w->c->mo, w->co, w->ws,
+                               (rr_critical *)out + (i - lo), &e);
     if (st) return cli_fail(&e, st);
   }
   return 0;
@@ -309,19 +365,23 @@ static int crit_items(void *user, long lo, long hi, void *out)
 int cmd_critical(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride critical-speed [VEHICLE] --conicity L1[,L2,...] [--vmin KMH] [--vmax KMH] [--step KMH] [--index-modes] [--json]\n"
+      "usage: railride critical-speed [VEHICLE] --conicity L1[,L2,...] [--vmin KMH] [--vmax KMH] "
+      "[--step KMH] [--index-modes] [--json]\n"
       "Lowest speed in [vmin, vmax] (default 10-600 km/h) at which some oscillatory mode, of any\n"
       "frequency and shape, has zeta >= 0: a scan at --step (default 1 km/h), then bisection to\n"
       "1e-3 km/h. Reports the mode that goes unstable. With several conicities, one result each\n"
       "(JSON: {\"results\": [...]}).\n" CLI_COMMON_HELP
       "  --vmin, --vmax KMH   speed range\n  --step KMH           scan step\n"
       "  --index-modes        only the stability index's modes count (the index reaching 0)\n";
-  static const struct option extra[] = {{"vmin", required_argument, 0, OPT_VMIN}, {"vmax", required_argument, 0, OPT_VMAX},
+  static const struct option extra[] = {{"vmin", required_argument, 0, OPT_VMIN},
+                                        {"vmax", required_argument, 0, OPT_VMAX},
                                         {"step", required_argument, 0, OPT_STEP},
-                                        {"index-modes", no_argument, 0, OPT_INDEX_MODES}, {0, 0, 0, 0}};
+                                        {"index-modes", no_argument, 0, OPT_INDEX_MODES},
+                                        {0, 0, 0, 0}};
   cli_common c;
   crit_args a = {.vmin = 10, .vmax = 600, .step = 1, .index_modes = 0};
-  int r = cli_parse_list(argc, argv, &c, CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, extra, crit_cb, &a, help);
+  int r = cli_parse_list(argc, argv, &c, CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX,
+                         extra, crit_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_conicity) return cli_bad("--conicity is required");
@@ -330,10 +390,16 @@ int cmd_critical(int argc, char **argv)
   if ((r = cli_model(&c, &m, 0, 1))) return r;
   rr_error e;
   rr_modal_ws *ws;
-  rr_critical_opts co = {.v_min_ms = a.vmin / RR_KMH, .v_max_ms = a.vmax / RR_KMH, .step_ms = a.step / RR_KMH,
-                         .tol_ms = 1e-3 / RR_KMH, .index_modes = a.index_modes};
+  rr_critical_opts co = {.v_min_ms = a.vmin / RR_KMH,
+                         .v_max_ms = a.vmax / RR_KMH,
+                         .step_ms = a.step / RR_KMH,
+                         .tol_ms = 1e-3 / RR_KMH,
+                         .index_modes = a.index_modes};
   int st = rr_modal_ws_new(m, &ws, &e);
-  if (st) { rr_model_free(m); return cli_fail(&e, st); }
+  if (st) {
+    rr_model_free(m);
+    return cli_fail(&e, st);
+  }
   /* the conicities computed (over MPI ranks under mpirun), then written */
   rr_critical crs[64];
   unsigned char done[64] = {0};
@@ -346,13 +412,17 @@ int cmd_critical(int argc, char **argv)
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (r) return r;
-  cJSON *all = c.json && c.ncon > 1 ? cJSON_CreateObject() : NULL, *arr = all ? cJSON_AddArrayToObject(all, "results") : NULL;
-  for (int i = 0; i < c.ncon && done[i]; i++) {   /* a stopped run: the leading ones done */
-    if (!c.json) critical_text(&c, c.conicities[i], &a, &crs[i]);
+  cJSON *all = c.json && c.ncon > 1 ? cJSON_CreateObject() : NULL,
+        *arr = all ? cJSON_AddArrayToObject(all, "results") : NULL;
+  for (int i = 0; i < c.ncon && done[i]; i++) { /* a stopped run: the leading ones done */
+    if (!c.json)
+      critical_text(&c, c.conicities[i], &a, &crs[i]);
     else {
       cJSON *one = critical_json(&c, c.conicities[i], &a, &crs[i], c.veh.sdf_mode == RR_SDF_PAPER);
-      if (arr) cJSON_AddItemToArray(arr, one);
-      else cli_json_print(one);
+      if (arr)
+        cJSON_AddItemToArray(arr, one);
+      else
+        cli_json_print(one);
     }
   }
   if (all) cli_json_print(all);
@@ -360,12 +430,12 @@ int cmd_critical(int argc, char **argv)
 }
 
 typedef struct grid_args {
-  int param;               /* locus: 0 speed, 1 conicity */
+  int param; /* locus: 0 speed, 1 conicity */
   double from, to;
   int n, have_range;
   double s_from, s_to, c_from, c_to;
   int s_n, c_n;
-  double limit;            /* work cap (--limit) */
+  double limit; /* work cap (--limit) */
 } grid_args;
 enum { OPT_PARAM = 2200, OPT_RANGE, OPT_SPEEDS, OPT_CONICITIES, OPT_GLIMIT };
 
@@ -374,26 +444,34 @@ static int grid_cb(int opt, const char *arg, void *u)
   grid_args *a = u;
   switch (opt) {
   case OPT_PARAM:
-    if (!strcmp(arg, "speed")) a->param = 0;
-    else if (!strcmp(arg, "conicity")) a->param = 1;
-    else return cli_bad("--over: 'speed' or 'conicity' expected, got '%s'", arg);
+    if (!strcmp(arg, "speed"))
+      a->param = 0;
+    else if (!strcmp(arg, "conicity"))
+      a->param = 1;
+    else
+      return cli_bad("--over: 'speed' or 'conicity' expected, got '%s'", arg);
     return 0;
   case OPT_RANGE:
     a->have_range = 1;
     return cli_range("range", arg, a->param == 0 ? "km/h" : "1", &a->from, &a->to, &a->n) ? 1 : 0;
   case OPT_SPEEDS: return cli_range("speeds", arg, "km/h", &a->s_from, &a->s_to, &a->s_n) ? 1 : 0;
-  case OPT_CONICITIES: return cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n) ? 1 : 0;
+  case OPT_CONICITIES:
+    return cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n) ? 1 : 0;
   case OPT_GLIMIT: return cli_limit(arg, &a->limit) ? 1 : 0;
   }
   return 1;
 }
 
-static double lin(double a, double b, int i, int n) { return n == 1 ? a : a + (b - a) * i / (n - 1); }
+static double lin(double a, double b, int i, int n)
+{
+  return n == 1 ? a : a + (b - a) * i / (n - 1);
+}
 
 /* The locus over MPI ranks: windows of points whose eigen-solves (the cost)
    are spread over the ranks as records (rr_locus_solve), then followed in
    order on every rank (rr_locus_follow): rr_locus's result to the bit. */
-#define LOCUS_WINDOW_PER_RANK 64   /* points a rank solves per window: the records' memory stays small */
+#define LOCUS_WINDOW_PER_RANK                                                                      \
+  64 /* points a rank solves per window: the records' memory stays small */
 
 typedef struct locus_solve_job {
   rr_model *m;
@@ -401,8 +479,8 @@ typedef struct locus_solve_job {
   rr_modal_result res;
   const cli_common *c;
   rr_locus_param param;
-  const double *vals;        /* the window's values */
-  size_t rs;                 /* record size */
+  const double *vals; /* the window's values */
+  size_t rs;          /* record size */
 } locus_solve_job;
 
 static int locus_solve_items(void *user, long lo, long hi, void *out)
@@ -410,7 +488,8 @@ static int locus_solve_items(void *user, long lo, long hi, void *out)
   locus_solve_job *w = user;
   rr_error e;
   for (long p = lo; p < hi; p++) {
-    int st = rr_locus_solve(w->m, w->param, w->vals[p], &w->c->mo, w->ws, &w->res, (char *)out + (size_t)(p - lo) * w->rs, &e);
+    int st = rr_locus_solve(w->m, w->param, w->vals[p], &w->c->mo, w->ws, &w->res,
+                            (char *)out + (size_t)(p - lo) * w->rs, &e);
     if (st) return cli_fail(&e, st);
   }
   return 0;
@@ -418,8 +497,8 @@ static int locus_solve_items(void *user, long lo, long hi, void *out)
 
 /* Fills pts and *nb as rr_locus does; *ndone: the points followed (fewer
    after Ctrl-C, the rest NaN). */
-static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, const double *vals, long n, rr_locus_point *pts,
-                     int *nb, long *ndone, cli_progress *pr)
+static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, const double *vals,
+                     long n, rr_locus_point *pts, int *nb, long *ndone, cli_progress *pr)
 {
   double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
   locus_solve_job w = {.m = m, .c = c, .param = param, .rs = rr_locus_record_size(m)};
@@ -439,14 +518,17 @@ static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, con
     w.vals = vals + lo;
     memset(done, 0, (size_t)len);
     r = cli_par_for(len, 1, w.rs, locus_solve_items, &w, recs, done, NULL);
-    while (ok < len && done[ok]) ok++;   /* after Ctrl-C: the window's leading points solved */
-    if (!r && ok && (st = rr_locus_follow(t, vals + lo, (int)ok, recs, pts + (size_t)lo * *nb, nb, &e))) r = cli_fail(&e, st);
+    while (ok < len && done[ok]) ok++; /* after Ctrl-C: the window's leading points solved */
+    if (!r && ok &&
+        (st = rr_locus_follow(t, vals + lo, (int)ok, recs, pts + (size_t)lo * *nb, nb, &e)))
+      r = cli_fail(&e, st);
     *ndone += ok;
     if (pr) cli_progress_step(pr, ok);
     if (ok < len) break;
   }
-  for (long p = *ndone; p < n && !r; p++)   /* a stopped run: the points not followed */
-    for (int b = 0; b < *nb; b++) pts[p * *nb + b] = (rr_locus_point){.param = vals[p], .re = NAN, .im = NAN};
+  for (long p = *ndone; p < n && !r; p++) /* a stopped run: the points not followed */
+    for (int b = 0; b < *nb; b++)
+      pts[p * *nb + b] = (rr_locus_point){.param = vals[p], .re = NAN, .im = NAN};
   rr_model_set_operating(m, v0, l0, NULL);
   rr_locus_tracker_free(t);
   rr_modal_result_free(&w.res);
@@ -458,25 +540,41 @@ static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, con
 
 int cmd_locus(int argc, char **argv)
 {
-  static const char help[] = "usage: railride locus [VEHICLE] [--over speed|conicity] [--range FROM:TO:N] [--speed KMH | --conicity L] [--json]\n"
-                             "Root locus: each oscillatory mode followed from point to point by eigenvector\n"
-                             "correlation (MAC). Over speed (default 20:500:25 km/h at --conicity, default 0.17)\n"
-                             "or conicity (default 0.02:0.5:25 at --speed, default 350 km/h). CSV columns:\n"
-                             "branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,\n"
-                             "e_wheelsets,roll_share,hunting_related (e_*: kinetic energy shares)\n" CLI_COMMON_HELP
-                             "  --over P             parameter swept (--over before --range)\n  --range FROM:TO:N    its values\n"
-                             "  --limit N            most points accepted (default 1e5)\n";
-  static const struct option extra[] = {{"over", required_argument, 0, OPT_PARAM}, {"range", required_argument, 0, OPT_RANGE},
-                                        {"limit", required_argument, 0, OPT_GLIMIT}, {0, 0, 0, 0}};
+  static const char help[] =
+      "usage: railride locus [VEHICLE] [--over speed|conicity] [--range FROM:TO:N] [--speed KMH | "
+      "--conicity L] [--json]\n"
+      "Root locus: each oscillatory mode followed from point to point by eigenvector\n"
+      "correlation (MAC). Over speed (default 20:500:25 km/h at --conicity, default 0.17)\n"
+      "or conicity (default 0.02:0.5:25 at --speed, default 350 km/h). CSV columns:\n"
+      "branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_"
+      "frames,\n"
+      "e_wheelsets,roll_share,hunting_related (e_*: kinetic energy shares)\n" CLI_COMMON_HELP
+      "  --over P             parameter swept (--over before --range)\n  --range FROM:TO:N    its "
+      "values\n"
+      "  --limit N            most points accepted (default 1e5)\n";
+  static const struct option extra[] = {{"over", required_argument, 0, OPT_PARAM},
+                                        {"range", required_argument, 0, OPT_RANGE},
+                                        {"limit", required_argument, 0, OPT_GLIMIT},
+                                        {0, 0, 0, 0}};
   cli_common c;
   grid_args a = {.limit = CLI_LIMIT_LOCUS};
-  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb, &a, help);
-  if (a.param == 0 && c.have_speed) return cli_bad("locus: --over speed sweeps the speed (--range); --speed is not read");
-  if (a.param == 1 && c.have_conicity) return cli_bad("locus: --over conicity sweeps the conicity (--range); --conicity is not read");
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb,
+            &a, help);
+  if (a.param == 0 && c.have_speed)
+    return cli_bad("locus: --over speed sweeps the speed (--range); --speed is not read");
+  if (a.param == 1 && c.have_conicity)
+    return cli_bad("locus: --over conicity sweeps the conicity (--range); --conicity is not read");
   if (cli_over_limit("locus", a.n, a.limit, "points")) return EXIT_BADINPUT;
   if (!a.have_range) {
-    if (a.param == 0) { a.from = 20; a.to = 500; a.n = 25; }
-    else { a.from = 0.02; a.to = 0.5; a.n = 25; }
+    if (a.param == 0) {
+      a.from = 20;
+      a.to = 500;
+      a.n = 25;
+    } else {
+      a.from = 0.02;
+      a.to = 0.5;
+      a.n = 25;
+    }
   }
   if (a.param == 0 && !(a.from > 0 && a.to > 0 && fmax(a.from, a.to) <= RR_SPEED_MAX_MS * RR_KMH))
     return cli_bad("--range: speeds must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
@@ -486,18 +584,30 @@ int cmd_locus(int argc, char **argv)
   int r = cli_model(&c, &m, 0, 0);
   if (r) return r;
   double *vals = malloc(sizeof(double) * (size_t)a.n);
-  rr_locus_point *pts = malloc(sizeof(rr_locus_point) * (size_t)a.n * (size_t)rr_model_state_size(m));
-  if (!vals || !pts) { free(vals); free(pts); rr_model_free(m); return cli_bad("out of memory"); }
+  rr_locus_point *pts =
+      malloc(sizeof(rr_locus_point) * (size_t)a.n * (size_t)rr_model_state_size(m));
+  if (!vals || !pts) {
+    free(vals);
+    free(pts);
+    rr_model_free(m);
+    return cli_bad("out of memory");
+  }
   for (int i = 0; i < a.n; i++) vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? RR_KMH : 1.0);
   rr_error e;
   int nb = 0, st = 0;
   long ndone = a.n;
   cli_progress pr;
   cli_catch_stops();
-  if (cli_par_size() > 1) {   /* under mpirun: blocks of points over the ranks */
+  if (cli_par_size() > 1) { /* under mpirun: blocks of points over the ranks */
     cli_progress_start(&pr, "locus", a.n, c.progress);
     r = locus_mpi(m, &c, (rr_locus_param)a.param, vals, a.n, pts, &nb, &ndone, &pr);
-    if (r) { cli_progress_end(&pr); rr_model_free(m); free(vals); free(pts); return r; }
+    if (r) {
+      cli_progress_end(&pr);
+      rr_model_free(m);
+      free(vals);
+      free(pts);
+      return r;
+    }
     if (ndone < a.n) st = RR_ESTOPPED;
   } else {
     cli_progress_start(&pr, "locus", a.n, c.progress);
@@ -507,15 +617,21 @@ int cmd_locus(int argc, char **argv)
   cli_progress_end(&pr);
   double v0 = rr_model_speed(m) * RR_KMH, l0 = rr_model_conicity(m);
   rr_model_free(m);
-  if (st && st != RR_ESTOPPED) { free(vals); free(pts); return cli_fail(&e, st); }   /* stopped: the points done */
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
+  if (st && st != RR_ESTOPPED) {
+    free(vals);
+    free(pts);
+    return cli_fail(&e, st);
+  } /* stopped: the points done */
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL,
+        *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
   if (!c.json)
-    printf("branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,e_wheelsets,"
+    printf("branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_"
+           "carbody,e_frames,e_wheelsets,"
            "roll_share,hunting_related\n");
   for (int b = 0; b < nb; b++)
     for (int p = 0; p < a.n; p++) {
       const rr_locus_point *lp = &pts[(size_t)p * nb + b];
-      if (!isfinite(lp->re)) continue;   /* the branch was not matched at this point: no row */
+      if (!isfinite(lp->re)) continue; /* the branch was not matched at this point: no row */
       double sp = a.param == 0 ? lp->param * RR_KMH : v0, co = a.param == 1 ? lp->param : l0;
       if (c.json) {
         cJSON *o = cJSON_CreateObject();
@@ -531,8 +647,9 @@ int cmd_locus(int argc, char **argv)
         cJSON_AddBoolToObject(o, "hunting_related", lp->hunting);
         cJSON_AddItemToArray(arr, o);
       } else {
-        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", b, sp, co, lp->freq_hz, lp->re,
-               lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1], lp->energy[2], lp->roll_share, lp->hunting);
+        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", b, sp, co,
+               lp->freq_hz, lp->re, lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1],
+               lp->energy[2], lp->roll_share, lp->hunting);
       }
     }
   if (root) cli_json_print(root);
@@ -554,8 +671,10 @@ static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
   cJSON_AddNumberToObject(o, "speed_kmh", v);
   cJSON_AddNumberToObject(o, "conicity", l);
   cJSON_AddNumberToObject(o, "stability_index", z->index);
-  if (isfinite(z->index_freq_hz)) cJSON_AddNumberToObject(o, "index_freq_hz", z->index_freq_hz);
-  else cJSON_AddNullToObject(o, "index_freq_hz");
+  if (isfinite(z->index_freq_hz))
+    cJSON_AddNumberToObject(o, "index_freq_hz", z->index_freq_hz);
+  else
+    cJSON_AddNullToObject(o, "index_freq_hz");
   cJSON_AddNumberToObject(o, "zeta_max", z->zeta_max);
   cJSON_AddBoolToObject(o, "stable", stable);
   cJSON_AddItemToArray(arr, o);
@@ -568,7 +687,7 @@ typedef struct map_rows {
   rr_modal_ws *ws;
   const cli_common *c;
   const grid_args *a;
-  double *vs, *ls;      /* a row's operating points (c_n each) */
+  double *vs, *ls; /* a row's operating points (c_n each) */
   rr_error e;
 } map_rows;
 
@@ -582,7 +701,8 @@ static int map_rows_eval(void *user, long lo, long hi, void *out)
       w->vs[j] = lin(a->s_from, a->s_to, (int)i, a->s_n) / RR_KMH;
       w->ls[j] = lin(a->c_from, a->c_to, j, a->c_n);
     }
-    int st = rr_modal_stability_batch(w->m, &w->c->mo, w->ws, a->c_n, w->vs, w->ls, zs + (i - lo) * a->c_n, &w->e);
+    int st = rr_modal_stability_batch(w->m, &w->c->mo, w->ws, a->c_n, w->vs, w->ls,
+                                      zs + (i - lo) * a->c_n, &w->e);
     if (st) return cli_fail(&w->e, st);
   }
   return 0;
@@ -595,13 +715,22 @@ int cmd_map(int argc, char **argv)
       "Vehicle stability index over a speed x conicity grid (paper Fig. 7); defaults\n"
       "100:500:41 km/h and 0.02:0.5:25. CSV columns:\n"
       "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n"
-      "(zeta_max: the largest zeta of any oscillatory mode; stable: 1 when it is < 0).\n" CLI_COMMON_HELP
+      "(zeta_max: the largest zeta of any oscillatory mode; stable: 1 when it is < "
+      "0).\n" CLI_COMMON_HELP
       "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n"
       "  --limit N            most points accepted (default 1e6)\n";
-  static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS}, {"conicities", required_argument, 0, OPT_CONICITIES},
-                                        {"limit", required_argument, 0, OPT_GLIMIT}, {0, 0, 0, 0}};
+  static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS},
+                                        {"conicities", required_argument, 0, OPT_CONICITIES},
+                                        {"limit", required_argument, 0, OPT_GLIMIT},
+                                        {0, 0, 0, 0}};
   cli_common c;
-  grid_args a = {.s_from = 100, .s_to = 500, .s_n = 41, .c_from = 0.02, .c_to = 0.5, .c_n = 25, .limit = CLI_LIMIT_GRID};
+  grid_args a = {.s_from = 100,
+                 .s_to = 500,
+                 .s_n = 41,
+                 .c_from = 0.02,
+                 .c_to = 0.5,
+                 .c_n = 25,
+                 .limit = CLI_LIMIT_GRID};
   RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb, &a, help);
   if (!(a.s_from > 0 && a.s_to > 0 && fmax(a.s_from, a.s_to) <= RR_SPEED_MAX_MS * RR_KMH))
     return cli_bad("--speeds: must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
@@ -613,14 +742,24 @@ int cmd_map(int argc, char **argv)
   if (r) return r;
   map_rows w = {.m = m, .c = &c, .a = &a};
   int st = rr_modal_ws_new(m, &w.ws, &w.e);
-  if (st) { rr_model_free(m); return cli_fail(&w.e, st); }
+  if (st) {
+    rr_model_free(m);
+    return cli_fail(&w.e, st);
+  }
   /* the rows computed (over MPI ranks when run under mpirun), then written */
   size_t npts = (size_t)a.s_n * (size_t)a.c_n;
   w.vs = malloc(sizeof(double) * (size_t)a.c_n * 2);
   w.ls = w.vs ? w.vs + a.c_n : NULL;
   rr_stability *zs = malloc(sizeof *zs * npts);
   unsigned char *done = calloc((size_t)a.s_n, 1);
-  if (!w.vs || !zs || !done) { free(w.vs); free(zs); free(done); rr_modal_ws_free(w.ws); rr_model_free(m); return cli_bad("out of memory"); }
+  if (!w.vs || !zs || !done) {
+    free(w.vs);
+    free(zs);
+    free(done);
+    rr_modal_ws_free(w.ws);
+    rr_model_free(m);
+    return cli_bad("out of memory");
+  }
   cli_progress pr;
   cli_progress_start(&pr, "map", a.s_n, c.progress);
   cli_catch_stops();
@@ -629,14 +768,19 @@ int cmd_map(int argc, char **argv)
   free(w.vs);
   rr_modal_ws_free(w.ws);
   rr_model_free(m);
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL, *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
+  cJSON *root = c.json ? cJSON_CreateObject() : NULL,
+        *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
   if (!r && !c.json) printf("speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n");
-  for (int i = 0; i < a.s_n && !r; i++)   /* a stopped run: the rows done */
+  for (int i = 0; i < a.s_n && !r; i++) /* a stopped run: the rows done */
     for (int j = 0; j < a.c_n && done[i]; j++)
-      map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), lin(a.c_from, a.c_to, j, a.c_n), &zs[(size_t)i * a.c_n + j]);
+      map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), lin(a.c_from, a.c_to, j, a.c_n),
+                &zs[(size_t)i * a.c_n + j]);
   free(zs);
   free(done);
-  if (r) { cJSON_Delete(root); return r; }
+  if (r) {
+    cJSON_Delete(root);
+    return r;
+  }
   if (root) cli_json_print(root);
-  return cli_stopped() ? CLI_EXIT_STOPPED : 0;   /* what was done is written */
+  return cli_stopped() ? CLI_EXIT_STOPPED : 0; /* what was done is written */
 }

@@ -14,10 +14,10 @@ typedef struct summary {
   rr_robust rb;
   rr_critical crit[NLAMS];
   int have_curve;
-  rr_vehicle vr[2];            /* constant series stiffness, SDF */
+  rr_vehicle vr[2]; /* constant series stiffness, SDF */
   ride_point rp[2][NLAMS][3];
   ride_setup rs;
-  cli_progress pr;             /* a step per analysis: modes, robust, each critical speed and ride point */
+  cli_progress pr; /* a step per analysis: modes, robust, each critical speed and ride point */
 } summary;
 
 static int stability_part(cli_common *c, summary *s, rr_error *e)
@@ -74,7 +74,9 @@ static void summary_json(const cli_common *c, const summary *s)
   cJSON_AddNumberToObject(root, "stability_index", s->res.stability_index);
   cJSON_AddBoolToObject(root, "stable", rr_modal_stable(s->res.zeta_max));
   cJSON_AddNumberToObject(root, "zeta_max", s->res.zeta_max);
-  if (s->res.index_mode >= 0) cJSON_AddItemToObject(root, "index_mode", cli_mode_json(&s->res.modes[s->res.index_mode], paper));
+  if (s->res.index_mode >= 0)
+    cJSON_AddItemToObject(root, "index_mode",
+                          cli_mode_json(&s->res.modes[s->res.index_mode], paper));
   cJSON_AddNumberToObject(root, "zeta_low", s->rb.zeta_low);
   cJSON_AddNumberToObject(root, "zeta_high", s->rb.zeta_high);
   cJSON_AddNumberToObject(root, "std_zeta", s->rb.std_zeta);
@@ -112,14 +114,17 @@ static void summary_json(const cli_common *c, const summary *s)
 
 static void modes_text(const cli_common *c, const rr_modal_result *res)
 {
-  printf("Hunting-related modes at %g km/h, conicity %g (f <= %g Hz, wheelset share >= %g, roll share < %g):\n",
+  printf("Hunting-related modes at %g km/h, conicity %g (f <= %g Hz, wheelset share >= %g, roll "
+         "share < %g):\n",
          c->speed_kmh, c->conicity, c->mo.fmax_hz, c->mo.w_min, c->mo.r_max);
-  printf("  %9s %10s %9s %9s %9s %9s  %s\n", "freq_hz", "zeta", "E_car", "E_frame", "E_wheel", "roll", "mode");
+  printf("  %9s %10s %9s %9s %9s %9s  %s\n", "freq_hz", "zeta", "E_car", "E_frame", "E_wheel",
+         "roll", "mode");
   for (int i = 0; i < res->n; i++) {
     const rr_mode *md = &res->modes[i];
     if (!md->in_index) continue;
-    printf("  %9.4f %10.5f %9.2e %9.2e %9.2e %9.2e  %s%s\n", md->freq_hz, md->zeta, md->energy[0], md->energy[1],
-           md->energy[2], md->roll_share, md->name, i == res->index_mode ? "  <- least damped" : "");
+    printf("  %9.4f %10.5f %9.2e %9.2e %9.2e %9.2e  %s%s\n", md->freq_hz, md->zeta, md->energy[0],
+           md->energy[1], md->energy[2], md->roll_share, md->name,
+           i == res->index_mode ? "  <- least damped" : "");
   }
   printf("  vehicle stability index: %.6f (negative is stable)\n", res->stability_index);
   if (res->max_mode >= 0)
@@ -133,46 +138,57 @@ static void stability_text(const summary *s)
   const rr_robust *rb = &s->rb;
   printf("Robust indices (paper Table 1):\n");
   printf("  zeta_low  (250 km/h, 0.05) = %10.6f\n  zeta_high (350 km/h, 0.40) = %10.6f\n"
-         "  std_zeta  (350 km/h, 8 conicities) = %10.6f\n", rb->zeta_low, rb->zeta_high, rb->std_zeta);
-  if (rb->n_unstable == 0) printf("  verdict: stable at every robust point\n\n");
-  else printf("  verdict: UNSTABLE at %d robust points (first: %g km/h, conicity %g)\n\n", rb->n_unstable,
-              rb->unstable_speed_ms * RR_KMH, rb->unstable_conicity);
+         "  std_zeta  (350 km/h, 8 conicities) = %10.6f\n",
+         rb->zeta_low, rb->zeta_high, rb->std_zeta);
+  if (rb->n_unstable == 0)
+    printf("  verdict: stable at every robust point\n\n");
+  else
+    printf("  verdict: UNSTABLE at %d robust points (first: %g km/h, conicity %g)\n\n",
+           rb->n_unstable, rb->unstable_speed_ms * RR_KMH, rb->unstable_conicity);
   printf("Critical speed (10-600 km/h; any oscillatory mode reaching zeta = 0):\n");
   for (int i = 0; i < NLAMS; i++) {
     const rr_critical *cr = &s->crit[i];
     if (cr->found)
-      printf("  conicity %.2f: %10.3f km/h  (%s at %.3f Hz%s)\n", lams[i], cr->speed_ms * RR_KMH, cr->mode.name,
-             cr->mode.freq_hz, cr->mode.hunting ? ", hunting-related" : "");
-    else printf("  conicity %.2f: stable to 600 km/h\n", lams[i]);
+      printf("  conicity %.2f: %10.3f km/h  (%s at %.3f Hz%s)\n", lams[i], cr->speed_ms * RR_KMH,
+             cr->mode.name, cr->mode.freq_hz, cr->mode.hunting ? ", hunting-related" : "");
+    else
+      printf("  conicity %.2f: stable to 600 km/h\n", lams[i]);
   }
 }
 
 static void ride_text(const cli_common *c, const summary *s)
 {
-  printf("\nRide comfort at %g km/h, spectrum %s (PEM, 0.3-30 Hz), floor height %g m:\n", c->speed_kmh,
-         s->rs.spectrum, s->rs.h_p);
-  printf("  Sperling W, weighting-filter method, at x = +L / 0 / -L; wd_rms: ISO 2631-1 Wd, worst point\n");
-  printf("  %8s  %-26s %7s %7s %7s %12s\n", "conicity", "yaw damper series spring", "W(+L)", "W(0)", "W(-L)",
-         "wd_rms_m/s2");
+  printf("\nRide comfort at %g km/h, spectrum %s (PEM, 0.3-30 Hz), floor height %g m:\n",
+         c->speed_kmh, s->rs.spectrum, s->rs.h_p);
+  printf("  Sperling W, weighting-filter method, at x = +L / 0 / -L; wd_rms: ISO 2631-1 Wd, worst "
+         "point\n");
+  printf("  %8s  %-26s %7s %7s %7s %12s\n", "conicity", "yaw damper series spring", "W(+L)", "W(0)",
+         "W(-L)", "wd_rms_m/s2");
   for (int i = 0; i < NLAMS; i++)
     for (int k = 0; k < (s->have_curve ? 2 : 1); k++) {
       const ride_point *p = s->rp[k][i];
       char lab[64];
-      if (k) snprintf(lab, sizeof lab, "SDF (%s mode)", sdf_name(s->vr[1].sdf_mode));
-      else snprintf(lab, sizeof lab, "constant %g MN/m", c->veh.yaw_series_stiffness / 1e6);
-      printf("  %8.2f  %-26s %7.3f %7.3f %7.3f %12.5f\n", lams[i], lab, p[0].sperling, p[1].sperling, p[2].sperling,
-             fmax(p[0].wd_rms, fmax(p[1].wd_rms, p[2].wd_rms)));
+      if (k)
+        snprintf(lab, sizeof lab, "SDF (%s mode)", sdf_name(s->vr[1].sdf_mode));
+      else
+        snprintf(lab, sizeof lab, "constant %g MN/m", c->veh.yaw_series_stiffness / 1e6);
+      printf("  %8.2f  %-26s %7.3f %7.3f %7.3f %12.5f\n", lams[i], lab, p[0].sperling,
+             p[1].sperling, p[2].sperling, fmax(p[0].wd_rms, fmax(p[1].wd_rms, p[2].wd_rms)));
     }
 }
 
 int cmd_summary(int argc, char **argv)
 {
-  static const char help[] = "usage: railride summary [VEHICLE] [--speed KMH] [--conicity L] [--json]\n"
-                             "Stability summary: modes at the operating point (default 350 km/h, 0.17), robust\n"
-                             "indices, critical speeds at conicities 0.05, 0.17, 0.40; ride comfort (PEM,\n"
-                             "wuhan-guangzhou spectrum) at those conicities with and without the yaw damper SDF.\n" CLI_COMMON_HELP;
+  static const char help[] =
+      "usage: railride summary [VEHICLE] [--speed KMH] [--conicity L] [--json]\n"
+      "Stability summary: modes at the operating point (default 350 km/h, 0.17), robust\n"
+      "indices, critical speeds at conicities 0.05, 0.17, 0.40; ride comfort (PEM,\n"
+      "wuhan-guangzhou spectrum) at those conicities with and without the yaw damper "
+      "SDF.\n" CLI_COMMON_HELP;
   cli_common c;
-  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL, NULL, NULL, help);
+  int r = cli_parse(argc, argv, &c,
+                    CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL,
+                    NULL, NULL, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = CLI_SPEED_DEFAULT_KMH;
@@ -184,12 +200,16 @@ int cmd_summary(int argc, char **argv)
   s->have_curve = c.veh.sdf.kind != RR_CURVE_UNSET;
   cli_progress_start(&s->pr, "summary", 2 + NLAMS + NLAMS * (s->have_curve ? 2 : 1), c.progress);
   int st = stability_part(&c, s, &e);
-  if (st < 0) { free(s); return -st; }   /* message printed */
+  if (st < 0) {
+    free(s);
+    return -st;
+  } /* message printed */
   if (!st) st = ride_part(&c, s, &e);
   cli_progress_end(&s->pr);
   if (!st && c.json) summary_json(&c, s);
   if (!st && !c.json) {
-    printf("railride stability summary: vehicle %s (yaw damper SDF: %s)\n\n", c.veh.name, sdf_name(c.veh.sdf_mode));
+    printf("railride stability summary: vehicle %s (yaw damper SDF: %s)\n\n", c.veh.name,
+           sdf_name(c.veh.sdf_mode));
     modes_text(&c, &s->res);
     stability_text(s);
     ride_text(&c, s);

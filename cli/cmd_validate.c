@@ -13,14 +13,14 @@ typedef struct val_args {
   rr_validate_opts vo;
   ride_setup rs;
   const char *psd_path;
-  double limit;            /* most samples (--limit) */
+  double limit; /* most samples (--limit) */
 } val_args;
 enum { OPT_DURATION = 4000, OPT_SEED, OPT_FS, OPT_NSEG, OPT_VPSD, OPT_VLIMIT };
-#define CLI_FS_MIN 64.0    /* above twice the band's 30 Hz */
+#define CLI_FS_MIN 64.0 /* above twice the band's 30 Hz */
 #define CLI_FS_MAX 1e5
 #define CLI_NSEG_MAX 1048576
-#define VAL_REL_TOL 0.01   /* time domain against PEM: RMS and Sperling */
-#define VAL_Z_TOL 4.0      /* a 1/3-octave band's error in units of its sampling spread */
+#define VAL_REL_TOL 0.01 /* time domain against PEM: RMS and Sperling */
+#define VAL_Z_TOL 4.0    /* a 1/3-octave band's error in units of its sampling spread */
 
 static int val_cb(int opt, const char *arg, void *u)
 {
@@ -41,7 +41,8 @@ static int val_cb(int opt, const char *arg, void *u)
     errno = 0;
     long k = strtol(arg, &end, 10);
     if (*end || errno || k < 8 || k > CLI_NSEG_MAX || k % 2)
-      return cli_bad("--nseg: an even whole number from 8 to %d expected, got '%s'", CLI_NSEG_MAX, arg);
+      return cli_bad("--nseg: an even whole number from 8 to %d expected, got '%s'", CLI_NSEG_MAX,
+                     arg);
     a->vo.nseg = (int)k;
     return 0;
   }
@@ -55,48 +56,66 @@ static int val_cb(int opt, const char *arg, void *u)
 int cmd_validate(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride validate [VEHICLE] --speed KMH --conicity L [--duration S] [--seed N] [--json] [--psd FILE.csv]\n"
+      "usage: railride validate [VEHICLE] --speed KMH --conicity L [--duration S] [--seed N] "
+      "[--json] [--psd FILE.csv]\n"
       "Validates the frequency-domain ride results (PEM) against a time-domain run: a seeded\n"
       "random track realisation of the spectrum (0.3-30 Hz content, each wheelset at its own\n"
       "position), exact discretisation of the same state space (cubic Hermite input hold), the\n"
       "periodic steady state of the periodic realisation, then the RMS and the Sperling index by\n"
       "time-domain filtering, and a Welch PSD (Hann, 50% overlap) with the indices from it and\n"
       "1/3-octave band powers compared with the PEM within the spread expected from the number\n"
-      "of averages. The yaw damper SDF must be none or physical (paper mode has no time form).\n" CLI_COMMON_HELP
-      "  --duration S         record length, s (default 600)\n  --seed N             realisation seed (default 1)\n"
-      "  --fs HZ              sample rate (default 256)\n  --nseg N             Welch segment length (default 4096)\n"
-      "  --spectrum S         spectrum name or file (default wuhan-guangzhou)\n  --points X1,..       floor points (default +L, 0, -L)\n"
+      "of averages. The yaw damper SDF must be none or physical (paper mode has no time "
+      "form).\n" CLI_COMMON_HELP "  --duration S         record length, s (default 600)\n  --seed "
+      "N             realisation seed (default 1)\n"
+      "  --fs HZ              sample rate (default 256)\n  --nseg N             Welch segment "
+      "length (default 4096)\n"
+      "  --spectrum S         spectrum name or file (default wuhan-guangzhou)\n  --points X1,..    "
+      "   floor points (default +L, 0, -L)\n"
       "  --floor-height H     (default 1.2 m)\n  --roll-gravity       sense a_y + g phi_c\n"
       "  --psd FILE.csv       write f_hz, the Welch and PEM PSDs of each point ((m/s^2)^2/Hz) and\n"
       "                       welch_sigma_rel, the relative spread of one Welch bin\n"
       "  --limit N            most samples (duration x fs) accepted (default 4194304)\n"
       "Verdict: PASS when RMS and Sperling agree within 1 % at every point and every band within\n"
       "4 sigma; FAIL exits with status 1.\n";
-  static const struct option extra[] = {{"duration", required_argument, 0, OPT_DURATION}, {"seed", required_argument, 0, OPT_SEED},
-                                        {"fs", required_argument, 0, OPT_FS}, {"nseg", required_argument, 0, OPT_NSEG},
-                                        {"psd", required_argument, 0, OPT_VPSD}, {"limit", required_argument, 0, OPT_VLIMIT},
-                                        RIDE_SETUP_OPTIONS, {0, 0, 0, 0}};
+  static const struct option extra[] = {{"duration", required_argument, 0, OPT_DURATION},
+                                        {"seed", required_argument, 0, OPT_SEED},
+                                        {"fs", required_argument, 0, OPT_FS},
+                                        {"nseg", required_argument, 0, OPT_NSEG},
+                                        {"psd", required_argument, 0, OPT_VPSD},
+                                        {"limit", required_argument, 0, OPT_VLIMIT},
+                                        RIDE_SETUP_OPTIONS,
+                                        {0, 0, 0, 0}};
   cli_common c;
   val_args a = {.vo = rr_validate_opts_default(), .limit = CLI_LIMIT_SAMPLES};
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.rs, &tmp);
-  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra, val_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra,
+                    val_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   double samples = a.vo.duration_s * a.vo.fs_hz;
   if (cli_over_limit("validate", samples, a.limit, "samples")) return EXIT_BADINPUT;
-  if (a.vo.nseg > samples) return cli_bad("--nseg: %d exceeds the record's %.0f samples", a.vo.nseg, samples);
+  if (a.vo.nseg > samples)
+    return cli_bad("--nseg: %d exceeds the record's %.0f samples", a.vo.nseg, samples);
   ride_setup_points(&a.rs, &c.veh, argc, argv);
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;
   rr_error e;
   rr_spectrum sp;
   int st = rr_spectrum_open(a.rs.spectrum, &sp, &e);
-  if (st) { rr_model_free(m); return cli_fail(&e, st); }
+  if (st) {
+    rr_model_free(m);
+    return cli_fail(&e, st);
+  }
   int n = rr_model_ndof(m), np = a.rs.npoints;
   double *rows = malloc(sizeof(double) * n * np), *rows0 = malloc(sizeof(double) * n * np);
-  if (!rows || !rows0) { free(rows); free(rows0); rr_model_free(m); return cli_bad("out of memory"); }
+  if (!rows || !rows0) {
+    free(rows);
+    free(rows0);
+    rr_model_free(m);
+    return cli_bad("out of memory");
+  }
   st = rr_vehicle_floor_rows(m, &c.veh, a.rs.x, np, a.rs.h_p, a.rs.roll_gravity, rows, rows0, &e);
   a.vo.npoints = np;
   a.vo.rows = rows;
@@ -113,7 +132,7 @@ int cmd_validate(int argc, char **argv)
   free(rows);
   free(rows0);
   rr_model_free(m);
-  if (st == RR_ESTOPPED) {   /* one result: nothing partial to write */
+  if (st == RR_ESTOPPED) { /* one result: nothing partial to write */
     fprintf(stderr, "railride: validate: stopped by a signal (%s); nothing written\n", e.msg);
     return CLI_EXIT_STOPPED;
   }
@@ -125,7 +144,10 @@ int cmd_validate(int argc, char **argv)
   }
   if (a.psd_path) {
     FILE *fp = fopen(a.psd_path, "w");
-    if (!fp) { rr_validate_result_free(&res); return cli_bad("--psd: cannot write %s", a.psd_path); }
+    if (!fp) {
+      rr_validate_result_free(&res);
+      return cli_bad("--psd: cannot write %s", a.psd_path);
+    }
     fprintf(fp, "f_hz");
     for (int q = 0; q < np; q++) fprintf(fp, ",welch_x%gm_m2s-4_per_hz", a.rs.x[q]);
     for (int q = 0; q < np; q++) fprintf(fp, ",pem_x%gm_m2s-4_per_hz", a.rs.x[q]);
@@ -145,7 +167,8 @@ int cmd_validate(int argc, char **argv)
   int pass = zmax <= VAL_Z_TOL;
   for (int q = 0; q < np; q++) {
     const rr_validate_point *p = &res.points[q];
-    pass = pass && fabs(p->rms_time / p->rms_pem - 1) <= VAL_REL_TOL && fabs(p->sperling_time / p->sperling_pem - 1) <= VAL_REL_TOL;
+    pass = pass && fabs(p->rms_time / p->rms_pem - 1) <= VAL_REL_TOL &&
+           fabs(p->sperling_time / p->sperling_pem - 1) <= VAL_REL_TOL;
   }
   const rr_validate_point *p0 = &res.points[0];
   if (c.json) {
@@ -164,7 +187,9 @@ int cmd_validate(int argc, char **argv)
     cJSON_AddNumberToObject(root, "seed", (double)a.vo.seed);
     cJSON_AddStringToObject(root, "spectrum", a.rs.spectrum);
     cJSON_AddNumberToObject(root, "cpu_seconds", secs);
-    cJSON_AddStringToObject(root, "band_sigma_rule", "sqrt((1 + 2 c^2) / K * 1.5 / M): K Hann segments at 50% overlap (c = 0.167), M bins in the band, 1.5 = Hann ENBW in bins");
+    cJSON_AddStringToObject(root, "band_sigma_rule",
+                            "sqrt((1 + 2 c^2) / K * 1.5 / M): K Hann segments at 50% overlap (c = "
+                            "0.167), M bins in the band, 1.5 = Hann ENBW in bins");
     cJSON_AddStringToObject(root, "verdict", pass ? "PASS" : "FAIL");
     cJSON *tol = cJSON_AddObjectToObject(root, "tolerances");
     cJSON_AddNumberToObject(tol, "rms_and_sperling_relative", VAL_REL_TOL);
@@ -198,18 +223,24 @@ int cmd_validate(int argc, char **argv)
     }
     cli_json_print(root);
   } else {
-    printf("%s at %g km/h, conicity %g: %g s of track (%s, seed %llu), fs %g Hz, Welch %d-point segments, K = %d averages\n",
-           c.veh.name, c.speed_kmh, c.conicity, a.vo.duration_s, a.rs.spectrum, (unsigned long long)a.vo.seed, a.vo.fs_hz,
-           a.vo.nseg, res.navg);
-    printf("%8s %10s %10s %9s %9s %9s %9s %9s %8s\n", "x_m", "rms_pem", "rms_time", "W_pem", "W_time", "W_welch", "Wgb_pem", "Wgb_welch", "band_z");
+    printf("%s at %g km/h, conicity %g: %g s of track (%s, seed %llu), fs %g Hz, Welch %d-point "
+           "segments, K = %d averages\n",
+           c.veh.name, c.speed_kmh, c.conicity, a.vo.duration_s, a.rs.spectrum,
+           (unsigned long long)a.vo.seed, a.vo.fs_hz, a.vo.nseg, res.navg);
+    printf("%8s %10s %10s %9s %9s %9s %9s %9s %8s\n", "x_m", "rms_pem", "rms_time", "W_pem",
+           "W_time", "W_welch", "Wgb_pem", "Wgb_welch", "band_z");
     for (int q = 0; q < np; q++) {
       const rr_validate_point *p = &res.points[q];
-      printf("%8.3f %10.6f %10.6f %9.5f %9.5f %9.5f %9.4f %9.4f %8.2f\n", a.rs.x[q], p->rms_pem, p->rms_time, p->sperling_pem,
-             p->sperling_time, p->sperling_welch, p->sperling_gb_pem, p->sperling_gb_welch, p->band_z_max);
+      printf("%8.3f %10.6f %10.6f %9.5f %9.5f %9.5f %9.4f %9.4f %8.2f\n", a.rs.x[q], p->rms_pem,
+             p->rms_time, p->sperling_pem, p->sperling_time, p->sperling_welch, p->sperling_gb_pem,
+             p->sperling_gb_welch, p->band_z_max);
     }
-    printf("1/3-octave bands: largest error %.1f%%, largest |error|/sigma %.2f (sigma from K averages)\n", 100 * emax, zmax);
+    printf("1/3-octave bands: largest error %.1f%%, largest |error|/sigma %.2f (sigma from K "
+           "averages)\n",
+           100 * emax, zmax);
     printf("simulated and analysed in %.3f s\n", secs);
-    printf("verdict: %s (RMS and Sperling within %g %% of the PEM at every point, every band within %g sigma)\n",
+    printf("verdict: %s (RMS and Sperling within %g %% of the PEM at every point, every band "
+           "within %g sigma)\n",
            pass ? "PASS" : "FAIL", 100 * VAL_REL_TOL, VAL_Z_TOL);
   }
   rr_validate_result_free(&res);

@@ -49,7 +49,8 @@ int cli_number(const char *opt, const char *arg, const char *unit, double *out)
   return 0;
 }
 
-int cli_number_in(const char *opt, const char *arg, const char *unit, double lo, double hi, double *out)
+int cli_number_in(const char *opt, const char *arg, const char *unit, double lo, double hi,
+                  double *out)
 {
   if (cli_number(opt, arg, unit, out)) return -1;
   if (!(*out >= lo && *out <= hi)) {
@@ -64,11 +65,17 @@ int cli_range(const char *opt, const char *arg, const char *unit, double *from, 
   char buf[256];
   snprintf(buf, sizeof buf, "%s", arg);
   char *a = strtok(buf, ":"), *b = strtok(NULL, ":"), *c = strtok(NULL, ":");
-  if (!a || !b || !c || strtok(NULL, ":")) { cli_bad("--%s: expected FROM:TO:N, got '%s'", opt, arg); return -1; }
+  if (!a || !b || !c || strtok(NULL, ":")) {
+    cli_bad("--%s: expected FROM:TO:N, got '%s'", opt, arg);
+    return -1;
+  }
   if (cli_number(opt, a, unit, from) || cli_number(opt, b, unit, to)) return -1;
   char *end;
   long k = strtol(c, &end, 10);
-  if (*end || k < 1 || k > 1000000) { cli_bad("--%s: N must be a whole number >= 1, got '%s'", opt, c); return -1; }
+  if (*end || k < 1 || k > 1000000) {
+    cli_bad("--%s: N must be a whole number >= 1, got '%s'", opt, c);
+    return -1;
+  }
   *n = (int)k;
   return 0;
 }
@@ -79,10 +86,16 @@ int cli_list(const char *opt, const char *arg, const char *unit, double *out, in
   snprintf(buf, sizeof buf, "%s", arg);
   *n = 0;
   for (char *t = strtok(buf, ","); t; t = strtok(NULL, ",")) {
-    if (*n >= cap) { cli_bad("--%s: more than %d values", opt, cap); return -1; }
+    if (*n >= cap) {
+      cli_bad("--%s: more than %d values", opt, cap);
+      return -1;
+    }
     if (cli_number(opt, t, unit, &out[(*n)++])) return -1;
   }
-  if (*n == 0) { cli_bad("--%s: empty list", opt); return -1; }
+  if (*n == 0) {
+    cli_bad("--%s: empty list", opt);
+    return -1;
+  }
   return 0;
 }
 
@@ -99,7 +112,10 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
     return 1;
   case OPT_CONICITY:
     if (cli_list("conicity", arg, "1", c->conicities, 64, &c->ncon)) return -1;
-    if (c->ncon > 1 && !c->conicity_list) { cli_bad("--conicity: one value expected, got '%s'", arg); return -1; }
+    if (c->ncon > 1 && !c->conicity_list) {
+      cli_bad("--conicity: one value expected, got '%s'", arg);
+      return -1;
+    }
     for (int i = 0; i < c->ncon; i++)
       if (!(c->conicities[i] >= 0 && c->conicities[i] <= RR_CONICITY_MAX)) {
         cli_bad("--conicity: must be within [0, %g] (got '%s')", RR_CONICITY_MAX, arg);
@@ -112,17 +128,29 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
   case OPT_FMAX: return cli_number_in("fmax", arg, "Hz", 1e-3, 1e6, &c->mo.fmax_hz) ? -1 : 1;
   case OPT_WMIN:
     if (cli_number("wmin", arg, "1", &c->mo.w_min)) return -1;
-    if (!(c->mo.w_min >= 0 && c->mo.w_min <= 1)) { cli_bad("--wmin: must be within 0..1"); return -1; }
+    if (!(c->mo.w_min >= 0 && c->mo.w_min <= 1)) {
+      cli_bad("--wmin: must be within 0..1");
+      return -1;
+    }
     return 1;
   case OPT_RMAX:
     if (cli_number("rmax", arg, "1", &c->mo.r_max)) return -1;
-    if (!(c->mo.r_max >= 0 && c->mo.r_max <= 1)) { cli_bad("--rmax: must be within 0..1"); return -1; }
+    if (!(c->mo.r_max >= 0 && c->mo.r_max <= 1)) {
+      cli_bad("--rmax: must be within 0..1");
+      return -1;
+    }
     return 1;
   case OPT_SDF:
-    if (!strcmp(arg, "none")) c->sdf_override = RR_SDF_NONE;
-    else if (!strcmp(arg, "paper")) c->sdf_override = RR_SDF_PAPER;
-    else if (!strcmp(arg, "physical")) c->sdf_override = RR_SDF_PHYSICAL;
-    else { cli_bad("--sdf: '%s' is not none, paper or physical", arg); return -1; }
+    if (!strcmp(arg, "none"))
+      c->sdf_override = RR_SDF_NONE;
+    else if (!strcmp(arg, "paper"))
+      c->sdf_override = RR_SDF_PAPER;
+    else if (!strcmp(arg, "physical"))
+      c->sdf_override = RR_SDF_PHYSICAL;
+    else {
+      cli_bad("--sdf: '%s' is not none, paper or physical", arg);
+      return -1;
+    }
     return 1;
   case OPT_GRAVITY: c->gravity = 1; return 1;
   case OPT_PROGRESS_ALL: c->progress = 1; return 1;
@@ -150,7 +178,8 @@ int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity)
   rr_error e;
   int st = rr_model_from_vehicle(&c->veh, m, &e);
   if (st) return cli_fail(&e, st);
-  if ((st = rr_model_set_operating(*m, (c->have_speed ? c->speed_kmh : CLI_SPEED_DEFAULT_KMH) / RR_KMH,
+  if ((st = rr_model_set_operating(*m,
+                                   (c->have_speed ? c->speed_kmh : CLI_SPEED_DEFAULT_KMH) / RR_KMH,
                                    c->have_conicity ? c->conicity : CLI_CONICITY_DEFAULT, &e))) {
     rr_model_free(*m);
     return cli_fail(&e, st);
@@ -161,7 +190,10 @@ int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity)
 void cli_json_print(cJSON *root)
 {
   char *s = cJSON_Print(root);
-  if (s) { fputs(s, stdout); fputc('\n', stdout); }
+  if (s) {
+    fputs(s, stdout);
+    fputc('\n', stdout);
+  }
   free(s);
   cJSON_Delete(root);
 }
@@ -169,52 +201,65 @@ void cli_json_print(cJSON *root)
 cJSON *cli_json_matrix(const double *A, int rows, int cols)
 {
   cJSON *arr = cJSON_CreateArray();
-  for (int i = 0; i < rows; i++) cJSON_AddItemToArray(arr, cJSON_CreateDoubleArray(A + (size_t)i * cols, cols));
+  for (int i = 0; i < rows; i++)
+    cJSON_AddItemToArray(arr, cJSON_CreateDoubleArray(A + (size_t)i * cols, cols));
   return arr;
 }
 
-static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
-                      void *user, const char *usage_text, int list);
+static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
+                      const struct option *extra, cli_extra_cb cb, void *user,
+                      const char *usage_text, int list);
 
 int cli_getopt_error(const char *cmd, int opt, const char *word)
 {
   if (opt == ':') return cli_bad("%s: option '%s' needs a value (see --help)", cmd, word);
-  if (optopt > 0 && optopt < 128 && isprint(optopt)) return cli_bad("%s: unknown option '-%c' (see --help)", cmd, optopt);
+  if (optopt > 0 && optopt < 128 && isprint(optopt))
+    return cli_bad("%s: unknown option '-%c' (see --help)", cmd, optopt);
   return cli_bad("%s: unknown option '%s' (see --help)", cmd, word);
 }
 
-int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
-              void *user, const char *usage_text)
+int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+              cli_extra_cb cb, void *user, const char *usage_text)
 {
   return parse_impl(argc, argv, c, reads, extra, cb, user, usage_text, 0);
 }
 
-int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
-                   void *user, const char *usage_text)
+int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+                   cli_extra_cb cb, void *user, const char *usage_text)
 {
   return parse_impl(argc, argv, c, reads, extra, cb, user, usage_text, 1);
 }
 
 /* The shared options' help lines, each with what reading it takes. */
-static const struct { unsigned reads; const char *text; } common_help[] = {
-  {0, "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n"},
-  {CLI_READS_SPEED, "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n"},
-  {CLI_READS_CONICITY, "  --conicity L         equivalent conicity\n"},
-  {CLI_READS_INDEX, "  --fmax HZ            highest frequency counted in the stability index (default 10)\n"},
-  {CLI_READS_INDEX, "  --wmin W             least wheelset energy share of a hunting mode (default 1e-3)\n"},
-  {CLI_READS_INDEX, "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n"},
-  {0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
-  {0, "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
-  {CLI_READS_JSON, "  --json               JSON output\n"},
-  {0, "  --progress           progress with an ETA on stderr even when it is not a terminal\n"},
-  {0, "  --help               this text\n"},
+static const struct {
+  unsigned reads;
+  const char *text;
+} common_help[] = {
+    {0,
+     "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n"},
+    {CLI_READS_SPEED, "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n"},
+    {CLI_READS_CONICITY, "  --conicity L         equivalent conicity\n"},
+    {CLI_READS_INDEX,
+     "  --fmax HZ            highest frequency counted in the stability index (default 10)\n"},
+    {CLI_READS_INDEX,
+     "  --wmin W             least wheelset energy share of a hunting mode (default 1e-3)\n"},
+    {CLI_READS_INDEX,
+     "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n"},
+    {0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
+    {0, "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
+    {CLI_READS_JSON, "  --json               JSON output\n"},
+    {0, "  --progress           progress with an ETA on stderr even when it is not a terminal\n"},
+    {0, "  --help               this text\n"},
 };
 
 /* The help text with the shared options the command reads where its marker is. */
 static void print_help(const char *text, unsigned reads)
 {
   const char *m = strstr(text, CLI_COMMON_HELP);
-  if (!m) { fputs(text, stdout); return; }
+  if (!m) {
+    fputs(text, stdout);
+    return;
+  }
   fwrite(text, 1, (size_t)(m - text), stdout);
   for (size_t i = 0; i < sizeof common_help / sizeof common_help[0]; i++)
     if ((common_help[i].reads & reads) == common_help[i].reads) fputs(common_help[i].text, stdout);
@@ -234,13 +279,16 @@ static unsigned reads_of(int opt)
   case OPT_SPEED: return CLI_READS_SPEED;
   case OPT_CONICITY: return CLI_READS_CONICITY;
   case OPT_JSON: return CLI_READS_JSON;
-  case OPT_FMAX: case OPT_WMIN: case OPT_RMAX: return CLI_READS_INDEX;
+  case OPT_FMAX:
+  case OPT_WMIN:
+  case OPT_RMAX: return CLI_READS_INDEX;
   }
   return 0;
 }
 
-static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra, cli_extra_cb cb,
-                      void *user, const char *usage_text, int list)
+static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
+                      const struct option *extra, cli_extra_cb cb, void *user,
+                      const char *usage_text, int list)
 {
   static const struct option common[] = {CLI_COMMON_OPTIONS};
   struct option opts[64];
@@ -254,10 +302,14 @@ static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, cons
   opterr = 0;
   int opt;
   while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
-    if (opt == 'h' || opt == OPT_HELP) { print_help(usage_text, reads); return CLI_HELP_SHOWN; }
+    if (opt == 'h' || opt == OPT_HELP) {
+      print_help(usage_text, reads);
+      return CLI_HELP_SHOWN;
+    }
     if (opt == ':' || opt == '?') return cli_getopt_error(argv[0], opt, argv[optind - 1]);
     if (reads_of(opt) && !(reads_of(opt) & reads))
-      return cli_bad("%s: option '--%s' is not one this command reads (see --help)", argv[0], opt_name(opts, opt));
+      return cli_bad("%s: option '--%s' is not one this command reads (see --help)", argv[0],
+                     opt_name(opts, opt));
     int r = cli_common_option(c, opt, optarg);
     if (r < 0) return EXIT_BADINPUT;
     if (r == 1) continue;
@@ -286,9 +338,12 @@ static void unit_suffix(const char *unit, char *out, size_t cap)
 {
   size_t k = 0;
   for (const char *p = unit; *p && k + 6 < cap; p++) {
-    if (*p == '/') k += (size_t)snprintf(out + k, cap - k, "_per_");
-    else if (*p == '.' || *p == ' ') out[k++] = '_';
-    else if (*p != '^') out[k++] = (char)tolower((unsigned char)*p);
+    if (*p == '/')
+      k += (size_t)snprintf(out + k, cap - k, "_per_");
+    else if (*p == '.' || *p == ' ')
+      out[k++] = '_';
+    else if (*p != '^')
+      out[k++] = (char)tolower((unsigned char)*p);
   }
   out[k] = 0;
   if (!strcmp(out, "1")) out[0] = 0;
@@ -308,7 +363,8 @@ int cli_limit(const char *arg, double *limit)
   char *end;
   errno = 0;
   double v = strtod(arg, &end);
-  if (end == arg || *end || errno || !(v >= 1 && v <= 1e15)) return cli_bad("--limit: a number from 1 to 1e15 expected, got '%s'", arg);
+  if (end == arg || *end || errno || !(v >= 1 && v <= 1e15))
+    return cli_bad("--limit: a number from 1 to 1e15 expected, got '%s'", arg);
   *limit = v;
   return 0;
 }
@@ -316,17 +372,24 @@ int cli_limit(const char *arg, double *limit)
 int cli_over_limit(const char *cmd, double work, double limit, const char *unit)
 {
   if (work <= limit) return 0;
-  return cli_bad("%s: %.4g %s exceed the limit of %.4g (raise it with --limit N)", cmd, work, unit, limit);
+  return cli_bad("%s: %.4g %s exceed the limit of %.4g (raise it with --limit N)", cmd, work, unit,
+                 limit);
 }
 
 void cli_csv_num(FILE *fp, double x, char sep)
 {
-  if (isfinite(x)) fprintf(fp, "%.10g%c", x, sep);
-  else fputc(sep, fp);
+  if (isfinite(x))
+    fprintf(fp, "%.10g%c", x, sep);
+  else
+    fputc(sep, fp);
 }
 
 static volatile sig_atomic_t stop_flag;
-static void on_stop(int sig) { (void)sig; stop_flag = 1; }
+static void on_stop(int sig)
+{
+  (void)sig;
+  stop_flag = 1;
+}
 
 void cli_catch_stops(void)
 {
@@ -349,8 +412,11 @@ double cli_now_s(void)
 
 void cli_progress_start(cli_progress *p, const char *what, long total, int force)
 {
-  *p = (cli_progress){.what = what, .total = total, .t0 = cli_now_s(),
-                      .show = (force || isatty(STDERR_FILENO)) && cli_par_rank() == 0};   /* one progress line per job */
+  *p = (cli_progress){.what = what,
+                      .total = total,
+                      .t0 = cli_now_s(),
+                      .show = (force || isatty(STDERR_FILENO)) &&
+                              cli_par_rank() == 0}; /* one progress line per job */
   p->last = p->t0;
 }
 
@@ -361,7 +427,8 @@ void cli_progress_step(cli_progress *p, long n)
   if (!p->show || (now - p->last < 0.25 && p->done < p->total)) return;
   p->last = now;
   double eta = p->done ? (now - p->t0) / p->done * (p->total - p->done) : 0;
-  fprintf(stderr, "\r%s: %ld/%ld (%.0f%%)  ETA %.0f s   ", p->what, p->done, p->total, 100.0 * p->done / p->total, eta);
+  fprintf(stderr, "\r%s: %ld/%ld (%.0f%%)  ETA %.0f s   ", p->what, p->done, p->total,
+          100.0 * p->done / p->total, eta);
 }
 
 static int progress_hook(void *user, long done, long total)
@@ -372,10 +439,14 @@ static int progress_hook(void *user, long done, long total)
   return cli_stopped();
 }
 
-rr_progress cli_progress_hook(cli_progress *p) { return (rr_progress){.fn = progress_hook, .user = p}; }
+rr_progress cli_progress_hook(cli_progress *p)
+{
+  return (rr_progress){.fn = progress_hook, .user = p};
+}
 
 void cli_progress_end(cli_progress *p)
 {
-  if (p->show) fprintf(stderr, "\r%s: %ld/%ld in %.1f s%s\n", p->what, p->done, p->total, cli_now_s() - p->t0,
-                       p->done < p->total ? " (stopped)" : "             ");
+  if (p->show)
+    fprintf(stderr, "\r%s: %ld/%ld in %.1f s%s\n", p->what, p->done, p->total, cli_now_s() - p->t0,
+            p->done < p->total ? " (stopped)" : "             ");
 }

@@ -7,33 +7,39 @@
 
 void openblas_set_num_threads(int);
 
-static const struct { const char *name; int (*fn)(int, char **); const char *what; } cmds[] = {
-  {"summary", cmd_summary, "stability summary of a vehicle (the main job)"},
-  {"matrices", cmd_matrices, "M, C, K, B, Maxwell rows and the state matrix A"},
-  {"modes", cmd_modes, "eigenvalues, stability indices, energy shares"},
-  {"robust", cmd_robust, "robust stability indices zeta_low, zeta_high, std(zeta)"},
-  {"critical-speed", cmd_critical, "lowest speed where the stability index reaches 0"},
-  {"locus", cmd_locus, "root locus over speed or conicity (CSV)"},
-  {"map", cmd_map, "stability index over a (speed, conicity) grid (CSV)"},
-  {"damper", cmd_damper, "Maxwell damper characteristics over frequency (CSV)"},
-  {"ride", cmd_ride, "ride comfort by PEM: acceleration PSD, Sperling, Wd RMS"},
-  {"frf", cmd_frf, "complex FRFs of carbody acceleration per wheelset input (CSV)"},
-  {"validate", cmd_validate, "PEM against FFTs of a time-domain run (RMS, Sperling, band PSDs)"},
-  {"optimise", cmd_optimise, "NSGA-II over a problem file (Pareto set and front as CSV)"},
-  {"optimize", cmd_optimise, "(same as optimise)"},
-  {"sweep", cmd_sweep, "any objective over a grid of two vehicle-file keys (CSV)"},
-  {"simulate", cmd_simulate, "time histories of the nonlinear vehicle (CSV)"},
-  {"bifurcation", cmd_bifurcation, "hunting limit cycles against speed: Hopf, folds, stability"},
-  {"compare", cmd_compare, "SDF vs constant series stiffness: stability and Sperling over conicity"},
-  {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings"},
-  {"objectives", cmd_objectives, "the objective names of problem files and sweeps"},
+static const struct {
+  const char *name;
+  int (*fn)(int, char **);
+  const char *what;
+} cmds[] = {
+    {"summary", cmd_summary, "stability summary of a vehicle (the main job)"},
+    {"matrices", cmd_matrices, "M, C, K, B, Maxwell rows and the state matrix A"},
+    {"modes", cmd_modes, "eigenvalues, stability indices, energy shares"},
+    {"robust", cmd_robust, "robust stability indices zeta_low, zeta_high, std(zeta)"},
+    {"critical-speed", cmd_critical, "lowest speed where the stability index reaches 0"},
+    {"locus", cmd_locus, "root locus over speed or conicity (CSV)"},
+    {"map", cmd_map, "stability index over a (speed, conicity) grid (CSV)"},
+    {"damper", cmd_damper, "Maxwell damper characteristics over frequency (CSV)"},
+    {"ride", cmd_ride, "ride comfort by PEM: acceleration PSD, Sperling, Wd RMS"},
+    {"frf", cmd_frf, "complex FRFs of carbody acceleration per wheelset input (CSV)"},
+    {"validate", cmd_validate, "PEM against FFTs of a time-domain run (RMS, Sperling, band PSDs)"},
+    {"optimise", cmd_optimise, "NSGA-II over a problem file (Pareto set and front as CSV)"},
+    {"optimize", cmd_optimise, "(same as optimise)"},
+    {"sweep", cmd_sweep, "any objective over a grid of two vehicle-file keys (CSV)"},
+    {"simulate", cmd_simulate, "time histories of the nonlinear vehicle (CSV)"},
+    {"bifurcation", cmd_bifurcation, "hunting limit cycles against speed: Hopf, folds, stability"},
+    {"compare", cmd_compare,
+     "SDF vs constant series stiffness: stability and Sperling over conicity"},
+    {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings"},
+    {"objectives", cmd_objectives, "the objective names of problem files and sweeps"},
 };
 #define NCMDS (int)(sizeof cmds / sizeof cmds[0])
 
 /* The commands whose loops split over MPI ranks (cli_par_for). */
 static int distributed(const char *name)
 {
-  static const char *const names[] = {"optimise", "optimize", "sweep", "map", "critical-speed", "locus"};
+  static const char *const names[] = {"optimise", "optimize",       "sweep",
+                                      "map",      "critical-speed", "locus"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
     if (!strcmp(name, names[i])) return 1;
   return 0;
@@ -41,7 +47,8 @@ static int distributed(const char *name)
 
 static void usage(FILE *fp)
 {
-  fprintf(fp, "usage: railride COMMAND [VEHICLE] [options]   (railride COMMAND --help; railride --version)\n\ncommands:\n");
+  fprintf(fp, "usage: railride COMMAND [VEHICLE] [options]   (railride COMMAND --help; railride "
+              "--version)\n\ncommands:\n");
   for (int i = 0; i < NCMDS; i++) fprintf(fp, "  %-15s %s\n", cmds[i].name, cmds[i].what);
 }
 
@@ -49,14 +56,24 @@ static int run(int argc, char **argv)
 {
   /* Problems here are small (40x40): BLAS threads only cost. */
   openblas_set_num_threads(1);
-  if (argc < 2) { usage(stderr); return EXIT_BADINPUT; }
-  if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) { usage(stdout); return 0; }
-  if (!strcmp(argv[1], "--version")) { printf("railride %s (library %s)\n", RR_VERSION_STRING, rr_version()); return 0; }
+  if (argc < 2) {
+    usage(stderr);
+    return EXIT_BADINPUT;
+  }
+  if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+    usage(stdout);
+    return 0;
+  }
+  if (!strcmp(argv[1], "--version")) {
+    printf("railride %s (library %s)\n", RR_VERSION_STRING, rr_version());
+    return 0;
+  }
   for (int i = 0; i < NCMDS; i++)
     if (!strcmp(argv[1], cmds[i].name)) {
-      if (cli_par_size() > 1 && !distributed(cmds[i].name)) {   /* one rank is enough */
+      if (cli_par_size() > 1 && !distributed(cmds[i].name)) { /* one rank is enough */
         if (cli_par_rank() != 0) return 0;
-        fprintf(stderr, "railride %s: not distributed over MPI ranks; rank 0 runs it alone\n", cmds[i].name);
+        fprintf(stderr, "railride %s: not distributed over MPI ranks; rank 0 runs it alone\n",
+                cmds[i].name);
       }
       int handled, r = cli_plot_run(cmds[i].name, cmds[i].fn, argc - 1, argv + 1, &handled);
       return handled ? r : cmds[i].fn(argc - 1, argv + 1);

@@ -16,10 +16,10 @@
 
 typedef struct par_state {
   int rank, size, mpi;
-  double busy_s, wait_s;   /* inside fn; fetching, waiting for the others and exchanging */
+  double busy_s, wait_s; /* inside fn; fetching, waiting for the others and exchanging */
   long items;
 #ifdef RR_HAVE_MPI
-  MPI_Win win;             /* the shared counter: one long on rank 0 */
+  MPI_Win win; /* the shared counter: one long on rank 0 */
   long *counter;
 #endif
 } par_state;
@@ -47,15 +47,17 @@ void cli_par_init(int *argc, char ***argv)
   par.mpi = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &par.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &par.size);
-  MPI_Win_allocate(par.rank == 0 ? (MPI_Aint)sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &par.counter,
-                   &par.win);
+  MPI_Win_allocate(par.rank == 0 ? (MPI_Aint)sizeof(long) : 0, sizeof(long), MPI_INFO_NULL,
+                   MPI_COMM_WORLD, &par.counter, &par.win);
   if (par.rank == 0) *par.counter = 0;
   MPI_Win_lock_all(0, par.win);
   MPI_Barrier(MPI_COMM_WORLD);
-  if (par.rank != 0 && !freopen("/dev/null", "w", stdout)) fclose(stdout);   /* rank 0 alone writes */
+  if (par.rank != 0 && !freopen("/dev/null", "w", stdout)) fclose(stdout); /* rank 0 alone writes */
 #else
-  (void)argc; (void)argv;
-  if (under_launcher() && getenv("OMPI_COMM_WORLD_RANK") && atoi(getenv("OMPI_COMM_WORLD_RANK")) == 0)
+  (void)argc;
+  (void)argv;
+  if (under_launcher() && getenv("OMPI_COMM_WORLD_RANK") &&
+      atoi(getenv("OMPI_COMM_WORLD_RANK")) == 0)
     fprintf(stderr, "railride: built without MPI (RAILRIDE_MPI): every rank runs the whole job\n");
 #endif
 }
@@ -64,7 +66,8 @@ int cli_par_finalize(int status)
 {
 #ifdef RR_HAVE_MPI
   if (!par.mpi) return status;
-  double mine[2] = {par.busy_s, par.wait_s}, *all = par.rank == 0 ? malloc(sizeof(double) * 2 * (size_t)par.size) : NULL;
+  double mine[2] = {par.busy_s, par.wait_s},
+         *all = par.rank == 0 ? malloc(sizeof(double) * 2 * (size_t)par.size) : NULL;
   MPI_Gather(mine, 2, MPI_DOUBLE, all, 2, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   if (par.rank == 0 && all && par.items > 0) {
     fprintf(stderr, "railride: %d MPI ranks; busy s per rank:", par.size);
@@ -100,8 +103,8 @@ int cli_par_any_stopped(void)
 }
 
 /* One process: the chunks in order. */
-static int for_serial(long n, long chunk, size_t item_bytes, cli_par_fn fn, void *user, char *results,
-                      unsigned char *done, cli_progress *pr)
+static int for_serial(long n, long chunk, size_t item_bytes, cli_par_fn fn, void *user,
+                      char *results, unsigned char *done, cli_progress *pr)
 {
   for (long lo = 0; lo < n; lo += chunk) {
     if (done && cli_stopped()) break;
@@ -119,22 +122,31 @@ static int for_serial(long n, long chunk, size_t item_bytes, cli_par_fn fn, void
 
 #ifdef RR_HAVE_MPI
 /* Every rank's chunks (lo, hi pairs) and their results to every rank. */
-static int exchange(long nmine, const long *mine, size_t item_bytes, char *results, unsigned char *done)
+static int exchange(long nmine, const long *mine, size_t item_bytes, char *results,
+                    unsigned char *done)
 {
-  int size = par.size, *cnt = malloc(sizeof(int) * 2 * (size_t)size), *disp = cnt ? cnt + size : NULL;
+  int size = par.size, *cnt = malloc(sizeof(int) * 2 * (size_t)size),
+      *disp = cnt ? cnt + size : NULL;
   int nm = (int)nmine;
   if (!cnt) return cli_bad("out of memory");
   MPI_Allgather(&nm, 1, MPI_INT, cnt, 1, MPI_INT, MPI_COMM_WORLD);
   long total = 0;
-  for (int r = 0; r < size; r++) { disp[r] = (int)(2 * total); total += cnt[r]; }
+  for (int r = 0; r < size; r++) {
+    disp[r] = (int)(2 * total);
+    total += cnt[r];
+  }
   long *all = malloc(sizeof(long) * 2 * (size_t)(total ? total : 1));
   int *c2 = malloc(sizeof(int) * (size_t)size);
   size_t mybytes = 0;
   for (long k = 0; k < nmine; k++) mybytes += (size_t)(mine[2 * k + 1] - mine[2 * k]) * item_bytes;
   char *pack = malloc(mybytes ? mybytes : 1);
   if (!all || !c2 || !pack || mybytes > (size_t)2147483647) {
-    free(cnt); free(all); free(c2); free(pack);
-    return cli_bad("MPI: the results exchange needs %zu bytes from one rank (at most 2 GB)", mybytes);
+    free(cnt);
+    free(all);
+    free(c2);
+    free(pack);
+    return cli_bad("MPI: the results exchange needs %zu bytes from one rank (at most 2 GB)",
+                   mybytes);
   }
   for (int r = 0; r < size; r++) c2[r] = 2 * cnt[r];
   MPI_Allgatherv(mine, 2 * nm, MPI_LONG, all, c2, disp, MPI_LONG, MPI_COMM_WORLD);
@@ -157,23 +169,29 @@ static int exchange(long nmine, const long *mine, size_t item_bytes, char *resul
   }
   if (bc && tb <= (size_t)2147483647) recv = malloc(tb ? tb : 1);
   int st = 0;
-  if (!recv) st = cli_bad("MPI: the results exchange needs %zu bytes (at most 2 GB)", tb);
+  if (!recv)
+    st = cli_bad("MPI: the results exchange needs %zu bytes (at most 2 GB)", tb);
   else {
     MPI_Allgatherv(pack, (int)mybytes, MPI_BYTE, recv, bc, bd, MPI_BYTE, MPI_COMM_WORLD);
     off = 0;
-    for (long k = 0; k < total; k++) {   /* the chunks in rank order, as packed */
+    for (long k = 0; k < total; k++) { /* the chunks in rank order, as packed */
       size_t b = (size_t)(all[2 * k + 1] - all[2 * k]) * item_bytes;
       memcpy(results + (size_t)all[2 * k] * item_bytes, recv + off, b);
       if (done) memset(done + all[2 * k], 1, (size_t)(all[2 * k + 1] - all[2 * k]));
       off += b;
     }
   }
-  free(cnt); free(all); free(c2); free(pack); free(bc); free(recv);
+  free(cnt);
+  free(all);
+  free(c2);
+  free(pack);
+  free(bc);
+  free(recv);
   return st;
 }
 
-static int for_mpi(long n, size_t item_bytes, cli_par_fn fn, void *user, char *results, unsigned char *done,
-                   cli_progress *pr)
+static int for_mpi(long n, size_t item_bytes, cli_par_fn fn, void *user, char *results,
+                   unsigned char *done, cli_progress *pr)
 {
   long chunk = n / ((long)par.size * PAR_CHUNKS_PER_RANK);
   if (chunk < 1) chunk = 1;
@@ -191,14 +209,18 @@ static int for_mpi(long n, size_t item_bytes, cli_par_fn fn, void *user, char *r
     busy += cli_now_s() - t1;
     if (nmine == cap) {
       long *m2 = realloc(mine, sizeof(long) * 4 * (size_t)cap);
-      if (!m2) { st = cli_bad("out of memory"); break; }
+      if (!m2) {
+        st = cli_bad("out of memory");
+        break;
+      }
       mine = m2;
       cap *= 2;
     }
     mine[2 * nmine] = lo;
     mine[2 * nmine + 1] = hi;
     nmine++;
-    if (pr && hi > pr->done) cli_progress_step(pr, hi - pr->done);   /* the counter's position: all ranks' work */
+    if (pr && hi > pr->done)
+      cli_progress_step(pr, hi - pr->done); /* the counter's position: all ranks' work */
   }
   /* every rank is past its last fetch: rank 0 resets the counter for the
      next loop before the exchange lets anyone start one */
@@ -218,8 +240,8 @@ static int for_mpi(long n, size_t item_bytes, cli_par_fn fn, void *user, char *r
 }
 #endif
 
-int cli_par_for(long n, long chunk, size_t item_bytes, cli_par_fn fn, void *user, void *results, unsigned char *done,
-                cli_progress *pr)
+int cli_par_for(long n, long chunk, size_t item_bytes, cli_par_fn fn, void *user, void *results,
+                unsigned char *done, cli_progress *pr)
 {
   if (pr && par.rank != 0) pr = NULL;
 #ifdef RR_HAVE_MPI

@@ -31,8 +31,8 @@ typedef int (*cli_par_fn)(void *user, long lo, long hi, void *out);
    done (n, may be NULL): 1 for the items computed (a Ctrl-C leaves the
    rest 0). pr (may be NULL): progress, shown by rank 0. Returns 0 or the
    first error status of fn on any rank. */
-int cli_par_for(long n, long chunk, size_t item_bytes, cli_par_fn fn, void *user, void *results, unsigned char *done,
-                cli_progress *pr);
+int cli_par_for(long n, long chunk, size_t item_bytes, cli_par_fn fn, void *user, void *results,
+                unsigned char *done, cli_progress *pr);
 
 /* The largest of every rank's status (a collective): a check that only
    rank 0 makes (its output files) ends the job on every rank. */

@@ -20,9 +20,9 @@
    arguments that make it CSV), or a file named by one of its options. */
 typedef struct plot_kind {
   const char *cmd;
-  const char *extra;         /* argument appended to get CSV on stdout, or NULL */
-  const char *file_option;   /* the option that writes the data file, or NULL */
-  int grid;                  /* rows on a grid over the first two columns (a map); 2: when --y is given */
+  const char *extra;       /* argument appended to get CSV on stdout, or NULL */
+  const char *file_option; /* the option that writes the data file, or NULL */
+  int grid; /* rows on a grid over the first two columns (a map); 2: when --y is given */
   void (*script)(FILE *gp, const char *data, int argc, char **argv);
 } plot_kind;
 
@@ -42,24 +42,28 @@ static int has_arg(int argc, char **argv, const char *opt)
 
 static void script_damper(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc; (void)argv;
-  fprintf(gp, "set title 'Maxwell damper: dynamic stiffness over frequency'\n"
-              "set logscale x; set xlabel 'frequency (Hz)'; set ylabel 'stiffness (N/m)'\n"
-              "set y2label 'dissipation factor loss/storage'; set y2tics; set ytics nomirror\n"
-              "plot '%s' u 'freq_hz':'storage_n_per_m' w l lw 2 t 'storage', "
-              "'' u 'freq_hz':'loss_n_per_m' w l lw 2 t 'loss', "
-              "'' u 'freq_hz':'dissipation' axes x1y2 w l lw 2 dt 2 t 'dissipation (right)'\n", d);
+  (void)argc;
+  (void)argv;
+  fprintf(gp,
+          "set title 'Maxwell damper: dynamic stiffness over frequency'\n"
+          "set logscale x; set xlabel 'frequency (Hz)'; set ylabel 'stiffness (N/m)'\n"
+          "set y2label 'dissipation factor loss/storage'; set y2tics; set ytics nomirror\n"
+          "plot '%s' u 'freq_hz':'storage_n_per_m' w l lw 2 t 'storage', "
+          "'' u 'freq_hz':'loss_n_per_m' w l lw 2 t 'loss', "
+          "'' u 'freq_hz':'dissipation' axes x1y2 w l lw 2 dt 2 t 'dissipation (right)'\n",
+          d);
 }
 
 static void script_locus(FILE *gp, const char *d, int argc, char **argv)
 {
   const char *over = arg_after(argc, argv, "--over");
   int by_conicity = over && !strcmp(over, "conicity");
-  fprintf(gp, "set title 'Root locus over %s'\n"
-              "set xlabel 'real part (1/s)'; set ylabel 'frequency (Hz)'; set cblabel '%s'\n"
-              "set xzeroaxis; set yzeroaxis; set palette rgb 33,13,10\n"
-              "set arrow from 0, graph 0 to 0, graph 1 nohead dt 2 lw 1.5\n"
-              "plot '%s' u 'real_per_s':'freq_hz':'%s' w p pt 7 ps 0.6 palette notitle\n",
+  fprintf(gp,
+          "set title 'Root locus over %s'\n"
+          "set xlabel 'real part (1/s)'; set ylabel 'frequency (Hz)'; set cblabel '%s'\n"
+          "set xzeroaxis; set yzeroaxis; set palette rgb 33,13,10\n"
+          "set arrow from 0, graph 0 to 0, graph 1 nohead dt 2 lw 1.5\n"
+          "plot '%s' u 'real_per_s':'freq_hz':'%s' w p pt 7 ps 0.6 palette notitle\n",
           by_conicity ? "conicity" : "speed", by_conicity ? "conicity" : "speed (km/h)", d,
           by_conicity ? "conicity" : "speed_kmh");
 }
@@ -68,45 +72,58 @@ static void script_locus(FILE *gp, const char *d, int argc, char **argv)
    rows, see gridded()), interpolated, with the zero contour drawn when the
    values cross zero (a stability index: blue stable, red unstable, white 0).
    overlay: a further splot clause drawn as a zero contour, or "". */
-static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const char *yl, const char *zl,
-                       const char *title, int centred, const char *overlay)
+static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const char *yl,
+                       const char *zl, const char *title, int centred, const char *overlay)
 {
-  fprintf(gp, "set title \"%s\"\nset xlabel \"%s\"; set ylabel \"%s\"; set cblabel \"%s\"\n"
-              "stats '%s' u %d nooutput\n", title, xl, yl, zl, d, zcol);
+  fprintf(gp,
+          "set title \"%s\"\nset xlabel \"%s\"; set ylabel \"%s\"; set cblabel \"%s\"\n"
+          "stats '%s' u %d nooutput\n",
+          title, xl, yl, zl, d, zcol);
   if (centred)
-    fprintf(gp, "m = (abs(STATS_min) > abs(STATS_max)) ? abs(STATS_min) : abs(STATS_max)\nset cbrange [-m:m]\n"
+    fprintf(gp, "m = (abs(STATS_min) > abs(STATS_max)) ? abs(STATS_min) : abs(STATS_max)\nset "
+                "cbrange [-m:m]\n"
                 "set palette defined (0 '#2166ac', 0.5 '#f7f7f7', 1 '#b2182b')\n"
                 "set contour base; set cntrparam levels discrete 0\n");
-  else fprintf(gp, "set palette rgb 33,13,10\nset contour base; set cntrparam levels auto 8\n");
-  fprintf(gp, "set pm3d map interpolate 4,4; set cntrlabel onecolor; set key opaque\n"
-              "splot '%s' u 1:2:%d w pm3d notitle, '' u 1:2:%d w l nosurface lw %s lc 'black' %s%s\n",
+  else
+    fprintf(gp, "set palette rgb 33,13,10\nset contour base; set cntrparam levels auto 8\n");
+  fprintf(gp,
+          "set pm3d map interpolate 4,4; set cntrlabel onecolor; set key opaque\n"
+          "splot '%s' u 1:2:%d w pm3d notitle, '' u 1:2:%d w l nosurface lw %s lc 'black' %s%s\n",
           d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle", overlay);
 }
 
 static void script_map(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc; (void)argv;
-  map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index", "Vehicle stability index (negative is stable)", 1, "");
+  (void)argc;
+  (void)argv;
+  map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index",
+             "Vehicle stability index (negative is stable)", 1, "");
 }
 
 /* An axis label: the key with its SI unit, "speed (km/h)", "conicity". */
 static void axis_label(const char *key, char *out, size_t n)
 {
   const rr_vehicle_key *k = rr_vehicle_key_find(key);
-  if (!strcmp(key, "speed")) snprintf(out, n, "speed (km/h)");
-  else if (k && k->si_unit && strcmp(k->si_unit, "1")) snprintf(out, n, "%s (%s)", key, k->si_unit);
-  else snprintf(out, n, "%s", key);
+  if (!strcmp(key, "speed"))
+    snprintf(out, n, "speed (km/h)");
+  else if (k && k->si_unit && strcmp(k->si_unit, "1"))
+    snprintf(out, n, "%s (%s)", key, k->si_unit);
+  else
+    snprintf(out, n, "%s", key);
 }
 
 static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
 {
-  const char *x = arg_after(argc, argv, "--x"), *y = arg_after(argc, argv, "--y"), *o = arg_after(argc, argv, "--objective");
+  const char *x = arg_after(argc, argv, "--x"), *y = arg_after(argc, argv, "--y"),
+             *o = arg_after(argc, argv, "--objective");
   char xk[128] = "x", yk[128] = "y", xl[160], yl[160], title[256];
   if (x) snprintf(xk, sizeof xk, "%.*s", (int)strcspn(x, "="), x);
   axis_label(xk, xl, sizeof xl);
-  if (!y) {   /* one axis: the objective (and its mode's frequency) along it */
-    fprintf(gp, "set title \"%s along %s\"\nset xlabel \"%s\"; set ylabel \"%s\"\n"
-                "plot '%s' u 1:2 w lp pt 7 ps 0.6 lw 2 notitle\n", o ? o : "objective", xk, xl, o ? o : "objective", d);
+  if (!y) { /* one axis: the objective (and its mode's frequency) along it */
+    fprintf(gp,
+            "set title \"%s along %s\"\nset xlabel \"%s\"; set ylabel \"%s\"\n"
+            "plot '%s' u 1:2 w lp pt 7 ps 0.6 lw 2 notitle\n",
+            o ? o : "objective", xk, xl, o ? o : "objective", d);
     return;
   }
   snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
@@ -117,10 +134,13 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
      writes k_opt = c 2 pi f (column 5) of the mode that sets the index; the
      line k = c w is where the stiffness axis equals it (paper Fig. 10) */
   char overlay[160] = "";
-  int kx = !strcmp(xk, "yaw_damper.series_stiffness"), ky = !strcmp(yk, "yaw_damper.series_stiffness");
+  int kx = !strcmp(xk, "yaw_damper.series_stiffness"),
+      ky = !strcmp(yk, "yaw_damper.series_stiffness");
   int cx = !strcmp(xk, "yaw_damper.damping"), cy = !strcmp(yk, "yaw_damper.damping");
   if (o && !strncmp(o, "index", 5) && ((kx && cy) || (ky && cx)))
-    snprintf(overlay, sizeof overlay, ", '' u 1:2:($%d - $5) w l nosurface lw 2 dt 2 lc 'dark-green' t 'k = c w'", kx ? 1 : 2);
+    snprintf(overlay, sizeof overlay,
+             ", '' u 1:2:($%d - $5) w l nosurface lw 2 dt 2 lc 'dark-green' t 'k = c w'",
+             kx ? 1 : 2);
   map_script(gp, d, 3, xl, yl, o ? o : "objective", title, centred, overlay);
 }
 
@@ -128,73 +148,99 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
    weighting |B(f)|^2 (the last column) that the index applies to them. */
 static void script_psd(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc; (void)argv;
-  fprintf(gp, "set title 'Carbody floor lateral acceleration PSD (PEM) and the Sperling weighting'\n"
-              "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set format y '%%.0e'\n"
-              "set logscale y2; set y2label 'Sperling weighting |B(f)|^2'; set y2tics; set ytics nomirror; set key below\n"
-              "stats '%s' skip 1 nooutput; n = STATS_columns\n"
-              "plot for [i=2:n-1] '%s' u 1:i w l lw 2 t columnhead(i), "
-              "'' u 1:n axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'Sperling weighting (right)'\n", d, d);
+  (void)argc;
+  (void)argv;
+  fprintf(gp,
+          "set title 'Carbody floor lateral acceleration PSD (PEM) and the Sperling weighting'\n"
+          "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
+          "format y '%%.0e'\n"
+          "set logscale y2; set y2label 'Sperling weighting |B(f)|^2'; set y2tics; set ytics "
+          "nomirror; set key below\n"
+          "stats '%s' skip 1 nooutput; n = STATS_columns\n"
+          "plot for [i=2:n-1] '%s' u 1:i w l lw 2 t columnhead(i), "
+          "'' u 1:n axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'Sperling weighting (right)'\n",
+          d, d);
 }
 
 /* Welch PSDs of the time run, the PEM expectation, and around the PEM the
    +-2 sigma band a Welch bin spreads over (the last column, relative). */
 static void script_validate(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc; (void)argv;
-  fprintf(gp, "set title 'Time-domain run (Welch) against the PEM (band: 2 sigma of a Welch bin)'\n"
-              "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set format y '%%.0e'\n"
-              "stats '%s' skip 1 nooutput; n = (STATS_columns - 2) / 2; s = STATS_columns\n"
-              "set style fill transparent solid 0.25 noborder; set xrange [0.25:35]; set key below\n"
-              "pos(v) = v > 0 ? v : 1/0\n"
-              "stats '%s' u (pos(column(2 + n))) nooutput; set yrange [STATS_min / 10:*]\n"
-              "plot for [i=2+n:1+2*n] '%s' u 1:(pos(column(i) * (1 - 2 * column(s)))):(pos(column(i) * (1 + 2 * column(s)))) "
-              "w filledcurves lc i-n-1 notitle, "
-              "for [i=2:1+n] '' u 1:(pos(column(i))) w l lw 1 lc i-1 t columnhead(i), "
-              "for [i=2+n:1+2*n] '' u 1:(pos(column(i))) w l lw 2.5 dt 2 lc i-n-1 t columnhead(i)\n", d, d, d);
+  (void)argc;
+  (void)argv;
+  fprintf(gp,
+          "set title 'Time-domain run (Welch) against the PEM (band: 2 sigma of a Welch bin)'\n"
+          "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
+          "format y '%%.0e'\n"
+          "stats '%s' skip 1 nooutput; n = (STATS_columns - 2) / 2; s = STATS_columns\n"
+          "set style fill transparent solid 0.25 noborder; set xrange [0.25:35]; set key below\n"
+          "pos(v) = v > 0 ? v : 1/0\n"
+          "stats '%s' u (pos(column(2 + n))) nooutput; set yrange [STATS_min / 10:*]\n"
+          "plot for [i=2+n:1+2*n] '%s' u 1:(pos(column(i) * (1 - 2 * column(s)))):(pos(column(i) * "
+          "(1 + 2 * column(s)))) "
+          "w filledcurves lc i-n-1 notitle, "
+          "for [i=2:1+n] '' u 1:(pos(column(i))) w l lw 1 lc i-1 t columnhead(i), "
+          "for [i=2+n:1+2*n] '' u 1:(pos(column(i))) w l lw 2.5 dt 2 lc i-n-1 t columnhead(i)\n",
+          d, d, d);
 }
 
 static void script_compare(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc; (void)argv;
-  fprintf(gp, "set datafile separator ','\nset multiplot layout 1,2 title 'Yaw damper: SDF against constant series stiffness'\n"
-              "set xlabel 'conicity'; set ylabel 'stability index'; set key bottom\n"
-              "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):3 w lp lw 2 t v.' constant', "
-              "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):4 w lp lw 2 dt 2 t v.' SDF'\n"
-              "set ylabel 'Sperling index W'; set key top left\n"
-              "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):5 w lp lw 2 t v.' constant', "
-              "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):6 w lp lw 2 dt 2 t v.' SDF'\n"
-              "unset multiplot\n", d, d);
+  (void)argc;
+  (void)argv;
+  fprintf(
+      gp,
+      "set datafile separator ','\nset multiplot layout 1,2 title 'Yaw damper: SDF against "
+      "constant series stiffness'\n"
+      "set xlabel 'conicity'; set ylabel 'stability index'; set key bottom\n"
+      "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):3 w lp lw 2 t v.' "
+      "constant', "
+      "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):4 w lp lw 2 dt 2 t v.' SDF'\n"
+      "set ylabel 'Sperling index W'; set key top left\n"
+      "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):5 w lp lw 2 t v.' "
+      "constant', "
+      "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):6 w lp lw 2 dt 2 t v.' SDF'\n"
+      "unset multiplot\n",
+      d, d);
 }
 
 static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)
 {
   if (arg_after(argc, argv, "--method") && !strcmp(arg_after(argc, argv, "--method"), "scan")) {
-    fprintf(gp, "set title 'Limit cycles by direct integration (scan)'\n"
-                "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'\n"
-                "plot '%s' u ((strcol(1) eq 'up') ? $2 : 1/0):($3*1e3) w lp pt 7 t 'speed rising', "
-                "'' u ((strcol(1) eq 'down') ? $2 : 1/0):($3*1e3) w lp pt 6 dt 2 t 'speed falling'\n", d);
+    fprintf(gp,
+            "set title 'Limit cycles by direct integration (scan)'\n"
+            "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'\n"
+            "plot '%s' u ((strcol(1) eq 'up') ? $2 : 1/0):($3*1e3) w lp pt 7 t 'speed rising', "
+            "'' u ((strcol(1) eq 'down') ? $2 : 1/0):($3*1e3) w lp pt 6 dt 2 t 'speed falling'\n",
+            d);
     return;
   }
-  fprintf(gp, "set title 'Hunting limit cycles (continuation): stable solid, unstable hollow'\n"
-              "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'; set key top left\n"
-              "plot '%s' u 1:($4 == 1 ? $2*1e3 : 1/0) w p pt 7 ps 0.8 lc rgb '#1b7837' t 'stable cycle', "
-              "'' u 1:($4 == 0 ? $2*1e3 : 1/0) w p pt 6 ps 0.8 lc rgb '#b2182b' t 'unstable cycle', "
-              "'' u 1:($2*1e3) w l lc rgb '#999999' notitle\n", d);
+  fprintf(
+      gp,
+      "set title 'Hunting limit cycles (continuation): stable solid, unstable hollow'\n"
+      "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'; set key top left\n"
+      "plot '%s' u 1:($4 == 1 ? $2*1e3 : 1/0) w p pt 7 ps 0.8 lc rgb '#1b7837' t 'stable cycle', "
+      "'' u 1:($4 == 0 ? $2*1e3 : 1/0) w p pt 6 ps 0.8 lc rgb '#b2182b' t 'unstable cycle', "
+      "'' u 1:($2*1e3) w l lc rgb '#999999' notitle\n",
+      d);
 }
 
 /* The Pareto front: the objectives (the columns that are not section.key
    variables) two by two. The front's file is named in the run's summary. */
 static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc; (void)argv;
+  (void)argc;
+  (void)argv;
   FILE *f = fopen(d, "r");
   char head[4096] = "";
-  if (f) { if (!fgets(head, sizeof head, f)) head[0] = 0; fclose(f); }
+  if (f) {
+    if (!fgets(head, sizeof head, f)) head[0] = 0;
+    fclose(f);
+  }
   head[strcspn(head, "\r\n")] = 0;
   int obj[8], nobj = 0, col = 0;
   char names[8][128];
-  for (char *p = head; *p && nobj < 8;) {   /* CSV fields, quotes allowed */
+  for (char *p = head; *p && nobj < 8;) { /* CSV fields, quotes allowed */
     char name[128];
     int k = 0, q = *p == '"';
     if (q) p++;
@@ -204,28 +250,42 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
     if (*p == ',') p++;
     col++;
     int is_var = strchr(name, '.') && !strchr(name, '@') && !strchr(name, ',');
-    if (!is_var) { obj[nobj] = col; snprintf(names[nobj], sizeof names[nobj], "%s", name); nobj++; }
+    if (!is_var) {
+      obj[nobj] = col;
+      snprintf(names[nobj], sizeof names[nobj], "%s", name);
+      nobj++;
+    }
   }
   int npairs = nobj * (nobj - 1) / 2;
-  if (npairs < 1) {   /* one objective: its values over the front */
-    fprintf(gp, "set title 'Pareto front'\nset ylabel \"%s\"\nplot '%s' u 0:%d w p pt 7 notitle\n", names[0], d, obj[0]);
+  if (npairs < 1) { /* one objective: its values over the front */
+    fprintf(gp, "set title 'Pareto front'\nset ylabel \"%s\"\nplot '%s' u 0:%d w p pt 7 notitle\n",
+            names[0], d, obj[0]);
     return;
   }
-  fprintf(gp, "set xtics rotate by -45; set format x '%%.2g'; set format y '%%.2g'\n"
-              "set multiplot layout 1,%d title 'Pareto front (NSGA-II): the objectives two by two'\n", npairs < 3 ? npairs : 3);
+  fprintf(gp,
+          "set xtics rotate by -45; set format x '%%.2g'; set format y '%%.2g'\n"
+          "set multiplot layout 1,%d title 'Pareto front (NSGA-II): the objectives two by two'\n",
+          npairs < 3 ? npairs : 3);
   for (int i = 0, shown = 0; i < nobj && shown < 3; i++)
     for (int j = i + 1; j < nobj && shown < 3; j++, shown++)
-      fprintf(gp, "set xlabel \"%s\"; set ylabel \"%s\"\nplot '%s' u %d:%d w p pt 7 ps 0.5 lc rgb '#2166ac' notitle\n",
+      fprintf(gp,
+              "set xlabel \"%s\"; set ylabel \"%s\"\nplot '%s' u %d:%d w p pt 7 ps 0.5 lc rgb "
+              "'#2166ac' notitle\n",
               names[i], names[j], d, obj[i], obj[j]);
   fprintf(gp, "unset multiplot\n");
 }
 
 static const plot_kind kinds[] = {
-  {"damper", NULL, NULL, 0, script_damper},         {"locus", NULL, NULL, 0, script_locus},
-  {"map", NULL, NULL, 1, script_map},               {"sweep", NULL, NULL, 2, script_sweep},
-  {"ride", NULL, "--psd", 0, script_psd},           {"validate", NULL, "--psd", 0, script_validate},
-  {"compare", "--csv", NULL, 0, script_compare},    {"bifurcation", "--csv", NULL, 0, script_bifurcation},
-  {"optimise", NULL, NULL, 0, script_optimise},     {"optimize", NULL, NULL, 0, script_optimise},
+    {"damper", NULL, NULL, 0, script_damper},
+    {"locus", NULL, NULL, 0, script_locus},
+    {"map", NULL, NULL, 1, script_map},
+    {"sweep", NULL, NULL, 2, script_sweep},
+    {"ride", NULL, "--psd", 0, script_psd},
+    {"validate", NULL, "--psd", 0, script_validate},
+    {"compare", "--csv", NULL, 0, script_compare},
+    {"bifurcation", "--csv", NULL, 0, script_bifurcation},
+    {"optimise", NULL, NULL, 0, script_optimise},
+    {"optimize", NULL, NULL, 0, script_optimise},
 };
 #define NKINDS (int)(sizeof kinds / sizeof kinds[0])
 
@@ -233,8 +293,10 @@ static const char *terminal_for(const char *path)
 {
   const char *dot = strrchr(path, '.');
   if (!dot) return NULL;
-  if (!strcmp(dot, ".svg")) return "svg size " RR_STR(PLOT_W) "," RR_STR(PLOT_H) " dynamic noenhanced font 'sans,12'";
-  if (!strcmp(dot, ".png")) return "pngcairo size " RR_STR(PLOT_W) "," RR_STR(PLOT_H) " noenhanced font 'sans,11'";
+  if (!strcmp(dot, ".svg"))
+    return "svg size " RR_STR(PLOT_W) "," RR_STR(PLOT_H) " dynamic noenhanced font 'sans,12'";
+  if (!strcmp(dot, ".png"))
+    return "pngcairo size " RR_STR(PLOT_W) "," RR_STR(PLOT_H) " noenhanced font 'sans,11'";
   if (!strcmp(dot, ".pdf")) return "pdfcairo size 9in,6in noenhanced font 'sans,11'";
   return NULL;
 }
@@ -259,7 +321,9 @@ static int render(const plot_kind *k, const char *out, const char *data, int arg
   snprintf(script, sizeof script, "%s.gp", data);
   FILE *gp = fopen(script, "w");
   if (!gp) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
-  fprintf(gp, "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key noautotitle\n",
+  fprintf(gp,
+          "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key "
+          "noautotitle\n",
           terminal_for(out), out);
   k->script(gp, data, argc, argv);
   fclose(gp);
@@ -270,7 +334,10 @@ static int render(const plot_kind *k, const char *out, const char *data, int arg
     char err[512] = "";
     snprintf(cmd, sizeof cmd, "%s.err", data);
     FILE *fe = fopen(cmd, "r");
-    if (fe) { if (!fgets(err, sizeof err, fe)) err[0] = 0; fclose(fe); }
+    if (fe) {
+      if (!fgets(err, sizeof err, fe)) err[0] = 0;
+      fclose(fe);
+    }
     err[strcspn(err, "\n")] = 0;
     fprintf(stderr, "railride: --plot %s: gnuplot failed: %s\n", out, err[0] ? err : "no message");
     return EXIT_FAIL;
@@ -338,11 +405,14 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   const plot_kind *k = NULL;
   for (int i = 0; i < NKINDS; i++)
     if (!strcmp(kinds[i].cmd, cmd)) k = &kinds[i];
-  if (!k) return cli_bad("%s: --plot is not an option of this command (it has no curve or map to draw)", cmd);
+  if (!k)
+    return cli_bad("%s: --plot is not an option of this command (it has no curve or map to draw)",
+                   cmd);
   if (at + 1 >= argc) return cli_bad("--plot: a file name ending in .svg, .png or .pdf expected");
   const char *out = argv[at + 1];
   if (!terminal_for(out)) return cli_bad("--plot: '%s' must end in .svg, .png or .pdf", out);
-  if (!have_gnuplot()) return cli_bad("--plot: gnuplot not found on PATH (Debian package gnuplot-nox)");
+  if (!have_gnuplot())
+    return cli_bad("--plot: gnuplot not found on PATH (Debian package gnuplot-nox)");
   FILE *probe = fopen(out, "w");
   if (!probe) return cli_bad("--plot: cannot write '%s': %s", out, strerror(errno));
   fclose(probe);
@@ -355,11 +425,16 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   for (int i = 0; i < argc; i++)
     if (i != at && i != at + 1) av[n++] = argv[i];
   const char *file_data = k->file_option ? arg_after(n, av, k->file_option) : NULL;
-  if (k->file_option && !file_data) { av[n++] = (char *)k->file_option; av[n++] = data; file_data = data; }
+  if (k->file_option && !file_data) {
+    av[n++] = (char *)k->file_option;
+    av[n++] = data;
+    file_data = data;
+  }
   if (k->extra && !has_arg(n, av, k->extra)) av[n++] = (char *)k->extra;
   int r;
-  if (k->file_option) r = fn(n, av);
-  else {   /* capture standard output in the data file, then show it */
+  if (k->file_option)
+    r = fn(n, av);
+  else { /* capture standard output in the data file, then show it */
     fflush(stdout);
     int saved = dup(STDOUT_FILENO);
     FILE *f = freopen(data, "w", stdout);
@@ -372,11 +447,13 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   char grid[PATH_MAX + 8], front[PATH_MAX];
   const char *src = file_data ? file_data : data;
   if (!r && k->script == script_optimise) src = front_file(data, front, sizeof front);
-  if (!r && (k->grid == 1 || (k->grid == 2 && has_arg(n, av, "--y")))) src = gridded(src, grid, sizeof grid);
-  if (!r && cli_par_rank() == 0) r = render(k, out, src, n, av);   /* one picture from an MPI job */
+  if (!r && (k->grid == 1 || (k->grid == 2 && has_arg(n, av, "--y"))))
+    src = gridded(src, grid, sizeof grid);
+  if (!r && cli_par_rank() == 0) r = render(k, out, src, n, av); /* one picture from an MPI job */
   free(av);
   char rm[PATH_MAX + 16];
   snprintf(rm, sizeof rm, "rm -rf '%s'", dir);
-  if (system(rm)) {}
+  if (system(rm)) {
+  }
   return r;
 }

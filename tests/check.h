@@ -8,15 +8,24 @@
 
 static int check_pass, check_fail;
 
-#define CHECK(cond, ...) do { \
-    if (cond) check_pass++; \
-    else { check_fail++; fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); fprintf(stderr, __VA_ARGS__); fputc('\n', stderr); } \
+#define CHECK(cond, ...)                                                                           \
+  do {                                                                                             \
+    if (cond)                                                                                      \
+      check_pass++;                                                                                \
+    else {                                                                                         \
+      check_fail++;                                                                                \
+      fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                                         \
+      fprintf(stderr, __VA_ARGS__);                                                                \
+      fputc('\n', stderr);                                                                         \
+    }                                                                                              \
   } while (0)
 
 /* |a - b| <= atol + rtol |b| */
-#define CHECK_CLOSE(a, b, rtol, atol, what) do { \
-    double a_ = (a), b_ = (b); \
-    CHECK(fabs(a_ - b_) <= (atol) + (rtol) * fabs(b_), "%s: got %.15g, expected %.15g (diff %.3g)", what, a_, b_, a_ - b_); \
+#define CHECK_CLOSE(a, b, rtol, atol, what)                                                        \
+  do {                                                                                             \
+    double a_ = (a), b_ = (b);                                                                     \
+    CHECK(fabs(a_ - b_) <= (atol) + (rtol)*fabs(b_), "%s: got %.15g, expected %.15g (diff %.3g)",  \
+          what, a_, b_, a_ - b_);                                                                  \
   } while (0)
 
 #define CHECK_OK(st, err) CHECK((st) == 0, "status %d: %s", (st), (err).msg)
@@ -35,7 +44,10 @@ static inline const char *check_write_file(const char *name, const char *text)
   static char path[512];
   snprintf(path, sizeof path, "%s/%s", check_dir, name);
   FILE *fp = fopen(path, "w");
-  if (fp) { fputs(text, fp); fclose(fp); }
+  if (fp) {
+    fputs(text, fp);
+    fclose(fp);
+  }
   return path;
 }
 
@@ -43,7 +55,8 @@ static inline void check_cleanup(void)
 {
   char cmd[300];
   snprintf(cmd, sizeof cmd, "rm -rf %s", check_dir);
-  if (check_dir[0] && system(cmd)) {}
+  if (check_dir[0] && system(cmd)) {
+  }
 }
 
 static inline void check_spectra_env(void)

@@ -25,7 +25,9 @@ static rr_model *wheelset(double m, double Iz, double f11, double f22, double ky
   if (kpsi > 0) {
     const double l1 = 1.0;
     for (int sd = -1; sd <= 1; sd += 2) {
-      rr_element_spec ex = {"kx", bw, RR_GROUND, {0, sd * l1, r0}, RR_DIR_X, RR_LAW_SPRING, kpsi / (2 * l1 * l1), 0, 0};
+      rr_element_spec ex = {
+          "kx", bw, RR_GROUND, {0, sd * l1, r0}, RR_DIR_X, RR_LAW_SPRING, kpsi / (2 * l1 * l1),
+          0,    0};
       rr_system_add_element(s, &ex, &e);
     }
   }
@@ -50,7 +52,10 @@ static void least_damped(rr_model *m, double *re, double *f)
   *re = -INFINITY;
   *f = NAN;
   for (int i = 0; i < r.n; i++)
-    if (r.modes[i].oscillatory && r.modes[i].re > *re) { *re = r.modes[i].re; *f = r.modes[i].freq_hz; }
+    if (r.modes[i].oscillatory && r.modes[i].re > *re) {
+      *re = r.modes[i].re;
+      *f = r.modes[i].freq_hz;
+    }
   rr_modal_result_free(&r);
   rr_modal_ws_free(ws);
 }
@@ -108,7 +113,9 @@ static void test_rigid_bogie(void)
   const double b = 1.25, f11 = 1e11, f22 = 0.5e11;
   rr_error e;
   rr_system *s = rr_system_new();
-  rr_body_spec bg = {"bogie", RR_GROUP_WHEELSET, 2 * 1639 + 2328, 2 * 822 + 4080 + 2 * 1639 * b * b, 0, {0, 0, r0}, RR_DOF_Y | RR_DOF_PSI};
+  rr_body_spec bg = {
+      "bogie", RR_GROUP_WHEELSET, 2 * 1639 + 2328,      2 * 822 + 4080 + 2 * 1639 * b * b,
+      0,       {0, 0, r0},        RR_DOF_Y | RR_DOF_PSI};
   int bb = rr_system_add_body(s, &bg, &e);
   for (int k = -1; k <= 1; k += 2) {
     rr_contact_spec c = {bb, f11, f22, r0, l0, 0, k * b};
@@ -163,7 +170,8 @@ static void test_maxwell_limit(void)
   double w = 2 * RR_PI * 3.0;
   p = rr_maxwell_point(k, c, 3.0);
   CHECK_CLOSE(p.storage, k * c * c * w * w / (k * k + c * c * w * w), 1e-12, 0, "storage formula");
-  CHECK_CLOSE(p.eq_damping, k * k * c / (k * k + c * c * w * w), 1e-12, 0, "equivalent damping formula");
+  CHECK_CLOSE(p.eq_damping, k * k * c / (k * k + c * c * w * w), 1e-12, 0,
+              "equivalent damping formula");
   CHECK_CLOSE(p.dissipation, k / (c * w), 1e-12, 0, "dissipation factor k/(c w)");
 }
 

@@ -10,8 +10,8 @@
 #include <string.h>
 #include "check.h"
 #include "railride/railride.h"
-#include "eigen_decomposition.h"   /* internal: the ride evaluation's eigendecomposition */
-#include "hessenberg_qr.h"      /* internal: eigenvalues of several matrices in SIMD lanes */
+#include "eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
+#include "hessenberg_qr.h"       /* internal: eigenvalues of several matrices in SIMD lanes */
 
 enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
 
@@ -24,44 +24,61 @@ static void test_entries(void)
   CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
   const double V = 350 / RR_KMH, lam = 0.17;
   rr_model_set_operating(m, V, lam, &e);
-  CHECK(rr_model_ndof(m) == 17 && rr_model_ninputs(m) == 4 && rr_model_state_size(m) == 40, "sizes");
-  const char *names[17] = {"y_c", "psi_c", "phi_c", "y_f1", "psi_f1", "phi_f1", "y_f2", "psi_f2", "phi_f2",
-                           "y_w1", "psi_w1", "y_w2", "psi_w2", "y_w3", "psi_w3", "y_w4", "psi_w4"};
-  for (int i = 0; i < 17; i++) CHECK(!strcmp(rr_model_dof_name(m, i), names[i]), "dof %d is %s", i, rr_model_dof_name(m, i));
+  CHECK(rr_model_ndof(m) == 17 && rr_model_ninputs(m) == 4 && rr_model_state_size(m) == 40,
+        "sizes");
+  const char *names[17] = {"y_c",    "psi_c",  "phi_c",  "y_f1", "psi_f1", "phi_f1",
+                           "y_f2",   "psi_f2", "phi_f2", "y_w1", "psi_w1", "y_w2",
+                           "psi_w2", "y_w3",   "psi_w3", "y_w4", "psi_w4"};
+  for (int i = 0; i < 17; i++)
+    CHECK(!strcmp(rr_model_dof_name(m, i), names[i]), "dof %d is %s", i, rr_model_dof_name(m, i));
   const double *K = rr_model_K(m), *C = rr_model_C(m), *M = rr_model_M(m), *B = rr_model_B(m);
-#define K_(i, j) K[(i) * 17 + (j)]
-#define C_(i, j) C[(i) * 17 + (j)]
-  double L = v.bogie_half_spacing, b = v.wheelbase_half, l1 = v.primary_half_spacing, lb = v.primary_arm_length;
+#define K_(i, j) K[(i)*17 + (j)]
+#define C_(i, j) C[(i)*17 + (j)]
+  double L = v.bogie_half_spacing, b = v.wheelbase_half, l1 = v.primary_half_spacing,
+         lb = v.primary_arm_length;
   double l2 = v.secondary_half_spacing, l0 = v.contact_half_spacing, r0 = v.rolling_radius;
-  double kpx = v.primary_kx, kpy = v.primary_ky, kpz = v.primary_kz, ksx = v.secondary_kx, ksy = v.secondary_ky;
-  double ksz = v.secondary_kz, hs = v.secondary_height, hc = v.carbody_cg_height, hf = v.frame_cg_height;
-  CHECK(M[YC * 17 + YC] == 38936 && M[PC * 17 + PC] == 9.61e5 && M[RC * 17 + RC] == 1.67e6 && M[PW3 * 17 + PW3] == 822, "mass diagonal");
+  double kpx = v.primary_kx, kpy = v.primary_ky, kpz = v.primary_kz, ksx = v.secondary_kx,
+         ksy = v.secondary_ky;
+  double ksz = v.secondary_kz, hs = v.secondary_height, hc = v.carbody_cg_height,
+         hf = v.frame_cg_height;
+  CHECK(M[YC * 17 + YC] == 38936 && M[PC * 17 + PC] == 9.61e5 && M[RC * 17 + RC] == 1.67e6 &&
+            M[PW3 * 17 + PW3] == 822,
+        "mass diagonal");
   /* secondary lateral: 4 air springs; yaw: 4 k_sx l2^2 + 4 k_sy L^2 */
   CHECK_CLOSE(K_(YC, YC), 4 * ksy, 1e-12, 0, "K y_c y_c");
   CHECK_CLOSE(K_(PC, PC), 4 * ksx * l2 * l2 + 4 * ksy * L * L, 1e-12, 0, "K psi_c psi_c");
   /* carbody roll: air springs lateral (h_s - h_c)^2, vertical l2^2, anti-roll bars */
-  CHECK_CLOSE(K_(RC, RC), 4 * ksy * (hs - hc) * (hs - hc) + 4 * ksz * l2 * l2 + 2 * v.antiroll_stiffness, 1e-12, 0, "K phi_c phi_c");
+  CHECK_CLOSE(K_(RC, RC),
+              4 * ksy * (hs - hc) * (hs - hc) + 4 * ksz * l2 * l2 + 2 * v.antiroll_stiffness, 1e-12,
+              0, "K phi_c phi_c");
   CHECK_CLOSE(K_(YC, PF1), 0, 0, 1e-9, "K y_c psi_f1");
   CHECK_CLOSE(K_(YC, YF1), -2 * ksy, 1e-12, 0, "K y_c y_f1");
   CHECK_CLOSE(K_(PC, YF1), -2 * ksy * L, 1e-12, 0, "K psi_c y_f1");
   /* frame: two wheelsets' primary lateral (4 boxes) + 2 air springs */
   CHECK_CLOSE(K_(YF1, YF1), 4 * kpy + 2 * ksy, 1e-12, 0, "K y_f1 y_f1");
   /* frame yaw: 4 boxes k_px l1^2 + lateral arm nodes at +-(b - l_b) + air springs k_sx l2^2 */
-  CHECK_CLOSE(K_(PF1, PF1), 4 * kpx * l1 * l1 + 4 * kpy * (b - lb) * (b - lb) + 2 * ksx * l2 * l2, 1e-12, 0, "K psi_f1 psi_f1");
+  CHECK_CLOSE(K_(PF1, PF1), 4 * kpx * l1 * l1 + 4 * kpy * (b - lb) * (b - lb) + 2 * ksx * l2 * l2,
+              1e-12, 0, "K psi_f1 psi_f1");
   /* frame roll: primary vertical l1^2, primary lateral (r0 - h_f)^2, air springs */
-  CHECK_CLOSE(K_(RF1, RF1), 4 * kpz * l1 * l1 + 4 * kpy * (r0 - hf) * (r0 - hf) + 2 * ksy * (hs - hf) * (hs - hf) +
-              2 * ksz * l2 * l2 + v.antiroll_stiffness, 1e-12, 0, "K phi_f1 phi_f1");
+  CHECK_CLOSE(K_(RF1, RF1),
+              4 * kpz * l1 * l1 + 4 * kpy * (r0 - hf) * (r0 - hf) +
+                  2 * ksy * (hs - hf) * (hs - hf) + 2 * ksz * l2 * l2 + v.antiroll_stiffness,
+              1e-12, 0, "K phi_f1 phi_f1");
   /* wheelset: primary + contact */
   CHECK_CLOSE(K_(YW1, YW1), 2 * kpy, 1e-12, 0, "K y_w1 y_w1");
   CHECK_CLOSE(K_(PW1, PW1), 2 * kpx * l1 * l1 + 2 * kpy * lb * lb, 1e-12, 0, "K psi_w1 psi_w1");
-  CHECK_CLOSE(K_(YW1, PW1), -2 * v.f22 - 2 * kpy * lb, 1e-12, 0, "K y_w1 psi_w1 (front: node behind)");
-  CHECK_CLOSE(K_(YW2, PW2), -2 * v.f22 + 2 * kpy * lb, 1e-12, 0, "K y_w2 psi_w2 (rear: node ahead)");
+  CHECK_CLOSE(K_(YW1, PW1), -2 * v.f22 - 2 * kpy * lb, 1e-12, 0,
+              "K y_w1 psi_w1 (front: node behind)");
+  CHECK_CLOSE(K_(YW2, PW2), -2 * v.f22 + 2 * kpy * lb, 1e-12, 0,
+              "K y_w2 psi_w2 (rear: node ahead)");
   CHECK_CLOSE(K_(PW1, YW1), 2 * v.f11 * l0 * lam / r0 - 2 * kpy * lb, 1e-12, 0, "K psi_w1 y_w1");
-  CHECK_CLOSE(K_(YW1, RF1), 2 * kpy * (r0 - hf), 1e-12, 0, "K y_w1 phi_f1 (frame point below the frame cg)");
+  CHECK_CLOSE(K_(YW1, RF1), 2 * kpy * (r0 - hf), 1e-12, 0,
+              "K y_w1 phi_f1 (frame point below the frame cg)");
   CHECK_CLOSE(K_(YW1, PF1), -2 * kpy * (b - lb), 1e-12, 0, "K y_w1 psi_f1");
   CHECK_CLOSE(C_(YW3, YW3), 2 * v.f22 / V, 1e-12, 0, "C y_w3");
   CHECK_CLOSE(C_(PW3, PW3), 2 * v.f11 * l0 * l0 / V, 1e-12, 0, "C psi_w3");
-  CHECK_CLOSE(C_(RF2, RF2), 4 * v.primary_cz * l1 * l1 + 2 * v.secondary_cz * l2 * l2, 1e-12, 0, "C phi_f2");
+  CHECK_CLOSE(C_(RF2, RF2), 4 * v.primary_cz * l1 * l1 + 2 * v.secondary_cz * l2 * l2, 1e-12, 0,
+              "C phi_f2");
   CHECK_CLOSE(C_(YC, YC), 0, 0, 1e-9, "C y_c (dampers are Maxwell)");
   for (int i = 0; i < 4; i++)
     for (int r = 0; r < 17; r++) {
@@ -70,19 +87,19 @@ static void test_entries(void)
     }
   for (int i = 0; i < 17; i++)
     for (int j = 0; j < i; j++) {
-      if (i >= YW1 && j == i - 1 && (i - YW1) % 2 == 1) continue;   /* creep terms: not symmetric */
+      if (i >= YW1 && j == i - 1 && (i - YW1) % 2 == 1) continue; /* creep terms: not symmetric */
       CHECK_CLOSE(K_(i, j) - K_(j, i), 0, 0, 1e-6, "suspension K symmetric");
     }
   /* Maxwell rows */
   CHECK(rr_model_nmaxwell(m) == 6, "6 Maxwell elements");
   rr_maxwell_info info;
-  rr_model_maxwell(m, 0, &info);   /* yaw damper bogie 1 left: e = -l_cx (psi_c - psi_f1) */
+  rr_model_maxwell(m, 0, &info); /* yaw damper bogie 1 left: e = -l_cx (psi_c - psi_f1) */
   CHECK_CLOSE(info.J[PC], -v.yaw_half_spacing, 1e-12, 0, "yaw damper J psi_c");
   CHECK_CLOSE(info.J[PF1], v.yaw_half_spacing, 1e-12, 0, "yaw damper J psi_f1");
   CHECK(info.k == 10e6 && info.c == 4000e3, "yaw damper k, c");
   rr_model_maxwell(m, 1, &info);
   CHECK_CLOSE(info.J[PC], v.yaw_half_spacing, 1e-12, 0, "right yaw damper J psi_c");
-  rr_model_maxwell(m, 5, &info);   /* lateral damper bogie 2 */
+  rr_model_maxwell(m, 5, &info); /* lateral damper bogie 2 */
   CHECK_CLOSE(info.J[YC], 1, 1e-12, 0, "lateral damper J y_c");
   CHECK_CLOSE(info.J[PC], -L, 1e-12, 0, "lateral damper J psi_c");
   CHECK_CLOSE(info.J[RC], -(v.lateral_damper_height - hc), 1e-12, 0, "lateral damper J phi_c");
@@ -92,7 +109,8 @@ static void test_entries(void)
   rr_model_set_gravity_stiffness(m, 1);
   double W = 9.81 * (v.carbody_mass + 2 * v.frame_mass + 4 * v.wheelset_mass) / 4;
   CHECK_CLOSE(K_(YW2, YW2), 2 * kpy + W * lam / l0, 1e-12, 0, "gravity K y_w");
-  CHECK_CLOSE(K_(PW2, PW2), 2 * kpx * l1 * l1 + 2 * kpy * lb * lb - W * lam * l0, 1e-12, 0, "gravity K psi_w");
+  CHECK_CLOSE(K_(PW2, PW2), 2 * kpx * l1 * l1 + 2 * kpy * lb * lb - W * lam * l0, 1e-12, 0,
+              "gravity K psi_w");
   CHECK_CLOSE(B[YW2 * 4 + 1], W * lam / l0, 1e-12, 0, "gravity B y_w");
   rr_model_free(m);
 }
@@ -112,8 +130,10 @@ static void test_two_routes(int sdf_mode)
   int n = 17, N = rr_model_state_size(m);
   CHECK(N == (sdf_mode == RR_SDF_PHYSICAL ? 44 : 40), "state size %d", N);
   double *A = malloc(sizeof(double) * N * N), *Bs = malloc(sizeof(double) * N * 4);
-  double complex *G = malloc(sizeof(double complex) * N * N), *x = malloc(sizeof(double complex) * N);
-  double complex *D = malloc(sizeof(double complex) * n * n), *y = malloc(sizeof(double complex) * n);
+  double complex *G = malloc(sizeof(double complex) * N * N),
+                 *x = malloc(sizeof(double complex) * N);
+  double complex *D = malloc(sizeof(double complex) * n * n),
+                 *y = malloc(sizeof(double complex) * n);
   lapack_int *ipiv = malloc(sizeof(lapack_int) * N);
   rr_model_state_matrix(m, 0, A, &e);
   rr_model_state_input(m, Bs, &e);
@@ -129,10 +149,20 @@ static void test_two_routes(int sdf_mode)
     for (int i = 0; i < n; i++) y[i] = B[i * 4 + 2];
     LAPACKE_zgesv(LAPACK_ROW_MAJOR, n, 1, D, n, ipiv, y, 1);
     double big = 0, diff = 0;
-    for (int i = 0; i < n; i++) { big = fmax(big, cabs(y[i])); diff = fmax(diff, cabs(x[i] - y[i])); }
-    CHECK(diff <= 1e-9 * big, "state space vs dynamic stiffness at %g Hz (sdf %d): rel diff %.3g", freqs[fi], sdf_mode, diff / big);
+    for (int i = 0; i < n; i++) {
+      big = fmax(big, cabs(y[i]));
+      diff = fmax(diff, cabs(x[i] - y[i]));
+    }
+    CHECK(diff <= 1e-9 * big, "state space vs dynamic stiffness at %g Hz (sdf %d): rel diff %.3g",
+          freqs[fi], sdf_mode, diff / big);
   }
-  free(A); free(Bs); free(G); free(x); free(D); free(y); free(ipiv);
+  free(A);
+  free(Bs);
+  free(G);
+  free(x);
+  free(D);
+  free(y);
+  free(ipiv);
   rr_model_free(m);
 }
 
@@ -162,7 +192,8 @@ static void test_fast_vs_full(void)
         count++;
         if (fabs(z - r.stability_index) > 1e-10) {
           bad++;
-          fprintf(stderr, "  %s sdf %d v %g lam %g: fast %.12g full %.12g\n", veh[k], modes[k], sp, lam, z, r.stability_index);
+          fprintf(stderr, "  %s sdf %d v %g lam %g: fast %.12g full %.12g\n", veh[k], modes[k], sp,
+                  lam, z, r.stability_index);
         }
         double sum = r.modes[0].energy[0] + r.modes[0].energy[1] + r.modes[0].energy[2];
         CHECK_CLOSE(sum, 1, 1e-12, 0, "energy shares sum to 1");
@@ -180,7 +211,10 @@ static void test_fast_vs_full(void)
   bad = 0;
   for (int i = 0; i < 400; i++) {
     double r[5];
-    for (int k = 0; k < 5; k++) { seed = seed * 1664525u + 1013904223u; r[k] = (seed >> 8) / 16777216.0; }
+    for (int k = 0; k < 5; k++) {
+      seed = seed * 1664525u + 1013904223u;
+      r[k] = (seed >> 8) / 16777216.0;
+    }
     v.primary_kx = 10e6 + 110e6 * r[0];
     v.lateral_damping = 5e3 + 55e3 * r[1];
     v.yaw_damping = 100e3 + 3900e3 * r[2];
@@ -222,7 +256,8 @@ static void test_roll_mode_excluded(void)
   rr_modal_result_alloc(m, &r, &e);
   rr_modal_solve(m, NULL, ws, &r, &e);
   const rr_mode *md = &r.modes[0];
-  CHECK(fabs(md->freq_hz - 0.23) < 0.01 && fabs(md->zeta + 0.008) < 0.001, "roll mode %g Hz zeta %g", md->freq_hz, md->zeta);
+  CHECK(fabs(md->freq_hz - 0.23) < 0.01 && fabs(md->zeta + 0.008) < 0.001,
+        "roll mode %g Hz zeta %g", md->freq_hz, md->zeta);
   CHECK(md->energy[RR_GROUP_WHEELSET] < 1e-6 && !md->in_index, "roll mode is not hunting-related");
   rr_modal_opts all = {.fmax_hz = 10, .w_min = 0, .r_max = 1};
   double z_roll = md->zeta;
@@ -232,7 +267,8 @@ static void test_roll_mode_excluded(void)
      splits into a tiny complex pair; it is real, not a hunting mode */
   rr_model_set_operating(m, 350 / RR_KMH, 0.0, &e);
   rr_modal_solve(m, NULL, ws, &r, &e);
-  CHECK(r.index_mode >= 0 && r.modes[r.index_mode].freq_hz > 0.1, "zero conicity: index from a real mode (%g Hz)",
+  CHECK(r.index_mode >= 0 && r.modes[r.index_mode].freq_hz > 0.1,
+        "zero conicity: index from a real mode (%g Hz)",
         r.index_mode >= 0 ? r.modes[r.index_mode].freq_hz : -1);
   double zf;
   rr_modal_stability_index(m, NULL, ws, &zf, &e);
@@ -268,13 +304,17 @@ static void test_paper_roots(void)
     if (!md->oscillatory || !md->self_consistent) continue;
     nsc++;
     double ks = rr_sdf_storage(&v.sdf, md->freq_hz);
-    CHECK(fabs(md->sdf_k - ks) <= 2e-9 * (v.sdf.k2 + v.sdf.k3) + 1e-6 * fabs(ks) * 0, "root: k %.10g vs k_sdf(f) %.10g", md->sdf_k, ks);
+    CHECK(fabs(md->sdf_k - ks) <= 2e-9 * (v.sdf.k2 + v.sdf.k3) + 1e-6 * fabs(ks) * 0,
+          "root: k %.10g vs k_sdf(f) %.10g", md->sdf_k, ks);
     /* D(lambda) with series stiffness k is singular: smallest pivot relative to the largest */
     rr_model_dynamic_stiffness(m, md->re + I * md->im, md->sdf_k, D);
     lapack_int ipiv[17];
     LAPACKE_zgetrf(LAPACK_ROW_MAJOR, 17, 17, D, 17, ipiv);
     double mn = INFINITY, mx = 0;
-    for (int k = 0; k < 17; k++) { mn = fmin(mn, cabs(D[k * 17 + k])); mx = fmax(mx, cabs(D[k * 17 + k])); }
+    for (int k = 0; k < 17; k++) {
+      mn = fmin(mn, cabs(D[k * 17 + k]));
+      mx = fmax(mx, cabs(D[k * 17 + k]));
+    }
     CHECK(mn < 1e-8 * mx, "mode %.4f Hz: D(lambda) not singular (%.3g)", md->freq_hz, mn / mx);
   }
   CHECK(nsc >= 8, "self-consistent modes found: %d", nsc);
@@ -289,8 +329,10 @@ static void test_paper_roots(void)
 static int same_locus_point(const rr_locus_point *a, const rr_locus_point *b)
 {
   int same = a->hunting == b->hunting;
-  const double x[] = {a->param, a->re, a->im, a->freq_hz, a->zeta, a->mac, a->energy[0], a->energy[1], a->energy[2], a->roll_share};
-  const double y[] = {b->param, b->re, b->im, b->freq_hz, b->zeta, b->mac, b->energy[0], b->energy[1], b->energy[2], b->roll_share};
+  const double x[] = {a->param, a->re,        a->im,        a->freq_hz,   a->zeta,
+                      a->mac,   a->energy[0], a->energy[1], a->energy[2], a->roll_share};
+  const double y[] = {b->param, b->re,        b->im,        b->freq_hz,   b->zeta,
+                      b->mac,   b->energy[0], b->energy[1], b->energy[2], b->roll_share};
   return same && !memcmp(x, y, sizeof x);
 }
 
@@ -323,12 +365,12 @@ static void test_locus_tracking(void)
   for (int b = 0; b < nb; b++)
     for (int p = 1; p < NP; p++) {
       const rr_locus_point *a = &pts[(p - 1) * nb + b], *c = &pts[p * nb + b];
-      if (c->freq_hz > 10) continue;   /* the hunting range */
+      if (c->freq_hz > 10) continue; /* the hunting range */
       if (c->mac < 0.9) lowmac++;
       /* a nearly critically damped pair may turn real (f -> 0): not a jump */
       int osc = a->freq_hz > 0 && c->freq_hz > 0 && a->zeta > -0.99 && c->zeta > -0.99;
       if (osc && fabs(c->freq_hz - a->freq_hz) > 0.3) jumps++;
-      for (int b2 = 0; b2 < nb; b2++) {   /* branches that swap frequency order */
+      for (int b2 = 0; b2 < nb; b2++) { /* branches that swap frequency order */
         const rr_locus_point *a2 = &pts[(p - 1) * nb + b2], *c2 = &pts[p * nb + b2];
         if (b2 != b && (a->freq_hz - a2->freq_hz) * (c->freq_hz - c2->freq_hz) < 0) crossings++;
       }
@@ -342,13 +384,17 @@ static void test_locus_tracking(void)
   long calls = 0;
   rr_progress pr = {.fn = stop_at_30, .user = &calls};
   int nb2 = 0, st = rr_locus(m, 1, vals, NP, NULL, &pr, part, &nb2, &e);
-  CHECK(st == RR_ESTOPPED && e.code == RR_ESTOPPED && calls == 30 && nb2 == nb, "stopped locus: status %d, %ld calls", st, calls);
+  CHECK(st == RR_ESTOPPED && e.code == RR_ESTOPPED && calls == 30 && nb2 == nb,
+        "stopped locus: status %d, %ld calls", st, calls);
   int same = 1, gaps = 1;
   for (int i = 0; i < NP * nb; i++) {
-    if (i < 30 * nb) same &= same_locus_point(&part[i], &pts[i]);
-    else gaps &= isnan(part[i].re) && part[i].param == vals[i / nb];
+    if (i < 30 * nb)
+      same &= same_locus_point(&part[i], &pts[i]);
+    else
+      gaps &= isnan(part[i].re) && part[i].param == vals[i / nb];
   }
-  CHECK(same && gaps, "stopped locus: points done bit-identical (%d), the rest NaN (%d)", same, gaps);
+  CHECK(same && gaps, "stopped locus: points done bit-identical (%d), the rest NaN (%d)", same,
+        gaps);
   /* the two steps: records solved out of order (as other processes would),
      followed in two windows, give rr_locus's result */
   size_t rs = rr_locus_record_size(m);
@@ -359,7 +405,8 @@ static void test_locus_tracking(void)
   CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
   CHECK_OK(rr_modal_result_alloc(m, &res, &e), e);
   CHECK_OK(rr_locus_tracker_new(m, &t, &e), e);
-  for (int p = NP - 1; p >= 0; p--) CHECK_OK(rr_locus_solve(m, 1, vals[p], NULL, ws, &res, recs + rs * p, &e), e);
+  for (int p = NP - 1; p >= 0; p--)
+    CHECK_OK(rr_locus_solve(m, 1, vals[p], NULL, ws, &res, recs + rs * p, &e), e);
   int nb3 = 0;
   CHECK_OK(rr_locus_follow(t, vals, 33, recs, part, &nb3, &e), e);
   CHECK_OK(rr_locus_follow(t, vals + 33, NP - 33, recs + rs * 33, part + 33 * nb3, &nb3, &e), e);
@@ -380,21 +427,26 @@ static void test_locus_tracking(void)
    dgeev's, relative to |A|. */
 static void eigdec_check(int n, const double *A, double *res, double *dist)
 {
-  double *a = malloc(sizeof(double) * n * n), *vr = malloc(sizeof(double) * n * n), *wr = malloc(sizeof(double) * 4 * n),
-         *wi = wr + n, *lr = wi + n, *li = lr + n, *work = malloc(sizeof(double) * RR_EIGDEC_LWORK(n));
+  double *a = malloc(sizeof(double) * n * n), *vr = malloc(sizeof(double) * n * n),
+         *wr = malloc(sizeof(double) * 4 * n), *wi = wr + n, *lr = wi + n, *li = lr + n,
+         *work = malloc(sizeof(double) * RR_EIGDEC_LWORK(n));
   int *iwork = malloc(sizeof(int) * RR_EIGDEC_LIWORK(n));
   memcpy(a, A, sizeof(double) * n * n);
   *res = *dist = INFINITY;
   if (rr_eigdec(n, a, wr, wi, vr, work, iwork) == 0) {
     double anorm = 0, vnorm = 0, r = 0;
-    for (int i = 0; i < n * n; i++) { anorm = fmax(anorm, fabs(A[i])); vnorm = fmax(vnorm, fabs(vr[i])); }
+    for (int i = 0; i < n * n; i++) {
+      anorm = fmax(anorm, fabs(A[i]));
+      vnorm = fmax(vnorm, fabs(vr[i]));
+    }
     for (int j = 0; j < n; j++) {
       int pair = wi[j] != 0, c0 = pair && wi[j] < 0 ? j - 1 : j;
       double sg = wi[j] < 0 ? -1 : 1;
       double complex lam = wr[j] + I * wi[j];
       for (int i = 0; i < n; i++) {
         double complex av = 0;
-        for (int k = 0; k < n; k++) av += A[i * n + k] * (vr[c0 * n + k] + (pair ? sg * I * vr[(c0 + 1) * n + k] : 0));
+        for (int k = 0; k < n; k++)
+          av += A[i * n + k] * (vr[c0 * n + k] + (pair ? sg * I * vr[(c0 + 1) * n + k] : 0));
         double complex v = vr[c0 * n + i] + (pair ? sg * I * vr[(c0 + 1) * n + i] : 0);
         r = fmax(r, cabs(av - lam * v));
       }
@@ -410,7 +462,11 @@ static void eigdec_check(int n, const double *A, double *res, double *dist)
     }
     *dist = d / anorm;
   }
-  free(a); free(vr); free(wr); free(work); free(iwork);
+  free(a);
+  free(vr);
+  free(wr);
+  free(work);
+  free(iwork);
 }
 
 static void test_eigdec(void)
@@ -439,7 +495,8 @@ static void test_eigdec(void)
     rr_model_free(m);
   }
   CHECK(worst_res < 1e-14, "eigdec on state matrices: residual %.3g", worst_res);
-  CHECK(worst_dist < 1e-13, "eigdec on state matrices: eigenvalues differ from dgeev by %.3g |A|", worst_dist);
+  CHECK(worst_dist < 1e-13, "eigdec on state matrices: eigenvalues differ from dgeev by %.3g |A|",
+        worst_dist);
   /* seeded random matrices, and one with a repeated eigenvalue pair (two
      equal 2 x 2 rotation blocks under a random similarity): the vectors of
      the repeated pair must still be independent */
@@ -453,10 +510,11 @@ static void test_eigdec(void)
     }
     double res, dist;
     eigdec_check(NR, A, &res, &dist);
-    CHECK(res < 1e-13 && dist < 1e-12, "eigdec random %d: residual %.3g, eigenvalue distance %.3g", trial, res, dist);
+    CHECK(res < 1e-13 && dist < 1e-12, "eigdec random %d: residual %.3g, eigenvalue distance %.3g",
+          trial, res, dist);
   }
   memset(B, 0, sizeof B);
-  for (int b = 0; b < NR / 2; b++) {   /* 2 x 2 blocks [a w; -w a], the first two equal */
+  for (int b = 0; b < NR / 2; b++) { /* 2 x 2 blocks [a w; -w a], the first two equal */
     double a = b < 2 ? -0.5 : -0.1 * b, w = b < 2 ? 3 : b;
     B[(2 * b) * NR + 2 * b] = B[(2 * b + 1) * NR + 2 * b + 1] = a;
     B[(2 * b) * NR + 2 * b + 1] = w;
@@ -470,7 +528,7 @@ static void test_eigdec(void)
   int piv[NR];
   LAPACKE_dgetrf(LAPACK_ROW_MAJOR, NR, NR, Ti, NR, piv);
   LAPACKE_dgetri(LAPACK_ROW_MAJOR, NR, Ti, NR, piv);
-  for (int i = 0; i < NR; i++)   /* A = T B T^-1 */
+  for (int i = 0; i < NR; i++) /* A = T B T^-1 */
     for (int j = 0; j < NR; j++) {
       double acc = 0;
       for (int k = 0; k < NR; k++)
@@ -487,9 +545,9 @@ static void test_eigdec(void)
   CHECK(rcond > 1e-8, "eigdec: repeated pair gives a near-singular basis (rcond %.3g)", rcond);
   double res, dist;
   eigdec_check(NR, A, &res, &dist);
-  CHECK(res < 1e-13 && dist < 1e-7, "eigdec repeated pair: residual %.3g, eigenvalue distance %.3g", res, dist);
+  CHECK(res < 1e-13 && dist < 1e-7, "eigdec repeated pair: residual %.3g, eigenvalue distance %.3g",
+        res, dist);
 }
-
 
 /* rr_eig_batch against rr_hqr lane by lane and against dgeev: groups of 1..8
  * seeded random matrices, mixed with matrices that split or deflate at once
@@ -499,7 +557,8 @@ static void test_eig_batch(void)
 {
   enum { NR = 24, W = RR_QR_LANES_MAX };
   unsigned long long s = 987654321;
-  double mats[W][NR * NR], h[NR * NR], wr[W * NR], wi[W * NR], hr[NR], hi[NR], lr[NR], li[NR], a[NR * NR];
+  double mats[W][NR * NR], h[NR * NR], wr[W * NR], wi[W * NR], hr[NR], hi[NR], lr[NR], li[NR],
+      a[NR * NR];
   double *work = malloc(sizeof(double) * rr_eig_batch_work(NR));
   const double *mp[W];
   int fail[W];
@@ -507,7 +566,7 @@ static void test_eig_batch(void)
   for (int trial = 0; trial < 32; trial++) {
     int nb = 1 + trial % W;
     for (int c = 0; c < nb; c++) {
-      int kind = (trial + c) % 5;   /* 0..2 dense, 3 block diagonal, 4 upper triangular */
+      int kind = (trial + c) % 5; /* 0..2 dense, 3 block diagonal, 4 upper triangular */
       for (int i = 0; i < NR * NR; i++) {
         s = s * 6364136223846793005ULL + 1442695040888963407ULL;
         double x = (double)(s >> 11) / 9007199254740992.0 - 0.5;
@@ -519,7 +578,8 @@ static void test_eig_batch(void)
       mp[c] = mats[c];
     }
     for (int lanes = 4; lanes >= 0; lanes -= 4) {
-      CHECK(rr_eig_batch(NR, nb, lanes, mp, wr, wi, work, fail) == 0, "eig batch: trial %d did not converge", trial);
+      CHECK(rr_eig_batch(NR, nb, lanes, mp, wr, wi, work, fail) == 0,
+            "eig batch: trial %d did not converge", trial);
       for (int c = 0; c < nb; c++) {
         double anorm = 0;
         for (int i = 0; i < NR * NR; i++) anorm = fmax(anorm, fabs(mats[c][i]));
@@ -542,15 +602,19 @@ static void test_eig_batch(void)
      neighbours' eigenvalues are untouched */
   mats[5][5 * NR + 7] = NAN;
   for (int lanes = 4; lanes >= 0; lanes -= 4) {
-    CHECK(rr_eig_batch(NR, 7, lanes, mp, wr, wi, work, fail) != 0, "eig batch: a NaN lane went unreported");
+    CHECK(rr_eig_batch(NR, 7, lanes, mp, wr, wi, work, fail) != 0,
+          "eig batch: a NaN lane went unreported");
     for (int c = 0; c < 7; c++) {
-      CHECK(fail[c] == (c == 5), "eig batch: lane %d reported %d with the NaN in lane 5", c, fail[c]);
+      CHECK(fail[c] == (c == 5), "eig batch: lane %d reported %d with the NaN in lane 5", c,
+            fail[c]);
       if (c == 5) continue;
       double anorm = 0;
       for (int i = 0; i < NR * NR; i++) anorm = fmax(anorm, fabs(mats[c][i]));
       memcpy(h, mats[c], sizeof h);
       rr_eig_small(NR, h, hr, hi);
-      for (int j = 0; j < NR; j++) worst_lane = fmax(worst_lane, cabs(wr[c * NR + j] + I * wi[c * NR + j] - (hr[j] + I * hi[j])) / anorm);
+      for (int j = 0; j < NR; j++)
+        worst_lane = fmax(worst_lane,
+                          cabs(wr[c * NR + j] + I * wi[c * NR + j] - (hr[j] + I * hi[j])) / anorm);
     }
   }
   free(work);
@@ -583,7 +647,8 @@ static void test_index_batch(void)
     CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
     CHECK_OK(rr_model_set_operating(m, 300 / RR_KMH, 0.2, &e), e);
     CHECK_OK(rr_modal_stability_batch(m, NULL, ws, 11, v, lam, zb, &e), e);
-    CHECK(rr_model_speed(m) == 300 / RR_KMH && rr_model_conicity(m) == 0.2, "index batch: operating point not restored");
+    CHECK(rr_model_speed(m) == 300 / RR_KMH && rr_model_conicity(m) == 0.2,
+          "index batch: operating point not restored");
     for (int p = 0; p < 11; p++) {
       rr_stability z;
       CHECK_OK(rr_model_set_operating(m, v[p], lam[p], &e), e);
@@ -591,7 +656,8 @@ static void test_index_batch(void)
       worst = fmax(worst, fmax(fabs(z.index - zb[p].index), fabs(z.zeta_max - zb[p].zeta_max)));
     }
     double vbad[2] = {300 / RR_KMH, 0};
-    CHECK(rr_modal_stability_batch(m, NULL, ws, 2, vbad, lam, zb, &e) == RR_EINVAL, "index batch: zero speed accepted");
+    CHECK(rr_modal_stability_batch(m, NULL, ws, 2, vbad, lam, zb, &e) == RR_EINVAL,
+          "index batch: zero speed accepted");
     rr_modal_ws_free(ws);
     rr_model_free(m);
   }

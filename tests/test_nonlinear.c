@@ -9,9 +9,10 @@
 #include "railride/railride.h"
 #include "orbit.h"
 
-#define KMH (1 / RR_KMH)   /* m/s per km/h */
+#define KMH (1 / RR_KMH) /* m/s per km/h */
 
-static rr_nonlinear *vehicle_nl(const char *veh_name, const char *prof, double kmh, rr_vehicle *veh, rr_profile *p)
+static rr_nonlinear *vehicle_nl(const char *veh_name, const char *prof, double kmh, rr_vehicle *veh,
+                                rr_profile *p)
 {
   rr_error e;
   rr_nonlinear *nl = NULL;
@@ -47,9 +48,14 @@ static void test_jacobian_at_zero(void)
   CHECK(N == rr_nonlinear_size(nl), "state sizes %d vs %d", N, rr_nonlinear_size(nl));
   double *J = malloc(sizeof(double) * N * N), *z = calloc(N, sizeof(double)), dmax = 0, amax = 0;
   rr_nonlinear_jacobian(nl, z, NULL, J);
-  for (int i = 0; i < N * N; i++) { dmax = fmax(dmax, fabs(J[i] - A[i])); amax = fmax(amax, fabs(A[i])); }
+  for (int i = 0; i < N * N; i++) {
+    dmax = fmax(dmax, fabs(J[i] - A[i]));
+    amax = fmax(amax, fabs(A[i]));
+  }
   CHECK(dmax <= 1e-9 * amax, "Jacobian at 0 vs linear A: %g (|A| %g)", dmax, amax);
-  free(A); free(J); free(z);
+  free(A);
+  free(J);
+  free(z);
   rr_nonlinear_free(nl);
 }
 
@@ -61,16 +67,18 @@ static void test_jacobian_fd(void)
   rr_profile p;
   rr_nonlinear *nl = vehicle_nl("type2", "worn", 400, &veh, &p);
   int N = rr_nonlinear_size(nl), n = rr_nonlinear_ndof(nl);
-  double *z = calloc(N, sizeof(double)), *J = malloc(sizeof(double) * N * N), *a = malloc(sizeof(double) * N),
-         *b = malloc(sizeof(double) * N), worst = 0;
+  double *z = calloc(N, sizeof(double)), *J = malloc(sizeof(double) * N * N),
+         *a = malloc(sizeof(double) * N), *b = malloc(sizeof(double) * N), worst = 0;
   for (int i = 0; i < N; i++) z[i] = 1e-3 * sin(1.7 * i + 0.3) * (i >= n && i < 2 * n ? 30 : 1);
   z[rr_nonlinear_index_y(nl, 1)] = 9e-3;    /* beyond the 8 mm flange clearance */
   z[n + rr_nonlinear_index_y(nl, 2)] = 0.3; /* fast lateral slip: saturated */
   rr_nonlinear_jacobian(nl, z, NULL, J);
   for (int j = 0; j < N; j++) {
     double h = 1e-7 * (j >= n && j < 2 * n ? 30 : 1), zj = z[j], col = 0, err = 0;
-    z[j] = zj + h; rr_nonlinear_rhs(nl, z, NULL, a);
-    z[j] = zj - h; rr_nonlinear_rhs(nl, z, NULL, b);
+    z[j] = zj + h;
+    rr_nonlinear_rhs(nl, z, NULL, a);
+    z[j] = zj - h;
+    rr_nonlinear_rhs(nl, z, NULL, b);
     z[j] = zj;
     for (int i = 0; i < N; i++) {
       col = fmax(col, fabs(J[i * N + j]));
@@ -79,7 +87,10 @@ static void test_jacobian_fd(void)
     worst = fmax(worst, err / fmax(col, 1e-300));
   }
   CHECK(worst < 1e-5, "Jacobian against central differences: worst column %g", worst);
-  free(z); free(J); free(a); free(b);
+  free(z);
+  free(J);
+  free(a);
+  free(b);
   rr_nonlinear_free(nl);
 }
 
@@ -88,18 +99,20 @@ static void test_growth_rate(void)
 {
   rr_vehicle veh;
   rr_profile p;
-  double kmh = 560;   /* above the Hopf point (541.6 km/h) */
+  double kmh = 560; /* above the Hopf point (541.6 km/h) */
   rr_nonlinear *nl = vehicle_nl("type1", "worn", kmh, &veh, &p);
   int N;
   double *A = linear_A(&veh, rr_profile_conicity(&p, 0), kmh * KMH, &N);
-  double *wr = malloc(sizeof(double) * N), *wi = malloc(sizeof(double) * N), *V = malloc(sizeof(double) * N * N);
+  double *wr = malloc(sizeof(double) * N), *wi = malloc(sizeof(double) * N),
+         *V = malloc(sizeof(double) * N * N);
   LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', N, A, N, wr, wi, NULL, 1, V, N);
   int b = -1;
   for (int i = 0; i < N; i++)
     if (wi[i] > 0 && (b < 0 || wr[i] > wr[b])) b = i;
   int k = rr_nonlinear_index_y(nl, 0);
   /* z0 = Re(c v) with c making y_w1 real and 1 nm: a peak of the motion */
-  double vr = V[k * N + b], vi = V[k * N + b + 1], den = vr * vr + vi * vi, cr = vr / den * 1e-9, ci = -vi / den * 1e-9;
+  double vr = V[k * N + b], vi = V[k * N + b + 1], den = vr * vr + vi * vi, cr = vr / den * 1e-9,
+         ci = -vi / den * 1e-9;
   double *z0 = malloc(sizeof(double) * N);
   for (int i = 0; i < N; i++) z0[i] = cr * V[i * N + b] - ci * V[i * N + b + 1];
   double T = 2 * RR_PI / wi[b];
@@ -113,9 +126,16 @@ static void test_growth_rate(void)
   rr_error e;
   int st = rr_simulate(nl, z0, &so, out, ns, &e);
   CHECK_OK(st, e);
-  double sigma = log(out[(size_t)(ns - 1) * N + k] / z0[k]) / so.duration_s;   /* y(t + 20 T) = e^(20 sigma T) y(t) */
-  CHECK_CLOSE(sigma, wr[b], 1e-3, 0, "growth rate of a tiny disturbance vs Re(least-damped eigenvalue), 1/s");
-  free(A); free(wr); free(wi); free(V); free(z0); free(out);
+  double sigma = log(out[(size_t)(ns - 1) * N + k] / z0[k]) /
+                 so.duration_s; /* y(t + 20 T) = e^(20 sigma T) y(t) */
+  CHECK_CLOSE(sigma, wr[b], 1e-3, 0,
+              "growth rate of a tiny disturbance vs Re(least-damped eigenvalue), 1/s");
+  free(A);
+  free(wr);
+  free(wi);
+  free(V);
+  free(z0);
+  free(out);
   rr_nonlinear_free(nl);
 }
 
@@ -123,25 +143,39 @@ static void test_growth_rate(void)
    2 sqrt(mu) (the energy balance mu pi A^2 = pi A^4 / 4) and period 2 pi. */
 static void vdp_rhs(void *u, double t, double mu, const double *z, double *dz)
 {
-  (void)u; (void)t;
+  (void)u;
+  (void)t;
   dz[0] = z[1];
   dz[1] = (mu - z[0] * z[0]) * z[1] - z[0];
 }
 
 static void vdp_jac(void *u, double t, double mu, const double *z, double *J)
 {
-  (void)u; (void)t;
-  J[0] = 0; J[1] = 1;
-  J[2] = -2 * z[0] * z[1] - 1; J[3] = mu - z[0] * z[0];
+  (void)u;
+  (void)t;
+  J[0] = 0;
+  J[1] = 1;
+  J[2] = -2 * z[0] * z[1] - 1;
+  J[3] = mu - z[0] * z[0];
 }
 
 static void test_van_der_pol(void)
 {
   double atol[2] = {1, 1};
-  rr_orbit_sys s = {.ode = {.n = 2, .rhs = vdp_rhs, .jac = vdp_jac}, .k_amp = 0, .k_phase = 1, .amp_unit = 1,
-                    .p_unit = 0.1, .atol = atol};
-  rr_branch_opts bo = {.p_min = -1, .p_max = 0.05, .amp_max = 10, .amp_start = 0.05, .ds = 0.2, .ds_max = 1,
-                       .rtol = 1e-11, .cap = 100};
+  rr_orbit_sys s = {.ode = {.n = 2, .rhs = vdp_rhs, .jac = vdp_jac},
+                    .k_amp = 0,
+                    .k_phase = 1,
+                    .amp_unit = 1,
+                    .p_unit = 0.1,
+                    .atol = atol};
+  rr_branch_opts bo = {.p_min = -1,
+                       .p_max = 0.05,
+                       .amp_max = 10,
+                       .amp_start = 0.05,
+                       .ds = 0.2,
+                       .ds_max = 1,
+                       .rtol = 1e-11,
+                       .cap = 100};
   rr_orbit pts[100];
   int n = 0, end;
   rr_error e;
@@ -153,7 +187,8 @@ static void test_van_der_pol(void)
     double mu = pts[i].p;
     CHECK_CLOSE(pts[i].amp, 2 * sqrt(mu), 0.01, 0, "van der Pol amplitude vs 2 sqrt(mu)");
     CHECK_CLOSE(pts[i].T, 2 * RR_PI, 0.01, 0, "van der Pol period vs 2 pi");
-    CHECK(pts[i].stable && pts[i].residual <= 1e-8, "van der Pol cycle stable, residual %g", pts[i].residual);
+    CHECK(pts[i].stable && pts[i].residual <= 1e-8, "van der Pol cycle stable, residual %g",
+          pts[i].residual);
   }
 }
 
@@ -181,25 +216,30 @@ static void test_linear_no_branch(void)
     st = rr_nonlinear_from_vehicle(&veh, &p, &law, b.hopf_speed_ms * (1 + 0.01 * side), &nl, &e);
     CHECK_OK(st, e);
     int N = rr_nonlinear_size(nl), k = rr_nonlinear_index_y(nl, 0), ns = 4001;
-    double *z = calloc(N, sizeof(double)), *out = malloc(sizeof(double) * N * ns), amp[4] = {0, 0, 0, 0};
+    double *z = calloc(N, sizeof(double)), *out = malloc(sizeof(double) * N * ns),
+           amp[4] = {0, 0, 0, 0};
     for (int w = 0; w < 4; w++) z[rr_nonlinear_index_y(nl, w)] = 1e-3;
     rr_sim_opts so = rr_sim_opts_default();
     so.duration_s = 40;
     so.fs_hz = 100;
     st = rr_simulate(nl, z, &so, out, ns, &e);
     CHECK_OK(st, e);
-    for (int i = 1; i < ns; i++) amp[i * 4 / ns] = fmax(amp[i * 4 / ns], fabs(out[(size_t)i * N + k]));
-    double r1 = amp[2] / amp[1], r2 = amp[3] / amp[2];   /* after 10 s: the hunting mode alone */
-    CHECK(side < 0 ? r1 < 1 && r2 < 1 : r1 > 1 && r2 > 1, "linear model %s the Hopf point: ratios %g %g", side < 0 ? "below" : "above", r1, r2);
+    for (int i = 1; i < ns; i++)
+      amp[i * 4 / ns] = fmax(amp[i * 4 / ns], fabs(out[(size_t)i * N + k]));
+    double r1 = amp[2] / amp[1], r2 = amp[3] / amp[2]; /* after 10 s: the hunting mode alone */
+    CHECK(side < 0 ? r1 < 1 && r2 < 1 : r1 > 1 && r2 > 1,
+          "linear model %s the Hopf point: ratios %g %g", side < 0 ? "below" : "above", r1, r2);
     CHECK_CLOSE(r2, r1, 0.05, 0, "linear model: a constant rate, no cycle to settle on");
-    free(z); free(out);
+    free(z);
+    free(out);
     rr_nonlinear_free(nl);
   }
 }
 
 /* Amplitude and frequency of y_w1 over the last `last` seconds of a run of
    `dur` seconds from z0 at the nonlinear vehicle's speed. */
-static void run_measure(rr_nonlinear *nl, const double *z0, double dur, double last, double *amp, double *freq)
+static void run_measure(rr_nonlinear *nl, const double *z0, double dur, double last, double *amp,
+                        double *freq)
 {
   int N = rr_nonlinear_size(nl), k = rr_nonlinear_index_y(nl, 0), ns = (int)(dur * 2000) + 1;
   double *out = malloc(sizeof(double) * N * ns), t_first = 0, t_last = 0;
@@ -234,12 +274,16 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   rr_vehicle veh;
   rr_error e;
   int st;
-  if (veh_file_text) st = rr_vehicle_load(check_write_file("veh.ini", veh_file_text), &veh, &e);
-  else st = rr_vehicle_open("type1", &veh, &e);
+  if (veh_file_text)
+    st = rr_vehicle_load(check_write_file("veh.ini", veh_file_text), &veh, &e);
+  else
+    st = rr_vehicle_open("type1", &veh, &e);
   CHECK_OK(st, e);
   rr_profile p;
-  if (prof) rr_profile_open(prof, &p, &e);
-  else p = veh.profile;
+  if (prof)
+    rr_profile_open(prof, &p, &e);
+  else
+    p = veh.profile;
   rr_orbit_opts o = rr_orbit_opts_default();
   o.v_max_ms = v_hi_kmh * KMH;
   int cap = 200;
@@ -248,7 +292,8 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   rr_bifurcation b;
   st = rr_bifurcation_continue(&veh, &p, NULL, &o, pts, Z, cap, &b, &e);
   CHECK_OK(st, e);
-  CHECK(b.type == want_type && b.npoints >= 5, "branch type %d (want %d), %d points", b.type, want_type, b.npoints);
+  CHECK(b.type == want_type && b.npoints >= 5, "branch type %d (want %d), %d points", b.type,
+        want_type, b.npoints);
   /* the Hopf point: an independent critical-speed call, and the branch's own extrapolation */
   rr_model *m;
   rr_model_from_vehicle(&veh, &m, &e);
@@ -259,20 +304,26 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   rr_critical cr;
   st = rr_critical_speed(m, rr_profile_conicity(&p, 0), NULL, &co, ws, &cr, &e);
   CHECK_OK(st, e);
-  CHECK(fabs(b.hopf_speed_branch_ms - cr.speed_ms) * RR_KMH <= 0.1, "branch's Hopf %.4f vs critical-speed %.4f km/h",
-        b.hopf_speed_branch_ms * RR_KMH, cr.speed_ms * RR_KMH);
+  CHECK(fabs(b.hopf_speed_branch_ms - cr.speed_ms) * RR_KMH <= 0.1,
+        "branch's Hopf %.4f vs critical-speed %.4f km/h", b.hopf_speed_branch_ms * RR_KMH,
+        cr.speed_ms * RR_KMH);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   int N = 0, checked_stable = 0, checked_unstable = 0, first_stable = -1, worst = -1;
   for (int i = 0; i < b.npoints; i++) {
     CHECK(pts[i].residual <= 1e-8, "cycle %d: residual %g", i, pts[i].residual);
-    if (pts[i].stable && first_stable < 0) first_stable = i;
-    else if (first_stable < 0 && (worst < 0 || pts[i].floquet_max > pts[worst].floquet_max)) worst = i;   /* before the fold */
+    if (pts[i].stable && first_stable < 0)
+      first_stable = i;
+    else if (first_stable < 0 && (worst < 0 || pts[i].floquet_max > pts[worst].floquet_max))
+      worst = i; /* before the fold */
   }
-  int run_end = first_stable;   /* the first run of stable cycles; two well inside it */
+  int run_end = first_stable; /* the first run of stable cycles; two well inside it */
   while (run_end >= 0 && run_end + 1 < b.npoints && pts[run_end + 1].stable) run_end++;
   int mid = first_stable < 0 ? -1 : (first_stable + run_end) / 2;
-  int picks[3] = {mid, first_stable < 0 ? -1 : (first_stable + mid) / 2 == mid ? run_end : (first_stable + mid) / 2,
+  int picks[3] = {mid,
+                  first_stable < 0                  ? -1
+                  : (first_stable + mid) / 2 == mid ? run_end
+                                                    : (first_stable + mid) / 2,
                   want_type == RR_BIF_SUBCRITICAL ? worst : -1};
   for (int q = 0; q < 3; q++) {
     int i = picks[q];
@@ -282,40 +333,49 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
     CHECK_OK(st, e);
     N = rr_nonlinear_size(nl);
     double *z = malloc(sizeof(double) * N), amp, freq;
-    if (pts[i].stable) {   /* from 0.5 % off the cycle, direct integration stays on it */
+    if (pts[i].stable) { /* from 0.5 % off the cycle, direct integration stays on it */
       for (int j = 0; j < N; j++) z[j] = Z[(size_t)i * N + j] * 1.005;
       run_measure(nl, z, 12, 1, &amp, &freq);
-      CHECK_CLOSE(amp, pts[i].amplitude_m, 0.01, 0, "stable cycle: amplitude by direct integration");
-      CHECK_CLOSE(freq, 1 / pts[i].period_s, 0.005, 0, "stable cycle: frequency by direct integration");
+      CHECK_CLOSE(amp, pts[i].amplitude_m, 0.01, 0,
+                  "stable cycle: amplitude by direct integration");
+      CHECK_CLOSE(freq, 1 / pts[i].period_s, 0.005, 0,
+                  "stable cycle: frequency by direct integration");
       checked_stable++;
-    } else {   /* along the unstable Floquet vector, both ways: away from the cycle */
+    } else { /* along the unstable Floquet vector, both ways: away from the cycle */
       rr_orbit_sys s;
       double *atol, mu, *v = malloc(sizeof(double) * N), dev[2];
       rr_nonlinear_orbit_sys(nl, &s, &atol, &e);
-      st = rr_orbit_floquet_vector(&s, Z + (size_t)i * N, pts[i].period_s, pts[i].speed_ms, &mu, v, &e);
+      st = rr_orbit_floquet_vector(&s, Z + (size_t)i * N, pts[i].period_s, pts[i].speed_ms, &mu, v,
+                                   &e);
       CHECK_OK(st, e);
       double scale = 0.01 * pts[i].amplitude_m / fabs(v[rr_nonlinear_index_y(nl, 0)] + 1e-300);
-      int periods = (int)ceil(log(20.0) / log(mu));   /* the perturbation grows 20-fold, linearly */
+      int periods = (int)ceil(log(20.0) / log(mu)); /* the perturbation grows 20-fold, linearly */
       for (int sgn = 0; sgn < 2; sgn++) {
         for (int j = 0; j < N; j++) z[j] = Z[(size_t)i * N + j] + (sgn ? -scale : scale) * v[j];
         run_measure(nl, z, periods * pts[i].period_s, 2 * pts[i].period_s, &amp, &freq);
         dev[sgn] = amp - pts[i].amplitude_m;
       }
-      CHECK(mu > 1 && fabs(dev[0]) > 0.05 * pts[i].amplitude_m && fabs(dev[1]) > 0.05 * pts[i].amplitude_m && dev[0] * dev[1] < 0,
-            "unstable cycle (|mu| %g): perturbed both ways it leaves (amplitude changes %g, %g of %g m)", mu, dev[0], dev[1],
-            pts[i].amplitude_m);
+      CHECK(mu > 1 && fabs(dev[0]) > 0.05 * pts[i].amplitude_m &&
+                fabs(dev[1]) > 0.05 * pts[i].amplitude_m && dev[0] * dev[1] < 0,
+            "unstable cycle (|mu| %g): perturbed both ways it leaves (amplitude changes %g, %g of "
+            "%g m)",
+            mu, dev[0], dev[1], pts[i].amplitude_m);
       checked_unstable++;
-      free(v); free(atol);
+      free(v);
+      free(atol);
     }
     free(z);
     rr_nonlinear_free(nl);
   }
-  CHECK(checked_stable == 2 && checked_unstable == (want_type == RR_BIF_SUBCRITICAL), "checked %d stable, %d unstable",
-        checked_stable, checked_unstable);
+  CHECK(checked_stable == 2 && checked_unstable == (want_type == RR_BIF_SUBCRITICAL),
+        "checked %d stable, %d unstable", checked_stable, checked_unstable);
   if (want_type == RR_BIF_SUBCRITICAL)
-    CHECK(b.nonlinear_critical_ms < b.hopf_speed_ms - 5 * KMH, "subcritical: nonlinear critical %.2f below Hopf %.2f km/h",
+    CHECK(b.nonlinear_critical_ms < b.hopf_speed_ms - 5 * KMH,
+          "subcritical: nonlinear critical %.2f below Hopf %.2f km/h",
           b.nonlinear_critical_ms * RR_KMH, b.hopf_speed_ms * RR_KMH);
-  else CHECK_CLOSE(b.nonlinear_critical_ms, b.hopf_speed_ms, 1e-12, 0, "supercritical: nonlinear = linear critical speed");
+  else
+    CHECK_CLOSE(b.nonlinear_critical_ms, b.hopf_speed_ms, 1e-12, 0,
+                "supercritical: nonlinear = linear critical speed");
   free(pts);
   free(Z);
 }
@@ -325,17 +385,25 @@ static void test_vehicle_keys(void)
 {
   rr_vehicle veh;
   rr_error e;
-  int st = rr_vehicle_load(check_write_file("nl.ini", "[vehicle]\nbase = type1\n[contact]\nfriction = 0.25\n"
-                                                         "flange_clearance = 7 mm\nflange_stiffness = 400 kN/mm\n"
-                                                         "conicity_poly = 0.2, -0.01 0.0002\nconicity_hold = 10 mm\n"),
-                           &veh, &e);
+  int st = rr_vehicle_load(
+      check_write_file("nl.ini", "[vehicle]\nbase = type1\n[contact]\nfriction = 0.25\n"
+                                 "flange_clearance = 7 mm\nflange_stiffness = 400 kN/mm\n"
+                                 "conicity_poly = 0.2, -0.01 0.0002\nconicity_hold = 10 mm\n"),
+      &veh, &e);
   CHECK_OK(st, e);
-  CHECK(veh.friction == 0.25 && fabs(veh.flange_clearance - 7e-3) < 1e-15 && fabs(veh.flange_stiffness - 4e8) < 1e-3,
+  CHECK(veh.friction == 0.25 && fabs(veh.flange_clearance - 7e-3) < 1e-15 &&
+            fabs(veh.flange_stiffness - 4e8) < 1e-3,
         "contact keys read");
-  CHECK_CLOSE(rr_profile_conicity(&veh.profile, 5e-3), 0.2 - 0.05 + 0.005, 1e-14, 0, "conicity_poly at 5 mm");
-  CHECK_CLOSE(rr_profile_conicity(&veh.profile, 20e-3), 0.2 - 0.1 + 0.02, 1e-14, 0, "conicity_poly held beyond 10 mm");
-  st = rr_vehicle_load(check_write_file("nl2.ini", "[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.2 -0.05\n"), &veh, &e);
-  CHECK(st != 0 && strstr(e.msg, "nl2.ini:4") && strstr(e.msg, "conicity_poly"), "a profile going to zero: %s", e.msg);
+  CHECK_CLOSE(rr_profile_conicity(&veh.profile, 5e-3), 0.2 - 0.05 + 0.005, 1e-14, 0,
+              "conicity_poly at 5 mm");
+  CHECK_CLOSE(rr_profile_conicity(&veh.profile, 20e-3), 0.2 - 0.1 + 0.02, 1e-14, 0,
+              "conicity_poly held beyond 10 mm");
+  st = rr_vehicle_load(
+      check_write_file("nl2.ini",
+                       "[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.2 -0.05\n"),
+      &veh, &e);
+  CHECK(st != 0 && strstr(e.msg, "nl2.ini:4") && strstr(e.msg, "conicity_poly"),
+        "a profile going to zero: %s", e.msg);
 }
 
 int main(void)
@@ -348,7 +416,8 @@ int main(void)
   test_linear_no_branch();
   test_vehicle_keys();
   test_branch(NULL, "worn", 580, RR_BIF_SUPERCRITICAL);
-  test_branch("[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.3 0.02\n", NULL, 600, RR_BIF_SUBCRITICAL);
+  test_branch("[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.3 0.02\n", NULL, 600,
+              RR_BIF_SUBCRITICAL);
   check_cleanup();
   return check_done("nonlinear");
 }

@@ -25,7 +25,10 @@ static int zdt(void *user, int n, const double *x, double *f)
 static void test_zdt(int which, double hv_true, double hv_frac)
 {
   double lo[30], hi[30];
-  for (int j = 0; j < 30; j++) { lo[j] = 0; hi[j] = 1; }
+  for (int j = 0; j < 30; j++) {
+    lo[j] = 0;
+    hi[j] = 1;
+  }
   rr_nsga2_opts o = rr_nsga2_opts_default();
   o.population = 100;
   o.generations = 250;
@@ -37,7 +40,8 @@ static void test_zdt(int which, double hv_true, double hv_frac)
   double ref[2] = {1, 1};
   double hv = rr_hypervolume(100, 2, F, ref);
   /* the analytic front's hypervolume: int_0^1 (1 - f2(f1)) df1 */
-  CHECK(hv > hv_frac * hv_true && hv <= hv_true + 1e-9, "ZDT%d hypervolume %.5f of %.5f", which, hv, hv_true);
+  CHECK(hv > hv_frac * hv_true && hv <= hv_true + 1e-9, "ZDT%d hypervolume %.5f of %.5f", which, hv,
+        hv_true);
   /* convergence: the front's points lie on the analytic front (g = 1) */
   double gap = 0;
   for (int i = 0; i < 100; i++) {
@@ -52,7 +56,10 @@ static void test_zdt(int which, double hv_true, double hv_frac)
   double *F2 = malloc(sizeof(double) * 200), *X2 = malloc(sizeof(double) * 3000);
   rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e);
   CHECK(!memcmp(F, F2, sizeof(double) * 200), "same seed, same result");
-  free(X); free(F); free(F2); free(X2);
+  free(X);
+  free(F);
+  free(F2);
+  free(X2);
 }
 
 /* Deb's CONSTR: min f1 = x1, f2 = (1 + x2) / x1, x1 in [0.1, 1], x2 in [0, 5],
@@ -65,7 +72,7 @@ static int constr(void *user, int n, const double *x, double *f)
     double x1 = x[2 * i], x2 = x[2 * i + 1];
     f[4 * i] = x1;
     f[4 * i + 1] = (1 + x2) / x1;
-    f[4 * i + 2] = 6 - (x2 + 9 * x1);   /* violations: > 0 when broken */
+    f[4 * i + 2] = 6 - (x2 + 9 * x1); /* violations: > 0 when broken */
     f[4 * i + 3] = 1 - (-x2 + 9 * x1);
   }
   return 0;
@@ -100,17 +107,20 @@ static void test_constr(void)
     double want = constr_front(F[2 * i]);
     gap = fmax(gap, (F[2 * i + 1] - want) / want);
     gaps[nfront - 1] = (F[2 * i + 1] - want) / want;
-    below = fmin(below, F[2 * i + 1] - want);   /* a feasible design cannot beat the front */
+    below = fmin(below, F[2 * i + 1] - want); /* a feasible design cannot beat the front */
     f1min = fmin(f1min, F[2 * i]);
     f1max = fmax(f1max, F[2 * i]);
   }
-  CHECK(nfront > 50 && feasible == nfront, "CONSTR: %d on the front, %d feasible", nfront, feasible);
+  CHECK(nfront > 50 && feasible == nfront, "CONSTR: %d on the front, %d feasible", nfront,
+        feasible);
   /* on the constraint-bound part the designs approach the boundary slowly
      (mutation rarely lands on it): a median within 1 %, none beyond 10 % */
   qsort(gaps, (size_t)nfront, sizeof gaps[0], cmp_double);
   CHECK(gaps[nfront / 2] < 0.01 && gap < 0.10 && below > -1e-9,
-        "CONSTR: median gap to the analytic front %.4f, largest %.4f, below it by %g", gaps[nfront / 2], gap, -below);
-  CHECK(f1min < 0.40 && f1max > 0.98, "CONSTR: the front spans f1 %.3f .. %.3f (analytic 7/18 .. 1)", f1min, f1max);
+        "CONSTR: median gap to the analytic front %.4f, largest %.4f, below it by %g",
+        gaps[nfront / 2], gap, -below);
+  CHECK(f1min < 0.40 && f1max > 0.98,
+        "CONSTR: the front spans f1 %.3f .. %.3f (analytic 7/18 .. 1)", f1min, f1max);
 }
 
 /* A run stopped after 6 generations and resumed from its checkpoint gives
@@ -118,7 +128,10 @@ static void test_constr(void)
    problem is refused. */
 static int stop_at(void *user, int g, long ev, double secs, int fs, double hv)
 {
-  (void)ev; (void)secs; (void)fs; (void)hv;
+  (void)ev;
+  (void)secs;
+  (void)fs;
+  (void)hv;
   return g >= *(int *)user;
 }
 
@@ -126,7 +139,10 @@ static void test_resume(void)
 {
   int which = 1, six = 6;
   double lo[30], hi[30], X1[60 * 30], F1[120], X2[60 * 30], F2[120];
-  for (int j = 0; j < 30; j++) { lo[j] = 0; hi[j] = 1; }
+  for (int j = 0; j < 30; j++) {
+    lo[j] = 0;
+    hi[j] = 1;
+  }
   rr_nsga2_opts o = rr_nsga2_opts_default();
   o.population = 60;
   o.generations = 15;
@@ -145,10 +161,12 @@ static void test_resume(void)
   o.progress = NULL;
   o.resume = path;
   CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
-  CHECK(done == 15 && !memcmp(F1, F2, sizeof F1) && !memcmp(X1, X2, sizeof X1), "resumed run = uninterrupted run (to the bit)");
+  CHECK(done == 15 && !memcmp(F1, F2, sizeof F1) && !memcmp(X1, X2, sizeof X1),
+        "resumed run = uninterrupted run (to the bit)");
   o.population = 62;
   double X3[62 * 30], F3[124];
-  CHECK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X3, F3, NULL, &e) == RR_EINVAL && strstr(e.msg, "another problem"),
+  CHECK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X3, F3, NULL, &e) == RR_EINVAL &&
+            strstr(e.msg, "another problem"),
         "a checkpoint of another population refused: %s", e.msg);
 }
 
@@ -158,8 +176,12 @@ static void test_sort(int m)
   int n = 300;
   double *f = malloc(sizeof(double) * n * m);
   unsigned s = 12345;
-  for (int i = 0; i < n * m; i++) { s = s * 1103515245u + 12345u; f[i] = (s >> 8) % 50; }   /* ties on purpose */
-  int *rank = malloc(sizeof(int) * n), *brute = malloc(sizeof(int) * n), *done = calloc(n, sizeof(int));
+  for (int i = 0; i < n * m; i++) {
+    s = s * 1103515245u + 12345u;
+    f[i] = (s >> 8) % 50;
+  } /* ties on purpose */
+  int *rank = malloc(sizeof(int) * n), *brute = malloc(sizeof(int) * n),
+      *done = calloc(n, sizeof(int));
   int nf = rr_nondominated_ranks(n, m, f, rank);
   int left = n, k = 0;
   while (left) {
@@ -170,12 +192,20 @@ static void test_sort(int m)
       for (int j = 0; j < n && !dom; j++) {
         if (done[j] || j == i) continue;
         int le = 1, lt = 0;
-        for (int c = 0; c < m; c++) { if (f[j * m + c] > f[i * m + c]) le = 0; if (f[j * m + c] < f[i * m + c]) lt = 1; }
+        for (int c = 0; c < m; c++) {
+          if (f[j * m + c] > f[i * m + c]) le = 0;
+          if (f[j * m + c] < f[i * m + c]) lt = 1;
+        }
         dom = le && lt;
       }
       if (!dom) cur[i] = 1;
     }
-    for (int i = 0; i < n; i++) if (cur[i]) { brute[i] = k; done[i] = 1; left--; }
+    for (int i = 0; i < n; i++)
+      if (cur[i]) {
+        brute[i] = k;
+        done[i] = 1;
+        left--;
+      }
     free(cur);
     k++;
   }
@@ -183,7 +213,10 @@ static void test_sort(int m)
   int same = 1;
   for (int i = 0; i < n; i++) same &= rank[i] == brute[i];
   CHECK(same, "ranks equal brute-force peeling (m = %d)", m);
-  free(f); free(rank); free(brute); free(done);
+  free(f);
+  free(rank);
+  free(brute);
+  free(done);
 }
 
 static void test_hv(void)
@@ -191,9 +224,11 @@ static void test_hv(void)
   /* hypervolume: boxes with closed-form union */
   double p3[6] = {0, 0.5, 0.5, 0.5, 0, 0.5}, r3[3] = {1, 1, 1};
   /* boxes 1 x 0.5 x 0.5 and 0.5 x 1 x 0.5 overlapping in 0.5^3 */
-  CHECK_CLOSE(rr_hypervolume(2, 3, p3, r3), 0.25 + 0.25 - 0.125, 1e-12, 0, "3-D hypervolume of two boxes");
+  CHECK_CLOSE(rr_hypervolume(2, 3, p3, r3), 0.25 + 0.25 - 0.125, 1e-12, 0,
+              "3-D hypervolume of two boxes");
   double p2[6] = {0.2, 0.8, 0.5, 0.5, 0.8, 0.2}, r2[2] = {1, 1};
-  CHECK_CLOSE(rr_hypervolume(3, 2, p2, r2), 0.8 * 0.2 + 0.5 * 0.3 + 0.2 * 0.3, 1e-12, 0, "2-D staircase");
+  CHECK_CLOSE(rr_hypervolume(3, 2, p2, r2), 0.8 * 0.2 + 0.5 * 0.3 + 0.2 * 0.3, 1e-12, 0,
+              "2-D staircase");
 }
 
 static void test_design(void)
@@ -201,7 +236,8 @@ static void test_design(void)
   rr_vehicle v;
   rr_vehicle_default(&v);
   const char *keys[2] = {"primary.longitudinal_stiffness", "yaw_damper.series_stiffness"};
-  const char *objs[5] = {"zeta_low", "zeta_high", "std_zeta", "index@300,0.3", "sperling@350,0.17,8.6875"};
+  const char *objs[5] = {"zeta_low", "zeta_high", "std_zeta", "index@300,0.3",
+                         "sperling@350,0.17,8.6875"};
   rr_design *d;
   rr_error e;
   CHECK_OK(rr_design_new(&v, 2, keys, 5, objs, &d, &e), e);
@@ -232,12 +268,15 @@ static void test_design(void)
   CHECK(!memcmp(F, Fs, sizeof F), "threaded batch equals sequential");
   /* invalid design: NaN objectives and a status */
   double bad[2] = {-1, 8e6};
-  CHECK(rr_design_evaluate(d, bad, f, &e) == RR_EINVAL && isnan(f[0]), "negative stiffness refused: %s", e.msg);
+  CHECK(rr_design_evaluate(d, bad, f, &e) == RR_EINVAL && isnan(f[0]),
+        "negative stiffness refused: %s", e.msg);
   const char *badobj[1] = {"sperling@350"};
   rr_design *d2;
   CHECK(rr_design_new(&v, 0, NULL, 1, badobj, &d2, &e) == RR_EINVAL, "bad objective refused");
   const char *badkey[1] = {"primary.stiffness"};
-  CHECK(rr_design_new(&v, 1, badkey, 1, objs, &d2, &e) == RR_EINVAL && strstr(e.msg, "primary.stiffness"), "bad key refused");
+  CHECK(rr_design_new(&v, 1, badkey, 1, objs, &d2, &e) == RR_EINVAL &&
+            strstr(e.msg, "primary.stiffness"),
+        "bad key refused");
   rr_modal_ws_free(ws);
   rr_model_free(m);
   rr_design_free(d);

@@ -16,7 +16,8 @@ static void test_spectra(void)
   rr_spectrum s;
   rr_error e;
   /* published RMS over 2-200 m (the published track spectrum tables) */
-  const char *names[4] = {"tbt3352-alignment", "tbt3352-vertical", "tbt3352-crosslevel", "tbt3352-gauge"};
+  const char *names[4] = {"tbt3352-alignment", "tbt3352-vertical", "tbt3352-crosslevel",
+                          "tbt3352-gauge"};
   const double rms_mm[4] = {0.6678, 1.2203, 0.5235, 0.3437};
   for (int i = 0; i < 4; i++) {
     CHECK_OK(rr_spectrum_open(names[i], &s, &e), e);
@@ -24,40 +25,61 @@ static void test_spectra(void)
   }
   /* the alignment in closed form: sum of A/(1-k) (b^(1-k) - a^(1-k)) */
   CHECK_OK(rr_spectrum_open("wuhan-guangzhou", &s, &e), e);
-  double seg[3][4] = {{0.005, 0.045, 3.9513e-3, 1.8670}, {0.045, 0.1234, 1.1047e-2, 1.5354}, {0.1234, 0.5, 7.5633e-4, 2.8171}};
+  double seg[3][4] = {{0.005, 0.045, 3.9513e-3, 1.8670},
+                      {0.045, 0.1234, 1.1047e-2, 1.5354},
+                      {0.1234, 0.5, 7.5633e-4, 2.8171}};
   double var = 0;
-  for (int i = 0; i < 3; i++) var += seg[i][2] / (1 - seg[i][3]) * (pow(seg[i][1], 1 - seg[i][3]) - pow(seg[i][0], 1 - seg[i][3]));
-  CHECK_CLOSE(1e3 * rr_spectrum_rms(&s, 0.005, 0.5), sqrt(var), 1e-9, 0, "power-law RMS vs closed form");
-  CHECK_CLOSE(rr_spectrum_eval(&s, 0.08), 1e-6 * 1.1047e-2 / pow(0.08, 1.5354), 1e-14, 0, "eval in m^2/(1/m)");
-  CHECK_CLOSE(rr_spectrum_eval(&s, 0.002), 1e-6 * 3.9513e-3 / pow(0.002, 1.8670), 1e-14, 0, "end segment extends");
+  for (int i = 0; i < 3; i++)
+    var += seg[i][2] / (1 - seg[i][3]) *
+           (pow(seg[i][1], 1 - seg[i][3]) - pow(seg[i][0], 1 - seg[i][3]));
+  CHECK_CLOSE(1e3 * rr_spectrum_rms(&s, 0.005, 0.5), sqrt(var), 1e-9, 0,
+              "power-law RMS vs closed form");
+  CHECK_CLOSE(rr_spectrum_eval(&s, 0.08), 1e-6 * 1.1047e-2 / pow(0.08, 1.5354), 1e-14, 0,
+              "eval in m^2/(1/m)");
+  CHECK_CLOSE(rr_spectrum_eval(&s, 0.002), 1e-6 * 3.9513e-3 / pow(0.002, 1.8670), 1e-14, 0,
+              "end segment extends");
   /* German alignment, rad/m: S_n(n) = 2 pi S_W(2 pi n); over all W the integral is
      A Oc^2 pi / (2 Or Oc (Or + Oc)) */
   CHECK_OK(rr_spectrum_open("german-low-alignment", &s, &e), e);
   double A = 2.119e-7, Oc = 0.8246, Or = 0.0206, n = 0.05, W = 2 * RR_PI * n;
-  CHECK_CLOSE(rr_spectrum_eval(&s, n), 2 * RR_PI * A * Oc * Oc / ((W * W + Or * Or) * (W * W + Oc * Oc)), 1e-13, 0, "rad/m conversion");
+  CHECK_CLOSE(rr_spectrum_eval(&s, n),
+              2 * RR_PI * A * Oc * Oc / ((W * W + Or * Or) * (W * W + Oc * Oc)), 1e-13, 0,
+              "rad/m conversion");
   double total = A * Oc * Oc * RR_PI / (2 * Or * Oc * (Or + Oc));
-  CHECK_CLOSE(pow(rr_spectrum_rms(&s, 1e-13, 1e5), 2), total, 1e-8, 0, "German alignment variance in closed form");
+  CHECK_CLOSE(pow(rr_spectrum_rms(&s, 1e-13, 1e5), 2), total, 1e-8, 0,
+              "German alignment variance in closed form");
   /* file forms: table (log-log) and rational7 against their formulas; two-sided doubles */
-  const char *p = write_file("t.txt", "name = t\ndirection = lateral\nform = table\nfreq_unit = 1/m\npsd_unit = m^2/(1/m)\nsided = two\nvalid = 0.01 1\n"
+  const char *p = write_file("t.txt", "name = t\ndirection = lateral\nform = table\nfreq_unit = "
+                                      "1/m\npsd_unit = m^2/(1/m)\nsided = two\nvalid = 0.01 1\n"
                                       "point = 0.01 1e-4\npoint = 0.1 1e-6\npoint = 1 1e-9\n");
   CHECK_OK(rr_spectrum_load(p, &s, &e), e);
-  CHECK_CLOSE(rr_spectrum_eval(&s, 0.0316227766016838), 2 * 1e-4 * pow(3.16227766016838, -2), 1e-12, 0, "table log-log midpoint, two-sided");
+  CHECK_CLOSE(rr_spectrum_eval(&s, 0.0316227766016838), 2 * 1e-4 * pow(3.16227766016838, -2), 1e-12,
+              0, "table log-log midpoint, two-sided");
   CHECK_CLOSE(rr_spectrum_eval(&s, 0.5), 2 * 1e-6 * pow(5, -3), 1e-12, 0, "table second slope");
-  p = write_file("r.txt", "direction = vertical\nform = rational7\nfreq_unit = 1/m\npsd_unit = mm^2/(1/m)\nsided = one\nvalid = 0.01 0.5\n"
+  p = write_file("r.txt", "direction = vertical\nform = rational7\nfreq_unit = 1/m\npsd_unit = "
+                          "mm^2/(1/m)\nsided = one\nvalid = 0.01 0.5\n"
                           "params = 0.1 0.2 0.3 0.4 0.5 0.6 0.7\n");
   CHECK_OK(rr_spectrum_load(p, &s, &e), e);
-  double x = 0.2, want = 0.1 * (x * x + 0.2 * x + 0.3) / (x * x * x * x + 0.4 * x * x * x + 0.5 * x * x + 0.6 * x + 0.7);
+  double x = 0.2, want = 0.1 * (x * x + 0.2 * x + 0.3) /
+                         (x * x * x * x + 0.4 * x * x * x + 0.5 * x * x + 0.6 * x + 0.7);
   CHECK_CLOSE(rr_spectrum_eval(&s, x), 1e-6 * want, 1e-13, 0, "rational7");
   CHECK(!strcmp(s.name, "r"), "name from the file name");
   /* bad files */
-  p = write_file("b1.txt", "direction = lateral\nform = powerlaw\nfreq_unit = 1/m\npsd_unit = mm^2/(rad/m)\nsided = one\nvalid = 0.01 0.5\nsegment = 0.01 0.5 1 2\n");
-  CHECK(rr_spectrum_load(p, &s, &e) == RR_EUNIT && strstr(e.msg, "psd_unit"), "unit mismatch: %s", e.msg);
-  p = write_file("b2.txt", "direction = lateral\nform = powerlaw\nfreq_unit = 1/m\npsd_unit = mm^2/(1/m)\nsided = one\nvalid = 0.01 0.5\nsegment = 0.01 0.5 -1 2\n");
-  CHECK(rr_spectrum_load(p, &s, &e) == RR_EINVAL && strstr(e.msg, "b2.txt:7: segment"), "negative A: %s", e.msg);
-  p = write_file("b3.txt", "direction = lateral\nform = powerlaw\nfreq_unit = 1/m\nsided = one\nvalid = 0.01 0.5\nsegment = 0.01 0.5 1 2\n");
-  CHECK(rr_spectrum_load(p, &s, &e) == RR_EPARSE && strstr(e.msg, "psd_unit"), "missing key: %s", e.msg);
+  p = write_file("b1.txt", "direction = lateral\nform = powerlaw\nfreq_unit = 1/m\npsd_unit = "
+                           "mm^2/(rad/m)\nsided = one\nvalid = 0.01 0.5\nsegment = 0.01 0.5 1 2\n");
+  CHECK(rr_spectrum_load(p, &s, &e) == RR_EUNIT && strstr(e.msg, "psd_unit"), "unit mismatch: %s",
+        e.msg);
+  p = write_file("b2.txt", "direction = lateral\nform = powerlaw\nfreq_unit = 1/m\npsd_unit = "
+                           "mm^2/(1/m)\nsided = one\nvalid = 0.01 0.5\nsegment = 0.01 0.5 -1 2\n");
+  CHECK(rr_spectrum_load(p, &s, &e) == RR_EINVAL && strstr(e.msg, "b2.txt:7: segment"),
+        "negative A: %s", e.msg);
+  p = write_file("b3.txt", "direction = lateral\nform = powerlaw\nfreq_unit = 1/m\nsided = "
+                           "one\nvalid = 0.01 0.5\nsegment = 0.01 0.5 1 2\n");
+  CHECK(rr_spectrum_load(p, &s, &e) == RR_EPARSE && strstr(e.msg, "psd_unit"), "missing key: %s",
+        e.msg);
   p = write_file("b4.txt", "direction = lateral\nform = powerlaw\ncolour = blue\n");
-  CHECK(rr_spectrum_load(p, &s, &e) == RR_EPARSE && strstr(e.msg, "b4.txt:3: colour"), "unknown key: %s", e.msg);
+  CHECK(rr_spectrum_load(p, &s, &e) == RR_EPARSE && strstr(e.msg, "b4.txt:3: colour"),
+        "unknown key: %s", e.msg);
   CHECK(rr_spectrum_open("no-such-spectrum", &s, &e) == RR_EIO, "unknown name");
 }
 
@@ -69,7 +91,10 @@ static rr_model *vehicle_model(const char *base, int sdf, const char *table)
   v.sdf_mode = sdf;
   if (table) rr_sdf_table_load(table, &v.sdf, &e);
   rr_model *m;
-  if (rr_model_from_vehicle(&v, &m, &e)) { fprintf(stderr, "%s\n", e.msg); return NULL; }
+  if (rr_model_from_vehicle(&v, &m, &e)) {
+    fprintf(stderr, "%s\n", e.msg);
+    return NULL;
+  }
   rr_model_set_operating(m, 350 / RR_KMH, 0.2, &e);
   return m;
 }
@@ -83,7 +108,10 @@ static rr_frf_plan *floor_plan(rr_model *m, int method, int roll_gravity)
   rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, roll_gravity, rows, rows0, &e);
   rr_frf_opts o = {400, NULL, 0.3, 30, 3, rows, roll_gravity ? rows0 : NULL, method};
   rr_frf_plan *p;
-  if (rr_frf_plan_new(m, &o, &p, &e)) { fprintf(stderr, "%s\n", e.msg); return NULL; }
+  if (rr_frf_plan_new(m, &o, &p, &e)) {
+    fprintf(stderr, "%s\n", e.msg);
+    return NULL;
+  }
   return p;
 }
 
@@ -92,9 +120,15 @@ static void test_modal_vs_direct(void)
   const char *src = getenv("RR_SOURCE_DIR");
   char table[512];
   snprintf(table, sizeof table, "%s/examples/sdf-table.csv", src ? src : "..");
-  struct { const char *base; int sdf; const char *table; int rg; } cases[] = {
-    {"type1", RR_SDF_NONE, NULL, 0}, {"type2", RR_SDF_PHYSICAL, NULL, 0}, {"type2", RR_SDF_PAPER, NULL, 0},
-    {"type1", RR_SDF_PAPER, NULL, 1}, {"type2", RR_SDF_PAPER, table, 0}, {"type2", RR_SDF_PHYSICAL, table, 1},
+  struct {
+    const char *base;
+    int sdf;
+    const char *table;
+    int rg;
+  } cases[] = {
+      {"type1", RR_SDF_NONE, NULL, 0},   {"type2", RR_SDF_PHYSICAL, NULL, 0},
+      {"type2", RR_SDF_PAPER, NULL, 0},  {"type1", RR_SDF_PAPER, NULL, 1},
+      {"type2", RR_SDF_PAPER, table, 0}, {"type2", RR_SDF_PHYSICAL, table, 1},
   };
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
     rr_model *m = vehicle_model(cases[c].base, cases[c].sdf, cases[c].table);
@@ -104,7 +138,8 @@ static void test_modal_vs_direct(void)
     const double complex *Hd = rr_frf_H(pd);
     /* both sources of the modal basis: Hessenberg inverse iteration (the
        default) and LAPACK's left and right vectors */
-    for (int method = RR_FRF_MODAL; method <= RR_FRF_MODAL_LAPACK; method += RR_FRF_MODAL_LAPACK - RR_FRF_MODAL) {
+    for (int method = RR_FRF_MODAL; method <= RR_FRF_MODAL_LAPACK;
+         method += RR_FRF_MODAL_LAPACK - RR_FRF_MODAL) {
       rr_frf_plan *pm = floor_plan(m, method, cases[c].rg);
       CHECK_OK(rr_frf_plan_execute(pm, m, &e), e);
       const double complex *Hm = rr_frf_H(pm);
@@ -112,10 +147,12 @@ static void test_modal_vs_direct(void)
       for (int k = 0; k < 400; k++) {
         double big = 0;
         for (int t = 0; t < 12; t++) big = fmax(big, cabs(Hd[k * 12 + t]));
-        for (int t = 0; t < 12; t++) worst = fmax(worst, cabs(Hm[k * 12 + t] - Hd[k * 12 + t]) / big);
+        for (int t = 0; t < 12; t++)
+          worst = fmax(worst, cabs(Hm[k * 12 + t] - Hd[k * 12 + t]) / big);
       }
-      CHECK(worst < 1e-10, "case %zu (%s sdf %d%s, %s): modal vs direct rel diff %.3g", c, cases[c].base, cases[c].sdf,
-            cases[c].table ? " table" : "", method == RR_FRF_MODAL ? "inverse iteration" : "dgeev", worst);
+      CHECK(worst < 1e-10, "case %zu (%s sdf %d%s, %s): modal vs direct rel diff %.3g", c,
+            cases[c].base, cases[c].sdf, cases[c].table ? " table" : "",
+            method == RR_FRF_MODAL ? "inverse iteration" : "dgeev", worst);
       rr_frf_plan_free(pm);
     }
     rr_frf_plan_free(pd);
@@ -131,13 +168,15 @@ static void test_near_defective(void)
   rr_model *m = vehicle_model("type1", RR_SDF_PAPER, NULL);
   rr_frf_plan *pm = floor_plan(m, RR_FRF_MODAL, 0), *pd = floor_plan(m, RR_FRF_DIRECT, 0);
   const double lam[] = {1e-2, 1e-3, 1e-5, 1e-7, 1e-10, 1e-12};
-  const int route[] = {RR_FRF_MODAL, RR_FRF_MODAL, RR_FRF_MODAL, RR_FRF_DIRECT, RR_FRF_DIRECT, RR_FRF_DIRECT};
+  const int route[] = {RR_FRF_MODAL,  RR_FRF_MODAL,  RR_FRF_MODAL,
+                       RR_FRF_DIRECT, RR_FRF_DIRECT, RR_FRF_DIRECT};
   for (int c = 0; c < 6; c++) {
     rr_error e;
     CHECK_OK(rr_model_set_operating(m, 300 / RR_KMH, lam[c], &e), e);
     CHECK_OK(rr_frf_plan_execute(pm, m, &e), e);
     CHECK_OK(rr_frf_plan_execute(pd, m, &e), e);
-    CHECK(rr_frf_route(pm) == route[c], "conicity %g: route %d, expected %d", lam[c], rr_frf_route(pm), route[c]);
+    CHECK(rr_frf_route(pm) == route[c], "conicity %g: route %d, expected %d", lam[c],
+          rr_frf_route(pm), route[c]);
     const double complex *Hm = rr_frf_H(pm), *Hd = rr_frf_H(pd);
     double worst = 0;
     for (int k = 0; k < 400; k++) {
@@ -173,7 +212,7 @@ static void test_pem(void)
     for (int q = 0; q < 3; q++) {
       const double complex *h = H + (k * 3 + q) * 4;
       double complex acc = 0;
-      double scale = 0;   /* the incoherent sum: the lags can cancel the coherent one */
+      double scale = 0; /* the incoherent sum: the lags can cancel the coherent one */
       for (int i = 0; i < 4; i++) {
         scale += 4 * Gt * creal(h[i] * conj(h[i]));
         for (int j = 0; j < 4; j++) acc += h[i] * Gt * cexp(I * w * (x[i] - x[j]) / v) * conj(h[j]);
@@ -188,7 +227,8 @@ static void test_pem(void)
   double L = 8.6875, b = 1.25;
   for (double fr = 0.3; fr < 30; fr *= 1.7) {
     double w = 2 * RR_PI * fr, cb = cos(w * b / v), cl = cos(w * L / v);
-    CHECK_CLOSE(rr_pem_combine(ones, x, 4, w, v, 1.0), 16 * cb * cb * cl * cl, 1e-12, 1e-12, "lag factor");
+    CHECK_CLOSE(rr_pem_combine(ones, x, 4, w, v, 1.0), 16 * cb * cb * cl * cl, 1e-12, 1e-12,
+                "lag factor");
   }
   /* at low frequency the car follows the track: sum_i H_pi / (-w^2) -> 1 */
   rr_vehicle vv;
@@ -215,38 +255,54 @@ static void test_comfort(void)
   rr_error e;
   /* a sinusoid of amplitude A at f0: a spike of area A^2/2 on a uniform grid */
   double f[301], G[301];
-  for (int i = 0; i <= 300; i++) { f[i] = 0.2 + 0.1 * i; G[i] = 0; }
-  int k0 = 18;                       /* f0 = 2.0 Hz */
+  for (int i = 0; i <= 300; i++) {
+    f[i] = 0.2 + 0.1 * i;
+    G[i] = 0;
+  }
+  int k0 = 18; /* f0 = 2.0 Hz */
   double A = 0.3;
   CHECK_CLOSE(f[k0], 2.0, 1e-14, 0, "spike at 2 Hz");
   G[k0] = A * A / 2 / 0.1;
   double W;
   CHECK_OK(rr_sperling_filter_index(f, G, 301, 1, RR_AXIS_LATERAL, &W, &e), e);
   /* B_s(2 Hz) by hand from docs/model.md section 7 */
-  double num = 1.911 * 4 + pow(0.25 * 4, 2), den = pow(1 - 0.277 * 4, 2) + pow(1.563 * 2 - 0.0368 * 8, 2);
+  double num = 1.911 * 4 + pow(0.25 * 4, 2),
+         den = pow(1 - 0.277 * 4, 2) + pow(1.563 * 2 - 0.0368 * 8, 2);
   double Bw = 1.25 * 0.588 * sqrt(num / den);
   CHECK_CLOSE(W, 4.42 * pow(Bw * A / sqrt(2), 0.3), 1e-12, 0, "Sperling filter, sinusoid");
   CHECK_CLOSE(rr_psd_rms(f, G, 301, 1), A / sqrt(2), 1e-12, 0, "RMS of a sinusoid");
   /* GB line method: a sinusoid at a band centre on a 0.2 Hz grid aligned to the centres */
   double g2[100], G2[100];
-  for (int i = 0; i < 100; i++) { g2[i] = 0.4 + 0.2 * i; G2[i] = 0; }   /* 0.4, 0.6, ... */
-  G2[7] = A * A / (2 * 0.2);                                            /* f = 1.8 Hz */
+  for (int i = 0; i < 100; i++) {
+    g2[i] = 0.4 + 0.2 * i;
+    G2[i] = 0;
+  }                          /* 0.4, 0.6, ... */
+  G2[7] = A * A / (2 * 0.2); /* f = 1.8 Hz */
   CHECK_OK(rr_sperling_gb_index(g2, G2, 100, 1, RR_AXIS_LATERAL, &W, &e), e);
-  CHECK_CLOSE(W, 3.57 * pow(A * A * A * 0.8 * 1.8 * 1.8 / 1.8, 0.1), 1e-12, 0, "GB line method, lateral 1.8 Hz");
+  CHECK_CLOSE(W, 3.57 * pow(A * A * A * 0.8 * 1.8 * 1.8 / 1.8, 0.1), 1e-12, 0,
+              "GB line method, lateral 1.8 Hz");
   for (int i = 0; i < 100; i++) G2[i] = 0;
-  G2[49] = A * A / (2 * 0.2);                                           /* f = 10.2 Hz */
+  G2[49] = A * A / (2 * 0.2); /* f = 10.2 Hz */
   CHECK_OK(rr_sperling_gb_index(g2, G2, 100, 1, RR_AXIS_VERTICAL, &W, &e), e);
-  CHECK_CLOSE(W, 3.57 * pow(A * A * A * (400 / (10.2 * 10.2)) / 10.2, 0.1), 1e-12, 0, "GB line method, vertical 10.2 Hz");
-  CHECK(rr_sperling_gb_factor(5.4, RR_AXIS_LATERAL) == 0.8 * 5.4 * 5.4 && rr_sperling_gb_factor(26, RR_AXIS_LATERAL) == 650 / 676.0 &&
-        rr_sperling_gb_factor(30, RR_AXIS_LATERAL) == 1, "breakpoints take the lower formula");
+  CHECK_CLOSE(W, 3.57 * pow(A * A * A * (400 / (10.2 * 10.2)) / 10.2, 0.1), 1e-12, 0,
+              "GB line method, vertical 10.2 Hz");
+  CHECK(rr_sperling_gb_factor(5.4, RR_AXIS_LATERAL) == 0.8 * 5.4 * 5.4 &&
+            rr_sperling_gb_factor(26, RR_AXIS_LATERAL) == 650 / 676.0 &&
+            rr_sperling_gb_factor(30, RR_AXIS_LATERAL) == 1,
+        "breakpoints take the lower formula");
   /* a flat PSD: RMS = sqrt(G0 (f2 - f1)) */
   for (int i = 0; i <= 300; i++) G[i] = 0.01;
   CHECK_CLOSE(rr_psd_rms(f, G, 301, 1), sqrt(0.01 * 30), 1e-12, 0, "flat RMS");
   /* ISO 8041-1 Annex B design-goal factors at the third-octave centres 10^(n/10) Hz */
-  struct { int wt, n; double v; } tab[] = {
-    {RR_ISO_WD, -5, 0.533}, {RR_ISO_WD, 0, 1.011}, {RR_ISO_WD, 3, 0.8913}, {RR_ISO_WD, 6, 0.5143}, {RR_ISO_WD, 9, 0.255},
-    {RR_ISO_WD, 12, 0.1266}, {RR_ISO_WD, 20, 0.01414}, {RR_ISO_WB, 0, 0.3853}, {RR_ISO_WB, 8, 1.054}, {RR_ISO_WB, 20, 0.1154},
-    {RR_ISO_WC, 0, 0.991}, {RR_ISO_WC, 10, 0.7762}, {RR_ISO_WK, 8, 1.054}, {RR_ISO_WK, 0, 0.4825}, {RR_ISO_WK, 14, 0.5103},
+  struct {
+    int wt, n;
+    double v;
+  } tab[] = {
+      {RR_ISO_WD, -5, 0.533},   {RR_ISO_WD, 0, 1.011},  {RR_ISO_WD, 3, 0.8913},
+      {RR_ISO_WD, 6, 0.5143},   {RR_ISO_WD, 9, 0.255},  {RR_ISO_WD, 12, 0.1266},
+      {RR_ISO_WD, 20, 0.01414}, {RR_ISO_WB, 0, 0.3853}, {RR_ISO_WB, 8, 1.054},
+      {RR_ISO_WB, 20, 0.1154},  {RR_ISO_WC, 0, 0.991},  {RR_ISO_WC, 10, 0.7762},
+      {RR_ISO_WK, 8, 1.054},    {RR_ISO_WK, 0, 0.4825}, {RR_ISO_WK, 14, 0.5103},
   };
   for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++) {
     double fc = pow(10, tab[i].n / 10.0);
@@ -258,7 +314,8 @@ static void test_comfort(void)
   for (int i = 0; i <= 300; i++) G[i] = 0;
   G[k0] = A * A / 2 / 0.1;
   CHECK_OK(rr_weighted_rms(f, G, 301, 1, RR_ISO_WD, &aw, &e), e);
-  CHECK_CLOSE(aw, cabs(rr_iso8041_weight(RR_ISO_WD, 2.0)) * A / sqrt(2), 1e-12, 0, "Wd RMS of a sinusoid");
+  CHECK_CLOSE(aw, cabs(rr_iso8041_weight(RR_ISO_WD, 2.0)) * A / sqrt(2), 1e-12, 0,
+              "Wd RMS of a sinusoid");
   CHECK(rr_sperling_gb_index(f, G, 1, 1, 0, &W, &e) == RR_EINVAL, "one point refused");
 }
 

@@ -39,10 +39,11 @@ static void test_roll_out_hunting_in(void)
       for (int i = 0; i < r.n; i++) {
         const rr_mode *md = &r.modes[i];
         if (!md->oscillatory) continue;
-        if (md->freq_hz > 8 && md->freq_hz < 11 && md->energy[RR_GROUP_FRAME] > 0.8 && md->roll_share > 0.8) {
+        if (md->freq_hz > 8 && md->freq_hz < 11 && md->energy[RR_GROUP_FRAME] > 0.8 &&
+            md->roll_share > 0.8) {
           nroll++;
-          CHECK(!md->in_index && !md->hunting, "%s %g/%g: frame roll at %g Hz counted", veh[k], pts[p][0], pts[p][1],
-                md->freq_hz);
+          CHECK(!md->in_index && !md->hunting, "%s %g/%g: frame roll at %g Hz counted", veh[k],
+                pts[p][0], pts[p][1], md->freq_hz);
           CHECK(strstr(md->name, "roll") != NULL, "frame roll named '%s'", md->name);
         }
         if (md->freq_hz < 3 && md->energy[RR_GROUP_WHEELSET] >= 1e-3 &&
@@ -50,9 +51,10 @@ static void test_roll_out_hunting_in(void)
           car = i;
       }
       CHECK(nroll == 2, "%s %g/%g: %d frame roll modes", veh[k], pts[p][0], pts[p][1], nroll);
-      CHECK(car >= 0 && r.modes[car].in_index, "%s %g/%g: carbody hunting not in the index", veh[k], pts[p][0],
-            pts[p][1]);
-      CHECK(car >= 0 && r.modes[car].roll_share < 0.1, "carbody hunting roll share %g", r.modes[car].roll_share);
+      CHECK(car >= 0 && r.modes[car].in_index, "%s %g/%g: carbody hunting not in the index", veh[k],
+            pts[p][0], pts[p][1]);
+      CHECK(car >= 0 && r.modes[car].roll_share < 0.1, "carbody hunting roll share %g",
+            r.modes[car].roll_share);
     }
     rr_modal_result_free(&r);
     rr_modal_ws_free(ws);
@@ -96,16 +98,21 @@ static void test_headline(void)
   check_robust("type1", -1, -0.1182, -0.1884, 0.0687);
   check_robust("type2", -1, 0.0090, -0.0970, 0.1061);
   check_robust("type1", RR_SDF_PAPER, -0.1298, -0.2909, 0.0780);
-  const struct { const char *v; double lam, vc; } cs[] = {
-    {"type1", 0.4, 524.7}, {"type1", 0.6, 422.1}, {"type2", 0.05, 201.1},
-    {"type2", 0.2, 580.8}, {"type2", 0.4, 426.0}, {"type2", 0.6, 347.3},
+  const struct {
+    const char *v;
+    double lam, vc;
+  } cs[] = {
+      {"type1", 0.4, 524.7}, {"type1", 0.6, 422.1}, {"type2", 0.05, 201.1},
+      {"type2", 0.2, 580.8}, {"type2", 0.4, 426.0}, {"type2", 0.6, 347.3},
   };
-  for (size_t i = 0; i < sizeof cs / sizeof cs[0]; i++) CHECK_CLOSE(critical(cs[i].v, cs[i].lam, 0, NULL), cs[i].vc, 0, 0.05, cs[i].v);
+  for (size_t i = 0; i < sizeof cs / sizeof cs[0]; i++)
+    CHECK_CLOSE(critical(cs[i].v, cs[i].lam, 0, NULL), cs[i].vc, 0, 0.05, cs[i].v);
   rr_mode md;
   critical("type1", 0.6, 0, &md);
-  CHECK(md.freq_hz > 10 && md.freq_hz < 10.2 && md.hunting, "type1 at 0.6: unstable mode %g Hz (hunting %d)", md.freq_hz,
-        md.hunting);
-  CHECK(isinf(critical("type1", 0.6, 1, NULL)), "type1 at 0.6 with the index's modes: stable to 600 km/h");
+  CHECK(md.freq_hz > 10 && md.freq_hz < 10.2 && md.hunting,
+        "type1 at 0.6: unstable mode %g Hz (hunting %d)", md.freq_hz, md.hunting);
+  CHECK(isinf(critical("type1", 0.6, 1, NULL)),
+        "type1 at 0.6 with the index's modes: stable to 600 km/h");
 }
 
 /* At conicity 2 the hunting modes of the bogies are above 10 Hz and unstable:
@@ -122,8 +129,8 @@ static void test_verdict_any_mode(void)
   CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 2.0, &e), e);
   CHECK_OK(rr_modal_stability(m, NULL, ws, &s, &e), e);
   CHECK_OK(rr_modal_solve(m, NULL, ws, &r, &e), e);
-  CHECK(!rr_modal_stable(s.zeta_max) && !rr_modal_stable(r.zeta_max), "conicity 2: verdict stable (zeta_max %g)",
-        s.zeta_max);
+  CHECK(!rr_modal_stable(s.zeta_max) && !rr_modal_stable(r.zeta_max),
+        "conicity 2: verdict stable (zeta_max %g)", s.zeta_max);
   int near147 = 0, near188 = 0;
   for (int i = 0; i < r.n; i++)
     if (r.modes[i].oscillatory && r.modes[i].zeta >= 0) {
@@ -152,8 +159,8 @@ static void test_objective_modifiers(void)
 {
   rr_vehicle v;
   rr_vehicle_default(&v);
-  const char *objs[4] = {"index@350,0.17;fmax=20;wmin=0;rmax=1", "index@350,0.17", "critical_speed@0.6",
-                         "critical_speed@0.6;index_modes"};
+  const char *objs[4] = {"index@350,0.17;fmax=20;wmin=0;rmax=1", "index@350,0.17",
+                         "critical_speed@0.6", "critical_speed@0.6;index_modes"};
   rr_design *d;
   rr_error e;
   double f[4];
@@ -170,24 +177,28 @@ static void test_objective_modifiers(void)
   CHECK(fabs(f[0] - f[1]) > 1e-3, "modifiers change the index (%g vs %g)", f[0], f[1]);
   CHECK_CLOSE(f[2], 422.1, 0, 0.05, "critical_speed@0.6");
   CHECK_CLOSE(f[3], 600, 0, 0, "critical_speed@0.6;index_modes");
-  CHECK(fabs(rr_design_mode_freq(d, 2) - 10.09) < 0.05, "critical mode frequency %g", rr_design_mode_freq(d, 2));
-  const char *bad[3] = {"index@350,0.17;rmax=2", "zeta_low;index_modes", "sperling@350,0.17;fmax=20"};
+  CHECK(fabs(rr_design_mode_freq(d, 2) - 10.09) < 0.05, "critical mode frequency %g",
+        rr_design_mode_freq(d, 2));
+  const char *bad[3] = {"index@350,0.17;rmax=2", "zeta_low;index_modes",
+                        "sperling@350,0.17;fmax=20"};
   for (int i = 0; i < 3; i++) {
     rr_design *db = NULL;
-    CHECK(rr_design_new(&v, 0, NULL, 1, &bad[i], &db, &e) == RR_EINVAL, "objective '%s' accepted", bad[i]);
+    CHECK(rr_design_new(&v, 0, NULL, 1, &bad[i], &db, &e) == RR_EINVAL, "objective '%s' accepted",
+          bad[i]);
     rr_design_free(db);
   }
   rr_modal_ws_free(ws);
   rr_model_free(m);
   rr_design_free(d);
   /* one model per SDF variant: the vehicle's own and all three named (four) */
-  const char *variants[5] = {"index@350,0.17", "index@350,0.17;sdf=none", "index@350,0.17;sdf=paper",
-                             "index@350,0.17;sdf=physical", "sperling@350,0.17;sdf=paper"};
+  const char *variants[5] = {"index@350,0.17", "index@350,0.17;sdf=none",
+                             "index@350,0.17;sdf=paper", "index@350,0.17;sdf=physical",
+                             "sperling@350,0.17;sdf=paper"};
   CHECK_OK(rr_design_new(&v, 0, NULL, 5, variants, &d, &e), e);
   double fv[5];
   CHECK_OK(rr_design_evaluate(d, NULL, fv, &e), e);
-  CHECK(fv[0] == fv[1] && fv[2] != fv[1] && isfinite(fv[3]) && isfinite(fv[4]), "SDF variants %g %g %g %g", fv[0], fv[1],
-        fv[2], fv[3]);
+  CHECK(fv[0] == fv[1] && fv[2] != fv[1] && isfinite(fv[3]) && isfinite(fv[4]),
+        "SDF variants %g %g %g %g", fv[0], fv[1], fv[2], fv[3]);
   rr_design_free(d);
 }
 
@@ -200,7 +211,10 @@ static void test_sdf_fast_vs_reference(void)
   int mismatch = 0;
   for (int d = 0; d < 20; d++) {
     double r[6];
-    for (int k = 0; k < 6; k++) { seed = seed * 1664525u + 1013904223u; r[k] = (seed >> 8) / 16777216.0; }
+    for (int k = 0; k < 6; k++) {
+      seed = seed * 1664525u + 1013904223u;
+      r[k] = (seed >> 8) / 16777216.0;
+    }
     rr_vehicle v;
     rr_vehicle_builtin(d % 2 ? "type2" : "type1", &v, NULL);
     v.sdf_mode = RR_SDF_PAPER;
@@ -239,7 +253,8 @@ static void test_sdf_fast_vs_reference(void)
     rr_modal_ws_free(ws);
     rr_model_free(m);
   }
-  printf("  SDF tracking, 20 random designs: worst |dk|/k_hi %.2g, worst |dzeta| %.2g\n", worst_k, worst_z);
+  printf("  SDF tracking, 20 random designs: worst |dk|/k_hi %.2g, worst |dzeta| %.2g\n", worst_k,
+         worst_z);
   CHECK(mismatch == 0, "fast and reference tracking disagree on %d modes", mismatch);
   CHECK(worst_k <= 1e-9, "SDF roots differ by %g k_hi", worst_k);
   CHECK(worst_z <= 1e-10, "SDF zeta differs by %g", worst_z);

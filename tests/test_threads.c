@@ -10,19 +10,27 @@
 #include "check.h"
 
 #define NTHREADS 4
-static const char *objs = "zeta_low\nindex@350,0.17;rmax=1\nsperling@350,0.17,8.6875;spectrum=tbt3352-alignment\n"
-                          "index@300,0.3;sdf=paper";
+static const char *objs =
+    "zeta_low\nindex@350,0.17;rmax=1\nsperling@350,0.17,8.6875;spectrum=tbt3352-alignment\n"
+    "index@300,0.3;sdf=paper";
 static double expect[4];
 static char vehicle_path[512];
 static int reps = 1000;
 
-typedef struct job { int id, bad; char msg[RR_ERROR_MSG_MAX]; } job;
+typedef struct job {
+  int id, bad;
+  char msg[RR_ERROR_MSG_MAX];
+} job;
 
 static int one_round(job *j, const double *x)
 {
   char err[RR_ERROR_MSG_MAX] = "";
-  rr_design *d = rr_design_open(j->id % 2 ? vehicle_path : "type1", "yaw_damper.series_stiffness", objs, err, sizeof err);
-  if (!d) { snprintf(j->msg, sizeof j->msg, "open: %s", err); return -1; }
+  rr_design *d = rr_design_open(j->id % 2 ? vehicle_path : "type1", "yaw_damper.series_stiffness",
+                                objs, err, sizeof err);
+  if (!d) {
+    snprintf(j->msg, sizeof j->msg, "open: %s", err);
+    return -1;
+  }
   rr_design *c;
   rr_error e;
   double f[4], g[4];
@@ -32,7 +40,8 @@ static int one_round(job *j, const double *x)
   if (st) snprintf(j->msg, sizeof j->msg, "evaluate: %s", e.msg);
   for (int k = 0; k < 4 && !st; k++)
     if (f[k] != expect[k] || g[k] != expect[k]) {
-      snprintf(j->msg, sizeof j->msg, "objective %d: %.17g / %.17g, expected %.17g", k, f[k], g[k], expect[k]);
+      snprintf(j->msg, sizeof j->msg, "objective %d: %.17g / %.17g, expected %.17g", k, f[k], g[k],
+               expect[k]);
       st = -1;
     }
   if (!st) rr_design_free(c);
@@ -55,9 +64,11 @@ int main(void)
   if (rp) reps = atoi(rp);
   /* a file that equals the built-in type1 through units and a base */
   if (check_tmpdir("thr")) return 1;
-  snprintf(vehicle_path, sizeof vehicle_path, "%s",
-           check_write_file("v.ini", "[vehicle]\nbase = type1\n[carbody]\nmass = 38.936 t\n[primary]\n"
-                                     "longitudinal_stiffness = 50 kN/mm\n[yaw_damper]\ndamping = 4000 kN.s/m\n"));
+  snprintf(
+      vehicle_path, sizeof vehicle_path, "%s",
+      check_write_file("v.ini",
+                       "[vehicle]\nbase = type1\n[carbody]\nmass = 38.936 t\n[primary]\n"
+                       "longitudinal_stiffness = 50 kN/mm\n[yaw_damper]\ndamping = 4000 kN.s/m\n"));
   (void)src;
   char err[RR_ERROR_MSG_MAX];
   rr_design *d = rr_design_open("type1", "yaw_damper.series_stiffness", objs, err, sizeof err);

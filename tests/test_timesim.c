@@ -34,7 +34,8 @@ static void test_expm(void)
   rr_expm(2, T, E, NULL, &e);
   CHECK(maxdiff(E, Tw, 4) < 1e-14, "triangular, norm 350: %g", maxdiff(E, Tw, 4));
   /* damped oscillator x'' + 2 z w x' + w^2 x = 0 over t = 0.37 */
-  double wn = 12, z = 0.1, t = 0.37, wd = wn * sqrt(1 - z * z), D[4] = {0, t, -wn * wn * t, -2 * z * wn * t};
+  double wn = 12, z = 0.1, t = 0.37, wd = wn * sqrt(1 - z * z),
+         D[4] = {0, t, -wn * wn * t, -2 * z * wn * t};
   rr_expm(2, D, E, NULL, &e);
   double ex = exp(-z * wn * t);
   double Dw[4] = {ex * (cos(wd * t) + z * wn / wd * sin(wd * t)), ex * sin(wd * t) / wd,
@@ -42,7 +43,10 @@ static void test_expm(void)
   CHECK(maxdiff(E, Dw, 4) < 1e-13, "damped oscillator: %g", maxdiff(E, Dw, 4));
   /* exp(A) exp(-A) = I for a dense 4x4 */
   double A[16], Am[16], F[16], P[16];
-  for (int i = 0; i < 16; i++) { A[i] = sin(1.3 * i + 0.2) * 3; Am[i] = -A[i]; }
+  for (int i = 0; i < 16; i++) {
+    A[i] = sin(1.3 * i + 0.2) * 3;
+    Am[i] = -A[i];
+  }
   rr_expm(4, A, E, NULL, &e);
   rr_expm(4, Am, F, NULL, &e);
   for (int i = 0; i < 4; i++)
@@ -59,12 +63,16 @@ static void test_hermite(void)
   /* x' = -a x + b u, u = sin(w t): periodic response |H| sin(w t + arg H), H = b / (j w + a) */
   rr_error e;
   double a = 3, b = 2, w = 2 * RR_PI * 2, fs = 64;
-  int ns = 64 * 4;   /* 8 periods of the input */
+  int ns = 64 * 4; /* 8 periods of the input */
   double A = -a, B = b, C = 1, D = 0;
   rr_lti_disc d;
   CHECK_OK(rr_lti_discretise(1, 1, &A, &B, 1 / fs, &d, &e), e);
-  double *u = malloc(sizeof(double) * ns), *du = malloc(sizeof(double) * ns), *y = malloc(sizeof(double) * ns);
-  for (int k = 0; k < ns; k++) { u[k] = sin(w * k / fs); du[k] = w * cos(w * k / fs); }
+  double *u = malloc(sizeof(double) * ns), *du = malloc(sizeof(double) * ns),
+         *y = malloc(sizeof(double) * ns);
+  for (int k = 0; k < ns; k++) {
+    u[k] = sin(w * k / fs);
+    du[k] = w * cos(w * k / fs);
+  }
   CHECK_OK(rr_lti_periodic(&d, ns, u, du, 1, &C, &D, NULL, y, &e), e);
   double complex H = b / (I * w + a);
   double err = 0;
@@ -74,7 +82,9 @@ static void test_hermite(void)
   CHECK(err < bound, "Hermite hold: error %.3g (bound %.3g)", err, bound);
   CHECK(err < 2e-5, "Hermite hold absolute error %.3g", err);
   rr_lti_disc_free(&d);
-  free(u); free(du); free(y);
+  free(u);
+  free(du);
+  free(y);
 }
 
 static void test_track_and_welch(void)
@@ -82,7 +92,7 @@ static void test_track_and_welch(void)
   rr_error e;
   rr_spectrum sp;
   CHECK_OK(rr_spectrum_open("wuhan-guangzhou", &sp, &e), e);
-  double v = 80, fs = 64, x[2] = {0, -2.5};   /* second input 2.5 m behind: lag 2 samples */
+  double v = 80, fs = 64, x[2] = {0, -2.5}; /* second input 2.5 m behind: lag 2 samples */
   int ns = 8192;
   double *u = malloc(sizeof(double) * 2 * ns), *du = malloc(sizeof(double) * 2 * ns);
   CHECK_OK(rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 20, 7, u, du, &e), e);
@@ -124,8 +134,12 @@ static void test_track_and_welch(void)
   for (int k = 0; k < 513; k++) tot += P[k] * fs / nseg;
   CHECK_CLOSE(tot, Amp * Amp / 2, 1e-10, 0, "Welch power of a sinusoid");
   CHECK(navg == 31, "averages %d", navg);
-  CHECK(rr_welch_psd(s, 100, fs, nseg, f, P, &navg, &e) == RR_EINVAL, "record shorter than a segment");
-  free(u); free(du); free(u2); free(s);
+  CHECK(rr_welch_psd(s, 100, fs, nseg, f, P, &navg, &e) == RR_EINVAL,
+        "record shorter than a segment");
+  free(u);
+  free(du);
+  free(u2);
+  free(s);
 }
 
 static void test_sperling_filter(void)
@@ -136,7 +150,8 @@ static void test_sperling_filter(void)
     for (double f = 0.2; f < 40; f *= 1.9) {
       /* C (j w I - A)^-1 B for the companion form: N(s) / D(s) */
       double complex s = I * 2 * RR_PI * f;
-      double complex H = (C[2] * s * s + C[1] * s + C[0]) / (s * s * s - A[8] * s * s - A[7] * s - A[6]);
+      double complex H =
+          (C[2] * s * s + C[1] * s + C[0]) / (s * s * s - A[8] * s * s - A[7] * s - A[6]);
       CHECK_CLOSE(cabs(H), rr_sperling_filter(f, axis), 1e-12, 0, "Sperling filter modulus");
     }
   }

@@ -16,13 +16,27 @@ static void test_units(void)
   rr_error e;
   CHECK_OK(rr_units_new(&u, &e), e);
   double x;
-  struct { const char *text, *unit; double want; } ok[] = {
-    {"50 kN/mm", "N/m", 50e6}, {"4000 kN.s/m", "N.s/m", 4e6}, {"1.67e6 kg.m2", "kg.m2", 1.67e6},
-    {"350 km/h", "m/s", 350 / 3.6}, {"4.15 MN.m/rad", "N.m/rad", 4.15e6}, {"1.5 Hz", "Hz", 1.5},
-    {"  12.5  ", "m", 12.5}, {"2.2 m", "m", 2.2}, {"97 m/s", "km/h", 97 * 3.6}, {"10 MN/m", "N/m", 1e7},
-    /* engineers' run-together spellings */
-    {"50 kNs/m", "N.s/m", 5e4}, {"10 Ns/m", "N.s/m", 10}, {"1.67e6 kgm^2", "kg.m2", 1.67e6},
-    {"4.15 MNm/rad", "N.m/rad", 4.15e6}, {"3 kNm/rad", "N.m/rad", 3e3}, {"20 kgm2", "kg.m2", 20},
+  struct {
+    const char *text, *unit;
+    double want;
+  } ok[] = {
+      {"50 kN/mm", "N/m", 50e6},
+      {"4000 kN.s/m", "N.s/m", 4e6},
+      {"1.67e6 kg.m2", "kg.m2", 1.67e6},
+      {"350 km/h", "m/s", 350 / 3.6},
+      {"4.15 MN.m/rad", "N.m/rad", 4.15e6},
+      {"1.5 Hz", "Hz", 1.5},
+      {"  12.5  ", "m", 12.5},
+      {"2.2 m", "m", 2.2},
+      {"97 m/s", "km/h", 97 * 3.6},
+      {"10 MN/m", "N/m", 1e7},
+      /* engineers' run-together spellings */
+      {"50 kNs/m", "N.s/m", 5e4},
+      {"10 Ns/m", "N.s/m", 10},
+      {"1.67e6 kgm^2", "kg.m2", 1.67e6},
+      {"4.15 MNm/rad", "N.m/rad", 4.15e6},
+      {"3 kNm/rad", "N.m/rad", 3e3},
+      {"20 kgm2", "kg.m2", 20},
   };
   for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
     int st = rr_units_parse(u, ok[i].text, ok[i].unit, 0, &x, "v", &e);
@@ -31,18 +45,22 @@ static void test_units(void)
   }
   CHECK(rr_units_parse(u, "5 kg", "N/m", 0, &x, "k", &e) == RR_EUNIT, "wrong dimension accepted");
   CHECK(strstr(e.msg, "kg") != NULL, "message names the unit: %s", e.msg);
-  CHECK(rr_units_parse(u, "5 kNm/m", "N.s/m", 0, &x, "k", &e) == RR_EUNIT && strstr(e.msg, "'kNm/m'"),
+  CHECK(rr_units_parse(u, "5 kNm/m", "N.s/m", 0, &x, "k", &e) == RR_EUNIT &&
+            strstr(e.msg, "'kNm/m'"),
         "a run-together spelling of the wrong dimension, named as written: %s", e.msg);
   CHECK(rr_units_parse(u, "5 furlongz", "m", 0, &x, "k", &e) == RR_EUNIT, "unknown unit accepted");
   CHECK(rr_units_parse(u, "nan", "m", 0, &x, "k", &e) == RR_EINVAL, "NaN accepted");
   CHECK(rr_units_parse(u, "inf", "m", 0, &x, "k", &e) == RR_EINVAL, "inf accepted");
-  CHECK(rr_units_parse(u, "inf", "N/m", 1, &x, "k", &e) == RR_OK && isinf(x), "inf refused where allowed");
+  CHECK(rr_units_parse(u, "inf", "N/m", 1, &x, "k", &e) == RR_OK && isinf(x),
+        "inf refused where allowed");
   CHECK(rr_units_parse(u, "abc", "m", 0, &x, "k", &e) == RR_EINVAL, "text accepted");
   CHECK(rr_units_parse(u, "", "m", 0, &x, "k", &e) == RR_EINVAL, "empty accepted");
   rr_units_free(u);
   /* without a context, bare numbers need no database */
-  CHECK(rr_units_parse(NULL, "3", "m", 0, &x, "k", &e) == RR_OK && x == 3, "bare number without context");
-  CHECK(rr_units_parse(NULL, "3 mm", "m", 0, &x, "k", &e) == RR_OK && fabs(x - 3e-3) < 1e-15, "unit without context");
+  CHECK(rr_units_parse(NULL, "3", "m", 0, &x, "k", &e) == RR_OK && x == 3,
+        "bare number without context");
+  CHECK(rr_units_parse(NULL, "3 mm", "m", 0, &x, "k", &e) == RR_OK && fabs(x - 3e-3) < 1e-15,
+        "unit without context");
 }
 
 static int same_vehicle(const rr_vehicle *a, const rr_vehicle *b)
@@ -57,7 +75,8 @@ static int same_vehicle(const rr_vehicle *a, const rr_vehicle *b)
       return 0;
     }
   }
-  return a->sdf_mode == b->sdf_mode && a->gravity_stiffness == b->gravity_stiffness && a->sdf.kind == b->sdf.kind;
+  return a->sdf_mode == b->sdf_mode && a->gravity_stiffness == b->gravity_stiffness &&
+         a->sdf.kind == b->sdf.kind;
 }
 
 static void test_examples(void)
@@ -75,17 +94,23 @@ static void test_examples(void)
     CHECK(!st && same_vehicle(&f, &bi), "%s.ini differs from the built-in", names[i]);
   }
   rr_vehicle_builtin("type2", &bi, &e);
-  CHECK(bi.lateral_damping == 15e3 && bi.yaw_damping == 660e3 && bi.sdf.k3 == 2e6 && bi.sdf.k2 == 10e6, "type2 values");
+  CHECK(bi.lateral_damping == 15e3 && bi.yaw_damping == 660e3 && bi.sdf.k3 == 2e6 &&
+            bi.sdf.k2 == 10e6,
+        "type2 values");
   snprintf(path, sizeof path, "%s/examples/type2-sdf-physical.ini", src ? src : "..");
-  memset(&f, 0, sizeof f);   /* a failed load leaves f as it was: checks below then fail, not read garbage */
+  memset(&f, 0,
+         sizeof f); /* a failed load leaves f as it was: checks below then fail, not read garbage */
   CHECK_OK(rr_vehicle_load(path, &f, &e), e);
-  CHECK(f.sdf_mode == RR_SDF_PHYSICAL && f.sdf.kind == RR_CURVE_SLS && f.sdf.k3 == 2e6, "inherited curve");
+  CHECK(f.sdf_mode == RR_SDF_PHYSICAL && f.sdf.kind == RR_CURVE_SLS && f.sdf.k3 == 2e6,
+        "inherited curve");
   snprintf(path, sizeof path, "%s/examples/type2-sdf-table.ini", src ? src : "..");
   memset(&f, 0, sizeof f);
   CHECK_OK(rr_vehicle_load(path, &f, &e), e);
   CHECK(f.sdf.kind == RR_CURVE_TABLE && f.sdf.n == 6 && f.sdf.has_loss, "table curve");
-  CHECK_CLOSE(rr_sdf_storage(&f.sdf, sqrt(1.0 * 1.5)), 0.5 * (4.8e6 + 7.0e6), 1e-12, 0, "log-f interpolation midpoint");
-  CHECK(rr_sdf_storage(&f.sdf, 0.01) == 2.0e6 && rr_sdf_storage(&f.sdf, 100) == 11.8e6, "held constant outside");
+  CHECK_CLOSE(rr_sdf_storage(&f.sdf, sqrt(1.0 * 1.5)), 0.5 * (4.8e6 + 7.0e6), 1e-12, 0,
+              "log-f interpolation midpoint");
+  CHECK(rr_sdf_storage(&f.sdf, 0.01) == 2.0e6 && rr_sdf_storage(&f.sdf, 100) == 11.8e6,
+        "held constant outside");
 }
 
 /* Expects status st and a message containing every needle. */
@@ -98,11 +123,15 @@ static void expect_error(const char *text, int st, const char *n1, const char *n
   CHECK(got == st, "status %d (want %d) for: %s -> %s", got, st, text, e.msg);
   const char *needles[3] = {n1, n2, n3};
   for (int i = 0; i < 3; i++)
-    if (needles[i]) CHECK(strstr(e.msg, needles[i]) != NULL, "message '%s' lacks '%s'", e.msg, needles[i]);
+    if (needles[i])
+      CHECK(strstr(e.msg, needles[i]) != NULL, "message '%s' lacks '%s'", e.msg, needles[i]);
   CHECK(strchr(e.msg, '\n') == NULL, "message is one line: %s", e.msg);
 }
 
-static void BAD_FILE(const char *text, int st, const char *a, const char *b) { expect_error(text, st, a, b, NULL); }
+static void BAD_FILE(const char *text, int st, const char *a, const char *b)
+{
+  expect_error(text, st, a, b, NULL);
+}
 
 static const char *check_dir_path(const char *name)
 {
@@ -115,26 +144,38 @@ static void test_errors(void)
 {
   const char *B = "[vehicle]\nbase = type1\n";
   char buf[1024];
-#define BAD(extra, st, a, b, c) do { snprintf(buf, sizeof buf, "%s%s", B, extra); expect_error(buf, st, a, b, c); } while (0)
-  BAD("[primary]\nlateral_stifness = 5 kN/mm\n", RR_EPARSE, "bad.ini:4:", "lateral_stifness", "unknown key");
+#define BAD(extra, st, a, b, c)                                                                    \
+  do {                                                                                             \
+    snprintf(buf, sizeof buf, "%s%s", B, extra);                                                   \
+    expect_error(buf, st, a, b, c);                                                                \
+  } while (0)
+  BAD("[primary]\nlateral_stifness = 5 kN/mm\n", RR_EPARSE, "bad.ini:4:", "lateral_stifness",
+      "unknown key");
   BAD("[bogie]\nmass = 5\n", RR_EPARSE, "bad.ini:4:", "[bogie]", "unknown section");
   BAD("[primary]\nlateral_stiffness = 5 kg\n", RR_EUNIT, "bad.ini:4:", "lateral_stiffness", "kg");
   BAD("[carbody]\nmass = nan\n", RR_EINVAL, "bad.ini:4:", "mass", "NaN");
-  BAD("[carbody]\n\nmass = -5 kg\n", RR_EINVAL, "bad.ini:5:", "mass", "physical range 1000 .. 1e+06 kg");
-  BAD("[primary]\nvertical_damping = -1\n", RR_EINVAL, "bad.ini:4:", "vertical_damping", "physical range 0 ..");
-  BAD("[yaw_damper]\nseries_stiffness = 0\n", RR_EINVAL, "bad.ini:4:", "series_stiffness", "(or inf)");
+  BAD("[carbody]\n\nmass = -5 kg\n", RR_EINVAL, "bad.ini:5:", "mass",
+      "physical range 1000 .. 1e+06 kg");
+  BAD("[primary]\nvertical_damping = -1\n", RR_EINVAL, "bad.ini:4:", "vertical_damping",
+      "physical range 0 ..");
+  BAD("[yaw_damper]\nseries_stiffness = 0\n", RR_EINVAL, "bad.ini:4:", "series_stiffness",
+      "(or inf)");
   BAD("[wheelset]\nrolling_radius = 0.46 x\n", RR_EUNIT, "bad.ini:4:", "rolling_radius", NULL);
-  BAD("[wheelset]\nrolling_radius = abc\n", RR_EINVAL, "bad.ini:4:", "rolling_radius", "not a number");
+  BAD("[wheelset]\nrolling_radius = abc\n", RR_EINVAL, "bad.ini:4:", "rolling_radius",
+      "not a number");
   BAD("[carbody]\nmass = 40 t\nmass = 41 t\n", RR_EPARSE, "bad.ini:5:", "mass", "twice");
   BAD("[yaw_damper]\nsdf = maybe\n", RR_EINVAL, "bad.ini:4:", "sdf", NULL);
   BAD("[yaw_damper]\nsdf_k1 = 2 Hz\n", RR_EPARSE, "bad.ini", "sdf_k2", "together");
   BAD("[yaw_damper]\nsdf_table = nowhere.csv\n", RR_EIO, "bad.ini:4:", "sdf_table", "nowhere.csv");
-  BAD("[contact]\ngravity_stiffness = perhaps\n", RR_EINVAL, "bad.ini:4:", "gravity_stiffness", NULL);
+  BAD("[contact]\ngravity_stiffness = perhaps\n", RR_EINVAL, "bad.ini:4:", "gravity_stiffness",
+      NULL);
   BAD("[carbody\nmass = 1\n", RR_EPARSE, "bad.ini:3:", "malformed", NULL);
   BAD("just words\n", RR_EPARSE, "bad.ini:3:", "malformed", NULL);
-  expect_error("[carbody]\nmass = 40 t\n", RR_EPARSE, "bad.ini", "missing required key", "roll_inertia");
+  expect_error("[carbody]\nmass = 40 t\n", RR_EPARSE, "bad.ini", "missing required key",
+               "roll_inertia");
   expect_error("[vehicle]\nbase = bad.ini\n", RR_EPARSE, "bad.ini", "base chain", NULL);
-  expect_error("[vehicle]\nbase = nosuchbase.ini\n", RR_EIO, "bad.ini:2: [vehicle] base", "nosuchbase.ini", NULL);
+  expect_error("[vehicle]\nbase = nosuchbase.ini\n", RR_EIO, "bad.ini:2: [vehicle] base",
+               "nosuchbase.ini", NULL);
   /* unit expressions udunits would evaluate, reciprocals, offsets, logarithms */
   BAD("[carbody]\ncg_height = 1.6.2 m\n", RR_EINVAL, "bad.ini:4:", "cg_height", NULL);
   BAD("[carbody]\nmass = 2 3 kg\n", RR_EUNIT, "bad.ini:4:", "mass", NULL);
@@ -142,16 +183,20 @@ static void test_errors(void)
   BAD("[carbody]\ncg_height = 1.62 m @ 100\n", RR_EUNIT, "bad.ini:4:", "cg_height", NULL);
   BAD("[carbody]\nmass = 1 kg since 2000\n", RR_EUNIT, "bad.ini:4:", "mass", NULL);
   BAD("[carbody]\nmass = 4.59 lg(re 1 kg)\n", RR_EUNIT, "bad.ini:4:", "mass", NULL);
-  BAD("[primary]\nlateral_stiffness = 2e-8 m/N\n", RR_EUNIT, "bad.ini:4:", "lateral_stiffness", "reciprocal");
+  BAD("[primary]\nlateral_stiffness = 2e-8 m/N\n", RR_EUNIT, "bad.ini:4:", "lateral_stiffness",
+      "reciprocal");
   BAD("[carbody]\nmass = 2.5e-5 1/kg\n", RR_EUNIT, "bad.ini:4:", "mass", "reciprocal");
-  BAD("[yaw_damper]\nsdf_k1 = 0.5 s\nsdf_k2 = 1 MN/m\nsdf_k3 = 1 MN/m\n", RR_EUNIT, "bad.ini:4:", "sdf_k1", NULL);
+  BAD("[yaw_damper]\nsdf_k1 = 0.5 s\nsdf_k2 = 1 MN/m\nsdf_k3 = 1 MN/m\n", RR_EUNIT,
+      "bad.ini:4:", "sdf_k1", NULL);
   BAD("[carbody]\nmass = 1e-400\n", RR_EINVAL, "bad.ini:4:", "mass", "out of range");
   BAD("[carbody]\nmass = 1e300\n", RR_EINVAL, "bad.ini:4:", "mass", "physical range");
   BAD("[carbody]\nmass = 4.9e-324\n", RR_EINVAL, "bad.ini:4:", "mass", NULL);
   BAD("[carbody]\nmass = 1,5\n", RR_EINVAL, "bad.ini:4:", "mass", NULL);
   rr_vehicle v;
   rr_error e;
-  CHECK(rr_vehicle_load("/nonexistent/x.ini", &v, &e) == RR_EIO && strstr(e.msg, "/nonexistent/x.ini"), "missing file: %s", e.msg);
+  CHECK(rr_vehicle_load("/nonexistent/x.ini", &v, &e) == RR_EIO &&
+            strstr(e.msg, "/nonexistent/x.ini"),
+        "missing file: %s", e.msg);
   /* comments of any length are legal; a data line over the limit is refused at its line */
   const char *p;
   static char big[300000];
@@ -168,21 +213,34 @@ static void test_errors(void)
   /* a NUL byte, a FIFO, a directory */
   p = check_dir_path("nul.ini");
   FILE *fp = fopen(p, "w");
-  if (fp) { fwrite("[vehicle]\nbase = type1\n[carbody]\nmass = 4\0000 t\n", 1, 46, fp); fclose(fp); }
-  CHECK(rr_vehicle_load(p, &v, &e) == RR_EPARSE && strstr(e.msg, "nul.ini:4:") && strstr(e.msg, "NUL"), "NUL byte: %s", e.msg);
+  if (fp) {
+    fwrite("[vehicle]\nbase = type1\n[carbody]\nmass = 4\0000 t\n", 1, 46, fp);
+    fclose(fp);
+  }
+  CHECK(rr_vehicle_load(p, &v, &e) == RR_EPARSE && strstr(e.msg, "nul.ini:4:") &&
+            strstr(e.msg, "NUL"),
+        "NUL byte: %s", e.msg);
   p = check_dir_path("fifo.ini");
   CHECK(mkfifo(p, 0600) == 0, "mkfifo");
-  CHECK(rr_vehicle_load(p, &v, &e) == RR_EIO && strstr(e.msg, "not a regular file"), "FIFO: %s", e.msg);
-  CHECK(rr_vehicle_load(check_dir, &v, &e) == RR_EIO && strstr(e.msg, "directory"), "directory: %s", e.msg);
+  CHECK(rr_vehicle_load(p, &v, &e) == RR_EIO && strstr(e.msg, "not a regular file"), "FIFO: %s",
+        e.msg);
+  CHECK(rr_vehicle_load(check_dir, &v, &e) == RR_EIO && strstr(e.msg, "directory"), "directory: %s",
+        e.msg);
   /* a curve given in a file replaces the inherited one as a whole */
-  p = write_file("curve.ini", "[vehicle]\nbase = type1\n[yaw_damper]\nsdf = physical\nsdf_k1 = 2 Hz\nsdf_k2 = 1 MN/m\nsdf_k3 = 3 MN/m\n");
+  p = write_file("curve.ini", "[vehicle]\nbase = type1\n[yaw_damper]\nsdf = physical\nsdf_k1 = 2 "
+                              "Hz\nsdf_k2 = 1 MN/m\nsdf_k3 = 3 MN/m\n");
   CHECK_OK(rr_vehicle_load(p, &v, &e), e);
-  CHECK(v.sdf.k1_hz == 2 && v.sdf.k2 == 1e6 && v.sdf.k3 == 3e6 && v.sdf_mode == RR_SDF_PHYSICAL, "curve override");
+  CHECK(v.sdf.k1_hz == 2 && v.sdf.k2 == 1e6 && v.sdf.k3 == 3e6 && v.sdf_mode == RR_SDF_PHYSICAL,
+        "curve override");
   /* a chain of bases: file -> file -> built-in */
   write_file("mid.ini", "[vehicle]\nbase = type2\n[carbody]\nmass = 40 t\n");
-  p = write_file("top.ini", "[vehicle]\nname = top\nbase = mid.ini\n[primary]\nlongitudinal_stiffness = 20 kN/mm\n");
+  p = write_file(
+      "top.ini",
+      "[vehicle]\nname = top\nbase = mid.ini\n[primary]\nlongitudinal_stiffness = 20 kN/mm\n");
   CHECK_OK(rr_vehicle_load(p, &v, &e), e);
-  CHECK(v.carbody_mass == 40000 && v.primary_kx == 20e6 && v.yaw_damping == 660e3 && !strcmp(v.name, "top"), "base chain values");
+  CHECK(v.carbody_mass == 40000 && v.primary_kx == 20e6 && v.yaw_damping == 660e3 &&
+            !strcmp(v.name, "top"),
+        "base chain values");
 }
 
 int main(void)

@@ -29,26 +29,31 @@ RR_API rr_complex rr_iso8041_weight(int weighting, double f_hz);
 /* RMS sqrt(integral G df) (m/s^2). */
 RR_API double rr_psd_rms(const double *f, const double *G, int n, int stride);
 /* Sperling by the weighting filter: Wz = 4.42 a_w^0.3, a_w^2 = integral |B|^2 G df. */
-RR_API int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis, double *Wz, rr_error *err);
+RR_API int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis,
+                                    double *Wz, rr_error *err);
 /* Sperling by the GB/T 5599 line method: 0.2 Hz bands from 0.5 Hz lying
  * wholly inside the grid, A_i = sqrt(2 G(f_i) df), W = 3.57 (sum A^3 F/f)^0.1. */
-RR_API int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis, double *W, rr_error *err);
+RR_API int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis,
+                                double *W, rr_error *err);
 /* ISO 2631-1 / EN 12299 frequency-weighted RMS (m/s^2). */
-RR_API int rr_weighted_rms(const double *f, const double *G, int n, int stride, int weighting, double *aw, rr_error *err);
+RR_API int rr_weighted_rms(const double *f, const double *G, int n, int stride, int weighting,
+                           double *aw, rr_error *err);
 /* Every index of one axis on a fixed grid, planned once (FFTW's split): the
  * weightings |B|^2, |Wd|^2 and the GB/T 5599 bands' interpolation are
  * computed at plan time; executing it on a PSD column is a few dot products,
  * allocation-free, and gives the functions' values above to the last bit. */
 typedef struct rr_comfort_plan rr_comfort_plan;
 typedef struct rr_comfort {
-  double rms;          /* m/s^2 */
-  double sperling;     /* weighting-filter method */
-  double sperling_gb;  /* GB/T 5599 line method */
-  double wd_rms;       /* ISO 2631-1 Wd (lateral) or Wb (vertical) weighted RMS, m/s^2 */
+  double rms;         /* m/s^2 */
+  double sperling;    /* weighting-filter method */
+  double sperling_gb; /* GB/T 5599 line method */
+  double wd_rms;      /* ISO 2631-1 Wd (lateral) or Wb (vertical) weighted RMS, m/s^2 */
 } rr_comfort;
-RR_API int rr_comfort_plan_new(const double *f, int n, int axis, rr_comfort_plan **out, rr_error *err);
+RR_API int rr_comfort_plan_new(const double *f, int n, int axis, rr_comfort_plan **out,
+                               rr_error *err);
 RR_API void rr_comfort_plan_free(rr_comfort_plan *p);
-RR_API int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride, rr_comfort *out, rr_error *err);
+RR_API int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride,
+                              rr_comfort *out, rr_error *err);
 
 /* EN 12299 mean-comfort figure from one axis' Wd RMS: N = 6 a_wd (the 95th
  * percentile of 5 s RMS values of a stationary Gaussian process is taken as

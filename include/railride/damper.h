@@ -10,10 +10,10 @@ extern "C" {
 
 typedef struct rr_damper_point {
   double freq_hz;
-  double storage;       /* Re k_e: equivalent stiffness (N/m) */
-  double loss;          /* Im k_e (N/m) */
-  double eq_damping;    /* Im k_e / w: equivalent damping (N s/m) */
-  double dissipation;   /* loss / storage = k / (c w) */
+  double storage;     /* Re k_e: equivalent stiffness (N/m) */
+  double loss;        /* Im k_e (N/m) */
+  double eq_damping;  /* Im k_e / w: equivalent damping (N s/m) */
+  double dissipation; /* loss / storage = k / (c w) */
 } rr_damper_point;
 
 /* Dynamic stiffness of damper c in series with complex spring k at jw. */

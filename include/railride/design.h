@@ -23,24 +23,25 @@ extern "C" {
  *   zeta_low, zeta_high, std_zeta       robust indices (paper Table 1)
  *   index@KMH,L                         vehicle stability index
  *   critical_speed@L                    km/h (10-600 range; 600 when stable to the end)
- *   sperling@KMH,L[,X]                  Sperling W (filter method) at floor point x = X m (default 0)
- *   sperling_gb@..., wd_rms@..., rms@...  other ride indices, same arguments
- * each optionally followed by modifiers, ';'-separated:
- *   sdf=none|paper|physical             the yaw damper's SDF for this objective
- *   spectrum=NAME                       ride indices: track spectrum (default wuhan-guangzhou)
- *   fmax=HZ, wmin=W, rmax=R             stability objectives: the index's rule
+ *   sperling@KMH,L[,X]                  Sperling W (filter method) at floor point x = X m (default
+ * 0) sperling_gb@..., wd_rms@..., rms@...  other ride indices, same arguments each optionally
+ * followed by modifiers, ';'-separated: sdf=none|paper|physical             the yaw damper's SDF
+ * for this objective spectrum=NAME                       ride indices: track spectrum (default
+ * wuhan-guangzhou) fmax=HZ, wmin=W, rmax=R             stability objectives: the index's rule
  *   index_modes                         critical_speed: only the index's modes count
  * e.g. "index@350,0.17;fmax=20;wmin=0;rmax=1". */
 typedef struct rr_design rr_design;
 
 /* The objective names, for listings: name, its arguments after '@', its
  * unit and what it measures. */
-typedef struct rr_objective_info { const char *name, *args, *unit, *doc; } rr_objective_info;
+typedef struct rr_objective_info {
+  const char *name, *args, *unit, *doc;
+} rr_objective_info;
 RR_API const rr_objective_info *rr_objectives(int *n);
 
 /* var_keys: "section.key" numeric vehicle-file keys; values are SI. */
 RR_API int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj,
-                  const char *const *objectives, rr_design **out, rr_error *err);
+                         const char *const *objectives, rr_design **out, rr_error *err);
 RR_API void rr_design_free(rr_design *d);
 /* An independent copy (for another thread). */
 RR_API int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err);
@@ -62,7 +63,8 @@ RR_API int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double
 
 /* Plain-C entry for bindings (ctypes): vehicle is a built-in name or a file;
  * keys and objectives are newline-separated; errbuf receives the message. */
-RR_API rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl, char *errbuf, int errlen);
+RR_API rr_design *rr_design_open(const char *vehicle, const char *keys_nl,
+                                 const char *objectives_nl, char *errbuf, int errlen);
 
 #ifdef __cplusplus
 }

@@ -16,10 +16,7 @@ extern "C" {
  * grid and bisection point (~1000 solves), the fast method continues each
  * branch by Newton's method on the 17-DOF dynamic stiffness and finds the
  * root of h(k) by a safeguarded secant. */
-typedef enum rr_sdf_tracking {
-  RR_TRACK_FAST = 0,
-  RR_TRACK_REFERENCE = 1
-} rr_sdf_tracking;
+typedef enum rr_sdf_tracking { RR_TRACK_FAST = 0, RR_TRACK_REFERENCE = 1 } rr_sdf_tracking;
 
 typedef struct rr_modal_opts {
   double fmax_hz;           /* modes above are left out of the index (default 10 Hz) */
@@ -32,29 +29,29 @@ RR_API rr_modal_opts rr_modal_opts_default(void);
 #define RR_MODE_NAME_MAX 48
 
 typedef struct rr_mode {
-  double re, im;              /* eigenvalue (1/s), im >= 0 */
-  double freq_hz;             /* im / 2 pi */
-  double zeta;                /* re / |lambda|: negative is stable */
-  double energy[RR_NGROUPS];  /* kinetic-energy shares carbody, frames, wheelsets */
-  double roll_share;          /* kinetic-energy share of the roll DOFs */
-  int oscillatory;            /* im > 1e-6 |lambda| */
-  int hunting;                /* hunting-related: wheelset share >= w_min, roll share < r_max */
-  int in_index;               /* counted in the vehicle stability index */
-  int self_consistent;        /* paper SDF mode: a self-consistent root was found */
-  double sdf_k;               /* paper SDF mode: series stiffness at the root (N/m) */
-  char name[RR_MODE_NAME_MAX];/* dominant motion, e.g. "carbody lateral-yaw", "frames roll" */
+  double re, im;               /* eigenvalue (1/s), im >= 0 */
+  double freq_hz;              /* im / 2 pi */
+  double zeta;                 /* re / |lambda|: negative is stable */
+  double energy[RR_NGROUPS];   /* kinetic-energy shares carbody, frames, wheelsets */
+  double roll_share;           /* kinetic-energy share of the roll DOFs */
+  int oscillatory;             /* im > 1e-6 |lambda| */
+  int hunting;                 /* hunting-related: wheelset share >= w_min, roll share < r_max */
+  int in_index;                /* counted in the vehicle stability index */
+  int self_consistent;         /* paper SDF mode: a self-consistent root was found */
+  double sdf_k;                /* paper SDF mode: series stiffness at the root (N/m) */
+  char name[RR_MODE_NAME_MAX]; /* dominant motion, e.g. "carbody lateral-yaw", "frames roll" */
 } rr_mode;
 
 typedef struct rr_modal_result {
-  int n;                      /* modes stored (one per conjugate pair, plus real ones) */
+  int n; /* modes stored (one per conjugate pair, plus real ones) */
   int cap;
-  rr_mode *modes;             /* sorted: oscillatory by frequency, then real ones */
+  rr_mode *modes; /* sorted: oscillatory by frequency, then real ones */
   int ndof;
   rr_complex *shapes;     /* q part of each mode's eigenvector, n x ndof */
-  double stability_index;     /* max zeta over modes in the index; -1 when none */
-  int index_mode;             /* which mode gave it, -1 when none */
-  double zeta_max;            /* max zeta over every oscillatory mode (any frequency, shape) */
-  int max_mode;               /* which mode gave it, -1 when none */
+  double stability_index; /* max zeta over modes in the index; -1 when none */
+  int index_mode;         /* which mode gave it, -1 when none */
+  double zeta_max;        /* max zeta over every oscillatory mode (any frequency, shape) */
+  int max_mode;           /* which mode gave it, -1 when none */
 } rr_modal_result;
 
 /* The verdict rule: a vehicle is stable at an operating point when every
@@ -71,25 +68,25 @@ RR_API void rr_modal_result_free(rr_modal_result *res);
 /* All modes with energy shares, names and shapes. Paper SDF mode:
  * self-consistent modes. */
 RR_API int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
-                   rr_modal_result *res, rr_error *err);
+                          rr_modal_result *res, rr_error *err);
 
 /* Stability at one operating point, without mode shapes where none are
  * needed. */
 typedef struct rr_stability {
-  double index;          /* vehicle stability index; -1 when no mode qualifies */
-  double index_freq_hz;  /* frequency of the mode that sets it; NaN when none */
-  double zeta_max;       /* largest zeta over every oscillatory mode; -1 when none */
-  double max_freq_hz;    /* frequency of that mode; NaN when none */
+  double index;         /* vehicle stability index; -1 when no mode qualifies */
+  double index_freq_hz; /* frequency of the mode that sets it; NaN when none */
+  double zeta_max;      /* largest zeta over every oscillatory mode; -1 when none */
+  double max_freq_hz;   /* frequency of that mode; NaN when none */
 } rr_stability;
 
 /* By the cheapest exact route: eigenvalues of the state matrix, then (17 x 17
  * inverse iteration) the shapes of candidate modes only; paper-mode SDF by
  * branch tracking. Allocation-free. */
 RR_API int rr_modal_stability(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
-                       rr_stability *out, rr_error *err);
+                              rr_stability *out, rr_error *err);
 /* The index alone (out.index of rr_modal_stability). */
 RR_API int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
-                             double *zeta, rr_error *err);
+                                    double *zeta, rr_error *err);
 
 /* rr_modal_stability at npts operating points (speeds in m/s, conicities):
  * out[p] equals the single-point result to rounding. Groups of up to
@@ -97,8 +94,8 @@ RR_API int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, r
  * stream, their QR sweeps in SIMD lanes; paper-mode SDF models go one point at
  * a time. The model's operating point is restored. Allocation-free. */
 RR_API int rr_modal_stability_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
-                             const double *speed_ms, const double *conicity, rr_stability *out,
-                             rr_error *err);
+                                    const double *speed_ms, const double *conicity,
+                                    rr_stability *out, rr_error *err);
 
 /* Modal assurance criterion of two complex vectors. */
 RR_API double rr_mac(const rr_complex *a, const rr_complex *b, int n);

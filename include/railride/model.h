@@ -49,26 +49,26 @@ RR_API const rr_sdf_curve *rr_model_sdf_curve(const rr_model *m);
 RR_API int rr_model_ndof(const rr_model *m);
 RR_API int rr_model_ninputs(const rr_model *m);
 RR_API const char *rr_model_dof_name(const rr_model *m, int i);
-RR_API int rr_model_dof_group(const rr_model *m, int i);        /* enum rr_group */
-RR_API double rr_model_input_x(const rr_model *m, int input);   /* x of the contact (m) */
-RR_API const double *rr_model_M(const rr_model *m);             /* n x n */
-RR_API const double *rr_model_C(const rr_model *m);             /* n x n, contact included */
-RR_API const double *rr_model_K(const rr_model *m);             /* n x n, contact included */
-RR_API const double *rr_model_B(const rr_model *m);             /* n x ninputs */
+RR_API int rr_model_dof_group(const rr_model *m, int i);      /* enum rr_group */
+RR_API double rr_model_input_x(const rr_model *m, int input); /* x of the contact (m) */
+RR_API const double *rr_model_M(const rr_model *m);           /* n x n */
+RR_API const double *rr_model_C(const rr_model *m);           /* n x n, contact included */
+RR_API const double *rr_model_K(const rr_model *m);           /* n x n, contact included */
+RR_API const double *rr_model_B(const rr_model *m);           /* n x ninputs */
 
 /* Displacement row (length ndof) of a point (absolute x, y, z) fixed to the
  * named body, along dir (enum rr_direction): u = row . q. The vehicle's
  * bodies are "c", "f1", "f2", "w1".."w4". */
 RR_API int rr_model_point_row(const rr_model *m, const char *body, const double point[3], int dir,
-                       double *row, rr_error *err);
+                              double *row, rr_error *err);
 
 /* Maxwell elements (c in series with finite k), in state order. */
 RR_API int rr_model_nmaxwell(const rr_model *m);
 typedef struct rr_maxwell_info {
   const char *name;
-  const double *J;   /* elongation row, length ndof */
-  double k, c;       /* series stiffness N/m, damping N s/m */
-  int sdf;           /* follows the SDF curve */
+  const double *J; /* elongation row, length ndof */
+  double k, c;     /* series stiffness N/m, damping N s/m */
+  int sdf;         /* follows the SDF curve */
 } rr_maxwell_info;
 RR_API int rr_model_maxwell(const rr_model *m, int i, rr_maxwell_info *info);
 
@@ -86,7 +86,7 @@ RR_API int rr_model_state_input(const rr_model *m, double *Bs, rr_error *err);
 RR_API rr_complex rr_model_series_k(const rr_model *m, int i, rr_complex s, double sdf_k);
 /* Dynamic stiffness D(s) = s^2 M + s C + K + sum J' k_e(s) J (n x n). */
 RR_API void rr_model_dynamic_stiffness(const rr_model *m, rr_complex s, double sdf_k,
-                                rr_complex *D);
+                                       rr_complex *D);
 
 #ifdef __cplusplus
 }

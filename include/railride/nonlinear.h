@@ -22,10 +22,10 @@ extern "C" {
 /* ---- the contact law ---- */
 
 typedef struct rr_contact_law {
-  double friction;           /* mu (0.3, an assumption) */
-  double flange_clearance;   /* m (8 mm, an assumption) */
-  double flange_stiffness;   /* N/m (500 kN/mm, Table A1); 0: no flange */
-  int saturation;            /* 1: Shen-Hedrick-Elkins (default); 0: linear Kalker forces */
+  double friction;         /* mu (0.3, an assumption) */
+  double flange_clearance; /* m (8 mm, an assumption) */
+  double flange_stiffness; /* N/m (500 kN/mm, Table A1); 0: no flange */
+  int saturation;          /* 1: Shen-Hedrick-Elkins (default); 0: linear Kalker forces */
 } rr_contact_law;
 RR_API rr_contact_law rr_contact_law_default(void);
 
@@ -34,8 +34,8 @@ RR_API rr_contact_law rr_contact_law_default(void);
 typedef struct rr_nonlinear rr_nonlinear;
 /* From a model (its speed taken as is; SDF none or physical: paper mode has
  * no time form). Only wheelsets whose contact sits at their reference point. */
-RR_API int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law, rr_nonlinear **out,
-                     rr_error *err);
+RR_API int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law,
+                            rr_nonlinear **out, rr_error *err);
 RR_API void rr_nonlinear_free(rr_nonlinear *nl);
 RR_API int rr_nonlinear_set_speed(rr_nonlinear *nl, double v_ms, rr_error *err);
 RR_API double rr_nonlinear_speed(const rr_nonlinear *nl);
@@ -52,72 +52,83 @@ RR_API int rr_nonlinear_ninputs(const rr_nonlinear *nl);
  * perfect track). Allocation-free. */
 RR_API void rr_nonlinear_rhs(const rr_nonlinear *nl, const double *z, const double *yt, double *dz);
 /* Its Jacobian d(dz/dt)/dz (N x N, row-major). */
-RR_API void rr_nonlinear_jacobian(const rr_nonlinear *nl, const double *z, const double *yt, double *J);
+RR_API void rr_nonlinear_jacobian(const rr_nonlinear *nl, const double *z, const double *yt,
+                                  double *J);
 /* Contact forces of wheelset i (saturated creep: lateral force N and yaw
  * moment N m; the flange's lateral force N). */
-RR_API void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i, double *fy, double *mz,
-                         double *flange);
+RR_API void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i,
+                                double *fy, double *mz, double *flange);
 
 /* ---- time integration (CVODE BDF, dense Newton, analytic Jacobian) ---- */
 
 typedef struct rr_sim_opts {
-  double duration_s;        /* (10) */
-  double fs_hz;             /* output samples per second (200) */
-  double rtol;              /* relative tolerance (1e-7) */
-  double atol_m;            /* absolute tolerance on displacements, m (1e-10); velocities and strokes scaled alike */
-  const double *yt, *dyt;   /* track: ninputs x nsamples at fs_hz (alignment m, its rate m/s), or NULL */
+  double duration_s; /* (10) */
+  double fs_hz;      /* output samples per second (200) */
+  double rtol;       /* relative tolerance (1e-7) */
+  double atol_m; /* absolute tolerance on displacements, m (1e-10); velocities and strokes scaled
+                    alike */
+  const double *yt,
+      *dyt; /* track: ninputs x nsamples at fs_hz (alignment m, its rate m/s), or NULL */
   int nsamples_track;
 } rr_sim_opts;
 RR_API rr_sim_opts rr_sim_opts_default(void);
 /* Integrates from z0 (N); out: nsamples x N states at t = k / fs,
  * k = 0 .. nsamples - 1 (nsamples = floor(duration fs) + 1). */
-RR_API int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, double *out, int nsamples,
-                rr_error *err);
+RR_API int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, double *out,
+                       int nsamples, rr_error *err);
 
 /* ---- limit cycles and the bifurcation diagram ---- */
 
 typedef struct rr_cycle {
-  double speed_ms;          /* the parameter */
+  double speed_ms; /* the parameter */
   double period_s;
-  double amplitude_m;       /* max |y_w1| over the cycle (leading wheelset) */
-  double floquet_max;       /* largest |multiplier| but the trivial one */
-  int stable;               /* floquet_max < 1 */
-  double residual;          /* |phi_T(z0) - z0| / |z0| */
+  double amplitude_m; /* max |y_w1| over the cycle (leading wheelset) */
+  double floquet_max; /* largest |multiplier| but the trivial one */
+  int stable;         /* floquet_max < 1 */
+  double residual;    /* |phi_T(z0) - z0| / |z0| */
 } rr_cycle;
 
 typedef struct rr_orbit_opts {
-  double v_min_ms, v_max_ms;   /* the diagram's range (100-600 km/h); a Hopf point outside it is
-                                  followed from there, within 5 % of its speed */
-  double amp_max_m;            /* stop beyond this amplitude (30 mm) */
-  double ds;                   /* first arclength step, in (mm, 10 km/h) units (0.2) */
-  int max_points;              /* (400) */
-  double rtol;                 /* shooting's integration tolerance (1e-10) */
+  double v_min_ms, v_max_ms; /* the diagram's range (100-600 km/h); a Hopf point outside it is
+                                followed from there, within 5 % of its speed */
+  double amp_max_m;          /* stop beyond this amplitude (30 mm) */
+  double ds;                 /* first arclength step, in (mm, 10 km/h) units (0.2) */
+  int max_points;            /* (400) */
+  double rtol;               /* shooting's integration tolerance (1e-10) */
 } rr_orbit_opts;
 RR_API rr_orbit_opts rr_orbit_opts_default(void);
 
-typedef enum rr_bif_type { RR_BIF_NONE = 0, RR_BIF_SUPERCRITICAL = 1, RR_BIF_SUBCRITICAL = 2 } rr_bif_type;
+typedef enum rr_bif_type {
+  RR_BIF_NONE = 0,
+  RR_BIF_SUPERCRITICAL = 1,
+  RR_BIF_SUBCRITICAL = 2
+} rr_bif_type;
 typedef enum rr_branch_end {
-  RR_BRANCH_RANGE = 0,       /* left the speed range */
-  RR_BRANCH_AMPLITUDE = 1,   /* beyond amp_max */
-  RR_BRANCH_CAP = 2,         /* max_points reached */
-  RR_BRANCH_STALLED = 3,     /* Newton failed even at the smallest step (a grazing corner, a period doubling) */
-  RR_BRANCH_LINEAR = 4       /* the model is linear: no branch */
+  RR_BRANCH_RANGE = 0,     /* left the speed range */
+  RR_BRANCH_AMPLITUDE = 1, /* beyond amp_max */
+  RR_BRANCH_CAP = 2,       /* max_points reached */
+  RR_BRANCH_STALLED =
+      3, /* Newton failed even at the smallest step (a grazing corner, a period doubling) */
+  RR_BRANCH_LINEAR = 4 /* the model is linear: no branch */
 } rr_branch_end;
 
 typedef struct rr_bifurcation {
-  int hopf;                      /* 1: the straight-track equilibrium loses stability below 2000 km/h */
-  double hopf_speed_ms;          /* the linear critical speed at lambda(0) (NaN: none) */
+  int hopf;             /* 1: the straight-track equilibrium loses stability below 2000 km/h */
+  double hopf_speed_ms; /* the linear critical speed at lambda(0) (NaN: none) */
   double hopf_freq_hz;
-  double hopf_speed_branch_ms;   /* the branch extrapolated to zero amplitude (an independent check) */
-  double nonlinear_critical_ms;  /* the lowest speed of any cycle on the branch, folds refined (NaN: none) */
-  int type;                      /* rr_bif_type: how the branch leaves the Hopf point */
-  int npoints, end;              /* points on the branch; rr_branch_end */
+  double
+      hopf_speed_branch_ms; /* the branch extrapolated to zero amplitude (an independent check) */
+  double nonlinear_critical_ms; /* the lowest speed of any cycle on the branch, folds refined (NaN:
+                                   none) */
+  int type;                     /* rr_bif_type: how the branch leaves the Hopf point */
+  int npoints, end;             /* points on the branch; rr_branch_end */
 } rr_bifurcation;
 
 /* The nonlinear vehicle at speed v_ms: profile and contact law NULL take the
  * vehicle's (its [contact] keys); the model's conicity is lambda(0). */
-RR_API int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, double v_ms,
-                              rr_nonlinear **out, rr_error *err);
+RR_API int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p,
+                                     const rr_contact_law *law, double v_ms, rr_nonlinear **out,
+                                     rr_error *err);
 
 /* The bifurcation diagram by continuation: the Hopf point (the linear
  * critical speed at lambda(0), any oscillatory mode), then the branch of
@@ -125,9 +136,9 @@ RR_API int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p,
  * each point's stability from its Floquet multipliers. out: cap points;
  * z_out (cap x N initial states, each on the cycle with dy_w1/dt = 0) may be
  * NULL. */
-RR_API int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
-                            const rr_orbit_opts *o, rr_cycle *out, double *z_out, int cap, rr_bifurcation *res,
-                            rr_error *err);
+RR_API int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p,
+                                   const rr_contact_law *law, const rr_orbit_opts *o, rr_cycle *out,
+                                   double *z_out, int cap, rr_bifurcation *res, rr_error *err);
 
 /* The brute-force method (the paper's): direct integration at each speed of
  * vs (ascending), each run from the previous one's end state, then back down
@@ -135,15 +146,22 @@ RR_API int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, c
  * y_w1 over measure_s. up, down: nv each (amplitude 0 where the motion dies
  * out: below 1 um, or its amplitude over the second half of the window more
  * than 2 % below the first half's). The first run starts from y0_m on every wheelset. */
-typedef struct rr_scan_point { double speed_ms, amplitude_m, frequency_hz; } rr_scan_point;
-typedef struct rr_scan_opts { double settle_s, measure_s, y0_m; } rr_scan_opts;
-RR_API rr_scan_opts rr_scan_opts_default(void);   /* 20 s, 2 s, 10 mm */
-RR_API int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, const double *vs,
-                        int nv, const rr_scan_opts *o, rr_scan_point *up, rr_scan_point *down, rr_error *err);
+typedef struct rr_scan_point {
+  double speed_ms, amplitude_m, frequency_hz;
+} rr_scan_point;
+typedef struct rr_scan_opts {
+  double settle_s, measure_s, y0_m;
+} rr_scan_opts;
+RR_API rr_scan_opts rr_scan_opts_default(void); /* 20 s, 2 s, 10 mm */
+RR_API int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p,
+                               const rr_contact_law *law, const double *vs, int nv,
+                               const rr_scan_opts *o, rr_scan_point *up, rr_scan_point *down,
+                               rr_error *err);
 
 /* One cycle by shooting at the nonlinear vehicle's speed from a guess
  * (z0, T), refined in place. */
-RR_API int rr_cycle_shoot(rr_nonlinear *nl, double *z0, double *T, double rtol, rr_cycle *out, rr_error *err);
+RR_API int rr_cycle_shoot(rr_nonlinear *nl, double *z0, double *T, double rtol, rr_cycle *out,
+                          rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -21,35 +21,36 @@ typedef int (*rr_nsga2_eval_fn)(void *user, int n, const double *x, double *f);
 /* Called after every generation; a nonzero return stops the run there, the
    population of that generation being the result (generations_done says
    how far it got). */
-typedef int (*rr_nsga2_progress_fn)(void *user, int generation, long evaluations, double seconds, int front_size,
-                                    double hypervolume);
+typedef int (*rr_nsga2_progress_fn)(void *user, int generation, long evaluations, double seconds,
+                                    int front_size, double hypervolume);
 
 typedef struct rr_nsga2_opts {
-  int population;          /* even (100) */
-  int generations;         /* (250) */
-  uint64_t seed;           /* (1) */
-  double p_crossover;      /* (0.9) */
-  double eta_c;            /* SBX distribution index (15) */
-  double p_mutation;       /* per variable; <= 0: 1/d */
-  double eta_m;            /* polynomial mutation index (20) */
-  int hv_every;            /* hypervolume in progress reports every k generations (10; 0: never) */
+  int population;     /* even (100) */
+  int generations;    /* (250) */
+  uint64_t seed;      /* (1) */
+  double p_crossover; /* (0.9) */
+  double eta_c;       /* SBX distribution index (15) */
+  double p_mutation;  /* per variable; <= 0: 1/d */
+  double eta_m;       /* polynomial mutation index (20) */
+  int hv_every;       /* hypervolume in progress reports every k generations (10; 0: never) */
   rr_nsga2_progress_fn progress;
-  void *user;              /* for progress */
-  int *generations_done;   /* if not NULL: the generations completed (a stop can end the run early) */
-  int ncon;                /* constraint violations after the objectives (0); Deb's constrained
-                              domination: feasible designs beat infeasible ones, infeasible ones
-                              rank by their total violation */
-  double *cv_out;          /* if not NULL: the final population's total violations (pop) */
-  const char *checkpoint;  /* if not NULL: the run's state written here after every generation */
-  const char *resume;      /* if not NULL: a checkpoint to go on from (same problem, population and
-                              seed); the result is the one an uninterrupted run gives */
+  void *user;            /* for progress */
+  int *generations_done; /* if not NULL: the generations completed (a stop can end the run early) */
+  int ncon;              /* constraint violations after the objectives (0); Deb's constrained
+                            domination: feasible designs beat infeasible ones, infeasible ones
+                            rank by their total violation */
+  double *cv_out;        /* if not NULL: the final population's total violations (pop) */
+  const char *checkpoint; /* if not NULL: the run's state written here after every generation */
+  const char *resume;     /* if not NULL: a checkpoint to go on from (same problem, population and
+                             seed); the result is the one an uninterrupted run gives */
 } rr_nsga2_opts;
 RR_API rr_nsga2_opts rr_nsga2_opts_default(void);
 
 /* Runs the optimiser; x_out (pop x d), f_out (pop x m), rank_out (pop; 0 =
  * non-dominated) receive the final population. */
-RR_API int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval, void *eval_user,
-                 const rr_nsga2_opts *o, double *x_out, double *f_out, int *rank_out, rr_error *err);
+RR_API int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval,
+                        void *eval_user, const rr_nsga2_opts *o, double *x_out, double *f_out,
+                        int *rank_out, rr_error *err);
 
 /* Non-dominated ranks of n points (m objectives, minimised); 0 = first front.
  * Returns the number of fronts, or -1 on allocation failure. */

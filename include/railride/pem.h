@@ -16,14 +16,14 @@ extern "C" {
 #endif
 
 enum rr_frf_method {
-  RR_FRF_MODAL = 0,        /* modal expansion of the state-space part + SMW for the
-                              SDF elements without a state-space form (default);
-                              eigenvectors by Hessenberg inverse iteration; when their
-                              basis is ill-conditioned (near zero conicity: a
-                              defective rigid drift) the plan solves directly */
-  RR_FRF_DIRECT = 1,       /* one dense n x n complex solve of D(jw) per frequency */
-  RR_FRF_MODAL_LAPACK = 2  /* the modal expansion with dgeev's left and right vectors,
-                              always (a cross-check; poor near defective points) */
+  RR_FRF_MODAL = 0,       /* modal expansion of the state-space part + SMW for the
+                             SDF elements without a state-space form (default);
+                             eigenvectors by Hessenberg inverse iteration; when their
+                             basis is ill-conditioned (near zero conicity: a
+                             defective rigid drift) the plan solves directly */
+  RR_FRF_DIRECT = 1,      /* one dense n x n complex solve of D(jw) per frequency */
+  RR_FRF_MODAL_LAPACK = 2 /* the modal expansion with dgeev's left and right vectors,
+                             always (a cross-check; poor near defective points) */
 };
 
 /* The paper's ride evaluation: 400 log-spaced frequencies 0.3-30 Hz, floor
@@ -49,7 +49,8 @@ RR_API rr_frf_opts rr_frf_opts_default(void);
 typedef struct rr_frf_plan rr_frf_plan;
 
 /* Sizes a plan for the model's DOF, input and state counts. */
-RR_API int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, rr_error *err);
+RR_API int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out,
+                           rr_error *err);
 RR_API void rr_frf_plan_free(rr_frf_plan *p);
 /* Computes the FRFs for the model as it is now. Allocation-free. */
 RR_API int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err);
@@ -66,15 +67,18 @@ RR_API const rr_complex *rr_frf_H(const rr_frf_plan *p);
 /* PEM: one-sided output PSDs G[f * npoints + p] ((m/s^2)^2/Hz) for a track
  * spectrum at the model's speed: pseudo-excitation sqrt(G_t(f)) exp(jw x_i/v)
  * at each input, G_t(f) = G_s(f/v)/v. */
-RR_API int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G, rr_error *err);
+RR_API int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G,
+                      rr_error *err);
 /* One PEM term: Gt |sum_i H_i exp(j w x_i / v)|^2. */
-RR_API double rr_pem_combine(const rr_complex *H, const double *x, int ninputs, double w, double v, double Gt);
+RR_API double rr_pem_combine(const rr_complex *H, const double *x, int ninputs, double w, double v,
+                             double Gt);
 
 /* Vehicle floor points: lateral displacement rows of (x_p, 0, h_p) on the
  * carbody; with roll_gravity, rows0 = g at phi_c (the accelerometer senses
  * a_y + g phi_c). rows, rows0: npoints x ndof. */
-RR_API int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int npoints,
-                          double h_p, int roll_gravity, double *rows, double *rows0, rr_error *err);
+RR_API int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x,
+                                 int npoints, double h_p, int roll_gravity, double *rows,
+                                 double *rows0, rr_error *err);
 
 #ifdef __cplusplus
 }

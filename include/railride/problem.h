@@ -24,16 +24,16 @@ extern "C" {
 #define RR_PROBLEM_GENERATIONS_MAX 1000000
 
 typedef struct rr_problem {
-  char vehicle[RR_PROBLEM_PATH_MAX];   /* "" for the default vehicle */
-  int population, generations, threads;   /* 100, 100, 0 (all cores) */
-  unsigned long long seed;             /* 1 */
-  char output[RR_PROBLEM_PATH_MAX];    /* output prefix ("pareto") */
+  char vehicle[RR_PROBLEM_PATH_MAX];    /* "" for the default vehicle */
+  int population, generations, threads; /* 100, 100, 0 (all cores) */
+  unsigned long long seed;              /* 1 */
+  char output[RR_PROBLEM_PATH_MAX];     /* output prefix ("pareto") */
   int nvar, nobj;
   char keys[RR_DESIGN_MAX_VARS][64];
-  double lo[RR_DESIGN_MAX_VARS], hi[RR_DESIGN_MAX_VARS];   /* SI, inside the keys' physical ranges */
+  double lo[RR_DESIGN_MAX_VARS], hi[RR_DESIGN_MAX_VARS]; /* SI, inside the keys' physical ranges */
   char objs[RR_DESIGN_MAX_OBJS][128];
   int maximize[RR_DESIGN_MAX_OBJS];
-  int ncon;                            /* constraints: cons[k] <= bound (sense +1) or >= (-1) */
+  int ncon; /* constraints: cons[k] <= bound (sense +1) or >= (-1) */
   char cons[RR_DESIGN_MAX_OBJS][128];
   int con_sense[RR_DESIGN_MAX_OBJS];
   double con_bound[RR_DESIGN_MAX_OBJS];

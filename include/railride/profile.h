@@ -15,18 +15,18 @@ extern "C" {
 /* conicity lambda(a), a = |y_w - y_t| */
 #define RR_PROFILE_MAX 64
 typedef enum rr_profile_kind {
-  RR_PROFILE_NONE = 0,     /* not given */
-  RR_PROFILE_POLY = 1,     /* lambda = sum c_k a^k, a in mm, held beyond hold_mm */
-  RR_PROFILE_TABLE = 2     /* (a_mm, lambda) points, linear, held beyond the last */
+  RR_PROFILE_NONE = 0, /* not given */
+  RR_PROFILE_POLY = 1, /* lambda = sum c_k a^k, a in mm, held beyond hold_mm */
+  RR_PROFILE_TABLE = 2 /* (a_mm, lambda) points, linear, held beyond the last */
 } rr_profile_kind;
 
 typedef struct rr_profile {
-  int kind;                          /* rr_profile_kind */
-  char name[64];                     /* "new", "worn", or the file's name */
-  int n;                             /* coefficients or points */
-  double c[RR_PROFILE_MAX];          /* polynomial coefficients (a in mm) */
-  double a_mm[RR_PROFILE_MAX], lam[RR_PROFILE_MAX];   /* table */
-  double hold_mm;                    /* polynomial held at its value beyond (12 mm) */
+  int kind;                                         /* rr_profile_kind */
+  char name[64];                                    /* "new", "worn", or the file's name */
+  int n;                                            /* coefficients or points */
+  double c[RR_PROFILE_MAX];                         /* polynomial coefficients (a in mm) */
+  double a_mm[RR_PROFILE_MAX], lam[RR_PROFILE_MAX]; /* table */
+  double hold_mm; /* polynomial held at its value beyond (12 mm) */
 } rr_profile;
 
 /* Built-in treads (assumptions: the paper gives only lambda(3 mm) = 0.12 new,

@@ -13,27 +13,27 @@ extern "C" {
 #define RR_SDF_TABLE_MAX 256
 
 typedef enum rr_sdf_mode {
-  RR_SDF_NONE = 0,     /* constant series stiffness k_ncsx */
-  RR_SDF_PAPER = 1,    /* real stiffness k_sdf(f), self-consistent modes */
-  RR_SDF_PHYSICAL = 2  /* complex stiffness of a standard linear solid, extra states */
+  RR_SDF_NONE = 0,    /* constant series stiffness k_ncsx */
+  RR_SDF_PAPER = 1,   /* real stiffness k_sdf(f), self-consistent modes */
+  RR_SDF_PHYSICAL = 2 /* complex stiffness of a standard linear solid, extra states */
 } rr_sdf_mode;
 
 typedef enum rr_sdf_curve_kind {
   RR_CURVE_UNSET = 0,
-  RR_CURVE_SLS = 1,    /* K3 + K2 g(f/K1) */
-  RR_CURVE_TABLE = 2   /* tabulated f, k' [, k''] */
+  RR_CURVE_SLS = 1,  /* K3 + K2 g(f/K1) */
+  RR_CURVE_TABLE = 2 /* tabulated f, k' [, k''] */
 } rr_sdf_curve_kind;
 
 typedef struct rr_sdf_curve {
-  int kind;                    /* rr_sdf_curve_kind */
-  double k1_hz;                /* K1: frequency scale, Hz */
-  double k2;                   /* K2: stiffness rise, N/m */
-  double k3;                   /* K3: static stiffness, N/m */
-  int n;                       /* table points */
-  int has_loss;                /* table has a k'' column */
+  int kind;     /* rr_sdf_curve_kind */
+  double k1_hz; /* K1: frequency scale, Hz */
+  double k2;    /* K2: stiffness rise, N/m */
+  double k3;    /* K3: static stiffness, N/m */
+  int n;        /* table points */
+  int has_loss; /* table has a k'' column */
   double f_hz[RR_SDF_TABLE_MAX];
-  double k_storage[RR_SDF_TABLE_MAX];  /* N/m */
-  double k_loss[RR_SDF_TABLE_MAX];     /* N/m */
+  double k_storage[RR_SDF_TABLE_MAX]; /* N/m */
+  double k_loss[RR_SDF_TABLE_MAX];    /* N/m */
 } rr_sdf_curve;
 
 /* Paper mode: real series stiffness at frequency f_hz (N/m). */

@@ -15,30 +15,36 @@ extern "C" {
 #define RR_SPECTRUM_MAX_TERMS 64
 
 typedef enum rr_spectrum_form {
-  RR_FORM_POWERLAW = 0,   /* S = A / n^k per segment */
-  RR_FORM_GERMAN = 1,     /* German high-speed rational forms */
-  RR_FORM_FRA = 2,        /* FRA classes: k A Oc^2 / (W^2 (W^2 + Oc^2)) */
-  RR_FORM_RATIONAL7 = 3,  /* A (n^2 + B n + C) / (n^4 + D n^3 + E n^2 + F n + G) */
-  RR_FORM_TABLE = 4       /* (n, S) pairs, log-log interpolation */
+  RR_FORM_POWERLAW = 0,  /* S = A / n^k per segment */
+  RR_FORM_GERMAN = 1,    /* German high-speed rational forms */
+  RR_FORM_FRA = 2,       /* FRA classes: k A Oc^2 / (W^2 (W^2 + Oc^2)) */
+  RR_FORM_RATIONAL7 = 3, /* A (n^2 + B n + C) / (n^4 + D n^3 + E n^2 + F n + G) */
+  RR_FORM_TABLE = 4      /* (n, S) pairs, log-log interpolation */
 } rr_spectrum_form;
 
-typedef enum rr_german_shape { RR_GERMAN_ALIGNMENT, RR_GERMAN_VERTICAL, RR_GERMAN_CROSSLEVEL, RR_GERMAN_GAUGE } rr_german_shape;
+typedef enum rr_german_shape {
+  RR_GERMAN_ALIGNMENT,
+  RR_GERMAN_VERTICAL,
+  RR_GERMAN_CROSSLEVEL,
+  RR_GERMAN_GAUGE
+} rr_german_shape;
 
 typedef struct rr_spectrum {
   char name[64];
   char title[160];
-  char direction[16];     /* lateral, vertical, crosslevel, gauge */
-  int form;               /* rr_spectrum_form */
-  int rad_per_m;          /* formula variable is Omega in rad/m (else n in cycles/m) */
-  double scale;           /* file PSD unit -> m^2 (or rad^2), times 2 when two-sided */
-  double valid_lo, valid_hi;  /* validity, cycles/m */
-  int clip;               /* 1: zero outside the validity range; 0: extend the formula */
+  char direction[16];        /* lateral, vertical, crosslevel, gauge */
+  int form;                  /* rr_spectrum_form */
+  int rad_per_m;             /* formula variable is Omega in rad/m (else n in cycles/m) */
+  double scale;              /* file PSD unit -> m^2 (or rad^2), times 2 when two-sided */
+  double valid_lo, valid_hi; /* validity, cycles/m */
+  int clip;                  /* 1: zero outside the validity range; 0: extend the formula */
   /* parameters */
   int nseg;
-  double seg_lo[RR_SPECTRUM_MAX_TERMS], seg_hi[RR_SPECTRUM_MAX_TERMS], seg_A[RR_SPECTRUM_MAX_TERMS], seg_k[RR_SPECTRUM_MAX_TERMS];
-  int shape;              /* rr_german_shape */
+  double seg_lo[RR_SPECTRUM_MAX_TERMS], seg_hi[RR_SPECTRUM_MAX_TERMS], seg_A[RR_SPECTRUM_MAX_TERMS],
+      seg_k[RR_SPECTRUM_MAX_TERMS];
+  int shape; /* rr_german_shape */
   double A, Oc, Or, Os, b, k;
-  double p[7];            /* rational7 A..G */
+  double p[7]; /* rational7 A..G */
   int npts;
   double tab_n[RR_SPECTRUM_MAX_TERMS * 4], tab_S[RR_SPECTRUM_MAX_TERMS * 4];
 } rr_spectrum;

@@ -22,15 +22,15 @@ RR_API rr_robust_opts rr_robust_opts_default(void);
 
 typedef struct rr_robust {
   double zeta_low, zeta_high, std_zeta;
-  double zeta_max;   /* largest zeta of any oscillatory mode over all the points */
-  int n_unstable;    /* points at which some oscillatory mode has zeta >= 0 */
+  double zeta_max; /* largest zeta of any oscillatory mode over all the points */
+  int n_unstable;  /* points at which some oscillatory mode has zeta >= 0 */
   double unstable_speed_ms, unstable_conicity; /* the first such point (NaN when none) */
 } rr_robust;
 
 /* Evaluated through rr_modal_stability_batch; the model's operating point is
  * restored. */
 RR_API int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r,
-                      rr_modal_ws *ws, rr_robust *out, rr_error *err);
+                             rr_modal_ws *ws, rr_robust *out, rr_error *err);
 
 /* Critical speed: the lowest speed in [v_min, v_max] (m/s) at which some
  * oscillatory mode, of any frequency and shape, has zeta >= 0 (index_modes:
@@ -39,20 +39,20 @@ RR_API int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robus
  * RR_CRITICAL_MAX_STEPS steps is refused (RR_EINVAL). */
 #define RR_CRITICAL_MAX_STEPS 10000000
 typedef struct rr_critical_opts {
-  double v_min_ms, v_max_ms, step_ms, tol_ms;  /* 10, 600, 1, 1e-3 km/h */
-  int index_modes;                             /* 0: any oscillatory mode */
+  double v_min_ms, v_max_ms, step_ms, tol_ms; /* 10, 600, 1, 1e-3 km/h */
+  int index_modes;                            /* 0: any oscillatory mode */
 } rr_critical_opts;
 RR_API rr_critical_opts rr_critical_opts_default(void);
 
 typedef struct rr_critical {
-  int found;         /* 0: stable to the range's end */
-  double speed_ms;   /* NaN when not found */
-  rr_mode mode;      /* the mode that goes unstable there (when found) */
+  int found;       /* 0: stable to the range's end */
+  double speed_ms; /* NaN when not found */
+  rr_mode mode;    /* the mode that goes unstable there (when found) */
 } rr_critical;
 /* Changes the model's operating point. */
 RR_API int rr_critical_speed(rr_model *m, double conicity, const rr_modal_opts *o,
-                      const rr_critical_opts *c, rr_modal_ws *ws, rr_critical *out,
-                      rr_error *err);
+                             const rr_critical_opts *c, rr_modal_ws *ws, rr_critical *out,
+                             rr_error *err);
 
 /* Root locus: modes followed along a parameter by eigenvector correlation.
  * For each point p and branch b fills out[p * nbranch + b]; *nbranch is the
@@ -67,7 +67,8 @@ typedef struct rr_locus_point {
   int hunting;
 } rr_locus_point;
 RR_API int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
-             const rr_modal_opts *o, const rr_progress *pr, rr_locus_point *out, int *nbranch, rr_error *err);
+                    const rr_modal_opts *o, const rr_progress *pr, rr_locus_point *out,
+                    int *nbranch, rr_error *err);
 
 /* rr_locus in two steps, so that the eigen-solves (its cost) can be spread
  * over threads or processes and the branches followed after, with the same
@@ -82,8 +83,8 @@ RR_API int rr_locus(rr_model *m, rr_locus_param param, const double *values, int
  *   oscillatory modes of the first record the tracker saw. */
 typedef struct rr_locus_tracker rr_locus_tracker;
 RR_API size_t rr_locus_record_size(const rr_model *m);
-RR_API int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_modal_opts *o, rr_modal_ws *ws,
-                          rr_modal_result *res, void *record, rr_error *err);
+RR_API int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_modal_opts *o,
+                          rr_modal_ws *ws, rr_modal_result *res, void *record, rr_error *err);
 RR_API int rr_locus_tracker_new(const rr_model *m, rr_locus_tracker **out, rr_error *err);
 RR_API void rr_locus_tracker_free(rr_locus_tracker *t);
 RR_API int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const void *records,

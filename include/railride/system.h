@@ -23,42 +23,42 @@ enum rr_direction { RR_DIR_X = 0, RR_DIR_Y = 1, RR_DIR_Z = 2, RR_DIR_ROLL = 3 };
 /* Kinetic-energy groups of docs/model.md section 5. */
 enum rr_group { RR_GROUP_CARBODY = 0, RR_GROUP_FRAME = 1, RR_GROUP_WHEELSET = 2, RR_NGROUPS = 3 };
 enum rr_law {
-  RR_LAW_SPRING = 0,   /* k */
-  RR_LAW_DAMPER = 1,   /* c */
-  RR_LAW_KC = 2,       /* k and c in parallel */
-  RR_LAW_MAXWELL = 3   /* c in series with k (k = inf: plain damper) */
+  RR_LAW_SPRING = 0, /* k */
+  RR_LAW_DAMPER = 1, /* c */
+  RR_LAW_KC = 2,     /* k and c in parallel */
+  RR_LAW_MAXWELL = 3 /* c in series with k (k = inf: plain damper) */
 };
 
 typedef struct rr_system rr_system;
 
 typedef struct rr_body_spec {
-  const char *name;          /* DOFs are named y_<name>, psi_<name>, phi_<name> */
-  int group;                 /* enum rr_group */
-  double mass;               /* kg */
-  double yaw_inertia;        /* kg m^2 (about z) */
-  double roll_inertia;       /* kg m^2 (about x) */
-  double ref[3];             /* reference point x, y, z (m) */
-  unsigned dofs;             /* RR_DOF_* mask; order in the DOF vector: y, psi, phi */
+  const char *name;    /* DOFs are named y_<name>, psi_<name>, phi_<name> */
+  int group;           /* enum rr_group */
+  double mass;         /* kg */
+  double yaw_inertia;  /* kg m^2 (about z) */
+  double roll_inertia; /* kg m^2 (about x) */
+  double ref[3];       /* reference point x, y, z (m) */
+  unsigned dofs;       /* RR_DOF_* mask; order in the DOF vector: y, psi, phi */
 } rr_body_spec;
 
 typedef struct rr_element_spec {
   const char *name;
-  int body_a, body_b;        /* body indices or RR_GROUND */
-  double point[3];           /* absolute point x, y, z (m); unused for roll */
-  int direction;             /* enum rr_direction */
-  int law;                   /* enum rr_law */
-  double k;                  /* N/m (N m/rad in roll): parallel spring, or series spring of a Maxwell */
-  double c;                  /* N s/m */
-  int sdf;                   /* Maxwell whose series spring follows the SDF curve */
+  int body_a, body_b; /* body indices or RR_GROUND */
+  double point[3];    /* absolute point x, y, z (m); unused for roll */
+  int direction;      /* enum rr_direction */
+  int law;            /* enum rr_law */
+  double k;           /* N/m (N m/rad in roll): parallel spring, or series spring of a Maxwell */
+  double c;           /* N s/m */
+  int sdf;            /* Maxwell whose series spring follows the SDF curve */
 } rr_element_spec;
 
 typedef struct rr_contact_spec {
-  int body;                  /* wheelset body (needs y and psi DOFs) */
-  double f11, f22;           /* Kalker coefficients per wheel (N) */
-  double r0, l0;             /* rolling radius, half contact spacing (m) */
-  double axle_load;          /* N, for the optional gravitational stiffness */
-  double dx;                 /* contact x offset from the body reference (m): a rigid
-                                bogie carries two contacts at +-b; 0 for a wheelset */
+  int body;         /* wheelset body (needs y and psi DOFs) */
+  double f11, f22;  /* Kalker coefficients per wheel (N) */
+  double r0, l0;    /* rolling radius, half contact spacing (m) */
+  double axle_load; /* N, for the optional gravitational stiffness */
+  double dx;        /* contact x offset from the body reference (m): a rigid
+                       bogie carries two contacts at +-b; 0 for a wheelset */
 } rr_contact_spec;
 
 RR_API rr_system *rr_system_new(void);
@@ -73,7 +73,8 @@ RR_API int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_er
 RR_API int rr_system_ndof(const rr_system *sys);
 RR_API const char *rr_system_dof_name(const rr_system *sys, int i);
 /* The elongation row J (length ndof) of an element spec, without adding it. */
-RR_API int rr_system_element_row(const rr_system *sys, const rr_element_spec *e, double *J, rr_error *err);
+RR_API int rr_system_element_row(const rr_system *sys, const rr_element_spec *e, double *J,
+                                 rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -20,11 +20,15 @@ extern "C" {
  * y_t(v t + x_i), with lines at f_k = k fs / nsamples kept in [f_lo, f_hi],
  * amplitudes sqrt(2 G_s(n_k) dn), phases uniform from the seed. u and du
  * (time derivative, exact) are ninputs x nsamples, row-major. */
-RR_API int rr_track_realise(const rr_spectrum *sp, double speed, const double *x_inputs, int ninputs, double fs_hz,
-                     int nsamples, double f_lo, double f_hi, uint64_t seed, double *u, double *du, rr_error *err);
+RR_API int rr_track_realise(const rr_spectrum *sp, double speed, const double *x_inputs,
+                            int ninputs, double fs_hz, int nsamples, double f_lo, double f_hi,
+                            uint64_t seed, double *u, double *du, rr_error *err);
 
 /* A measured alignment record: distance_m (rising), alignment_m. */
-typedef struct rr_track_record { int n; double *x, *y; } rr_track_record;
+typedef struct rr_track_record {
+  int n;
+  double *x, *y;
+} rr_track_record;
 /* Reads a CSV (header line allowed; comma or space separated). */
 RR_API int rr_track_record_load(const char *path, rr_track_record *r, rr_error *err);
 RR_API void rr_track_record_free(rr_track_record *r);
@@ -34,8 +38,8 @@ RR_API double rr_track_record_duration(const rr_track_record *r, double v, const
  * as in rr_track_realise with the last contact starting at the record's
  * first row; linear between rows, rates by central differences. u, du:
  * ninputs x ns. */
-RR_API int rr_track_record_sample(const rr_track_record *r, double v, const double *x, int ni, double fs, int ns, double *u,
-                           double *du, rr_error *err);
+RR_API int rr_track_record_sample(const rr_track_record *r, double v, const double *x, int ni,
+                                  double fs, int ns, double *u, double *du, rr_error *err);
 
 /* Exact discretisation of x' = A x + B w with w(t) a cubic Hermite
  * interpolant of samples w_k, w'_k (step dt):
@@ -43,58 +47,64 @@ RR_API int rr_track_record_sample(const rr_track_record *r, double v, const doub
 typedef struct rr_lti_disc {
   int N, m;
   double dt;
-  double *Phi;   /* N x N */
-  double *G;     /* N x 4m: [G0 G1 G2 G3] */
+  double *Phi; /* N x N */
+  double *G;   /* N x 4m: [G0 G1 G2 G3] */
 } rr_lti_disc;
-RR_API int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt, rr_lti_disc *d, rr_error *err);
+RR_API int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt,
+                             rr_lti_disc *d, rr_error *err);
 RR_API void rr_lti_disc_free(rr_lti_disc *d);
 /* Periodic steady-state response to a periodic input (w, dw: m x ns): outputs
  * y = C x + D w + E w' (ny x ns), with C ny x N, D and E ny x m (E may be NULL). */
-RR_API int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny, const double *C,
-                    const double *D, const double *E, double *y, rr_error *err);
+RR_API int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny,
+                           const double *C, const double *D, const double *E, double *y,
+                           rr_error *err);
 
 /* Welch PSD: Hann window (periodic), 50% overlap, segment nseg, mean removed
  * per segment, one-sided (m/s^2)^2/Hz. f, P: nseg/2 + 1 entries. */
-RR_API int rr_welch_psd(const double *x, int n, double fs_hz, int nseg, double *f, double *P, int *navg, rr_error *err);
-
+RR_API int rr_welch_psd(const double *x, int n, double fs_hz, int nseg, double *f, double *P,
+                        int *navg, rr_error *err);
 
 /* Validation of the PEM against a time-domain run. */
 typedef struct rr_validate_opts {
-  double duration_s;      /* record length = one period of the realisation (600) */
-  double fs_hz;           /* sample rate (256) */
-  int nseg;               /* Welch segment (4096) */
-  uint64_t seed;          /* (1) */
-  double f_lo_hz, f_hi_hz;/* band of the track content and the PEM (0.3, 30) */
-  int nfreq;              /* PEM grid (400, log-spaced) */
+  double duration_s;       /* record length = one period of the realisation (600) */
+  double fs_hz;            /* sample rate (256) */
+  int nseg;                /* Welch segment (4096) */
+  uint64_t seed;           /* (1) */
+  double f_lo_hz, f_hi_hz; /* band of the track content and the PEM (0.3, 30) */
+  int nfreq;               /* PEM grid (400, log-spaced) */
   int npoints;
-  const double *rows, *rows0;   /* floor points as in rr_frf_opts */
-  rr_progress progress;   /* steps: the track, the time run, each point, the PEM lines (none);
-                             a stop returns RR_ESTOPPED and no result */
+  const double *rows, *rows0; /* floor points as in rr_frf_opts */
+  rr_progress progress;       /* steps: the track, the time run, each point, the PEM lines (none);
+                                 a stop returns RR_ESTOPPED and no result */
 } rr_validate_opts;
 RR_API rr_validate_opts rr_validate_opts_default(void);
 
 #define RR_NBANDS_MAX 40
 typedef struct rr_validate_point {
   double rms_pem, rms_time;
-  double sperling_pem, sperling_time, sperling_welch;   /* filter method: PEM, time filtering, Welch PSD */
+  double sperling_pem, sperling_time,
+      sperling_welch; /* filter method: PEM, time filtering, Welch PSD */
   double sperling_gb_pem, sperling_gb_welch;
   double wd_rms_pem, wd_rms_welch;
   int nbands;
-  double band_fc[RR_NBANDS_MAX], band_pem[RR_NBANDS_MAX], band_time[RR_NBANDS_MAX], band_sigma[RR_NBANDS_MAX];
-  double band_error_max;  /* max |time - pem| / pem over the bands */
-  double band_z_max;      /* max |time - pem| / (sigma pem) */
+  double band_fc[RR_NBANDS_MAX], band_pem[RR_NBANDS_MAX], band_time[RR_NBANDS_MAX],
+      band_sigma[RR_NBANDS_MAX];
+  double band_error_max; /* max |time - pem| / pem over the bands */
+  double band_z_max;     /* max |time - pem| / (sigma pem) */
 } rr_validate_point;
 
 typedef struct rr_validate_result {
   int npoints, navg, nwelch;
-  double bin_sigma;            /* relative standard deviation of one Welch bin, sqrt((1 + 2 c^2) / navg) */
-  double *welch_f, *welch_P;   /* nwelch, npoints x nwelch */
-  double *pem_P;               /* the Welch estimator's expectation under the PEM spectrum (the
-                                  PEM seen through the Hann window), npoints x nwelch, 0 outside the band */
+  double bin_sigma; /* relative standard deviation of one Welch bin, sqrt((1 + 2 c^2) / navg) */
+  double *welch_f, *welch_P; /* nwelch, npoints x nwelch */
+  /* the Welch estimator's expectation under the PEM spectrum (the PEM seen
+     through the Hann window), npoints x nwelch, 0 outside the band */
+  double *pem_P;
   rr_validate_point *points;
   double seconds_simulated;
 } rr_validate_result;
-RR_API int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o, rr_validate_result *r, rr_error *err);
+RR_API int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o,
+                       rr_validate_result *r, rr_error *err);
 RR_API void rr_validate_result_free(rr_validate_result *r);
 
 #ifdef __cplusplus

@@ -34,8 +34,8 @@ typedef struct rr_vehicle {
   double lateral_damping, lateral_series_stiffness, lateral_damper_height;
   /* [yaw_damper], per damper (2 per bogie) */
   double yaw_damping, yaw_series_stiffness, yaw_half_spacing, yaw_height;
-  int sdf_mode;          /* rr_sdf_mode */
-  rr_sdf_curve sdf;      /* curve; kind RR_CURVE_UNSET when none */
+  int sdf_mode;     /* rr_sdf_mode */
+  rr_sdf_curve sdf; /* curve; kind RR_CURVE_UNSET when none */
   /* [contact], per wheel */
   double f11, f22;
   int gravity_stiffness; /* 0 or 1 */
@@ -43,7 +43,7 @@ typedef struct rr_vehicle {
      clearance (m) and stiffness (N/m), the tread's conicity lambda(a)
      (kind RR_PROFILE_NONE when the file gives none) */
   double friction, flange_clearance, flange_stiffness;
-  double conicity_hold;  /* m: a polynomial lambda(a) is held beyond (12 mm) */
+  double conicity_hold; /* m: a polynomial lambda(a) is held beyond (12 mm) */
   rr_profile profile;
 } rr_vehicle;
 
@@ -74,19 +74,19 @@ RR_API int rr_vehicle_check(const rr_vehicle *veh, rr_error *err);
 /* Vehicle-file keys as data, so optimisers can address "section.key". */
 typedef struct rr_vehicle_key {
   const char *section, *key;
-  const char *si_unit;   /* udunits spelling of the SI unit, "1" for dimensionless */
-  size_t offset;         /* offset of the double in rr_vehicle, or (size_t)-1 */
-  int flags;             /* RR_KEY_* */
-  double min, max;       /* physical range, SI, inclusive (inf allowed with RR_KEY_INF_OK) */
-  const char *doc;       /* what the key means, one line */
+  const char *si_unit; /* udunits spelling of the SI unit, "1" for dimensionless */
+  size_t offset;       /* offset of the double in rr_vehicle, or (size_t)-1 */
+  int flags;           /* RR_KEY_* */
+  double min, max;     /* physical range, SI, inclusive (inf allowed with RR_KEY_INF_OK) */
+  const char *doc;     /* what the key means, one line */
 } rr_vehicle_key;
 enum {
-  RR_KEY_POSITIVE = 1,   /* > 0 */
-  RR_KEY_NONNEG = 2,     /* >= 0 */
-  RR_KEY_INF_OK = 4,     /* may be inf (rigid series link) */
-  RR_KEY_OPTIONAL = 8,   /* not required without a base */
-  RR_KEY_SPECIAL = 16,   /* not a plain double (enum, bool, path) */
-  RR_KEY_ANY_SIGN = 32   /* finite, any sign */
+  RR_KEY_POSITIVE = 1, /* > 0 */
+  RR_KEY_NONNEG = 2,   /* >= 0 */
+  RR_KEY_INF_OK = 4,   /* may be inf (rigid series link) */
+  RR_KEY_OPTIONAL = 8, /* not required without a base */
+  RR_KEY_SPECIAL = 16, /* not a plain double (enum, bool, path) */
+  RR_KEY_ANY_SIGN = 32 /* finite, any sign */
 };
 /* The key table; *n receives its length. */
 RR_API const rr_vehicle_key *rr_vehicle_keys(int *n);
@@ -108,7 +108,7 @@ RR_API void rr_units_free(rr_units *u);
  * Bare numbers are SI. Non-finite values are rejected unless allow_inf
  * (then "inf" is accepted). what names the context for messages. */
 RR_API int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf,
-                   double *out, const char *what, rr_error *err);
+                          double *out, const char *what, rr_error *err);
 
 #ifdef __cplusplus
 }

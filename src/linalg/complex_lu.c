@@ -12,7 +12,10 @@ int rr_clu_factor(double complex *A, int n, int *piv, double tiny)
     double best = abs1(A[k * n + k]);
     for (int i = k + 1; i < n; i++) {
       double v = abs1(A[i * n + k]);
-      if (v > best) { best = v; p = i; }
+      if (v > best) {
+        best = v;
+        p = i;
+      }
     }
     piv[k] = p;
     if (p != k)
@@ -21,7 +24,10 @@ int rr_clu_factor(double complex *A, int n, int *piv, double tiny)
         A[k * n + j] = A[p * n + j];
         A[p * n + j] = t;
       }
-    if (best <= tiny) { A[k * n + k] = tiny; replaced++; }
+    if (best <= tiny) {
+      A[k * n + k] = tiny;
+      replaced++;
+    }
     double complex inv = 1.0 / A[k * n + k];
     for (int i = k + 1; i < n; i++) {
       double complex l = A[i * n + k] * inv;
@@ -38,7 +44,11 @@ void rr_clu_solve(const double complex *LU, int n, const int *piv, double comple
   /* Whole-row swaps during factoring leave L in the final row order, so the
      swaps go to b first, then the forward substitution. */
   for (int k = 0; k < n; k++)
-    if (piv[k] != k) { double complex t = b[k]; b[k] = b[piv[k]]; b[piv[k]] = t; }
+    if (piv[k] != k) {
+      double complex t = b[k];
+      b[k] = b[piv[k]];
+      b[piv[k]] = t;
+    }
   for (int k = 0; k < n; k++)
     for (int i = k + 1; i < n; i++) b[i] -= LU[i * n + k] * b[k];
   for (int k = n - 1; k >= 0; k--) {
@@ -46,7 +56,6 @@ void rr_clu_solve(const double complex *LU, int n, const int *piv, double comple
     b[k] /= LU[k * n + k];
   }
 }
-
 
 /* Exact zeros stay zeros: the dynamic stiffness of a multibody model is
    sparse (a wheelset couples to its frame only), and with DOFs ordered
@@ -61,7 +70,10 @@ int rr_clu_factor_sparse(double complex *A, int n, int *piv, double tiny)
     double best = abs1(A[k * n + k]);
     for (int i = k + 1; i < n; i++) {
       double v = abs1(A[i * n + k]);
-      if (v > best) { best = v; p = i; }
+      if (v > best) {
+        best = v;
+        p = i;
+      }
     }
     piv[k] = p;
     if (p != k)
@@ -70,7 +82,10 @@ int rr_clu_factor_sparse(double complex *A, int n, int *piv, double tiny)
         A[k * n + j] = A[p * n + j];
         A[p * n + j] = t;
       }
-    if (best <= tiny) { A[k * n + k] = tiny; replaced++; }
+    if (best <= tiny) {
+      A[k * n + k] = tiny;
+      replaced++;
+    }
     int nc = 0;
     for (int j = k + 1; j < n; j++)
       if (A[k * n + j] != 0) cols[nc++] = j;

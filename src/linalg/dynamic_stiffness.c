@@ -14,7 +14,7 @@ void rr_model_sparsity(rr_model *m)
     S[a][a] = 1;
     for (int b = 0; b < n; b++) S[a][b] |= m->C0[a * n + b] != 0 || m->K0[a * n + b] != 0;
   }
-  for (int c = 0; c < m->ni; c++) {   /* contact terms, whatever the speed and conicity */
+  for (int c = 0; c < m->ni; c++) { /* contact terms, whatever the speed and conicity */
     int y = m->contacts[c].dof_y, q = m->contacts[c].dof_psi;
     S[y][y] = S[y][q] = S[q][y] = S[q][q] = 1;
   }
@@ -94,8 +94,9 @@ static void form(rr_dsolver *ds, double complex s, double k_sdf)
 {
   int n = ds->n;
   double complex *D = ds->D, s2 = s * s;
-  if (ds->dirty) memset(D, 0, sizeof *D * (size_t)n * (size_t)n);
-  else   /* only the cached factors' positions can be nonzero */
+  if (ds->dirty)
+    memset(D, 0, sizeof *D * (size_t)n * (size_t)n);
+  else /* only the cached factors' positions can be nonzero */
     for (int k = 0; k < n; k++) {
       double complex *prow = D + (size_t)ds->sta_ord[k] * n;
       prow[k] = 0;
@@ -109,7 +110,8 @@ static void form(rr_dsolver *ds, double complex s, double k_sdf)
     double complex ke = ds->mx[e].mult * (isinf(creal(k)) ? c * s : k * c * s / (k + c * s));
     for (int a = 0; a < ds->mx[e].nz; a++) {
       double complex t = ke * ds->mx[e].J[a];
-      for (int b = 0; b < ds->mx[e].nz; b++) D[ds->mx[e].idx[a] * n + ds->mx[e].idx[b]] += t * ds->mx[e].J[b];
+      for (int b = 0; b < ds->mx[e].nz; b++)
+        D[ds->mx[e].idx[a] * n + ds->mx[e].idx[b]] += t * ds->mx[e].J[b];
     }
   }
 }
@@ -133,7 +135,8 @@ static int factor_cached(rr_dsolver *ds)
       double complex *row = A + (size_t)ds->sta_lr[q] * n;
       double complex l = row[k] * inv;
       row[k] = l;
-      for (int c = ds->sta_us[k]; c < ds->sta_us[k + 1]; c++) row[ds->sta_uc[c]] -= l * prow[ds->sta_uc[c]];
+      for (int c = ds->sta_us[k]; c < ds->sta_us[k + 1]; c++)
+        row[ds->sta_uc[c]] -= l * prow[ds->sta_uc[c]];
     }
   }
   ds->ord = ds->sta_ord;
@@ -177,7 +180,10 @@ static void factor_pivoting(rr_dsolver *ds)
     double best = -1;
     for (int r = 0; r < nrest; r++) {
       double v = abs1(A[ds->rest[r] * n + k]);
-      if (v > best) { best = v; best_r = r; }
+      if (v > best) {
+        best = v;
+        best_r = r;
+      }
     }
     int p = ds->rest[best_r];
     ds->rest[best_r] = ds->rest[--nrest];
@@ -205,8 +211,11 @@ static void factor_pivoting(rr_dsolver *ds)
 void rr_dsolver_factor(rr_dsolver *ds, double complex s, double k_sdf)
 {
   form(ds, s, k_sdf);
-  if (!ds->dirty && factor_cached(ds)) { ds->n_static++; return; }
-  if (!ds->dirty) form(ds, s, k_sdf);   /* the attempt touched the cached positions only */
+  if (!ds->dirty && factor_cached(ds)) {
+    ds->n_static++;
+    return;
+  }
+  if (!ds->dirty) form(ds, s, k_sdf); /* the attempt touched the cached positions only */
   factor_pivoting(ds);
   cache_patterns(ds);
   ds->dirty = 0;
@@ -220,12 +229,14 @@ void rr_dsolver_solve(const rr_dsolver *ds, double complex *b, double complex *t
   for (int k = 0; k < n; k++) {
     double complex bk = b[ds->ord[k]];
     if (bk == 0) continue;
-    for (int q = ds->lstart[k]; q < ds->lstart[k + 1]; q++) b[ds->lrow[q]] -= A[ds->lrow[q] * n + k] * bk;
+    for (int q = ds->lstart[k]; q < ds->lstart[k + 1]; q++)
+      b[ds->lrow[q]] -= A[ds->lrow[q] * n + k] * bk;
   }
   for (int k = n - 1; k >= 0; k--) {
     const double complex *row = A + (size_t)ds->ord[k] * n;
     double complex acc = b[ds->ord[k]];
-    for (int q = ds->ustart[k]; q < ds->ustart[k + 1]; q++) acc -= row[ds->ucol[q]] * t[ds->ucol[q]];
+    for (int q = ds->ustart[k]; q < ds->ustart[k + 1]; q++)
+      acc -= row[ds->ucol[q]] * t[ds->ucol[q]];
     t[k] = acc / row[k];
   }
   memcpy(b, t, sizeof *b * (size_t)n);
@@ -240,8 +251,12 @@ void rr_dsolver_deriv(const rr_dsolver *ds, double complex s, double k_sdf, cons
   for (int q = 0; q < ds->nnz; q++) y[sp->pi[q]] += ds->nz_c[q] * x[sp->pj[q]];
   for (int e = 0; e < ds->nmx; e++) {
     double complex k = series_k(ds, e, s, k_sdf), c = ds->mx[e].c, d;
-    if (isinf(creal(k))) d = c;
-    else { double complex q = k + c * s; d = k * k * c / (q * q); }
+    if (isinf(creal(k)))
+      d = c;
+    else {
+      double complex q = k + c * s;
+      d = k * k * c / (q * q);
+    }
     d *= ds->mx[e].mult;
     double complex jx = 0;
     for (int a = 0; a < ds->mx[e].nz; a++) jx += ds->mx[e].J[a] * x[ds->mx[e].idx[a]];

@@ -15,15 +15,18 @@
 typedef struct rr_dsolver {
   const rr_model *m;
   int n, nnz, nmx;
-  int perm[RR_SYS_MAX_DOF];               /* solver index -> model DOF */
-  double mass[RR_SYS_MAX_DOF];            /* diagonal M, solver order */
-  int pos[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];   /* i n + j of each nonzero (the model's sparsity) */
+  int perm[RR_SYS_MAX_DOF];                 /* solver index -> model DOF */
+  double mass[RR_SYS_MAX_DOF];              /* diagonal M, solver order */
+  int pos[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF]; /* i n + j of each nonzero (the model's sparsity) */
   double nz_c[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF], nz_k[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];
-  struct { int nz, idx[RR_SYS_MAX_DOF], sdf; double J[RR_SYS_MAX_DOF], k, c, mult; } mx[2 * RR_SYS_MAX_BODIES];
-  double complex *D;                      /* n x n, factored in place */
-  int *ord, *lstart, *lrow, *ustart, *ucol;          /* the last factors' patterns */
-  int *rest, *dyn_ord, *dyn_ls, *dyn_lr, *dyn_us, *dyn_uc;  /* pivoting LU's patterns */
-  int *sta_ord, *sta_ls, *sta_lr, *sta_us, *sta_uc;  /* cached: the last pivoting LU's */
+  struct {
+    int nz, idx[RR_SYS_MAX_DOF], sdf;
+    double J[RR_SYS_MAX_DOF], k, c, mult;
+  } mx[2 * RR_SYS_MAX_BODIES];
+  double complex *D;                                       /* n x n, factored in place */
+  int *ord, *lstart, *lrow, *ustart, *ucol;                /* the last factors' patterns */
+  int *rest, *dyn_ord, *dyn_ls, *dyn_lr, *dyn_us, *dyn_uc; /* pivoting LU's patterns */
+  int *sta_ord, *sta_ls, *sta_lr, *sta_us, *sta_uc;        /* cached: the last pivoting LU's */
   int dirty;                 /* no cache yet: D may hold nonzeros anywhere */
   long n_static, n_pivoting; /* factorisations with the cached order, with pivoting */
 } rr_dsolver;
@@ -32,7 +35,7 @@ typedef struct rr_dsolver {
 #define RR_DSOLVER_IWORK(n) (4 * (n) * (n) + 8 * (n) + 4)
 #define RR_DSOLVER_ZWORK(n) ((n) * (n))
 
-#define RR_DSOLVER_PIVOT_GROWTH 10.0   /* threshold pivoting: |l| <= 10 */
+#define RR_DSOLVER_PIVOT_GROWTH 10.0 /* threshold pivoting: |l| <= 10 */
 
 /* Takes the model as it is now (operating point included). */
 void rr_dsolver_init(rr_dsolver *ds, const rr_model *m, int *iwork, double complex *zwork);

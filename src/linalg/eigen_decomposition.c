@@ -9,14 +9,17 @@
 /* LU of the Hessenberg matrix H - mu I with partial pivoting: row k+1 is the
  * only candidate at step k. U overwrites (ur, ui) (row-major, real and
  * imaginary parts apart so that the row updates vectorise); lr, li, sw hold
- * step k's multiplier and interchange, dr, di the reciprocal pivots. A zero pivot (mu an exact eigenvalue)
- * becomes eps3, as in LAPACK's dlaein. */
-RR_INLINE void hess_lu(int n, const double *h, double mr, double mi, double eps3, double *ur, double *ui, double *lr,
-                    double *li, int *sw, double *dr, double *di)
+ * step k's multiplier and interchange, dr, di the reciprocal pivots. A zero pivot (mu an exact
+ * eigenvalue) becomes eps3, as in LAPACK's dlaein. */
+RR_INLINE void hess_lu(int n, const double *h, double mr, double mi, double eps3, double *ur,
+                       double *ui, double *lr, double *li, int *sw, double *dr, double *di)
 {
   for (int i = 0; i < n; i++) {
     int j0 = i > 0 ? i - 1 : 0;
-    for (int j = j0; j < n; j++) { ur[i * n + j] = h[i * n + j]; ui[i * n + j] = 0; }
+    for (int j = j0; j < n; j++) {
+      ur[i * n + j] = h[i * n + j];
+      ui[i * n + j] = 0;
+    }
     ur[i * n + i] -= mr;
     ui[i * n + i] = -mi;
   }
@@ -25,8 +28,12 @@ RR_INLINE void hess_lu(int n, const double *h, double mr, double mi, double eps3
     sw[k] = fabs(rk1[k]) + fabs(ik1[k]) > fabs(rk[k]) + fabs(ik[k]);
     if (sw[k])
       for (int j = k; j < n; j++) {
-        double t = rk[j]; rk[j] = rk1[j]; rk1[j] = t;
-        t = ik[j]; ik[j] = ik1[j]; ik1[j] = t;
+        double t = rk[j];
+        rk[j] = rk1[j];
+        rk1[j] = t;
+        t = ik[j];
+        ik[j] = ik1[j];
+        ik1[j] = t;
       }
     if (rk[k] == 0 && ik[k] == 0) rk[k] = eps3;
     double d = 1 / (rk[k] * rk[k] + ik[k] * ik[k]);
@@ -49,8 +56,8 @@ RR_INLINE void hess_lu(int n, const double *h, double mr, double mi, double eps3
 
 /* U y = y in place; (dr, di) = 1 / diag(U), so that no division sits in the
  * recurrence. */
-RR_INLINE void back_subst(int n, const double *ur, const double *ui, const double *dr, const double *di, double *yr,
-                       double *yi)
+RR_INLINE void back_subst(int n, const double *ur, const double *ui, const double *dr,
+                          const double *di, double *yr, double *yi)
 {
   for (int i = n - 1; i >= 0; i--) {
     const double *ri = ur + i * n, *ii = ui + i * n;
@@ -73,7 +80,10 @@ RR_INLINE void normalise(int n, double *yr, double *yi)
   double b = 0;
   for (int i = 0; i < n; i++) {
     double t = fabs(yr[i]) + fabs(yi[i]);
-    if (t > b) { b = t; big = i; }
+    if (t > b) {
+      b = t;
+      big = i;
+    }
   }
   if (b == 0) return;
   double d = 1 / (yr[big] * yr[big] + yi[big] * yi[big]), sr = yr[big] * d, si = -yi[big] * d;
@@ -98,12 +108,21 @@ static void balance(int n, double *a, double *d)
     for (int i = 0; i < n; i++) {
       double c = 0, r = 0;
       for (int j = 0; j < n; j++)
-        if (j != i) { c += fabs(a[(size_t)j * n + i]); r += fabs(a[(size_t)i * n + j]); }
+        if (j != i) {
+          c += fabs(a[(size_t)j * n + i]);
+          r += fabs(a[(size_t)i * n + j]);
+        }
       if (c == 0 || r == 0) continue;
       double g = r / 2, f = 1, s = c + r;
-      while (c < g) { f *= 2; c *= 4; }
+      while (c < g) {
+        f *= 2;
+        c *= 4;
+      }
       g = r * 2;
-      while (c > g) { f /= 2; c /= 4; }
+      while (c > g) {
+        f /= 2;
+        c /= 4;
+      }
       if ((c + r) / f < 0.95 * s) {
         done = 0;
         d[i] *= f;
@@ -114,18 +133,19 @@ static void balance(int n, double *a, double *d)
   }
 }
 
-RR_CLONES int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork)
+RR_CLONES int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work,
+                        int *iwork)
 {
   if (n > 64 || n < 1) return -1;
   int *perm = iwork, *sw = iwork + n;
-  double *h = work, *ur = h + n * n, *ui = ur + n * n, *yr = ui + n * n, *yi = yr + n, *lr = yi + n, *li = lr + n,
-         *dsc = li + n, *dr = dsc + n, *di = dr + n;
+  double *h = work, *ur = h + n * n, *ui = ur + n * n, *yr = ui + n * n, *yi = yr + n, *lr = yi + n,
+         *li = lr + n, *dsc = li + n, *dr = dsc + n, *di = dr + n;
   balance(n, a, dsc);
   rr_elmhes(n, a, perm);
   memcpy(h, a, sizeof(double) * n * n);
   if (rr_hqr(n, h, wr, wi)) return -1;
   for (int j = 0; j + 1 < n; j++)
-    if (wi[j] < 0) {   /* LAPACK's order: the positive imaginary part first */
+    if (wi[j] < 0) { /* LAPACK's order: the positive imaginary part first */
       wi[j] = -wi[j];
       wi[j + 1] = -wi[j + 1];
       j++;
@@ -138,24 +158,34 @@ RR_CLONES int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, do
   }
   double eps3 = hnorm > 0 ? DBL_EPSILON * hnorm : DBL_MIN;
   for (int j = 0; j < n; j++) {
-    if (wi[j] < 0) continue;   /* the conjugate of column j - 1 */
+    if (wi[j] < 0) continue; /* the conjugate of column j - 1 */
     double mr = wr[j], mi = wi[j];
     /* an eigenvalue equal to an earlier one gets a nearby shift, so that the
        two vectors differ (LAPACK's dhsein does the same) */
     for (int i = 0; i < j; i++)
-      if (wi[i] >= 0 && fabs(wr[i] - mr) + fabs(wi[i] - mi) < eps3) { mr += eps3; i = -1; }
+      if (wi[i] >= 0 && fabs(wr[i] - mr) + fabs(wi[i] - mi) < eps3) {
+        mr += eps3;
+        i = -1;
+      }
     hess_lu(n, a, mr, mi, eps3, ur, ui, lr, li, sw, dr, di);
     /* inverse iteration from the vector of ones taken as L^-1 P v (dlaein's
        start): U alone, then one full step. One step leaves residuals of
        n eps |H| and FRF errors near 1e-11; the second brings them to 1e-13. */
-    for (int i = 0; i < n; i++) { yr[i] = 1; yi[i] = 0; }
+    for (int i = 0; i < n; i++) {
+      yr[i] = 1;
+      yi[i] = 0;
+    }
     back_subst(n, ur, ui, dr, di, yr, yi);
     normalise(n, yr, yi);
     {
       for (int k = 0; k < n - 1; k++) {
         if (sw[k]) {
-          double t = yr[k]; yr[k] = yr[k + 1]; yr[k + 1] = t;
-          t = yi[k]; yi[k] = yi[k + 1]; yi[k + 1] = t;
+          double t = yr[k];
+          yr[k] = yr[k + 1];
+          yr[k + 1] = t;
+          t = yi[k];
+          yi[k] = yi[k + 1];
+          yi[k + 1] = t;
         }
         yr[k + 1] -= lr[k] * yr[k] - li[k] * yi[k];
         yi[k + 1] -= lr[k] * yi[k] + li[k] * yr[k];
@@ -172,11 +202,18 @@ RR_CLONES int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, do
       }
       int p = perm[m];
       if (p != m) {
-        double t = yr[p]; yr[p] = yr[m]; yr[m] = t;
-        t = yi[p]; yi[p] = yi[m]; yi[m] = t;
+        double t = yr[p];
+        yr[p] = yr[m];
+        yr[m] = t;
+        t = yi[p];
+        yi[p] = yi[m];
+        yi[m] = t;
       }
     }
-    for (int i = 0; i < n; i++) { yr[i] *= dsc[i]; yi[i] *= dsc[i]; }
+    for (int i = 0; i < n; i++) {
+      yr[i] *= dsc[i];
+      yi[i] *= dsc[i];
+    }
     normalise(n, yr, yi);
     double *c0 = vr + (size_t)j * n;
     memcpy(c0, yr, sizeof(double) * n);

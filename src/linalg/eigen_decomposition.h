@@ -10,7 +10,7 @@
 #define RR_EIGDEC_H
 
 /* Workspace sizes, in doubles and ints. */
-#define RR_EIGDEC_LWORK(n) (3 * (n) * (n) + 7 * (n))   /* n <= 64 */
+#define RR_EIGDEC_LWORK(n) (3 * (n) * (n) + 7 * (n)) /* n <= 64 */
 #define RR_EIGDEC_LIWORK(n) (2 * (n))
 
 /* a: n x n row-major, destroyed. On return wr, wi hold the eigenvalues,

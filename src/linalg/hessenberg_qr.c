@@ -7,25 +7,25 @@
 #include "hessenberg_qr.h"
 #include "internal.h"
 
-#define A(i, j) a[(i) * n + (j)]
+#define A(i, j) a[(i)*n + (j)]
 /* inline, unlike fmax/fmin (no NaN can reach them here) */
 #define MAX(a, b) ((a) > (b) ? (a) : (b))
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
 
 /* out = sum over i0 <= i < n of r[i] y[i], for T double or a vector of
  * lanes, in four partial sums: a single chain would wait on every add. */
-#define DOT4(T, r, y, i0, n, out)                                          \
-  do {                                                                     \
-    T a0_ = {0}, a1_ = {0}, a2_ = {0}, a3_ = {0};                          \
-    int i_ = (i0);                                                         \
-    for (; i_ + 3 < (n); i_ += 4) {                                        \
-      a0_ += (r)[i_] * (y)[i_];                                            \
-      a1_ += (r)[i_ + 1] * (y)[i_ + 1];                                    \
-      a2_ += (r)[i_ + 2] * (y)[i_ + 2];                                    \
-      a3_ += (r)[i_ + 3] * (y)[i_ + 3];                                    \
-    }                                                                      \
-    for (; i_ < (n); i_++) a0_ += (r)[i_] * (y)[i_];                       \
-    (out) = (a0_ + a1_) + (a2_ + a3_);                                     \
+#define DOT4(T, r, y, i0, n, out)                                                                  \
+  do {                                                                                             \
+    T a0_ = {0}, a1_ = {0}, a2_ = {0}, a3_ = {0};                                                  \
+    int i_ = (i0);                                                                                 \
+    for (; i_ + 3 < (n); i_ += 4) {                                                                \
+      a0_ += (r)[i_] * (y)[i_];                                                                    \
+      a1_ += (r)[i_ + 1] * (y)[i_ + 1];                                                            \
+      a2_ += (r)[i_ + 2] * (y)[i_ + 2];                                                            \
+      a3_ += (r)[i_ + 3] * (y)[i_ + 3];                                                            \
+    }                                                                                              \
+    for (; i_ < (n); i_++) a0_ += (r)[i_] * (y)[i_];                                               \
+    (out) = (a0_ + a1_) + (a2_ + a3_);                                                             \
   } while (0)
 
 /* Reduction to upper Hessenberg form by stabilised elementary similarity
@@ -40,11 +40,22 @@ static inline __attribute__((always_inline)) void elmhes(int n, double *a, int *
     double x = 0;
     int piv = m;
     for (int j = m; j < n; j++)
-      if (fabs(A(j, m - 1)) > fabs(x)) { x = A(j, m - 1); piv = j; }
+      if (fabs(A(j, m - 1)) > fabs(x)) {
+        x = A(j, m - 1);
+        piv = j;
+      }
     if (perm) perm[m] = piv;
     if (piv != m) {
-      for (int j = m - 1; j < n; j++) { double t = A(piv, j); A(piv, j) = A(m, j); A(m, j) = t; }
-      for (int i = 0; i < n; i++) { double t = A(i, piv); A(i, piv) = A(i, m); A(i, m) = t; }
+      for (int j = m - 1; j < n; j++) {
+        double t = A(piv, j);
+        A(piv, j) = A(m, j);
+        A(m, j) = t;
+      }
+      for (int i = 0; i < n; i++) {
+        double t = A(i, piv);
+        A(i, piv) = A(i, m);
+        A(i, m) = t;
+      }
     }
     if (x == 0) continue;
     const double *rm = &A(m, 0);
@@ -52,7 +63,7 @@ static inline __attribute__((always_inline)) void elmhes(int n, double *a, int *
     for (int i = m + 1; i < n; i++) {
       double yi = A(i, m - 1) / x;
       y[i] = yi;
-      A(i, m - 1) = perm ? yi : 0;   /* kept for the back-transformation */
+      A(i, m - 1) = perm ? yi : 0; /* kept for the back-transformation */
       if (yi == 0) continue;
       any = 1;
       double *ri = &A(i, 0);
@@ -74,10 +85,10 @@ static double sgn(double a, double b) { return b >= 0 ? fabs(a) : -fabs(a); }
  * matrix ("lane"), on a strided view: entry (i, j) at a[(i ld + j) st]. The
  * bulge-chasing sweep, where the time goes, exists twice: for one matrix,
  * and for 4 or 8 matrices at once in SIMD lanes (rr_eig_batch, hessenberg_qr_lanes.h). */
-#define E(i, j) a[((size_t)(i) * ld + (j)) * st]
+#define E(i, j) a[((size_t)(i)*ld + (j)) * st]
 
 typedef struct {
-  int nn, l, m, its, status;   /* status: 0 sweep pending, 1 done, -1 no convergence */
+  int nn, l, m, its, status; /* status: 0 sweep pending, 1 done, -1 no convergence */
   double t, anorm, p, q, r;
 } qr_lane;
 
@@ -107,18 +118,25 @@ static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *w
          LAPACK's dlahqr: a small subdiagonal is negligible relative to the
          2 x 2 block it couples */
       double h = fabs(E(l, l - 1));
-      if (h <= DBL_MIN) { E(l, l - 1) = 0; break; }
+      if (h <= DBL_MIN) {
+        E(l, l - 1) = 0;
+        break;
+      }
       s = fabs(E(l - 1, l - 1)) + fabs(E(l, l));
       if (s == 0) s = L->anorm;
       if (h <= DBL_EPSILON * s) {
         double hu = fabs(E(l - 1, l)), ab = MAX(h, hu), ba = MIN(h, hu);
-        double dd = fabs(E(l - 1, l - 1) - E(l, l)), aa = MAX(fabs(E(l, l)), dd), bb = MIN(fabs(E(l, l)), dd);
+        double dd = fabs(E(l - 1, l - 1) - E(l, l)), aa = MAX(fabs(E(l, l)), dd),
+               bb = MIN(fabs(E(l, l)), dd);
         double ss = aa + ab;
-        if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) { E(l, l - 1) = 0; break; }
+        if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) {
+          E(l, l - 1) = 0;
+          break;
+        }
       }
     }
     x = E(nn, nn);
-    if (l == nn) {                        /* one root */
+    if (l == nn) { /* one root */
       wr[nn] = x + L->t;
       wi[nn--] = 0;
       L->its = 0;
@@ -126,7 +144,7 @@ static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *w
     }
     y = E(nn - 1, nn - 1);
     w = E(nn, nn - 1) * E(nn - 1, nn);
-    if (l == nn - 1) {                    /* two roots */
+    if (l == nn - 1) { /* two roots */
       p = 0.5 * (y - x);
       q = p * p + w;
       z = sqrt(fabs(q));
@@ -145,8 +163,12 @@ static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *w
       continue;
     }
     /* no root yet: a double QR step */
-    if (L->its == 30 * (n > 10 ? n : 10)) { L->status = -1; L->nn = nn; return; }   /* LAPACK's limit */
-    if (L->its > 0 && L->its % 10 == 0) {                                            /* exceptional shift */
+    if (L->its == 30 * (n > 10 ? n : 10)) {
+      L->status = -1;
+      L->nn = nn;
+      return;
+    }                                     /* LAPACK's limit */
+    if (L->its > 0 && L->its % 10 == 0) { /* exceptional shift */
       L->t += x;
       for (int i = 0; i <= nn; i++) E(i, i) -= x;
       s = fabs(E(nn, nn - 1)) + fabs(E(nn - 1, nn - 2));
@@ -208,7 +230,8 @@ static inline __attribute__((always_inline)) void sweep1(double *a, int n, const
         p *= ix;
         q *= ix;
         r *= ix;
-      } else x = 1;
+      } else
+        x = 1;
     }
     if ((s = sgn(sqrt(p * p + q * q + r * r), p)) == 0) continue;
     if (k == m) {
@@ -277,14 +300,17 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
 #undef QRW
 #endif
 
-RR_CLONES static int eig_batch4(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail)
+RR_CLONES static int eig_batch4(int n, int nb, const double *const *mats, double *wr, double *wi,
+                                double *work, int *fail)
 {
   return eig_lanes4(n, nb, mats, wr, wi, work, fail);
 }
 
 #if RR_HAVE_V4
-__attribute__((target("arch=x86-64-v4"))) static int eig_batch8(int n, int nb, const double *const *mats, double *wr,
-                                                                 double *wi, double *work, int *fail)
+__attribute__((target("arch=x86-64-v4"))) static int eig_batch8(int n, int nb,
+                                                                const double *const *mats,
+                                                                double *wr, double *wi,
+                                                                double *work, int *fail)
 {
   return eig_lanes8(n, nb, mats, wr, wi, work, fail);
 }
@@ -305,7 +331,8 @@ size_t rr_eig_batch_work(int n)
   return (size_t)(n + 1) * (size_t)(n + 1) * RR_QR_LANES_MAX + RR_QR_LANES_MAX;
 }
 
-int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi, double *work, int *fail)
+int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
+                 double *work, int *fail)
 {
   if (n > 64 || n < 1 || nb < 1 || nb > RR_QR_LANES_MAX) return -1;
   if (lanes <= 0 || lanes > rr_eig_batch_lanes()) lanes = rr_eig_batch_lanes();
@@ -322,12 +349,9 @@ int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr
 
 RR_CLONES int rr_eig_small(int n, double *a, double *wr, double *wi)
 {
-  if (n > 64) return -1;   /* elmhes' multiplier buffer; larger goes to LAPACK */
+  if (n > 64) return -1; /* elmhes' multiplier buffer; larger goes to LAPACK */
   elmhes(n, a, NULL);
   return rr_hqr(n, a, wr, wi);
 }
 
-RR_CLONES void rr_elmhes(int n, double *a, int *perm)
-{
-  elmhes(n, a, perm);
-}
+RR_CLONES void rr_elmhes(int n, double *a, int *perm) { elmhes(n, a, perm); }

@@ -31,5 +31,6 @@ int rr_hqr(int n, double *a, double *wr, double *wi);
 #define RR_QR_LANES_MAX 8
 int rr_eig_batch_lanes(void);
 size_t rr_eig_batch_work(int n);
-int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi, double *work, int *fail);
+int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
+                 double *work, int *fail);
 #endif

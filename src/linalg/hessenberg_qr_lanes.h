@@ -25,22 +25,26 @@ typedef long long vl __attribute__((vector_size(8 * QRW)));
    between the clones */
 #define vsel(mask, a, b) ((vd)(((vl)(a) & (mask)) | ((vl)(b) & ~(mask))))
 #define vabs(a) ((vd)((vl)(a) & ((vl){0} + INT64_MAX)))
-#define vany(mask)                                  \
-  ({                                                \
-    vl m_ = (mask);                                 \
-    long long o_ = 0;                               \
-    for (int c_ = 0; c_ < QRW; c_++) o_ |= m_[c_];  \
-    o_ != 0;                                        \
+#define vany(mask)                                                                                 \
+  ({                                                                                               \
+    vl m_ = (mask);                                                                                \
+    long long o_ = 0;                                                                              \
+    for (int c_ = 0; c_ < QRW; c_++) o_ |= m_[c_];                                                 \
+    o_ != 0;                                                                                       \
   })
 
-#define V(i, j) b[(size_t)(i) * ld + (j)]
+#define V(i, j) b[(size_t)(i)*ld + (j)]
 
-static inline __attribute__((always_inline)) void sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
+static inline __attribute__((always_inline)) void sweep_lanes(vd *b, int ld, const qr_lane *lanes,
+                                                              const int *go)
 {
   int kmin = ld, kmax = -1, lmin = ld, nmax = -1;
   vd p0, q0, r0;
   for (int c = 0; c < QRW; c++) {
-    if (!go[c]) { p0[c] = q0[c] = r0[c] = 0; continue; }
+    if (!go[c]) {
+      p0[c] = q0[c] = r0[c] = 0;
+      continue;
+    }
     const qr_lane *L = &lanes[c];
     kmin = MIN(kmin, L->m);
     kmax = MAX(kmax, L->nn - 1);
@@ -132,8 +136,16 @@ static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int
     for (int c = 1; c < QRW; c++) same &= piv[c] == piv[0];
     if (same && piv[0] != m) {
       int pv = (int)piv[0];
-      for (int j = m - 1; j < n; j++) { vd t = V(pv, j); V(pv, j) = V(m, j); V(m, j) = t; }
-      for (int i = 0; i < n; i++) { vd t = V(i, pv); V(i, pv) = V(i, m); V(i, m) = t; }
+      for (int j = m - 1; j < n; j++) {
+        vd t = V(pv, j);
+        V(pv, j) = V(m, j);
+        V(m, j) = t;
+      }
+      for (int i = 0; i < n; i++) {
+        vd t = V(i, pv);
+        V(i, pv) = V(i, m);
+        V(i, m) = t;
+      }
     } else if (!same) {
       for (int c = 0; c < QRW; c++) {
         size_t pv = (size_t)piv[c], mm = (size_t)m, L = QRW;
@@ -174,8 +186,8 @@ static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int
 }
 #undef V
 
-static inline __attribute__((always_inline)) int eig_lanes(int n, int nb, const double *const *mats, double *wr,
-                                                         double *wi, double *work, int *fail)
+static inline __attribute__((always_inline)) int
+eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail)
 {
   int ld = n + 1;
   /* vector-aligned start inside the caller's buffer */
@@ -197,7 +209,8 @@ static inline __attribute__((always_inline)) int eig_lanes(int n, int nb, const 
   for (;;) {
     int any = 0;
     for (int c = 0; c < QRW; c++) {
-      if (c < nb && lanes[c].status == 0) lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c]);
+      if (c < nb && lanes[c].status == 0)
+        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c]);
       go[c] = c < nb && lanes[c].status == 0;
       any |= go[c];
     }

@@ -9,9 +9,20 @@
 #include "railride/expm.h"
 #include "internal.h"
 
-static const double b13[14] = {64764752532480000.0, 32382376266240000.0, 7771770303897600.0,
-                               1187353796428800.0, 129060195264000.0, 10559470521600.0, 670442572800.0,
-                               33522128640.0, 1323241920.0, 40840800.0, 960960.0, 16380.0, 182.0, 1.0};
+static const double b13[14] = {64764752532480000.0,
+                               32382376266240000.0,
+                               7771770303897600.0,
+                               1187353796428800.0,
+                               129060195264000.0,
+                               10559470521600.0,
+                               670442572800.0,
+                               33522128640.0,
+                               1323241920.0,
+                               40840800.0,
+                               960960.0,
+                               16380.0,
+                               182.0,
+                               1.0};
 static const double theta13 = 5.371920351148152;
 
 size_t rr_expm_work_size(int n) { return (size_t)9 * n * n + n; }
@@ -30,9 +41,9 @@ int rr_expm(int n, const double *A0, double *E, double *work, rr_error *err)
     if (!work) return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
   size_t nn = (size_t)n * n;
-  double *A = work, *A2 = A + nn, *A4 = A2 + nn, *A6 = A4 + nn, *U = A6 + nn, *V = U + nn, *T = V + nn, *P = T + nn,
-         *Q = P + nn;
-  int *ipiv = (int *)(Q + nn);   /* n ints fit in n doubles */
+  double *A = work, *A2 = A + nn, *A4 = A2 + nn, *A6 = A4 + nn, *U = A6 + nn, *V = U + nn,
+         *T = V + nn, *P = T + nn, *Q = P + nn;
+  int *ipiv = (int *)(Q + nn); /* n ints fit in n doubles */
   /* 1-norm decides the scaling */
   double norm = 0;
   for (int j = 0; j < n; j++) {
@@ -40,7 +51,10 @@ int rr_expm(int n, const double *A0, double *E, double *work, rr_error *err)
     for (int i = 0; i < n; i++) s += fabs(A0[i * n + j]);
     if (s > norm) norm = s;
   }
-  if (!isfinite(norm)) { free(own); return rr_seterr(err, RR_EINVAL, "expm: matrix is not finite"); }
+  if (!isfinite(norm)) {
+    free(own);
+    return rr_seterr(err, RR_EINVAL, "expm: matrix is not finite");
+  }
   int s = norm > theta13 ? (int)ceil(log2(norm / theta13)) : 0;
   double scale = ldexp(1.0, -s);
   for (size_t i = 0; i < nn; i++) A[i] = A0[i] * scale;
@@ -64,12 +78,17 @@ int rr_expm(int n, const double *A0, double *E, double *work, rr_error *err)
     Q[i] = V[i] + U[i];
   }
   int info = LAPACKE_dgesv_work(LAPACK_ROW_MAJOR, n, n, P, n, ipiv, Q, n);
-  if (info) { free(own); return rr_seterr(err, RR_ELAPACK, "expm: Pade denominator singular (info %d)", info); }
+  if (info) {
+    free(own);
+    return rr_seterr(err, RR_ELAPACK, "expm: Pade denominator singular (info %d)", info);
+  }
   /* square s times */
   double *cur = Q, *nxt = T;
   for (int k = 0; k < s; k++) {
     mm(n, cur, cur, nxt);
-    double *t = cur; cur = nxt; nxt = t;
+    double *t = cur;
+    cur = nxt;
+    nxt = t;
   }
   memcpy(E, cur, sizeof(double) * nn);
   free(own);

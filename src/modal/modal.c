@@ -60,9 +60,26 @@ void rr_modal_result_free(rr_modal_result *res)
 void rr_modal_ws_free(rr_modal_ws *ws)
 {
   if (!ws) return;
-  free(ws->A); free(ws->At); free(ws->wr); free(ws->wi); free(ws->vr); free(ws->work);
-  free(ws->D); free(ws->Dp); free(ws->x); free(ws->piv); free(ws->cand); free(ws->candz); free(ws->branch);
-  free(ws->Ab); free(ws->wrb); free(ws->wib); free(ws->qrw); free(ws->tv); free(ws->dsi); free(ws->dsz);
+  free(ws->A);
+  free(ws->At);
+  free(ws->wr);
+  free(ws->wi);
+  free(ws->vr);
+  free(ws->work);
+  free(ws->D);
+  free(ws->Dp);
+  free(ws->x);
+  free(ws->piv);
+  free(ws->cand);
+  free(ws->candz);
+  free(ws->branch);
+  free(ws->Ab);
+  free(ws->wrb);
+  free(ws->wib);
+  free(ws->qrw);
+  free(ws->tv);
+  free(ws->dsi);
+  free(ws->dsz);
   for (int i = 0; i < 4; i++) rr_modal_result_free(&ws->trk[i]);
   free(ws->ds);
   free(ws);
@@ -80,7 +97,7 @@ static int ws_alloc(rr_modal_ws *ws)
   ws->Dp = malloc(n * n * sizeof(double complex));
   ws->x = malloc(2 * n * sizeof(double complex));
   ws->tv = malloc(12 * n * sizeof(double complex));
-  ws->ds = calloc(1, sizeof *ws->ds);   /* n = 0: no cached factors yet */
+  ws->ds = calloc(1, sizeof *ws->ds); /* n = 0: no cached factors yet */
   ws->dsi = malloc(RR_DSOLVER_IWORK(n) * sizeof(int));
   ws->dsz = malloc(RR_DSOLVER_ZWORK(n) * sizeof(double complex));
   ws->piv = malloc(n * sizeof(int));
@@ -91,8 +108,9 @@ static int ws_alloc(rr_modal_ws *ws)
   ws->wrb = malloc(RR_QR_LANES_MAX * N * sizeof(double));
   ws->wib = malloc(RR_QR_LANES_MAX * N * sizeof(double));
   ws->qrw = malloc(rr_eig_batch_work(ws->N) * sizeof(double));
-  int ok = ws->A && ws->At && ws->vr && ws->wr && ws->wi && ws->D && ws->Dp && ws->x && ws->tv && ws->ds && ws->dsi && ws->dsz && ws->piv &&
-           ws->cand && ws->candz && ws->branch && ws->Ab && ws->wrb && ws->wib && ws->qrw;
+  int ok = ws->A && ws->At && ws->vr && ws->wr && ws->wi && ws->D && ws->Dp && ws->x && ws->tv &&
+           ws->ds && ws->dsi && ws->dsz && ws->piv && ws->cand && ws->candz && ws->branch &&
+           ws->Ab && ws->wrb && ws->wib && ws->qrw;
   for (int i = 0; i < 4 && ok; i++) ok = result_init(&ws->trk[i], ws->N, ws->n) == RR_OK;
   return ok ? RR_OK : RR_ENOMEM;
 }
@@ -105,15 +123,24 @@ int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err)
   ws->N = rr_modal_state_cap(m);
   ws->n = m->n;
   int st = RR_OK;
-  if (ws_alloc(ws)) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto fail; }
+  if (ws_alloc(ws)) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto fail;
+  }
   double q;
   int N = ws->N;
   int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'N', 'V', N, ws->At, N, ws->wr, ws->wi, NULL, 1,
                                 ws->vr, N, &q, -1);
-  if (info) { st = rr_seterr(err, RR_ELAPACK, "dgeev workspace query failed (%d)", info); goto fail; }
+  if (info) {
+    st = rr_seterr(err, RR_ELAPACK, "dgeev workspace query failed (%d)", info);
+    goto fail;
+  }
   ws->lwork = (int)q + 1;
   ws->work = malloc((size_t)ws->lwork * sizeof(double));
-  if (!ws->work) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto fail; }
+  if (!ws->work) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto fail;
+  }
   *out = ws;
   return RR_OK;
 fail:
@@ -134,16 +161,17 @@ double rr_mac(const double complex *a, const double complex *b, int n)
   return creal(ab * conj(ab)) / (aa * bb);
 }
 
-int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, int *Nout, rr_error *err)
+int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, int *Nout,
+                 rr_error *err)
 {
   int N = rr_model_state_size(m);
   if (N > ws->N) return rr_seterr(err, RR_EINVAL, "modal workspace too small (%d < %d)", ws->N, N);
   int st = rr_model_state_matrix(m, sdf_k, ws->A, err);
   if (st) return st;
-  for (int i = 0; i < N; i++)      /* row-major -> column-major */
+  for (int i = 0; i < N; i++) /* row-major -> column-major */
     for (int j = 0; j < N; j++) ws->At[j * N + i] = ws->A[i * N + j];
-  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'N', vectors ? 'V' : 'N', N, ws->At, N, ws->wr, ws->wi,
-                                NULL, 1, ws->vr, N, ws->work, ws->lwork);
+  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'N', vectors ? 'V' : 'N', N, ws->At, N, ws->wr,
+                                ws->wi, NULL, 1, ws->vr, N, ws->work, ws->lwork);
   if (info) return rr_seterr(err, RR_ELAPACK, "dgeev failed (info %d)", info);
   *Nout = N;
   return RR_OK;
@@ -161,12 +189,12 @@ int rr_modal_is_osc(double re, double im, double anorm)
 
 double rr_modal_max_abs(const double *A, int N)
 {
-  double m[4] = {0, 0, 0, 0};   /* four chains: the compares overlap */
+  double m[4] = {0, 0, 0, 0}; /* four chains: the compares overlap */
   int NN = N * N, i = 0;
   for (; i + 4 <= NN; i += 4)
     for (int k = 0; k < 4; k++) {
       double a = fabs(A[i + k]);
-      m[k] = a > m[k] ? a : m[k];   /* inline, unlike fmax (no NaN reaches here) */
+      m[k] = a > m[k] ? a : m[k]; /* inline, unlike fmax (no NaN reaches here) */
     }
   for (; i < NN; i++) m[0] = fabs(A[i]) > m[0] ? fabs(A[i]) : m[0];
   double a = m[0] > m[1] ? m[0] : m[1], b = m[2] > m[3] ? m[2] : m[3];
@@ -217,7 +245,8 @@ static void sort_result(rr_modal_result *res, double complex *scratch)
     if (j == i) continue;
     memcpy(scratch, res->shapes + (size_t)i * res->ndof, row);
     memmove(&res->modes[j + 1], &res->modes[j], (size_t)(i - j) * sizeof t);
-    memmove(res->shapes + (size_t)(j + 1) * res->ndof, res->shapes + (size_t)j * res->ndof, (size_t)(i - j) * row);
+    memmove(res->shapes + (size_t)(j + 1) * res->ndof, res->shapes + (size_t)j * res->ndof,
+            (size_t)(i - j) * row);
     res->modes[j] = t;
     memcpy(res->shapes + (size_t)j * res->ndof, scratch, row);
   }
@@ -236,7 +265,8 @@ void rr_modal_collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_
     rr_mode_fill(md, re, im, anorm);
     double complex *phi = res->shapes + (size_t)res->n * n;
     for (int i = 0; i < n; i++)
-      phi[i] = im > 0 ? ws->vr[(size_t)j * N + i] + I * ws->vr[(size_t)(j + 1) * N + i] : ws->vr[(size_t)j * N + i];
+      phi[i] = im > 0 ? ws->vr[(size_t)j * N + i] + I * ws->vr[(size_t)(j + 1) * N + i]
+                      : ws->vr[(size_t)j * N + i];
     rr_shape_normalise(phi, n);
     rr_mode_shares(m, phi, md);
     res->n++;
@@ -266,7 +296,8 @@ void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double comple
 
 static int paper_sdf(const rr_model *m) { return m->sdf_mode == RR_SDF_PAPER && m->nsdf > 0; }
 
-int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res, rr_error *err)
+int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,
+                   rr_error *err)
 {
   rr_modal_opts def = rr_modal_opts_default();
   if (!o) o = &def;
@@ -313,8 +344,8 @@ static int needs_shape(const rr_modal_opts *o) { return o->w_min > 0 || o->r_max
    operating point: zeta_max over every oscillatory mode, and the index as the
    first hunting-related candidate by decreasing zeta (a null vector of
    D(lambda) gives its shares). */
-static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int N, const double *wr,
-                                const double *wi, double anorm, rr_stability *out)
+static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int N,
+                                const double *wr, const double *wi, double anorm, rr_stability *out)
 {
   int nc = 0;
   *out = (rr_stability){.index = -1, .index_freq_hz = NAN, .zeta_max = -1, .max_freq_hz = NAN};
@@ -322,10 +353,17 @@ static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_mo
     double re = wr[j], im = wi[j];
     if (im <= 0 || !rr_modal_is_osc(re, im, anorm)) continue;
     double z = re / hypot(re, im);
-    if (isnan(out->max_freq_hz) || z > out->zeta_max) { out->zeta_max = z; out->max_freq_hz = im / (2 * RR_PI); }
+    if (isnan(out->max_freq_hz) || z > out->zeta_max) {
+      out->zeta_max = z;
+      out->max_freq_hz = im / (2 * RR_PI);
+    }
     if (im / (2 * RR_PI) > o->fmax_hz) continue;
     int k = nc++;
-    while (k > 0 && ws->candz[k - 1] < z) { ws->cand[k] = ws->cand[k - 1]; ws->candz[k] = ws->candz[k - 1]; k--; }
+    while (k > 0 && ws->candz[k - 1] < z) {
+      ws->cand[k] = ws->cand[k - 1];
+      ws->candz[k] = ws->candz[k - 1];
+      k--;
+    }
     ws->cand[k] = j;
     ws->candz[k] = z;
   }
@@ -354,7 +392,8 @@ static void stability_from_result(const rr_modal_result *r, rr_stability *out)
 
 /* Eigenvalues of the merged state matrix by our QR (in place: *anorm keeps
    what the classification needs of it), LAPACK's when it fails. */
-static int eigenvalues_merged(const rr_model *m, rr_modal_ws *ws, int *Nout, double *anorm, rr_error *err)
+static int eigenvalues_merged(const rr_model *m, rr_modal_ws *ws, int *Nout, double *anorm,
+                              rr_error *err)
 {
   int N, st = rr_state_matrix_merged(m, 0, ws->A, &N, err);
   if (st) return st;
@@ -362,12 +401,12 @@ static int eigenvalues_merged(const rr_model *m, rr_modal_ws *ws, int *Nout, dou
   *anorm = rr_modal_max_abs(ws->A, N);
   if (!rr_eig_small(N, ws->A, ws->wr, ws->wi)) return RR_OK;
   if ((st = rr_state_matrix_merged(m, 0, ws->A, &N, err))) return st;
-  for (int i = 0; i < N; i++)   /* not converged (rare): Householder reduction and LAPACK's QR */
+  for (int i = 0; i < N; i++) /* not converged (rare): Householder reduction and LAPACK's QR */
     for (int j = 0; j < N; j++) ws->At[j * N + i] = ws->A[i * N + j];
   int info = LAPACKE_dgehrd_work(LAPACK_COL_MAJOR, N, 1, N, ws->At, N, ws->wr, ws->work, ws->lwork);
   if (!info)
-    info = LAPACKE_dhseqr_work(LAPACK_COL_MAJOR, 'E', 'N', N, 1, N, ws->At, N, ws->wr, ws->wi, NULL, 1, ws->work,
-                               ws->lwork);
+    info = LAPACKE_dhseqr_work(LAPACK_COL_MAJOR, 'E', 'N', N, 1, N, ws->At, N, ws->wr, ws->wi, NULL,
+                               1, ws->work, ws->lwork);
   if (info) return rr_seterr(err, RR_ELAPACK, "dgehrd/dhseqr failed (info %d)", info);
   return RR_OK;
 }
@@ -375,10 +414,12 @@ static int eigenvalues_merged(const rr_model *m, rr_modal_ws *ws, int *Nout, dou
 static int check_finite(const rr_stability *s, rr_error *err)
 {
   if (isfinite(s->index) && isfinite(s->zeta_max)) return RR_OK;
-  return rr_seterr(err, RR_ENOCONV, "stability index is not finite (the model's matrices overflow)");
+  return rr_seterr(err, RR_ENOCONV,
+                   "stability index is not finite (the model's matrices overflow)");
 }
 
-int rr_modal_stability(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_stability *out, rr_error *err)
+int rr_modal_stability(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+                       rr_stability *out, rr_error *err)
 {
   rr_modal_opts def = rr_modal_opts_default();
   if (!o) o = &def;
@@ -397,7 +438,8 @@ int rr_modal_stability(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *w
   return check_finite(out, err);
 }
 
-int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, double *zeta, rr_error *err)
+int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+                             double *zeta, rr_error *err)
 {
   rr_stability s;
   int st = rr_modal_stability(m, o, ws, &s, err);
@@ -407,8 +449,8 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
 
 /* One group of up to RR_QR_LANES_MAX points: their state matrices in SIMD
    lanes; a lane that fails, or a group of one, takes the single-point route. */
-static int batch_group(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int nb, const double *v,
-                       const double *lam, rr_stability *out, rr_error *err)
+static int batch_group(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int nb,
+                       const double *v, const double *lam, rr_stability *out, rr_error *err)
 {
   int N = 0, fail[RR_QR_LANES_MAX] = {0}, st = RR_OK;
   const double *mats[RR_QR_LANES_MAX];
@@ -427,7 +469,8 @@ static int batch_group(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int
   for (int c = 0; c < nb; c++) {
     if ((st = rr_model_set_operating(m, v[c], lam[c], err))) return st;
     if (lanes && !fail[c]) {
-      stability_from_eigs(m, o, ws, N, ws->wrb + (size_t)c * N, ws->wib + (size_t)c * N, anorm[c], &out[c]);
+      stability_from_eigs(m, o, ws, N, ws->wrb + (size_t)c * N, ws->wib + (size_t)c * N, anorm[c],
+                          &out[c]);
       st = check_finite(&out[c], err);
     } else {
       st = rr_modal_stability(m, o, ws, &out[c], err);
@@ -437,8 +480,9 @@ static int batch_group(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int
   return RR_OK;
 }
 
-int rr_modal_stability_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts, const double *speed_ms,
-                             const double *conicity, rr_stability *out, rr_error *err)
+int rr_modal_stability_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
+                             const double *speed_ms, const double *conicity, rr_stability *out,
+                             rr_error *err)
 {
   rr_modal_opts def = rr_modal_opts_default();
   if (!o) o = &def;

@@ -10,17 +10,17 @@
 
 struct rr_modal_ws {
   int N, n;
-  double *A, *At, *wr, *wi, *vr, *work;   /* dgeev and the single-point QR */
+  double *A, *At, *wr, *wi, *vr, *work; /* dgeev and the single-point QR */
   int lwork;
-  double complex *D, *Dp, *x;             /* 17 x 17 dynamic stiffness (and reordered), vectors */
+  double complex *D, *Dp, *x; /* 17 x 17 dynamic stiffness (and reordered), vectors */
   int *piv;
-  int *cand;                              /* index candidates by decreasing zeta */
+  int *cand; /* index candidates by decreasing zeta */
   double *candz;
-  double *Ab, *wrb, *wib, *qrw;           /* batched index: state matrices, eigenvalues, QR lanes */
-  rr_modal_result trk[4];                 /* paper mode: start, current, result; critical-speed modes */
-  double complex *branch;                 /* paper mode: shapes being followed; sort scratch */
-  double complex *tv;                     /* fast tracking: vectors (12 n) */
-  struct rr_dsolver *ds;                  /* fast tracking: sparse D(s) solves */
+  double *Ab, *wrb, *wib, *qrw; /* batched index: state matrices, eigenvalues, QR lanes */
+  rr_modal_result trk[4];       /* paper mode: start, current, result; critical-speed modes */
+  double complex *branch;       /* paper mode: shapes being followed; sort scratch */
+  double complex *tv;           /* fast tracking: vectors (12 n) */
+  struct rr_dsolver *ds;        /* fast tracking: sparse D(s) solves */
   int *dsi;
   double complex *dsz;
 };
@@ -33,7 +33,8 @@ int rr_modal_state_cap(const rr_model *m);
 int rr_modal_is_osc(double re, double im, double anorm);
 double rr_modal_max_abs(const double *A, int N);
 /* Eigen-solve of the full state matrix into ws (wr, wi, and vr with vectors). */
-int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, int *N, rr_error *err);
+int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, int *N,
+                 rr_error *err);
 /* Modes of the last rr_modal_eig with vectors, unsorted, shapes normalised. */
 void rr_modal_collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_result *res);
 /* Eigenvalue, frequency, zeta, oscillation flag of a mode. */
@@ -45,7 +46,8 @@ void rr_shape_normalise(double complex *phi, int n);
 /* Sorts, classifies against o, and sets the index and zeta_max. */
 void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double complex *scratch);
 /* Null vector of D(s) by one inverse-iteration step (q part of a mode). */
-void rr_modal_null_vector(const rr_model *m, double complex s, rr_modal_ws *ws, double complex *phi);
+void rr_modal_null_vector(const rr_model *m, double complex s, rr_modal_ws *ws,
+                          double complex *phi);
 
 /* Paper-mode SDF: the self-consistent modes of m into res (o->tracking). */
 int rr_sdf_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,

@@ -9,9 +9,9 @@
 #include "modal_impl.h"
 
 enum { MOT_Y, MOT_PSI, MOT_PHI, NMOT };
-#define SHARE_SUBJECT 0.75   /* one body carries this much of its group: named alone */
-#define SHARE_MOTION 0.2     /* a motion with this much of the subject's energy is named */
-#define PHASE_COS 0.5        /* |cos| of the phase between two bodies to call it in/anti-phase */
+#define SHARE_SUBJECT 0.75 /* one body carries this much of its group: named alone */
+#define SHARE_MOTION 0.2   /* a motion with this much of the subject's energy is named */
+#define PHASE_COS 0.5      /* |cos| of the phase between two bodies to call it in/anti-phase */
 
 static const char *group_one[RR_NGROUPS] = {"carbody", "frame", "wheelset"};
 static const char *group_many[RR_NGROUPS] = {"carbodies", "frames", "wheelsets"};
@@ -34,7 +34,10 @@ void rr_shape_normalise(double complex *phi, int n)
   for (int i = 0; i < n; i++) {
     double a = cabs(phi[i]);
     nrm += a * a;
-    if (a > big) { big = a; ib = i; }
+    if (a > big) {
+      big = a;
+      ib = i;
+    }
   }
   if (!(nrm > 0)) return;
   double complex sc = conj(phi[ib]) / (cabs(phi[ib]) * sqrt(nrm));
@@ -63,8 +66,8 @@ static void phase_suffix(const rr_model *m, const int *bodies, int mot, const do
 
 typedef struct subject {
   char word[32];
-  int bodies[RR_SYS_MAX_BODIES], nb;   /* the bodies whose motion is named */
-  int pair[2], npair;                  /* two units to compare in phase (frames) */
+  int bodies[RR_SYS_MAX_BODIES], nb; /* the bodies whose motion is named */
+  int pair[2], npair;                /* two units to compare in phase (frames) */
 } subject;
 
 static double body_energy(const rr_model *m, const double complex *phi, int b)
@@ -80,7 +83,8 @@ static int frame_of(const rr_model *m, int w)
   int best = -1;
   double d = INFINITY;
   for (int b = 0; b < m->nbodies; b++)
-    if (m->bodies[b].group == RR_GROUP_FRAME && fabs(m->bodies[b].ref[0] - m->bodies[w].ref[0]) < d) {
+    if (m->bodies[b].group == RR_GROUP_FRAME &&
+        fabs(m->bodies[b].ref[0] - m->bodies[w].ref[0]) < d) {
       d = fabs(m->bodies[b].ref[0] - m->bodies[w].ref[0]);
       best = b;
     }
@@ -91,11 +95,15 @@ static int frame_of(const rr_model *m, int w)
 static int bogie_subject(const rr_model *m, const double complex *phi, const double *eg, subject *s)
 {
   double fw = eg[RR_GROUP_FRAME] + eg[RR_GROUP_WHEELSET];
-  if (!(fw > eg[RR_GROUP_CARBODY]) || fmin(eg[RR_GROUP_FRAME], eg[RR_GROUP_WHEELSET]) < 0.25 * fw) return 0;
+  if (!(fw > eg[RR_GROUP_CARBODY]) || fmin(eg[RR_GROUP_FRAME], eg[RR_GROUP_WHEELSET]) < 0.25 * fw)
+    return 0;
   int frames[RR_SYS_MAX_BODIES], nf = 0, top = 0;
   double eb[RR_SYS_MAX_BODIES] = {0};
   for (int b = 0; b < m->nbodies; b++)
-    if (m->bodies[b].group == RR_GROUP_FRAME) { eb[nf] = body_energy(m, phi, b); frames[nf++] = b; }
+    if (m->bodies[b].group == RR_GROUP_FRAME) {
+      eb[nf] = body_energy(m, phi, b);
+      frames[nf++] = b;
+    }
   for (int b = 0; b < m->nbodies; b++) {
     if (m->bodies[b].group != RR_GROUP_WHEELSET) continue;
     int f = frame_of(m, b);
@@ -105,8 +113,10 @@ static int bogie_subject(const rr_model *m, const double complex *phi, const dou
   for (int k = 1; k < nf; k++)
     if (eb[k] > eb[top]) top = k;
   int alone = nf == 1 || eb[top] >= SHARE_SUBJECT * fw;
-  if (alone && nf > 1) snprintf(s->word, sizeof s->word, "bogie %d", top + 1);
-  else snprintf(s->word, sizeof s->word, alone ? "bogie" : "bogies");
+  if (alone && nf > 1)
+    snprintf(s->word, sizeof s->word, "bogie %d", top + 1);
+  else
+    snprintf(s->word, sizeof s->word, alone ? "bogie" : "bogies");
   s->nb = 0;
   for (int b = 0; b < m->nbodies; b++) {
     int g = m->bodies[b].group, f = g == RR_GROUP_WHEELSET ? frame_of(m, b) : b;
@@ -119,7 +129,8 @@ static int bogie_subject(const rr_model *m, const double complex *phi, const dou
 }
 
 /* The dominant group's body, or the group as a whole. */
-static void group_subject(const rr_model *m, const double complex *phi, const double *eg, subject *s)
+static void group_subject(const rr_model *m, const double complex *phi, const double *eg,
+                          subject *s)
 {
   int g = 0;
   for (int k = 1; k < RR_NGROUPS; k++)
@@ -130,12 +141,19 @@ static void group_subject(const rr_model *m, const double complex *phi, const do
     if (m->bodies[b].group != g) continue;
     double e = body_energy(m, phi, b);
     members[nb++] = b;
-    if (e > etop) { etop = e; top = b; ordinal = nb; }
+    if (e > etop) {
+      etop = e;
+      top = b;
+      ordinal = nb;
+    }
   }
   int alone = nb == 1 || etop >= SHARE_SUBJECT * eg[g];
-  if (alone && nb == 1) snprintf(s->word, sizeof s->word, "%s", group_one[g]);
-  else if (alone) snprintf(s->word, sizeof s->word, "%s %d", group_one[g], ordinal);
-  else snprintf(s->word, sizeof s->word, "%s", group_many[g]);
+  if (alone && nb == 1)
+    snprintf(s->word, sizeof s->word, "%s", group_one[g]);
+  else if (alone)
+    snprintf(s->word, sizeof s->word, "%s %d", group_one[g], ordinal);
+  else
+    snprintf(s->word, sizeof s->word, "%s", group_many[g]);
   s->nb = 0;
   for (int k = 0; k < nb; k++)
     if (!alone || members[k] == top) s->bodies[s->nb++] = members[k];
@@ -144,13 +162,15 @@ static void group_subject(const rr_model *m, const double complex *phi, const do
   s->pair[1] = members[nb > 1 ? 1 : 0];
 }
 
-static void name_mode(const rr_model *m, const double complex *phi, const double *eg, char *buf, size_t len)
+static void name_mode(const rr_model *m, const double complex *phi, const double *eg, char *buf,
+                      size_t len)
 {
   subject s;
   if (!bogie_subject(m, phi, eg, &s)) group_subject(m, phi, eg, &s);
   double emot[NMOT] = {0, 0, 0}, esub = 0;
   for (int k = 0; k < s.nb; k++)
-    for (int mot = 0; mot < NMOT; mot++) emot[mot] += dof_energy(m, phi, body_dof(&m->bodies[s.bodies[k]], mot));
+    for (int mot = 0; mot < NMOT; mot++)
+      emot[mot] += dof_energy(m, phi, body_dof(&m->bodies[s.bodies[k]], mot));
   for (int mot = 0; mot < NMOT; mot++) esub += emot[mot];
   char motion[40] = "", phase[20] = "";
   int big[NMOT], dominant = 0;
@@ -183,6 +203,8 @@ void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md)
   for (int b = 0; b < m->nbodies; b++) roll += dof_energy(m, phi, m->bodies[b].dof_phi);
   for (int g = 0; g < RR_NGROUPS; g++) md->energy[g] = tot > 0 ? eg[g] / tot : 0;
   md->roll_share = tot > 0 ? roll / tot : 0;
-  if (tot > 0) name_mode(m, phi, eg, md->name, sizeof md->name);
-  else snprintf(md->name, sizeof md->name, "none");
+  if (tot > 0)
+    name_mode(m, phi, eg, md->name, sizeof md->name);
+  else
+    snprintf(md->name, sizeof md->name, "none");
 }

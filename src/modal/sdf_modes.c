@@ -24,16 +24,17 @@
 #include "hessenberg_qr.h"
 #include "internal.h"
 
-#define MAC_MIN 0.9          /* consecutive shapes on a branch correlate at least this */
-#define MAC_SURE 0.995       /* above, no other mode can be the better match in practice */
-#define FIRST_STEPS 32       /* first step (k_hi - k_lo) / 32 */
-#define ROOT_TOL 1e-9        /* bisection to |dk| <= 1e-9 k_hi */
-#define STEP_MIN 1e-12       /* a branch is lost below steps of 1e-12 k_hi */
+#define MAC_MIN 0.9    /* consecutive shapes on a branch correlate at least this */
+#define MAC_SURE 0.995 /* above, no other mode can be the better match in practice */
+#define FIRST_STEPS 32 /* first step (k_hi - k_lo) / 32 */
+#define ROOT_TOL 1e-9  /* bisection to |dk| <= 1e-9 k_hi */
+#define STEP_MIN 1e-12 /* a branch is lost below steps of 1e-12 k_hi */
 #define NEWTON_MAXIT 30
-#define NEWTON_TOL_GRID 1e-4 /* relative eigenvalue update at which a grid solve stops: the
-                                update taken, the error is ~1e-8 relative, ample for MAC
-                                and for the sign of h away from its root */
-#define H_SURE 1e-5          /* |h| / k_hi above which a grid solve's sign of h is certain */
+#define NEWTON_TOL_GRID                                                                            \
+  1e-4              /* relative eigenvalue update at which a grid solve stops: the                 \
+                       update taken, the error is ~1e-8 relative, ample for MAC                    \
+                       and for the sign of h away from its root */
+#define H_SURE 1e-5 /* |h| / k_hi above which a grid solve's sign of h is certain */
 #define NEWTON_TOL_ROOT 1e-10
 
 static double h_of(const rr_model *m, double k, double im)
@@ -49,7 +50,10 @@ static int best_match(const rr_modal_result *r, const double complex *phi, int n
   double bm = -1;
   for (int i = 0; i < r->n; i++) {
     double v = rr_mac(phi, r->shapes + (size_t)i * n, n);
-    if (v > bm) { bm = v; best = i; }
+    if (v > bm) {
+      bm = v;
+      best = i;
+    }
   }
   *mac = bm;
   return best;
@@ -69,8 +73,8 @@ static void copy_shape(double complex *dst, const double complex *src, int n)
 }
 
 /* One branch from r0's mode b; the reported mode and its shape go to rep, phi. */
-static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result *r0, int b, rr_modal_result *rb,
-                      rr_mode *rep, double complex *phi, rr_error *err)
+static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result *r0, int b,
+                      rr_modal_result *rb, rr_mode *rep, double complex *phi, rr_error *err)
 {
   int n = m->n, st;
   double k_lo, k_hi;
@@ -91,7 +95,10 @@ static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result 
       continue;
     }
     rr_mode nx = rb->modes[j];
-    if (!nx.oscillatory) { lost = 1; break; }
+    if (!nx.oscillatory) {
+      lost = 1;
+      break;
+    }
     double hn = h_of(m, kn, nx.im);
     if (hn >= 0) {
       ka = k;
@@ -108,16 +115,26 @@ static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result 
     copy_shape(phi, rb->shapes + (size_t)j * n, n);
     if (k >= k_hi) lost = 1;
   }
-  if (found && h >= 0 && ka == kb) mb = cur;   /* root at k_lo itself */
+  if (found && h >= 0 && ka == kb)
+    mb = cur; /* root at k_lo itself */
   else if (found) {
     while (kb - ka > ROOT_TOL * k_hi) {
       double km = 0.5 * (ka + kb), mac;
       if ((st = solve_at(m, km, ws, rb, err))) return st;
       int j = best_match(rb, phia, n, &mac);
-      if (j < 0 || !rb->modes[j].oscillatory) { lost = 1; break; }
+      if (j < 0 || !rb->modes[j].oscillatory) {
+        lost = 1;
+        break;
+      }
       rr_mode mm = rb->modes[j];
-      if (h_of(m, km, mm.im) >= 0) { kb = km; mb = mm; copy_shape(phi, rb->shapes + (size_t)j * n, n); }
-      else { ka = km; copy_shape(phia, rb->shapes + (size_t)j * n, n); }
+      if (h_of(m, km, mm.im) >= 0) {
+        kb = km;
+        mb = mm;
+        copy_shape(phi, rb->shapes + (size_t)j * n, n);
+      } else {
+        ka = km;
+        copy_shape(phia, rb->shapes + (size_t)j * n, n);
+      }
     }
   }
   *rep = found && !lost ? mb : cur;
@@ -126,7 +143,8 @@ static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result 
   return RR_OK;
 }
 
-static int ref_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res, rr_error *err)
+static int ref_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+                     rr_modal_result *res, rr_error *err)
 {
   int n = m->n;
   double k_lo, k_hi;
@@ -138,7 +156,7 @@ static int ref_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
   for (int b = 0; b < r0->n; b++) {
     rr_mode *rep = &res->modes[b];
     double complex *phi = res->shapes + (size_t)b * n;
-    if (!r0->modes[b].oscillatory) {   /* not followed: reported as at k_lo */
+    if (!r0->modes[b].oscillatory) { /* not followed: reported as at k_lo */
       *rep = r0->modes[b];
       rep->sdf_k = k_lo;
       copy_shape(phi, r0->shapes + (size_t)b * n, n);
@@ -155,12 +173,15 @@ static int ref_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
 
 /* ---- fast: Newton continuation on D(s, k) ---- */
 
-typedef struct point { double k; double complex s; } point;
+typedef struct point {
+  double k;
+  double complex s;
+} point;
 
 typedef struct tracker {
   const rr_model *m;
   rr_modal_ws *ws;
-  rr_dsolver *ds;             /* vectors below are in its DOF order */
+  rr_dsolver *ds; /* vectors below are in its DOF order */
   double k_lo, k_hi, anorm;
   double complex *phi, *xn, *t, *phia, *phib, *xc, *v, *tmp;
 } tracker;
@@ -176,7 +197,10 @@ static int newton(const tracker *tr, double k, double complex *s, double complex
   double nx = 0;
   for (int i = 0; i < n; i++) nx += creal(x[i] * conj(x[i]));
   if (!(nx > 0) || !isfinite(nx)) return -1;
-  for (int i = 0; i < n; i++) { x[i] /= nx; tr->v[i] = x[i] * nx; }   /* v'x = 1 */
+  for (int i = 0; i < n; i++) {
+    x[i] /= nx;
+    tr->v[i] = x[i] * nx;
+  } /* v'x = 1 */
   for (int it = 0; it < NEWTON_MAXIT; it++) {
     rr_dsolver_factor(tr->ds, *s, k);
     rr_dsolver_deriv(tr->ds, *s, k, x, tr->t);
@@ -225,7 +249,11 @@ static double best_of_all(const tracker *tr, double k, const double complex *ref
     for (int i = 0; i < n; i++) tr->t[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
     rr_dsolver_solve(tr->ds, tr->t, tr->tmp);
     double mac = rr_mac(ref, tr->t, n);
-    if (mac > best) { best = mac; *s = sj; copy_shape(x, tr->t, n); }
+    if (mac > best) {
+      best = mac;
+      *s = sj;
+      copy_shape(x, tr->t, n);
+    }
   }
   return best;
 }
@@ -233,25 +261,31 @@ static double best_of_all(const tracker *tr, double k, const double complex *ref
 /* The mode at k that continues the shape ref, from the guess (*s, x):
    Newton, then the reference's best match where that is in doubt. Returns
    the MAC to ref (0 when nothing converged). */
-static double continue_to(const tracker *tr, double k, const double complex *ref, double complex *s, double complex *x,
-                          double tol)
+static double continue_to(const tracker *tr, double k, const double complex *ref, double complex *s,
+                          double complex *x, double tol)
 {
   double mac = newton(tr, k, s, x, tol) ? 0 : rr_mac(ref, x, tr->m->n);
   if (mac >= MAC_SURE) return mac;
   mac = best_of_all(tr, k, ref, s, x);
-  if (mac >= MAC_MIN && rr_modal_is_osc(creal(*s), cimag(*s), tr->anorm) && newton(tr, k, s, x, tol)) return 0;
+  if (mac >= MAC_MIN && rr_modal_is_osc(creal(*s), cimag(*s), tr->anorm) &&
+      newton(tr, k, s, x, tol))
+    return 0;
   return mac;
 }
 
 static void push(point *h, int *nh, double k, double complex s)
 {
-  if (*nh == 3) { h[0] = h[1]; h[1] = h[2]; *nh = 2; }
+  if (*nh == 3) {
+    h[0] = h[1];
+    h[1] = h[2];
+    *nh = 2;
+  }
   h[(*nh)++] = (point){.k = k, .s = s};
 }
 
 typedef struct bracket {
-  double ka, kb;              /* grid points: h(ka) < 0 <= h(kb) */
-  double complex sa, sb;      /* eigenvalues there; shapes in tr->phia, tr->phib */
+  double ka, kb;         /* grid points: h(ka) < 0 <= h(kb) */
+  double complex sa, sb; /* eigenvalues there; shapes in tr->phia, tr->phib */
 } bracket;
 
 /* Walks the grid from k_lo; 1: bracket found, 0: branch lost (the last good
@@ -294,7 +328,8 @@ static int walk(const tracker *tr, double complex s0, bracket *br, point *last)
 
 /* Solve at k from the nearer end of [a, b] (s linear between them); the
    shape goes to tr->xc. */
-static int solve_between(const tracker *tr, double k, const point *a, const point *b, double tol, double complex *s)
+static int solve_between(const tracker *tr, double k, const point *a, const point *b, double tol,
+                         double complex *s)
 {
   double w = (k - a->k) / (b->k - a->k);
   const double complex *ref = w < 0.5 ? tr->phia : tr->phib;
@@ -336,17 +371,31 @@ static int narrow(const tracker *tr, point *a, point *b, double tol_k)
 /* The reference bisection of [ka, kb], its midpoints decided by the narrowed
    bracket [a, b] (a solve only for a midpoint inside it); returns its upper
    end, whose mode is solved into (*s, tr->xc). */
-static int bisect(const tracker *tr, const bracket *br, point *a, point *b, double *k_out, double complex *s)
+static int bisect(const tracker *tr, const bracket *br, point *a, point *b, double *k_out,
+                  double complex *s)
 {
   double lo = br->ka, hi = br->kb, tol = ROOT_TOL * tr->k_hi;
   while (hi - lo > tol) {
     double km = 0.5 * (lo + hi);
-    if (km >= b->k) { hi = km; continue; }
-    if (km <= a->k) { lo = km; continue; }
+    if (km >= b->k) {
+      hi = km;
+      continue;
+    }
+    if (km <= a->k) {
+      lo = km;
+      continue;
+    }
     double complex sm;
     if (solve_between(tr, km, a, b, NEWTON_TOL_ROOT, &sm)) return -1;
-    if (h_of(tr->m, km, cimag(sm)) >= 0) { hi = km; *b = (point){.k = km, .s = sm}; copy_shape(tr->phib, tr->xc, tr->m->n); }
-    else { lo = km; *a = (point){.k = km, .s = sm}; copy_shape(tr->phia, tr->xc, tr->m->n); }
+    if (h_of(tr->m, km, cimag(sm)) >= 0) {
+      hi = km;
+      *b = (point){.k = km, .s = sm};
+      copy_shape(tr->phib, tr->xc, tr->m->n);
+    } else {
+      lo = km;
+      *a = (point){.k = km, .s = sm};
+      copy_shape(tr->phia, tr->xc, tr->m->n);
+    }
   }
   *k_out = hi;
   *s = b->s;
@@ -355,8 +404,8 @@ static int bisect(const tracker *tr, const bracket *br, point *a, point *b, doub
   return newton(tr, hi, s, tr->xc, NEWTON_TOL_ROOT);
 }
 
-static void report(const tracker *tr, double k, double complex s, const double complex *x, int ok, rr_mode *rep,
-                   double complex *shape)
+static void report(const tracker *tr, double k, double complex s, const double complex *x, int ok,
+                   rr_mode *rep, double complex *shape)
 {
   int n = tr->m->n;
   rr_mode_fill(rep, creal(s), cimag(s), tr->anorm);
@@ -370,10 +419,13 @@ static void report(const tracker *tr, double k, double complex s, const double c
 /* One branch from the k_lo eigenpair (s0, tr->phi). */
 static void fast_branch(const tracker *tr, double complex s0, rr_mode *rep, double complex *shape)
 {
-  if (h_of(tr->m, tr->k_lo, cimag(s0)) >= 0) { report(tr, tr->k_lo, s0, tr->phi, 1, rep, shape); return; }
+  if (h_of(tr->m, tr->k_lo, cimag(s0)) >= 0) {
+    report(tr, tr->k_lo, s0, tr->phi, 1, rep, shape);
+    return;
+  }
   bracket br;
   point last;
-  if (!walk(tr, s0, &br, &last)) {   /* lost: the last point on the branch, to full accuracy */
+  if (!walk(tr, s0, &br, &last)) { /* lost: the last point on the branch, to full accuracy */
     newton(tr, last.k, &last.s, tr->phi, NEWTON_TOL_ROOT);
     report(tr, last.k, last.s, tr->phi, 0, rep, shape);
     return;
@@ -382,7 +434,7 @@ static void fast_branch(const tracker *tr, double complex s0, rr_mode *rep, doub
   double k;
   double complex s;
   if (narrow(tr, &a, &b, 1e-3 * ROOT_TOL * tr->k_hi) || bisect(tr, &br, &a, &b, &k, &s)) {
-    report(tr, br.ka, br.sa, tr->phia, 0, rep, shape);   /* lost inside the bracket */
+    report(tr, br.ka, br.sa, tr->phia, 0, rep, shape); /* lost inside the bracket */
     return;
   }
   report(tr, k, s, tr->xc, 1, rep, shape);
@@ -415,7 +467,8 @@ static int same_root(const rr_mode *a, const rr_mode *b, double k_hi)
          cabs((a->re - b->re) + I * (a->im - b->im)) <= 1e-9 * hypot(a->re, a->im);
 }
 
-static rr_modal_result *scratch_result(rr_modal_ws *ws, const rr_modal_result *r0, const rr_modal_result *res)
+static rr_modal_result *scratch_result(rr_modal_ws *ws, const rr_modal_result *r0,
+                                       const rr_modal_result *res)
 {
   for (int i = 0;; i++)
     if (&ws->trk[i] != r0 && &ws->trk[i] != res) return &ws->trk[i];
@@ -423,7 +476,8 @@ static rr_modal_result *scratch_result(rr_modal_ws *ws, const rr_modal_result *r
 
 /* Tracks r0's oscillatory modes into res (res must not alias r0); branches
    that collide are tracked again by the reference method. */
-static int fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_result *res, rr_error *err)
+static int fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_result *res,
+                      rr_error *err)
 {
   int n = tr->m->n;
   for (int b = 0; b < r0->n; b++) {
@@ -446,7 +500,8 @@ static int fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_res
       if (!same_root(&res->modes[a], &res->modes[b], tr->k_hi)) continue;
       int pair[2] = {a, b};
       for (int q = 0; q < 2; q++) {
-        int st = ref_branch(tr->m, tr->ws, r0, pair[q], rb, &res->modes[pair[q]], tr->ws->branch, err);
+        int st =
+            ref_branch(tr->m, tr->ws, r0, pair[q], rb, &res->modes[pair[q]], tr->ws->branch, err);
         if (st) return st;
         copy_shape(res->shapes + (size_t)pair[q] * n, tr->ws->branch, n);
       }
@@ -454,8 +509,8 @@ static int fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_res
   return RR_OK;
 }
 
-static int fast_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,
-                      rr_error *err)
+static int fast_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+                      rr_modal_result *res, rr_error *err)
 {
   tracker tr;
   tracker_init(&tr, m, ws, 0);
@@ -469,7 +524,8 @@ static int fast_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws
   return RR_OK;
 }
 
-int rr_sdf_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res, rr_error *err)
+int rr_sdf_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,
+                 rr_error *err)
 {
   if (o->tracking == RR_TRACK_REFERENCE) return ref_modes(m, o, ws, res, err);
   return fast_modes(m, o, ws, res, err);
@@ -495,8 +551,8 @@ static int osc_start(const tracker *tr, int N, rr_modal_result *r0)
   return RR_OK;
 }
 
-int rr_sdf_modes_fast_osc(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,
-                          rr_error *err)
+int rr_sdf_modes_fast_osc(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+                          rr_modal_result *res, rr_error *err)
 {
   if (o->tracking == RR_TRACK_REFERENCE) return ref_modes(m, o, ws, res, err);
   tracker tr;

@@ -10,14 +10,20 @@
 
 rr_robust_opts rr_robust_opts_default(void)
 {
-  return (rr_robust_opts){.v_low_ms = 250 / RR_KMH, .conicity_low = 0.05, .v_high_ms = 350 / RR_KMH,
-                          .conicity_high = 0.40, .conicity_min = 0.05, .conicity_max = 0.40, .n_conicity = 8};
+  return (rr_robust_opts){.v_low_ms = 250 / RR_KMH,
+                          .conicity_low = 0.05,
+                          .v_high_ms = 350 / RR_KMH,
+                          .conicity_high = 0.40,
+                          .conicity_min = 0.05,
+                          .conicity_max = 0.40,
+                          .n_conicity = 8};
 }
 
 static double sweep_conicity(const rr_robust_opts *r, int i)
 {
   int nc = r->n_conicity;
-  return nc == 1 ? r->conicity_min : r->conicity_min + (r->conicity_max - r->conicity_min) * i / (nc - 1);
+  return nc == 1 ? r->conicity_min
+                 : r->conicity_min + (r->conicity_max - r->conicity_min) * i / (nc - 1);
 }
 
 /* The verdict over the robust points (any oscillatory mode, docs/model.md). */
@@ -44,7 +50,7 @@ int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts 
   int npts = 2 + nc - reuse;
   double sum = 0, sum2 = 0;
   *out = (rr_robust){.zeta_max = -1, .unstable_speed_ms = NAN, .unstable_conicity = NAN};
-  enum { CHUNK = 16 };   /* points per call: the call groups them in lanes */
+  enum { CHUNK = 16 }; /* points per call: the call groups them in lanes */
   for (int p0 = 0; p0 < npts; p0 += CHUNK) {
     double v[CHUNK], lam[CHUNK];
     rr_stability z[CHUNK];
@@ -60,11 +66,17 @@ int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts 
       int p = p0 + c;
       if (p == 0) out->zeta_low = z[c].index;
       if (p == 1) out->zeta_high = z[c].index;
-      if (p >= 2) { sum += z[c].index; sum2 += z[c].index * z[c].index; }
+      if (p >= 2) {
+        sum += z[c].index;
+        sum2 += z[c].index * z[c].index;
+      }
       robust_verdict(out, &z[c], v[c], lam[c]);
     }
   }
-  if (reuse) { sum += out->zeta_high; sum2 += out->zeta_high * out->zeta_high; }
+  if (reuse) {
+    sum += out->zeta_high;
+    sum2 += out->zeta_high * out->zeta_high;
+  }
   double mean = sum / nc;
   double var = sum2 / nc - mean * mean;
   out->std_zeta = sqrt(var > 0 ? var : 0);
@@ -73,8 +85,11 @@ int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts 
 
 rr_critical_opts rr_critical_opts_default(void)
 {
-  return (rr_critical_opts){.v_min_ms = 10 / RR_KMH, .v_max_ms = 600 / RR_KMH, .step_ms = 1 / RR_KMH,
-                            .tol_ms = 1e-3 / RR_KMH, .index_modes = 0};
+  return (rr_critical_opts){.v_min_ms = 10 / RR_KMH,
+                            .v_max_ms = 600 / RR_KMH,
+                            .step_ms = 1 / RR_KMH,
+                            .tol_ms = 1e-3 / RR_KMH,
+                            .index_modes = 0};
 }
 
 static double rule_value(const rr_stability *s, const rr_critical_opts *c)
@@ -82,8 +97,8 @@ static double rule_value(const rr_stability *s, const rr_critical_opts *c)
   return c->index_modes ? s->index : s->zeta_max;
 }
 
-static int unstable_at(rr_model *m, double v, double lam, const rr_modal_opts *o, const rr_critical_opts *c,
-                       rr_modal_ws *ws, int *yes, rr_error *err)
+static int unstable_at(rr_model *m, double v, double lam, const rr_modal_opts *o,
+                       const rr_critical_opts *c, rr_modal_ws *ws, int *yes, rr_error *err)
 {
   rr_stability s;
   int st = rr_model_set_operating(m, v, lam, err);
@@ -93,8 +108,9 @@ static int unstable_at(rr_model *m, double v, double lam, const rr_modal_opts *o
 }
 
 /* The mode that goes unstable at v: the index mode or the least damped one. */
-static int unstable_mode(rr_model *m, double v, double lam, const rr_modal_opts *o, const rr_critical_opts *c,
-                         rr_modal_ws *ws, rr_critical *out, rr_error *err)
+static int unstable_mode(rr_model *m, double v, double lam, const rr_modal_opts *o,
+                         const rr_critical_opts *c, rr_modal_ws *ws, rr_critical *out,
+                         rr_error *err)
 {
   rr_modal_result *r = &ws->trk[3];
   int st = rr_model_set_operating(m, v, lam, err);
@@ -109,12 +125,16 @@ static int unstable_mode(rr_model *m, double v, double lam, const rr_modal_opts 
 
 static int check_opts(const rr_critical_opts *c, rr_error *err)
 {
-  if (!(c->v_min_ms > 0 && c->v_max_ms > c->v_min_ms && c->step_ms > 0 && c->tol_ms > 0 && isfinite(c->v_max_ms)))
-    return rr_seterr(err, RR_EINVAL, "critical speed: need 0 < v_min < v_max (finite), step > 0, tol > 0");
+  if (!(c->v_min_ms > 0 && c->v_max_ms > c->v_min_ms && c->step_ms > 0 && c->tol_ms > 0 &&
+        isfinite(c->v_max_ms)))
+    return rr_seterr(err, RR_EINVAL,
+                     "critical speed: need 0 < v_min < v_max (finite), step > 0, tol > 0");
   double steps = (c->v_max_ms - c->v_min_ms) / c->step_ms;
   if (!(steps <= RR_CRITICAL_MAX_STEPS))
-    return rr_seterr(err, RR_EINVAL, "critical speed: a scan of %.3g steps exceeds the limit of %d (raise the step)",
-                     steps, RR_CRITICAL_MAX_STEPS);
+    return rr_seterr(
+        err, RR_EINVAL,
+        "critical speed: a scan of %.3g steps exceeds the limit of %d (raise the step)", steps,
+        RR_CRITICAL_MAX_STEPS);
   return RR_OK;
 }
 
@@ -126,8 +146,10 @@ static int bisect_speed(rr_model *m, double lam, const rr_modal_opts *o, const r
     double vm = 0.5 * (va + *vb);
     int yes, st = unstable_at(m, vm, lam, o, c, ws, &yes, err);
     if (st) return st;
-    if (yes) *vb = vm;
-    else va = vm;
+    if (yes)
+      *vb = vm;
+    else
+      va = vm;
   }
   return RR_OK;
 }
@@ -160,7 +182,10 @@ int rr_critical_speed(rr_model *m, double lam, const rr_modal_opts *o, const rr_
     }
     if ((st = rr_modal_stability_batch(m, o, ws, nb, vs, ls, zs, err))) return st;
     for (int j = 0; j < nb; j++) {
-      if (rule_value(&zs[j], c) < 0) { va = vs[j]; continue; }
+      if (rule_value(&zs[j], c) < 0) {
+        va = vs[j];
+        continue;
+      }
       double vb = vs[j];
       if ((st = bisect_speed(m, lam, o, c, ws, va, &vb, err))) return st;
       return unstable_mode(m, vb, lam, o, c, ws, out, err);
@@ -171,22 +196,35 @@ int rr_critical_speed(rr_model *m, double lam, const rr_modal_opts *o, const rr_
 
 static rr_locus_point locus_point(double param, const rr_mode *md, double mac)
 {
-  return (rr_locus_point){.param = param, .re = md->re, .im = md->im, .freq_hz = md->freq_hz, .zeta = md->zeta,
-                          .mac = mac, .energy = {md->energy[0], md->energy[1], md->energy[2]},
-                          .roll_share = md->roll_share, .hunting = md->hunting};
+  return (rr_locus_point){.param = param,
+                          .re = md->re,
+                          .im = md->im,
+                          .freq_hz = md->freq_hz,
+                          .zeta = md->zeta,
+                          .mac = mac,
+                          .energy = {md->energy[0], md->energy[1], md->energy[2]},
+                          .roll_share = md->roll_share,
+                          .hunting = md->hunting};
 }
 
 /* A point where a branch has no match (or that was not reached). */
 static rr_locus_point locus_gap(double param)
 {
-  return (rr_locus_point){.param = param, .re = NAN, .im = NAN, .freq_hz = NAN, .zeta = NAN, .mac = 0,
-                          .energy = {NAN, NAN, NAN}, .roll_share = NAN, .hunting = 0};
+  return (rr_locus_point){.param = param,
+                          .re = NAN,
+                          .im = NAN,
+                          .freq_hz = NAN,
+                          .zeta = NAN,
+                          .mac = 0,
+                          .energy = {NAN, NAN, NAN},
+                          .roll_share = NAN,
+                          .hunting = 0};
 }
 
 /* The modes of res assigned to the nb branches whose last shapes are prev,
    greedily, best correlations first; prev takes the new shapes. */
-static void locus_match(const rr_modal_result *res, int n, int nb, double param, double complex *prev, int *used,
-                        int *done, rr_locus_point *row)
+static void locus_match(const rr_modal_result *res, int n, int nb, double param,
+                        double complex *prev, int *used, int *done, rr_locus_point *row)
 {
   for (int i = 0; i < res->n; i++) used[i] = 0;
   for (int b = 0; b < nb; b++) done[b] = 0;
@@ -198,7 +236,11 @@ static void locus_match(const rr_modal_result *res, int n, int nb, double param,
       for (int i = 0; i < res->n; i++) {
         if (used[i]) continue;
         double mac = rr_mac(prev + (size_t)b * n, res->shapes + (size_t)i * n, n);
-        if (mac > bestmac) { bestmac = mac; bb = b; bi = i; }
+        if (mac > bestmac) {
+          bestmac = mac;
+          bb = b;
+          bi = i;
+        }
       }
     }
     if (bb < 0) break;
@@ -211,7 +253,9 @@ static void locus_match(const rr_modal_result *res, int n, int nb, double param,
 }
 
 /* A record: the count of modes, then cap modes, then cap x ndof shapes. */
-typedef struct record_head { int n, cap, ndof, pad; } record_head;
+typedef struct record_head {
+  int n, cap, ndof, pad;
+} record_head;
 
 size_t rr_locus_record_size(const rr_model *m)
 {
@@ -224,12 +268,15 @@ static rr_modal_result record_view(const void *record)
 {
   const record_head *h = record;
   rr_mode *modes = (rr_mode *)(void *)((char *)(uintptr_t)record + sizeof *h);
-  return (rr_modal_result){.n = h->n, .cap = h->cap, .ndof = h->ndof, .modes = modes,
+  return (rr_modal_result){.n = h->n,
+                           .cap = h->cap,
+                           .ndof = h->ndof,
+                           .modes = modes,
                            .shapes = (double complex *)(void *)(modes + h->cap)};
 }
 
-int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_modal_opts *o, rr_modal_ws *ws,
-                   rr_modal_result *res, void *record, rr_error *err)
+int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_modal_opts *o,
+                   rr_modal_ws *ws, rr_modal_result *res, void *record, rr_error *err)
 {
   int st = param == RR_LOCUS_SPEED ? rr_model_set_operating(m, value, rr_model_conicity(m), err)
                                    : rr_model_set_operating(m, rr_model_speed(m), value, err);
@@ -240,15 +287,16 @@ int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_mod
   rr_modal_result v = record_view(record);
   memcpy(v.modes, res->modes, (size_t)res->n * sizeof *v.modes);
   memcpy(v.shapes, res->shapes, (size_t)res->n * (size_t)m->n * sizeof *v.shapes);
-  memset(v.modes + res->n, 0, (size_t)(cap - res->n) * sizeof *v.modes);   /* plain bytes to copy */
-  memset(v.shapes + (size_t)res->n * m->n, 0, (size_t)(cap - res->n) * (size_t)m->n * sizeof *v.shapes);
+  memset(v.modes + res->n, 0, (size_t)(cap - res->n) * sizeof *v.modes); /* plain bytes to copy */
+  memset(v.shapes + (size_t)res->n * m->n, 0,
+         (size_t)(cap - res->n) * (size_t)m->n * sizeof *v.shapes);
   return RR_OK;
 }
 
 struct rr_locus_tracker {
-  int n, cap, nb;           /* ndof, modes at most, branches (-1 before the first record) */
-  double complex *prev;     /* each branch's last shape (cap x n) */
-  int *used, *done;         /* cap each */
+  int n, cap, nb;       /* ndof, modes at most, branches (-1 before the first record) */
+  double complex *prev; /* each branch's last shape (cap x n) */
+  int *used, *done;     /* cap each */
 };
 
 int rr_locus_tracker_new(const rr_model *m, rr_locus_tracker **out, rr_error *err)
@@ -260,7 +308,10 @@ int rr_locus_tracker_new(const rr_model *m, rr_locus_tracker **out, rr_error *er
   t->prev = malloc((size_t)t->cap * (size_t)t->n * sizeof *t->prev);
   t->used = malloc((size_t)t->cap * sizeof *t->used);
   t->done = malloc((size_t)t->cap * sizeof *t->done);
-  if (!t->prev || !t->used || !t->done) { rr_locus_tracker_free(t); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!t->prev || !t->used || !t->done) {
+    rr_locus_tracker_free(t);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   *out = t;
   return RR_OK;
 }
@@ -274,19 +325,21 @@ void rr_locus_tracker_free(rr_locus_tracker *t)
   free(t);
 }
 
-int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const void *records, rr_locus_point *out,
-                    int *nbranch, rr_error *err)
+int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const void *records,
+                    rr_locus_point *out, int *nbranch, rr_error *err)
 {
-  size_t rs = sizeof(record_head) + (size_t)t->cap * (sizeof(rr_mode) + (size_t)t->n * sizeof(double complex));
+  size_t rs = sizeof(record_head) +
+              (size_t)t->cap * (sizeof(rr_mode) + (size_t)t->n * sizeof(double complex));
   for (int p = 0; p < npts; p++) {
     rr_modal_result res = record_view((const char *)records + (size_t)p * rs);
     if (res.cap != t->cap || res.ndof != t->n || res.n < 0 || res.n > t->cap)
       return rr_seterr(err, RR_EINVAL, "locus: record %d is not one of this model's", p);
-    if (t->nb < 0) {   /* the branches: the oscillatory modes at the first point */
+    if (t->nb < 0) { /* the branches: the oscillatory modes at the first point */
       t->nb = 0;
       for (int i = 0; i < res.n; i++) {
         if (!res.modes[i].oscillatory) continue;
-        memcpy(t->prev + (size_t)t->nb * t->n, res.shapes + (size_t)i * t->n, (size_t)t->n * sizeof *t->prev);
+        memcpy(t->prev + (size_t)t->nb * t->n, res.shapes + (size_t)i * t->n,
+               (size_t)t->n * sizeof *t->prev);
         out[t->nb++] = locus_point(values[p], &res.modes[i], 1.0);
       }
     } else {
@@ -297,8 +350,9 @@ int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const v
   return RR_OK;
 }
 
-int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts, const rr_modal_opts *o,
-             const rr_progress *pr, rr_locus_point *out, int *nbranch, rr_error *err)
+int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
+             const rr_modal_opts *o, const rr_progress *pr, rr_locus_point *out, int *nbranch,
+             rr_error *err)
 {
   double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
   rr_modal_ws *ws = NULL;
@@ -311,10 +365,11 @@ int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts, 
   if (!st) st = rr_locus_tracker_new(m, &t, err);
   for (; p < npts && !st; p++) {
     st = rr_locus_solve(m, param, values[p], o, ws, &res, rec, err);
-    if (!st) st = rr_locus_follow(t, values + p, 1, rec, out + (size_t)p * (nb > 0 ? nb : 0), &nb, err);
+    if (!st)
+      st = rr_locus_follow(t, values + p, 1, rec, out + (size_t)p * (nb > 0 ? nb : 0), &nb, err);
     if (!st && (st = rr_progress_step(pr, p + 1, npts, err))) p++;
   }
-  if (st == RR_ESTOPPED)   /* the points not reached */
+  if (st == RR_ESTOPPED) /* the points not reached */
     for (p -= 1; p < npts; p++)
       for (int b = 0; b < nb; b++) out[(size_t)p * nb + b] = locus_gap(values[p]);
   if (!st || st == RR_ESTOPPED) *nbranch = nb;

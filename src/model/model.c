@@ -22,8 +22,14 @@ int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err)
   if (!m) return rr_seterr(err, RR_ENOMEM, "out of memory");
   m->sdf_mode = RR_SDF_NONE;
   int st = rr_model_assemble(m, sys, err);
-  if (st) { free(m); return st; }
-  if ((st = rr_model_set_operating(m, 1.0, 0.0, err))) { free(m); return st; }
+  if (st) {
+    free(m);
+    return st;
+  }
+  if ((st = rr_model_set_operating(m, 1.0, 0.0, err))) {
+    free(m);
+    return st;
+  }
   *out = m;
   return RR_OK;
 }
@@ -52,9 +58,13 @@ int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err)
       add_outer(m->C0, n, el->J, el->c);
       break;
     case RR_LAW_MAXWELL:
-      if (el->c == 0) break;                       /* no damper: no force */
-      if (isinf(el->k) && !el->sdf) { add_outer(m->C0, n, el->J, el->c); break; }  /* rigid link */
-      if (m->nmx >= (int)(sizeof m->mx / sizeof m->mx[0])) return rr_seterr(err, RR_EINVAL, "too many Maxwell elements");
+      if (el->c == 0) break; /* no damper: no force */
+      if (isinf(el->k) && !el->sdf) {
+        add_outer(m->C0, n, el->J, el->c);
+        break;
+      } /* rigid link */
+      if (m->nmx >= (int)(sizeof m->mx / sizeof m->mx[0]))
+        return rr_seterr(err, RR_EINVAL, "too many Maxwell elements");
       rr_mx *x = &m->mx[m->nmx++];
       memcpy(x->name, el->name, sizeof x->name);
       memcpy(x->J, el->J, sizeof x->J);
@@ -89,7 +99,8 @@ rr_model *rr_model_clone(const rr_model *m)
 int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
 {
   if (!(v > 0 && v <= RR_SPEED_MAX_MS))
-    return rr_seterr(err, RR_EINVAL, "speed %g km/h outside (0, %g] km/h", v * RR_KMH, RR_SPEED_MAX_MS * RR_KMH);
+    return rr_seterr(err, RR_EINVAL, "speed %g km/h outside (0, %g] km/h", v * RR_KMH,
+                     RR_SPEED_MAX_MS * RR_KMH);
   if (!(lambda >= 0 && lambda <= RR_CONICITY_MAX))
     return rr_seterr(err, RR_EINVAL, "conicity %g outside [0, %g]", lambda, RR_CONICITY_MAX);
   int n = m->n, ni = m->ni;
@@ -118,7 +129,7 @@ int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
     m->K[p * n + p] += kyp * dx + kpy * dx;
     m->K[p * n + y] += kpy;
     m->B[p * ni + i] += kpy;
-    if (m->gravity) {   /* K += g a a' - W lambda l0 b b', B += g a */
+    if (m->gravity) { /* K += g a a' - W lambda l0 b b', B += g a */
       double W = s->axle_load, g = W * lambda / s->l0;
       m->K[y * n + y] += g;
       m->K[y * n + p] += g * dx;
@@ -142,7 +153,8 @@ void rr_model_set_gravity_stiffness(rr_model *m, int on)
 
 int rr_model_set_sdf(rr_model *m, int mode, const rr_sdf_curve *curve, rr_error *err)
 {
-  if (mode < RR_SDF_NONE || mode > RR_SDF_PHYSICAL) return rr_seterr(err, RR_EINVAL, "unknown SDF mode %d", mode);
+  if (mode < RR_SDF_NONE || mode > RR_SDF_PHYSICAL)
+    return rr_seterr(err, RR_EINVAL, "unknown SDF mode %d", mode);
   if (mode != RR_SDF_NONE) {
     int st = rr_sdf_curve_check(curve, "SDF curve", err);
     if (st) return st;
@@ -158,7 +170,10 @@ int rr_model_sdf_mode(const rr_model *m) { return m->sdf_mode; }
 const rr_sdf_curve *rr_model_sdf_curve(const rr_model *m) { return &m->curve; }
 int rr_model_ndof(const rr_model *m) { return m->n; }
 int rr_model_ninputs(const rr_model *m) { return m->ni; }
-const char *rr_model_dof_name(const rr_model *m, int i) { return (i >= 0 && i < m->n) ? m->dof_name[i] : NULL; }
+const char *rr_model_dof_name(const rr_model *m, int i)
+{
+  return (i >= 0 && i < m->n) ? m->dof_name[i] : NULL;
+}
 int rr_model_dof_group(const rr_model *m, int i) { return m->group[i]; }
 double rr_model_input_x(const rr_model *m, int i) { return m->contacts[i].x; }
 const double *rr_model_M(const rr_model *m) { return m->M; }
@@ -182,11 +197,13 @@ double complex rr_model_series_k(const rr_model *m, int i, double complex s, dou
 {
   const rr_mx *x = &m->mx[i];
   if (!x->sdf || m->sdf_mode == RR_SDF_NONE) return x->k;
-  if (m->sdf_mode == RR_SDF_PAPER) return sdf_k > 0 ? sdf_k : rr_sdf_storage(&m->curve, fabs(cimag(s)) / (2 * RR_PI));
+  if (m->sdf_mode == RR_SDF_PAPER)
+    return sdf_k > 0 ? sdf_k : rr_sdf_storage(&m->curve, fabs(cimag(s)) / (2 * RR_PI));
   return rr_sdf_laplace(&m->curve, s);
 }
 
-void rr_model_dynamic_stiffness(const rr_model *m, double complex s, double sdf_k, double complex *D)
+void rr_model_dynamic_stiffness(const rr_model *m, double complex s, double sdf_k,
+                                double complex *D)
 {
   int n = m->n;
   double complex s2 = s * s;
@@ -204,7 +221,8 @@ void rr_model_dynamic_stiffness(const rr_model *m, double complex s, double sdf_
   }
 }
 
-int rr_model_point_row(const rr_model *m, const char *body, const double point[3], int dir, double *row, rr_error *err)
+int rr_model_point_row(const rr_model *m, const char *body, const double point[3], int dir,
+                       double *row, rr_error *err)
 {
   int b = -1;
   for (int i = 0; i < m->nbodies; i++)
@@ -214,14 +232,20 @@ int rr_model_point_row(const rr_model *m, const char *body, const double point[3
   double dx = point[0] - bd->ref[0], dy = point[1] - bd->ref[1], dz = point[2] - bd->ref[2];
   for (int i = 0; i < m->n; i++) row[i] = 0;
   switch (dir) {
-  case RR_DIR_X: if (bd->dof_psi >= 0) row[bd->dof_psi] = -dy; break;
+  case RR_DIR_X:
+    if (bd->dof_psi >= 0) row[bd->dof_psi] = -dy;
+    break;
   case RR_DIR_Y:
     if (bd->dof_y >= 0) row[bd->dof_y] = 1;
     if (bd->dof_psi >= 0) row[bd->dof_psi] = dx;
     if (bd->dof_phi >= 0) row[bd->dof_phi] = -dz;
     break;
-  case RR_DIR_Z: if (bd->dof_phi >= 0) row[bd->dof_phi] = dy; break;
-  case RR_DIR_ROLL: if (bd->dof_phi >= 0) row[bd->dof_phi] = 1; break;
+  case RR_DIR_Z:
+    if (bd->dof_phi >= 0) row[bd->dof_phi] = dy;
+    break;
+  case RR_DIR_ROLL:
+    if (bd->dof_phi >= 0) row[bd->dof_phi] = 1;
+    break;
   default: return rr_seterr(err, RR_EINVAL, "unknown direction %d", dir);
   }
   return RR_OK;

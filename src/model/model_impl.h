@@ -8,7 +8,7 @@
 typedef struct rr_mx {
   char name[48];
   double J[RR_SYS_MAX_DOF];
-  int nz;                       /* nonzeros of J, for cheap rank-one updates */
+  int nz; /* nonzeros of J, for cheap rank-one updates */
   int idx[RR_SYS_MAX_DOF];
   double k, c;
   int sdf;
@@ -19,12 +19,12 @@ typedef struct rr_mx {
    included), in the sparse solver's DOF order: leaves first (wheelsets,
    frames, carbody), so that elimination creates little fill. */
 typedef struct rr_sparsity {
-  int perm[RR_SYS_MAX_DOF], inv[RR_SYS_MAX_DOF];   /* solver index <-> model DOF */
+  int perm[RR_SYS_MAX_DOF], inv[RR_SYS_MAX_DOF]; /* solver index <-> model DOF */
   int nnz;
-  int pos[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];         /* i n + j, solver order */
-  int src[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];         /* a n + b, model order */
-  unsigned char pi[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF], pj[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];  /* i, j */
-  int nkeep, elem[2 * RR_SYS_MAX_BODIES];           /* Maxwell elements, mirror pairs merged */
+  int pos[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF]; /* i n + j, solver order */
+  int src[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF]; /* a n + b, model order */
+  unsigned char pi[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF], pj[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF]; /* i, j */
+  int nkeep, elem[2 * RR_SYS_MAX_BODIES]; /* Maxwell elements, mirror pairs merged */
   double mult[2 * RR_SYS_MAX_BODIES];
 } rr_sparsity;
 
@@ -45,7 +45,7 @@ struct rr_model {
   int gravity;
   int sdf_mode;
   rr_sdf_curve curve;
-  rr_sparsity sp;               /* the pattern of D(s), for the sparse solver */
+  rr_sparsity sp; /* the pattern of D(s), for the sparse solver */
 };
 
 /* Fills m->sp from the assembled model (linalg/dynamic_stiffness.c). */

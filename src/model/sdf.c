@@ -17,7 +17,10 @@ static double table_interp(const rr_sdf_curve *c, const double *y, double f)
   int lo = 0, hi = c->n - 1;
   while (hi - lo > 1) {
     int mid = (lo + hi) / 2;
-    if (c->f_hz[mid] <= f) lo = mid; else hi = mid;
+    if (c->f_hz[mid] <= f)
+      lo = mid;
+    else
+      hi = mid;
   }
   double t = log(f / c->f_hz[lo]) / log(c->f_hz[hi] / c->f_hz[lo]);
   return y[lo] + t * (y[hi] - y[lo]);
@@ -34,16 +37,14 @@ double complex rr_sdf_laplace(const rr_sdf_curve *c, double complex s)
 {
   if (c->kind == RR_CURVE_TABLE) {
     double f = cabs(s) / (2 * RR_PI);
-    return table_interp(c, c->k_storage, f) + I * (c->has_loss ? table_interp(c, c->k_loss, f) : 0.0);
+    return table_interp(c, c->k_storage, f) +
+           I * (c->has_loss ? table_interp(c, c->k_loss, f) : 0.0);
   }
   double tau = 1.0 / (2 * RR_PI * c->k1_hz);
   return c->k3 + c->k2 * (s * tau) / (1.0 + s * tau);
 }
 
-double complex rr_sdf_complex(const rr_sdf_curve *c, double w)
-{
-  return rr_sdf_laplace(c, I * w);
-}
+double complex rr_sdf_complex(const rr_sdf_curve *c, double w) { return rr_sdf_laplace(c, I * w); }
 
 void rr_sdf_range(const rr_sdf_curve *c, double *k_lo, double *k_hi)
 {
@@ -64,26 +65,35 @@ void rr_sdf_range(const rr_sdf_curve *c, double *k_lo, double *k_hi)
 int rr_sdf_curve_check(const rr_sdf_curve *c, const char *what, rr_error *err)
 {
   if (c->kind == RR_CURVE_SLS) {
-    if (!(c->k1_hz >= 1e-3 && c->k1_hz <= 1e3)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k1 outside 0.001 .. 1000 Hz", what);
-    if (!(c->k2 >= 0 && c->k2 <= 1e12)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k2 outside 0 .. 1e12 N/m", what);
-    if (!(c->k3 >= 1e3 && c->k3 <= 1e12)) return rr_seterr(err, RR_EINVAL, "%s: sdf_k3 outside 1000 .. 1e12 N/m", what);
+    if (!(c->k1_hz >= 1e-3 && c->k1_hz <= 1e3))
+      return rr_seterr(err, RR_EINVAL, "%s: sdf_k1 outside 0.001 .. 1000 Hz", what);
+    if (!(c->k2 >= 0 && c->k2 <= 1e12))
+      return rr_seterr(err, RR_EINVAL, "%s: sdf_k2 outside 0 .. 1e12 N/m", what);
+    if (!(c->k3 >= 1e3 && c->k3 <= 1e12))
+      return rr_seterr(err, RR_EINVAL, "%s: sdf_k3 outside 1000 .. 1e12 N/m", what);
     return RR_OK;
   }
   if (c->kind == RR_CURVE_TABLE) {
     if (c->n < 1) return rr_seterr(err, RR_EINVAL, "%s: empty SDF table", what);
     for (int i = 0; i < c->n; i++) {
       if (!(c->f_hz[i] > 0 && c->f_hz[i] <= 1e4))
-        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequency outside (0, 1e4] Hz", what, i + 1);
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequency outside (0, 1e4] Hz",
+                         what, i + 1);
       if (i && !(c->f_hz[i] > c->f_hz[i - 1]))
-        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequencies must increase", what, i + 1);
+        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: frequencies must increase", what,
+                         i + 1);
       if (!(c->k_storage[i] >= 1e3 && c->k_storage[i] <= 1e15))
-        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: storage stiffness outside 1000 .. 1e15 N/m", what, i + 1);
+        return rr_seterr(err, RR_EINVAL,
+                         "%s: SDF table row %d: storage stiffness outside 1000 .. 1e15 N/m", what,
+                         i + 1);
       if (c->has_loss && !(c->k_loss[i] >= 0 && c->k_loss[i] <= 1e15))
-        return rr_seterr(err, RR_EINVAL, "%s: SDF table row %d: loss stiffness outside 0 .. 1e15 N/m", what, i + 1);
+        return rr_seterr(err, RR_EINVAL,
+                         "%s: SDF table row %d: loss stiffness outside 0 .. 1e15 N/m", what, i + 1);
     }
     return RR_OK;
   }
-  return rr_seterr(err, RR_EINVAL, "%s: no SDF curve given (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", what);
+  return rr_seterr(err, RR_EINVAL, "%s: no SDF curve given (sdf_k1/sdf_k2/sdf_k3 or sdf_table)",
+                   what);
 }
 
 /* One row of numbers separated by commas, semicolons or blanks: the count
@@ -126,12 +136,17 @@ int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err)
     const char *p = line;
     while (isspace((unsigned char)*p)) p++;
     if (!*p) continue;
-    if (c->n == 0 && ncols < 0 && header_line(p)) { ncols = 0; continue; }
+    if (c->n == 0 && ncols < 0 && header_line(p)) {
+      ncols = 0;
+      continue;
+    }
     int k = row_numbers(p, v);
     if (k < 2 || k > 3)
-      st = rr_seterr(err, RR_EPARSE, "%s:%d: expected 2 or 3 numbers (f_hz, k_storage[, k_loss])", path, r.line);
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: expected 2 or 3 numbers (f_hz, k_storage[, k_loss])",
+                     path, r.line);
     else if (ncols > 0 && k != ncols)
-      st = rr_seterr(err, RR_EPARSE, "%s:%d: %d columns where earlier rows have %d", path, r.line, k, ncols);
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: %d columns where earlier rows have %d", path, r.line,
+                     k, ncols);
     else if (c->n >= RR_SDF_TABLE_MAX)
       st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, r.line, RR_SDF_TABLE_MAX);
     if (st) break;

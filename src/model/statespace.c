@@ -28,7 +28,8 @@ static void fill_mechanical(const rr_model *m, double *A, int N)
 
 /* Adds Maxwell element x, scaled by mult, with stroke state u (and inner
  * dashpot state u2 in physical SDF mode, else -1). */
-static void fill_maxwell(const rr_model *m, const rr_mx *x, double mult, double sdf_k, int u, int u2, double *A, int N)
+static void fill_maxwell(const rr_model *m, const rr_mx *x, double mult, double sdf_k, int u,
+                         int u2, double *A, int N)
 {
   int n = m->n;
   int sdf = x->sdf && m->sdf_mode != RR_SDF_NONE;
@@ -36,12 +37,14 @@ static void fill_maxwell(const rr_model *m, const rr_mx *x, double mult, double 
   if (sdf && u2 >= 0) {
     /* c_sx in series with K3 || (K2 in series with c_z = K2 tau):
        f = (K3+K2)(Jq - u1) - K2 u2, u1' = f / c_sx, u2' = (Jq - u1 - u2) / tau. */
-    double K3 = mult * m->curve.k3, K2 = mult * m->curve.k2, tau = 1.0 / (2 * RR_PI * m->curve.k1_hz);
+    double K3 = mult * m->curve.k3, K2 = mult * m->curve.k2,
+           tau = 1.0 / (2 * RR_PI * m->curve.k1_hz);
     double ks = K3 + K2;
     for (int a = 0; a < x->nz; a++) {
       int i = x->idx[a];
       double im = 1.0 / m->mdiag[i];
-      for (int b = 0; b < x->nz; b++) A[(n + i) * N + x->idx[b]] -= ks * x->J[i] * x->J[x->idx[b]] * im;
+      for (int b = 0; b < x->nz; b++)
+        A[(n + i) * N + x->idx[b]] -= ks * x->J[i] * x->J[x->idx[b]] * im;
       A[(n + i) * N + u] += ks * x->J[i] * im;
       A[(n + i) * N + u2] += K2 * x->J[i] * im;
       A[u * N + i] = ks * x->J[i] / c;
@@ -54,7 +57,7 @@ static void fill_maxwell(const rr_model *m, const rr_mx *x, double mult, double 
     return;
   }
   double k = x->k;
-  if (sdf) {   /* paper mode: constant k per solve, the curve's minimum unless given */
+  if (sdf) { /* paper mode: constant k per solve, the curve's minimum unless given */
     double k_lo, k_hi;
     rr_sdf_range(&m->curve, &k_lo, &k_hi);
     k = sdf_k > 0 ? sdf_k : k_lo;
@@ -63,7 +66,8 @@ static void fill_maxwell(const rr_model *m, const rr_mx *x, double mult, double 
   for (int a = 0; a < x->nz; a++) {
     int i = x->idx[a];
     double im = 1.0 / m->mdiag[i];
-    for (int b = 0; b < x->nz; b++) A[(n + i) * N + x->idx[b]] -= k * x->J[i] * x->J[x->idx[b]] * im;
+    for (int b = 0; b < x->nz; b++)
+      A[(n + i) * N + x->idx[b]] -= k * x->J[i] * x->J[x->idx[b]] * im;
     A[(n + i) * N + u] += k * x->J[i] * im;
     A[u * N + i] = k * x->J[i] / c;
   }
@@ -75,9 +79,11 @@ int rr_model_state_matrix(const rr_model *m, double sdf_k, double *A, rr_error *
   int n = m->n, N = rr_model_state_size(m);
   int phys = m->sdf_mode == RR_SDF_PHYSICAL;
   if (phys && m->curve.kind == RR_CURVE_TABLE)
-    return rr_seterr(err, RR_EUNSUP, "a tabulated SDF curve has no state-space form: use paper mode for modal analysis");
+    return rr_seterr(
+        err, RR_EUNSUP,
+        "a tabulated SDF curve has no state-space form: use paper mode for modal analysis");
   fill_mechanical(m, A, N);
-  int inner = 2 * n + m->nmx;   /* inner-dashpot states follow all the strokes */
+  int inner = 2 * n + m->nmx; /* inner-dashpot states follow all the strokes */
   for (int e = 0; e < m->nmx; e++) {
     const rr_mx *x = &m->mx[e];
     int u2 = phys && x->sdf ? inner++ : -1;
@@ -107,7 +113,11 @@ int rr_merged_elements(const rr_model *m, int *elem, double *mult)
     if (partner[e] != -2) continue;
     partner[e] = -1;
     for (int f = e + 1; f < m->nmx; f++)
-      if (partner[f] == -2 && mirror(&m->mx[e], &m->mx[f], m->n)) { partner[e] = f; partner[f] = e; break; }
+      if (partner[f] == -2 && mirror(&m->mx[e], &m->mx[f], m->n)) {
+        partner[e] = f;
+        partner[f] = e;
+        break;
+      }
     elem[nkeep] = e;
     mult[nkeep] = partner[e] >= 0 ? 2.0 : 1.0;
     nkeep++;
@@ -119,7 +129,9 @@ int rr_state_matrix_merged(const rr_model *m, double sdf_k, double *A, int *Nout
 {
   int n = m->n, phys = m->sdf_mode == RR_SDF_PHYSICAL;
   if (phys && m->curve.kind == RR_CURVE_TABLE)
-    return rr_seterr(err, RR_EUNSUP, "a tabulated SDF curve has no state-space form: use paper mode for modal analysis");
+    return rr_seterr(
+        err, RR_EUNSUP,
+        "a tabulated SDF curve has no state-space form: use paper mode for modal analysis");
   int elem[2 * RR_SYS_MAX_BODIES];
   double mult[2 * RR_SYS_MAX_BODIES];
   int nkeep = rr_merged_elements(m, elem, mult), ninner = 0;

@@ -7,10 +7,7 @@
 #include "system_impl.h"
 #include "internal.h"
 
-rr_system *rr_system_new(void)
-{
-  return calloc(1, sizeof(rr_system));
-}
+rr_system *rr_system_new(void) { return calloc(1, sizeof(rr_system)); }
 
 void rr_system_free(rr_system *sys)
 {
@@ -44,7 +41,8 @@ int rr_system_add_body(rr_system *sys, const rr_body_spec *b, rr_error *err)
   if (b->group < 0 || b->group >= RR_NGROUPS)
     return -rr_seterr(err, RR_EINVAL, "body %s: unknown group %d", b->name, b->group);
   if (!b->dofs || (b->dofs & ~7u))
-    return -rr_seterr(err, RR_EINVAL, "body %s: DOF mask must be a non-empty RR_DOF_* set", b->name);
+    return -rr_seterr(err, RR_EINVAL, "body %s: DOF mask must be a non-empty RR_DOF_* set",
+                      b->name);
   if (sys->nbodies >= RR_SYS_MAX_BODIES)
     return -rr_seterr(err, RR_EINVAL, "too many bodies (max %d)", RR_SYS_MAX_BODIES);
   if (grow((void **)&sys->bodies, &sys->cap_bodies, sys->nbodies + 1, sizeof *sys->bodies))
@@ -60,7 +58,8 @@ int rr_system_add_body(rr_system *sys, const rr_body_spec *b, rr_error *err)
   int *slot[3] = {&bd->dof_y, &bd->dof_psi, &bd->dof_phi};
   for (int k = 0; k < 3; k++) {
     if (!(b->dofs & (1u << k))) continue;
-    if (sys->ndof >= RR_SYS_MAX_DOF) return -rr_seterr(err, RR_EINVAL, "too many DOFs (max %d)", RR_SYS_MAX_DOF);
+    if (sys->ndof >= RR_SYS_MAX_DOF)
+      return -rr_seterr(err, RR_EINVAL, "too many DOFs (max %d)", RR_SYS_MAX_DOF);
     *slot[k] = sys->ndof;
     sys->mass[sys->ndof] = inertia[k];
     sys->group[sys->ndof] = b->group;
@@ -71,7 +70,8 @@ int rr_system_add_body(rr_system *sys, const rr_body_spec *b, rr_error *err)
 }
 
 /* Adds sign * (displacement of the point along dir) to J. */
-static void add_point_motion(const rr_system *sys, int body, const double *pt, int dir, double sign, double *J)
+static void add_point_motion(const rr_system *sys, int body, const double *pt, int dir, double sign,
+                             double *J)
 {
   if (body == RR_GROUND) return;
   const rr_body *b = &sys->bodies[body];
@@ -96,9 +96,11 @@ static void add_point_motion(const rr_system *sys, int body, const double *pt, i
 
 int rr_system_element_row(const rr_system *sys, const rr_element_spec *e, double *J, rr_error *err)
 {
-  if (e->body_a < RR_GROUND || e->body_a >= sys->nbodies || e->body_b < RR_GROUND || e->body_b >= sys->nbodies)
+  if (e->body_a < RR_GROUND || e->body_a >= sys->nbodies || e->body_b < RR_GROUND ||
+      e->body_b >= sys->nbodies)
     return rr_seterr(err, RR_EINVAL, "element %s: unknown body", e->name);
-  if (e->body_a == e->body_b) return rr_seterr(err, RR_EINVAL, "element %s: joins a body to itself", e->name);
+  if (e->body_a == e->body_b)
+    return rr_seterr(err, RR_EINVAL, "element %s: joins a body to itself", e->name);
   if (e->direction < RR_DIR_X || e->direction > RR_DIR_ROLL)
     return rr_seterr(err, RR_EINVAL, "element %s: unknown direction", e->name);
   for (int i = 0; i < sys->ndof; i++) J[i] = 0;
@@ -112,11 +114,13 @@ int rr_system_add_element(rr_system *sys, const rr_element_spec *e, rr_error *er
   const char *nm = e->name ? e->name : "element";
   int needk = e->law == RR_LAW_SPRING || e->law == RR_LAW_KC || e->law == RR_LAW_MAXWELL;
   int needc = e->law != RR_LAW_SPRING;
-  if (e->law < RR_LAW_SPRING || e->law > RR_LAW_MAXWELL) return -rr_seterr(err, RR_EINVAL, "element %s: unknown law", nm);
+  if (e->law < RR_LAW_SPRING || e->law > RR_LAW_MAXWELL)
+    return -rr_seterr(err, RR_EINVAL, "element %s: unknown law", nm);
   if (needk && (isnan(e->k) || e->k < 0 || (isinf(e->k) && e->law != RR_LAW_MAXWELL)))
     return -rr_seterr(err, RR_EINVAL, "element %s: stiffness must be finite and >= 0", nm);
   if (e->law == RR_LAW_MAXWELL && !(e->k > 0))
-    return -rr_seterr(err, RR_EINVAL, "element %s: series stiffness must be > 0 (inf for a rigid link)", nm);
+    return -rr_seterr(err, RR_EINVAL,
+                      "element %s: series stiffness must be > 0 (inf for a rigid link)", nm);
   if (needc && !(isfinite(e->c) && e->c >= 0))
     return -rr_seterr(err, RR_EINVAL, "element %s: damping must be finite and >= 0", nm);
   if (grow((void **)&sys->elements, &sys->cap_elements, sys->nelements + 1, sizeof *sys->elements))
@@ -135,12 +139,14 @@ int rr_system_add_element(rr_system *sys, const rr_element_spec *e, rr_error *er
 
 int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *err)
 {
-  if (c->body < 0 || c->body >= sys->nbodies) return -rr_seterr(err, RR_EINVAL, "contact: unknown body");
+  if (c->body < 0 || c->body >= sys->nbodies)
+    return -rr_seterr(err, RR_EINVAL, "contact: unknown body");
   const rr_body *b = &sys->bodies[c->body];
   if (b->dof_y < 0 || b->dof_psi < 0)
     return -rr_seterr(err, RR_EINVAL, "contact: body %s needs y and psi DOFs", b->name);
   if (!(isfinite(c->f11) && c->f11 >= 0 && isfinite(c->f22) && c->f22 >= 0))
-    return -rr_seterr(err, RR_EINVAL, "contact on %s: creep coefficients must be finite and >= 0", b->name);
+    return -rr_seterr(err, RR_EINVAL, "contact on %s: creep coefficients must be finite and >= 0",
+                      b->name);
   if (!(isfinite(c->r0) && c->r0 > 0 && isfinite(c->l0) && c->l0 > 0))
     return -rr_seterr(err, RR_EINVAL, "contact on %s: r0 and l0 must be > 0", b->name);
   if (!(isfinite(c->axle_load) && c->axle_load >= 0))
@@ -152,7 +158,8 @@ int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *er
   ct->spec = *c;
   ct->dof_y = b->dof_y;
   ct->dof_psi = b->dof_psi;
-  if (!isfinite(c->dx)) return -rr_seterr(err, RR_EINVAL, "contact on %s: offset must be finite", b->name);
+  if (!isfinite(c->dx))
+    return -rr_seterr(err, RR_EINVAL, "contact on %s: offset must be finite", b->name);
   ct->x = b->ref[0] + c->dx;
   return sys->ncontacts++;
 }

@@ -10,29 +10,38 @@
 #include "orbit.h"
 #include "internal.h"
 
-void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, const double *yt, double *dz);
-void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt, double *J);
-void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m, int dfdv,
-                         double *out);
+void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
+                         double *dz);
+void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
+                              double *J);
+void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m,
+                         int dfdv, double *out);
 int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g);
 
-#define AMP_UNIT 1e-3             /* arclength: 1 mm of amplitude ... */
-#define SPEED_UNIT (10 / RR_KMH)  /* ... weighs as 10 km/h */
-#define AMP_START 0.02e-3         /* the first cycle's amplitude, m */
-#define HOPF_V_MIN (10 / RR_KMH)  /* the Hopf point is sought from here to RR_SPEED_MAX_MS */
-#define HOPF_STEP (5 / RR_KMH)    /* in steps of 5 km/h, then bisected */
-#define WINDOW_BEYOND 1.05        /* a Hopf point outside the range is followed this far past it */
-#define SCAN_FS 1000.0            /* samples a second in the scan's runs */
-#define SCAN_DEAD 1e-6            /* m: a motion below this has died out */
-#define SCAN_DECAY 0.02           /* a motion decaying faster over the measured window dies out */
+#define AMP_UNIT 1e-3            /* arclength: 1 mm of amplitude ... */
+#define SPEED_UNIT (10 / RR_KMH) /* ... weighs as 10 km/h */
+#define AMP_START 0.02e-3        /* the first cycle's amplitude, m */
+#define HOPF_V_MIN (10 / RR_KMH) /* the Hopf point is sought from here to RR_SPEED_MAX_MS */
+#define HOPF_STEP (5 / RR_KMH)   /* in steps of 5 km/h, then bisected */
+#define WINDOW_BEYOND 1.05       /* a Hopf point outside the range is followed this far past it */
+#define SCAN_FS 1000.0           /* samples a second in the scan's runs */
+#define SCAN_DEAD 1e-6           /* m: a motion below this has died out */
+#define SCAN_DECAY 0.02          /* a motion decaying faster over the measured window dies out */
 
 rr_orbit_opts rr_orbit_opts_default(void)
 {
-  return (rr_orbit_opts){.v_min_ms = 100 / RR_KMH, .v_max_ms = 600 / RR_KMH, .amp_max_m = 30e-3, .ds = 0.2,
-                         .max_points = 400, .rtol = 1e-10};
+  return (rr_orbit_opts){.v_min_ms = 100 / RR_KMH,
+                         .v_max_ms = 600 / RR_KMH,
+                         .amp_max_m = 30e-3,
+                         .ds = 0.2,
+                         .max_points = 400,
+                         .rtol = 1e-10};
 }
 
-rr_scan_opts rr_scan_opts_default(void) { return (rr_scan_opts){.settle_s = 20, .measure_s = 2, .y0_m = 10e-3}; }
+rr_scan_opts rr_scan_opts_default(void)
+{
+  return (rr_scan_opts){.settle_s = 20, .measure_s = 2, .y0_m = 10e-3};
+}
 
 static void sys_rhs(void *u, double t, double p, const double *z, double *dz)
 {
@@ -46,12 +55,16 @@ static void sys_jac(void *u, double t, double p, const double *z, double *J)
   rr_nonlinear_jacobian_at(u, p, z, NULL, J);
 }
 
-static void sys_jvp(void *u, double p, const double *z, const double *X, int m, int dfdp, double *out)
+static void sys_jvp(void *u, double p, const double *z, const double *X, int m, int dfdp,
+                    double *out)
 {
   rr_nonlinear_jvp_at(u, p, z, X, m, dfdp, out);
 }
 
-static void sys_kinks(void *u, double p, const double *z, double *g) { rr_nonlinear_kinks_at(u, p, z, g); }
+static void sys_kinks(void *u, double p, const double *z, double *g)
+{
+  rr_nonlinear_kinks_at(u, p, z, g);
+}
 
 /* The vehicle as an orbit system: amplitude y_w1, phase dy_w1/dt = 0. */
 int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_error *err)
@@ -59,20 +72,31 @@ int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_
   int N = rr_nonlinear_size(nl), k = rr_nonlinear_index_y(nl, 0);
   if (k < 0) return rr_seterr(err, RR_EINVAL, "orbit: the model has no wheelset");
   int nk = rr_nonlinear_kinks_at(nl, 1, NULL, NULL);
-  if (nk > RR_ORBIT_MAX_KINKS) return rr_seterr(err, RR_EUNSUP, "orbit: more than %d wheelset kinks", RR_ORBIT_MAX_KINKS);
+  if (nk > RR_ORBIT_MAX_KINKS)
+    return rr_seterr(err, RR_EUNSUP, "orbit: more than %d wheelset kinks", RR_ORBIT_MAX_KINKS);
   *atol = malloc(sizeof(double) * (size_t)N);
   if (!*atol) return rr_seterr(err, RR_ENOMEM, "out of memory");
-  rr_nonlinear_atol(nl, AMP_UNIT, *atol);   /* magnitudes on a 1 mm orbit */
-  *s = (rr_orbit_sys){.ode = {.n = N, .rhs = sys_rhs, .jac = sys_jac, .user = nl}, .jvp = sys_jvp, .nkinks = nk,
-                      .kinks = sys_kinks, .k_amp = k, .k_phase = rr_nonlinear_ndof(nl) + k, .amp_unit = AMP_UNIT,
-                      .p_unit = SPEED_UNIT, .atol = *atol};
+  rr_nonlinear_atol(nl, AMP_UNIT, *atol); /* magnitudes on a 1 mm orbit */
+  *s = (rr_orbit_sys){.ode = {.n = N, .rhs = sys_rhs, .jac = sys_jac, .user = nl},
+                      .jvp = sys_jvp,
+                      .nkinks = nk,
+                      .kinks = sys_kinks,
+                      .k_amp = k,
+                      .k_phase = rr_nonlinear_ndof(nl) + k,
+                      .amp_unit = AMP_UNIT,
+                      .p_unit = SPEED_UNIT,
+                      .atol = *atol};
   return RR_OK;
 }
 
 static rr_cycle cycle_of(const rr_orbit *o)
 {
-  return (rr_cycle){.speed_ms = o->p, .period_s = o->T, .amplitude_m = o->amp, .floquet_max = o->floquet_max,
-                    .stable = o->stable, .residual = o->residual};
+  return (rr_cycle){.speed_ms = o->p,
+                    .period_s = o->T,
+                    .amplitude_m = o->amp,
+                    .floquet_max = o->floquet_max,
+                    .stable = o->stable,
+                    .residual = o->residual};
 }
 
 static rr_contact_law law_of(const rr_vehicle *veh)
@@ -88,29 +112,37 @@ static const rr_profile *profile_of(const rr_vehicle *veh, const rr_profile *p, 
 {
   if (p) return p;
   if (veh->profile.kind == RR_PROFILE_NONE) {
-    rr_seterr(err, RR_EINVAL, "no tread profile: give one (new, worn or a table) or [contact] conicity_poly / conicity_table");
+    rr_seterr(err, RR_EINVAL,
+              "no tread profile: give one (new, worn or a table) or [contact] conicity_poly / "
+              "conicity_table");
     return NULL;
   }
   return &veh->profile;
 }
 
 /* The model at (v, lambda(0)) and the nonlinear vehicle on it. */
-static int build(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, double v, rr_model **m,
-                 rr_nonlinear **nl, rr_error *err)
+static int build(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, double v,
+                 rr_model **m, rr_nonlinear **nl, rr_error *err)
 {
   *m = NULL;
   *nl = NULL;
   rr_contact_law def;
-  if (!law) { def = law_of(veh); law = &def; }
+  if (!law) {
+    def = law_of(veh);
+    law = &def;
+  }
   int st = rr_model_from_vehicle(veh, m, err);
   if (!st) st = rr_model_set_operating(*m, v, rr_profile_conicity(p, 0), err);
   if (!st) st = rr_nonlinear_new(*m, p, law, nl, err);
-  if (st) { rr_model_free(*m); *m = NULL; }
+  if (st) {
+    rr_model_free(*m);
+    *m = NULL;
+  }
   return st;
 }
 
-int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, double v,
-                              rr_nonlinear **out, rr_error *err)
+int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
+                              double v, rr_nonlinear **out, rr_error *err)
 {
   *out = NULL;
   if (!(p = profile_of(veh, p, err))) return RR_EINVAL;
@@ -155,9 +187,12 @@ static int hopf_point(rr_model *m, double lam0, rr_bifurcation *res, rr_error *e
 static double extrapolate_hopf(const rr_cycle *c, int n)
 {
   if (n < 2) return NAN;
-  if (n == 2) return c[0].speed_ms - c[0].amplitude_m * (c[1].speed_ms - c[0].speed_ms) / (c[1].amplitude_m - c[0].amplitude_m);
+  if (n == 2)
+    return c[0].speed_ms - c[0].amplitude_m * (c[1].speed_ms - c[0].speed_ms) /
+                               (c[1].amplitude_m - c[0].amplitude_m);
   double a0 = c[0].amplitude_m, a1 = c[1].amplitude_m, a2 = c[2].amplitude_m;
-  return c[0].speed_ms * a1 * a2 / ((a0 - a1) * (a0 - a2)) + c[1].speed_ms * a0 * a2 / ((a1 - a0) * (a1 - a2)) +
+  return c[0].speed_ms * a1 * a2 / ((a0 - a1) * (a0 - a2)) +
+         c[1].speed_ms * a0 * a2 / ((a1 - a0) * (a1 - a2)) +
          c[2].speed_ms * a0 * a1 / ((a2 - a0) * (a2 - a1));
 }
 
@@ -168,14 +203,20 @@ static double lowest_speed(const rr_cycle *c, int n, double v_hopf)
   int b = -1;
   double best = v_hopf;
   for (int i = 0; i < n; i++)
-    if (c[i].speed_ms < best) { best = c[i].speed_ms; b = i; }
+    if (c[i].speed_ms < best) {
+      best = c[i].speed_ms;
+      b = i;
+    }
   if (b <= 0 || b >= n - 1) return best;
   double x0 = c[b - 1].amplitude_m, x1 = c[b].amplitude_m, x2 = c[b + 1].amplitude_m;
   double y0 = c[b - 1].speed_ms, y1 = c[b].speed_ms, y2 = c[b + 1].speed_ms;
   double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1), a = (d12 - d01) / (x2 - x0);
   if (!(a > 0)) return best;
-  double xv = 0.5 * (x0 + x1) - d01 / (2 * a), yv = y1 + d01 * (xv - x1) + a * (xv - x0) * (xv - x1);
-  return yv < best && xv > fmin(x0, x2) && xv < fmax(x0, x2) ? yv : best;   /* the vertex, when it lies between */
+  double xv = 0.5 * (x0 + x1) - d01 / (2 * a),
+         yv = y1 + d01 * (xv - x1) + a * (xv - x0) * (xv - x1);
+  return yv < best && xv > fmin(x0, x2) && xv < fmax(x0, x2)
+             ? yv
+             : best; /* the vertex, when it lies between */
 }
 
 static void summarise(const rr_cycle *c, int n, rr_bifurcation *res)
@@ -188,17 +229,23 @@ static void summarise(const rr_cycle *c, int n, rr_bifurcation *res)
 }
 
 int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
-                            const rr_orbit_opts *o, rr_cycle *out, double *z_out, int cap, rr_bifurcation *res,
-                            rr_error *err)
+                            const rr_orbit_opts *o, rr_cycle *out, double *z_out, int cap,
+                            rr_bifurcation *res, rr_error *err)
 {
   rr_orbit_opts def = rr_orbit_opts_default();
   if (!o) o = &def;
-  *res = (rr_bifurcation){.hopf_speed_ms = NAN, .hopf_freq_hz = NAN, .hopf_speed_branch_ms = NAN,
-                          .nonlinear_critical_ms = NAN, .type = RR_BIF_NONE, .end = RR_BRANCH_RANGE};
-  if (!(o->v_min_ms > 0 && o->v_max_ms > o->v_min_ms && o->v_max_ms <= RR_SPEED_MAX_MS && o->amp_max_m > 0 &&
-        o->ds > 0 && o->rtol > 0 && o->max_points >= 2 && cap >= 2))
-    return rr_seterr(err, RR_EINVAL, "bifurcation: speeds 0 < min < max <= %g km/h, positive steps, room for 2 points",
-                     RR_SPEED_MAX_MS * RR_KMH);
+  *res = (rr_bifurcation){.hopf_speed_ms = NAN,
+                          .hopf_freq_hz = NAN,
+                          .hopf_speed_branch_ms = NAN,
+                          .nonlinear_critical_ms = NAN,
+                          .type = RR_BIF_NONE,
+                          .end = RR_BRANCH_RANGE};
+  if (!(o->v_min_ms > 0 && o->v_max_ms > o->v_min_ms && o->v_max_ms <= RR_SPEED_MAX_MS &&
+        o->amp_max_m > 0 && o->ds > 0 && o->rtol > 0 && o->max_points >= 2 && cap >= 2))
+    return rr_seterr(
+        err, RR_EINVAL,
+        "bifurcation: speeds 0 < min < max <= %g km/h, positive steps, room for 2 points",
+        RR_SPEED_MAX_MS * RR_KMH);
   if (!(p = profile_of(veh, p, err))) return RR_EINVAL;
   rr_contact_law lv = law ? *law : law_of(veh);
   rr_model *m;
@@ -214,10 +261,15 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
     if (!st) st = rr_nonlinear_orbit_sys(nl, &s, &atol, err);
     double vh = res->hopf_speed_ms;
     rr_branch_opts bo = {.p_min = fmin(o->v_min_ms, vh / WINDOW_BEYOND),
-                         .p_max = vh <= o->v_max_ms ? o->v_max_ms : fmin(vh * WINDOW_BEYOND, RR_SPEED_MAX_MS),
+                         .p_max = vh <= o->v_max_ms ? o->v_max_ms
+                                                    : fmin(vh * WINDOW_BEYOND, RR_SPEED_MAX_MS),
                          /* above the range, only a branch that turns back down can enter it */
-                         .amp_max = o->amp_max_m, .amp_start = AMP_START, .ds = o->ds, .ds_max = 15 * o->ds,
-                         .rtol = o->rtol, .cap = cap < o->max_points ? cap : o->max_points};
+                         .amp_max = o->amp_max_m,
+                         .amp_start = AMP_START,
+                         .ds = o->ds,
+                         .ds_max = 15 * o->ds,
+                         .rtol = o->rtol,
+                         .cap = cap < o->max_points ? cap : o->max_points};
     int n = 0;
     if (!st) st = rr_orbit_branch(&s, vh, &bo, pts, z_out, &n, &res->end, err);
     for (int i = 0; i < n; i++) out[i] = cycle_of(&pts[i]);
@@ -230,7 +282,8 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
   return st;
 }
 
-int rr_cycle_shoot(rr_nonlinear *nl, double *z0, double *T, double rtol, rr_cycle *out, rr_error *err)
+int rr_cycle_shoot(rr_nonlinear *nl, double *z0, double *T, double rtol, rr_cycle *out,
+                   rr_error *err)
 {
   rr_orbit_sys s;
   double *atol, p = rr_nonlinear_speed(nl);
@@ -249,7 +302,8 @@ static double peak(const double *u, int stride, int ns)
 {
   double a = 0;
   for (int i = 1; i < ns - 1; i++) {
-    double y0 = fabs(u[(size_t)(i - 1) * stride]), y1 = fabs(u[(size_t)i * stride]), y2 = fabs(u[(size_t)(i + 1) * stride]);
+    double y0 = fabs(u[(size_t)(i - 1) * stride]), y1 = fabs(u[(size_t)i * stride]),
+           y2 = fabs(u[(size_t)(i + 1) * stride]);
     double den = y0 - 2 * y1 + y2;
     a = fmax(a, y1 >= y0 && y1 >= y2 && den < 0 ? y1 - 0.125 * (y0 - y2) * (y0 - y2) / den : y1);
   }
@@ -261,8 +315,8 @@ static double peak(const double *u, int stride, int ns)
    more than SCAN_DECAY) or below SCAN_DEAD is no cycle: amplitude 0. */
 static void measure(const double *u, int stride, int ns, double fs, double *amp, double *freq)
 {
-  double a1 = peak(u, stride, ns / 2), a2 = peak(u + (size_t)(ns / 2) * stride, stride, ns - ns / 2), t_first = NAN,
-         t_last = NAN;
+  double a1 = peak(u, stride, ns / 2),
+         a2 = peak(u + (size_t)(ns / 2) * stride, stride, ns - ns / 2), t_first = NAN, t_last = NAN;
   int ncross = 0;
   for (int i = 1; i < ns; i++) {
     double p = u[(size_t)(i - 1) * stride], q = u[(size_t)i * stride];
@@ -279,8 +333,8 @@ static void measure(const double *u, int stride, int ns, double fs, double *amp,
 }
 
 /* One run at nl's speed from z (left at the run's end). */
-static int scan_run(rr_nonlinear *nl, double *z, const rr_scan_opts *o, double *buf, int ns, rr_scan_point *pt,
-                    rr_error *err)
+static int scan_run(rr_nonlinear *nl, double *z, const rr_scan_opts *o, double *buf, int ns,
+                    rr_scan_point *pt, rr_error *err)
 {
   rr_sim_opts so = rr_sim_opts_default();
   int N = rr_nonlinear_size(nl), k = rr_nonlinear_index_y(nl, 0);
@@ -295,16 +349,20 @@ static int scan_run(rr_nonlinear *nl, double *z, const rr_scan_opts *o, double *
   return RR_OK;
 }
 
-int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, const double *vs,
-                        int nv, const rr_scan_opts *o, rr_scan_point *up, rr_scan_point *down, rr_error *err)
+int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
+                        const double *vs, int nv, const rr_scan_opts *o, rr_scan_point *up,
+                        rr_scan_point *down, rr_error *err)
 {
   rr_scan_opts def = rr_scan_opts_default();
   if (!o) o = &def;
-  if (!(nv >= 1 && o->settle_s >= 0 && o->measure_s > 0 && o->settle_s + o->measure_s <= 1e4 && isfinite(o->y0_m)))
-    return rr_seterr(err, RR_EINVAL, "scan: at least one speed, settle >= 0, measure > 0 s (together <= 1e4 s)");
+  if (!(nv >= 1 && o->settle_s >= 0 && o->measure_s > 0 && o->settle_s + o->measure_s <= 1e4 &&
+        isfinite(o->y0_m)))
+    return rr_seterr(err, RR_EINVAL,
+                     "scan: at least one speed, settle >= 0, measure > 0 s (together <= 1e4 s)");
   for (int i = 0; i < nv; i++)
     if (!(vs[i] > 0 && vs[i] <= RR_SPEED_MAX_MS) || (i && !(vs[i] > vs[i - 1])))
-      return rr_seterr(err, RR_EINVAL, "scan: speeds must rise within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
+      return rr_seterr(err, RR_EINVAL, "scan: speeds must rise within (0, %g] km/h",
+                       RR_SPEED_MAX_MS * RR_KMH);
   if (!(p = profile_of(veh, p, err))) return RR_EINVAL;
   rr_model *m;
   rr_nonlinear *nl;
@@ -313,11 +371,14 @@ int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_con
   int N = rr_nonlinear_size(nl), ns = (int)ceil((o->settle_s + o->measure_s) * SCAN_FS) + 1;
   double *z = calloc((size_t)N, sizeof(double)), *buf = malloc(sizeof(double) * (size_t)ns * N);
   if (!z || !buf) st = rr_seterr(err, RR_ENOMEM, "out of memory");
-  for (int w = 0; w < rr_nonlinear_ninputs(nl) && !st; w++) z[rr_nonlinear_index_y(nl, w)] = o->y0_m;
-  for (int i = 0; i < nv && !st; i++)   /* up: each speed from the last end state */
-    if (!(st = rr_nonlinear_set_speed(nl, vs[i], err))) st = scan_run(nl, z, o, buf, ns, &up[i], err);
-  for (int i = nv - 1; i >= 0 && !st; i--)   /* down, from the top speed's motion */
-    if (!(st = rr_nonlinear_set_speed(nl, vs[i], err))) st = scan_run(nl, z, o, buf, ns, &down[i], err);
+  for (int w = 0; w < rr_nonlinear_ninputs(nl) && !st; w++)
+    z[rr_nonlinear_index_y(nl, w)] = o->y0_m;
+  for (int i = 0; i < nv && !st; i++) /* up: each speed from the last end state */
+    if (!(st = rr_nonlinear_set_speed(nl, vs[i], err)))
+      st = scan_run(nl, z, o, buf, ns, &up[i], err);
+  for (int i = nv - 1; i >= 0 && !st; i--) /* down, from the top speed's motion */
+    if (!(st = rr_nonlinear_set_speed(nl, vs[i], err)))
+      st = scan_run(nl, z, o, buf, ns, &down[i], err);
   free(z);
   free(buf);
   rr_nonlinear_free(nl);

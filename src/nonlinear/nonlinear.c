@@ -13,10 +13,10 @@
 double rr_profile_eval(const rr_profile *p, double a_m, double *dlam_da);
 
 typedef struct wheelset {
-  int y, p;                 /* DOF indices */
-  double f11, f22, r0, l0;  /* per wheel */
-  double W, muN;            /* axle load (gravitational stiffness), friction limit per wheel */
-  double im_y, im_p;        /* 1 / m_w, 1 / I_wz */
+  int y, p;                /* DOF indices */
+  double f11, f22, r0, l0; /* per wheel */
+  double W, muN;           /* axle load (gravitational stiffness), friction limit per wheel */
+  double im_y, im_p;       /* 1 / m_w, 1 / I_wz */
 } wheelset;
 
 struct rr_nonlinear {
@@ -25,14 +25,15 @@ struct rr_nonlinear {
   rr_profile prof;
   rr_contact_law law;
   wheelset w[RR_SYS_MAX_INPUTS];
-  int nnz;                  /* the suspension's state matrix, sparse by rows */
+  int nnz; /* the suspension's state matrix, sparse by rows */
   int *row_start, *col;
   double *val;
 };
 
 rr_contact_law rr_contact_law_default(void)
 {
-  return (rr_contact_law){.friction = 0.3, .flange_clearance = 8e-3, .flange_stiffness = 500e6, .saturation = 1};
+  return (rr_contact_law){
+      .friction = 0.3, .flange_clearance = 8e-3, .flange_stiffness = 500e6, .saturation = 1};
 }
 
 void rr_nonlinear_free(rr_nonlinear *nl)
@@ -44,18 +45,25 @@ void rr_nonlinear_free(rr_nonlinear *nl)
   free(nl);
 }
 
-static int check_inputs(const rr_model *m, const rr_profile *p, const rr_contact_law *law, rr_error *err)
+static int check_inputs(const rr_model *m, const rr_profile *p, const rr_contact_law *law,
+                        rr_error *err)
 {
   if (m->sdf_mode == RR_SDF_PAPER && m->nsdf)
-    return rr_seterr(err, RR_EUNSUP, "nonlinear model: the paper-mode SDF has no time form (use sdf = physical or none)");
+    return rr_seterr(
+        err, RR_EUNSUP,
+        "nonlinear model: the paper-mode SDF has no time form (use sdf = physical or none)");
   if (m->sdf_mode == RR_SDF_PHYSICAL && m->curve.kind == RR_CURVE_TABLE)
     return rr_seterr(err, RR_EUNSUP, "nonlinear model: a tabulated SDF curve has no time form");
-  if (!(law->friction > 0 && law->friction <= 2 && law->flange_clearance >= 0 && law->flange_clearance <= 0.05 &&
-        law->flange_stiffness >= 0 && law->flange_stiffness <= 1e11))
-    return rr_seterr(err, RR_EINVAL, "contact law: friction in (0, 2], flange clearance 0 .. 50 mm, stiffness 0 .. 1e11 N/m");
+  if (!(law->friction > 0 && law->friction <= 2 && law->flange_clearance >= 0 &&
+        law->flange_clearance <= 0.05 && law->flange_stiffness >= 0 &&
+        law->flange_stiffness <= 1e11))
+    return rr_seterr(
+        err, RR_EINVAL,
+        "contact law: friction in (0, 2], flange clearance 0 .. 50 mm, stiffness 0 .. 1e11 N/m");
   for (int i = 0; i < m->ni; i++)
     if (m->contacts[i].spec.dx != 0)
-      return rr_seterr(err, RR_EUNSUP, "nonlinear model: contacts must sit at their wheelset's reference point");
+      return rr_seterr(err, RR_EUNSUP,
+                       "nonlinear model: contacts must sit at their wheelset's reference point");
   return rr_profile_check(p, err);
 }
 
@@ -65,7 +73,11 @@ static int suspension(rr_nonlinear *nl, const rr_model *m, rr_error *err)
 {
   rr_model *s = rr_model_clone(m);
   double *A = malloc(sizeof(double) * (size_t)nl->N * nl->N);
-  if (!s || !A) { free(s); free(A); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!s || !A) {
+    free(s);
+    free(A);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   size_t nn = sizeof(double) * (size_t)m->n * m->n;
   memcpy(s->C, s->C0, nn);
   memcpy(s->K, s->K0, nn);
@@ -75,19 +87,23 @@ static int suspension(rr_nonlinear *nl, const rr_model *m, rr_error *err)
   nl->row_start = malloc(sizeof(int) * (size_t)(N + 1));
   nl->col = malloc(sizeof(int) * (size_t)(nl->nnz + 1));
   nl->val = malloc(sizeof(double) * (size_t)(nl->nnz + 1));
-  if (!st && (!nl->row_start || !nl->col || !nl->val)) st = rr_seterr(err, RR_ENOMEM, "out of memory");
+  if (!st && (!nl->row_start || !nl->col || !nl->val))
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
   for (int i = 0, k = 0; i < N && !st; i++) {
     nl->row_start[i] = k;
     for (int j = 0; j < N; j++)
-      if (A[i * N + j] != 0) { nl->col[k] = j; nl->val[k++] = A[i * N + j]; }
+      if (A[i * N + j] != 0) {
+        nl->col[k] = j;
+        nl->val[k++] = A[i * N + j];
+      }
     nl->row_start[i + 1] = k;
   }
   free(A);
   return st;
 }
 
-int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law, rr_nonlinear **out,
-                     rr_error *err)
+int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law,
+                     rr_nonlinear **out, rr_error *err)
 {
   *out = NULL;
   rr_contact_law def = rr_contact_law_default();
@@ -105,11 +121,21 @@ int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_la
   nl->law = *law;
   for (int i = 0; i < m->ni; i++) {
     const rr_contact *c = &m->contacts[i];
-    nl->w[i] = (wheelset){.y = c->dof_y, .p = c->dof_psi, .f11 = c->spec.f11, .f22 = c->spec.f22, .r0 = c->spec.r0,
-                          .l0 = c->spec.l0, .W = c->spec.axle_load, .muN = law->friction * c->spec.axle_load / 2,
-                          .im_y = 1 / m->mdiag[c->dof_y], .im_p = 1 / m->mdiag[c->dof_psi]};
+    nl->w[i] = (wheelset){.y = c->dof_y,
+                          .p = c->dof_psi,
+                          .f11 = c->spec.f11,
+                          .f22 = c->spec.f22,
+                          .r0 = c->spec.r0,
+                          .l0 = c->spec.l0,
+                          .W = c->spec.axle_load,
+                          .muN = law->friction * c->spec.axle_load / 2,
+                          .im_y = 1 / m->mdiag[c->dof_y],
+                          .im_p = 1 / m->mdiag[c->dof_psi]};
   }
-  if ((st = suspension(nl, m, err))) { rr_nonlinear_free(nl); return st; }
+  if ((st = suspension(nl, m, err))) {
+    rr_nonlinear_free(nl);
+    return st;
+  }
   *out = nl;
   return RR_OK;
 }
@@ -117,7 +143,8 @@ int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_la
 int rr_nonlinear_set_speed(rr_nonlinear *nl, double v, rr_error *err)
 {
   if (!(v > 0 && v <= RR_SPEED_MAX_MS))
-    return rr_seterr(err, RR_EINVAL, "speed %g km/h outside (0, %g] km/h", v * RR_KMH, RR_SPEED_MAX_MS * RR_KMH);
+    return rr_seterr(err, RR_EINVAL, "speed %g km/h outside (0, %g] km/h", v * RR_KMH,
+                     RR_SPEED_MAX_MS * RR_KMH);
   nl->v = v;
   return RR_OK;
 }
@@ -126,7 +153,10 @@ double rr_nonlinear_speed(const rr_nonlinear *nl) { return nl->v; }
 int rr_nonlinear_size(const rr_nonlinear *nl) { return nl->N; }
 int rr_nonlinear_ndof(const rr_nonlinear *nl) { return nl->n; }
 int rr_nonlinear_ninputs(const rr_nonlinear *nl) { return nl->nw; }
-int rr_nonlinear_index_y(const rr_nonlinear *nl, int i) { return i >= 0 && i < nl->nw ? nl->w[i].y : -1; }
+int rr_nonlinear_index_y(const rr_nonlinear *nl, int i)
+{
+  return i >= 0 && i < nl->nw ? nl->w[i].y : -1;
+}
 
 /* The Shen-Hedrick-Elkins factor eps(beta) and d eps / d beta. */
 static double saturation(double beta, double *deps)
@@ -142,14 +172,14 @@ static double saturation(double beta, double *deps)
 /* Forces of one wheelset: F[0] lateral (creep + flange + gravity), F[1] yaw
    moment; their derivatives dF[k][0..4] in y, psi, dy/dt, dpsi/dt and the
    speed v; flange the flange's share of F[0]. x = (y, psi, dy/dt, dpsi/dt). */
-static void contact(const rr_nonlinear *nl, double v, const wheelset *w, const double *x, double yt, double F[2],
-                    double dF[2][5], double *flange)
+static void contact(const rr_nonlinear *nl, double v, const wheelset *w, const double *x, double yt,
+                    double F[2], double dF[2][5], double *flange)
 {
   const rr_contact_law *law = &nl->law;
   double d = x[0] - yt, a = fabs(d), dl, lam = rr_profile_eval(&nl->prof, a, &dl);
-  double dlamd_dd = lam + dl * a;                     /* d(lambda(|d|) d) / dd */
-  double s = w->l0 * x[3] / v + lam * d / w->r0;      /* longitudinal creepage, left wheel (right: -s) */
-  double xy = x[2] / v - x[1];                        /* lateral creepage, both wheels */
+  double dlamd_dd = lam + dl * a;                /* d(lambda(|d|) d) / dd */
+  double s = w->l0 * x[3] / v + lam * d / w->r0; /* longitudinal creepage, left wheel (right: -s) */
+  double xy = x[2] / v - x[1];                   /* lateral creepage, both wheels */
   double ds[5] = {dlamd_dd / w->r0, 0, 0, w->l0 / v, -w->l0 * x[3] / (v * v)};
   double dxy[5] = {0, -1, 1 / v, 0, -x[2] / (v * v)};
   double fx = w->f11 * s, fy = w->f22 * xy, eps = 1, deps = 0, db[5] = {0, 0, 0, 0, 0};
@@ -172,7 +202,7 @@ static void contact(const rr_nonlinear *nl, double v, const wheelset *w, const d
     F[0] += *flange;
     dF[0][0] -= law->flange_stiffness;
   }
-  if (nl->gravity) {   /* K += W lambda / l0 on y, -W lambda l0 on psi, with lambda(|d|) */
+  if (nl->gravity) { /* K += W lambda / l0 on y, -W lambda l0 on psi, with lambda(|d|) */
     F[0] -= w->W * lam * d / w->l0;
     dF[0][0] -= w->W * dlamd_dd / w->l0;
     F[1] += w->W * lam * w->l0 * x[1];
@@ -189,7 +219,8 @@ static void wheel_state(const rr_nonlinear *nl, const wheelset *w, const double 
   x[3] = z[nl->n + w->p];
 }
 
-void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, const double *yt, double *dz)
+void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
+                         double *dz)
 {
   for (int i = 0; i < nl->N; i++) {
     double acc = 0;
@@ -206,12 +237,14 @@ void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, cons
   }
 }
 
-void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt, double *J)
+void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
+                              double *J)
 {
   int N = nl->N;
   memset(J, 0, sizeof(double) * (size_t)N * N);
   for (int i = 0; i < N; i++)
-    for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) J[i * N + nl->col[k]] = nl->val[k];
+    for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++)
+      J[i * N + nl->col[k]] = nl->val[k];
   for (int i = 0; i < nl->nw; i++) {
     const wheelset *w = &nl->w[i];
     double x[4], F[2], dF[2][5], fl;
@@ -228,8 +261,8 @@ void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z,
 /* out = [J X_0 .. J X_{m-1}] (columns of N), J = d(dz/dt)/dz at z; with
    dfdv, the speed derivative d(dz/dt)/dv is added to the last column (the
    variational equation of the speed's sensitivity). Straight, perfect track. */
-void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m, int dfdv,
-                         double *out)
+void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m,
+                         int dfdv, double *out)
 {
   int N = nl->N, n = nl->n;
   double dF[RR_SYS_MAX_INPUTS][2][5];
@@ -243,14 +276,21 @@ void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, cons
     double *oc = out + (size_t)c * N;
     for (int i = 0; i < N; i++) {
       double acc = 0;
-      for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) acc += nl->val[k] * xc[nl->col[k]];
+      for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++)
+        acc += nl->val[k] * xc[nl->col[k]];
       oc[i] = acc;
     }
     for (int i = 0; i < nl->nw; i++) {
       const wheelset *w = &nl->w[i];
       double dx[4] = {xc[w->y], xc[w->p], xc[n + w->y], xc[n + w->p]}, gy = 0, gp = 0;
-      for (int k = 0; k < 4; k++) { gy += dF[i][0][k] * dx[k]; gp += dF[i][1][k] * dx[k]; }
-      if (dfdv && c == m - 1) { gy += dF[i][0][4]; gp += dF[i][1][4]; }
+      for (int k = 0; k < 4; k++) {
+        gy += dF[i][0][k] * dx[k];
+        gp += dF[i][1][k] * dx[k];
+      }
+      if (dfdv && c == m - 1) {
+        gy += dF[i][0][4];
+        gp += dF[i][1][4];
+      }
       oc[n + w->y] += gy * w->im_y;
       oc[n + w->p] += gp * w->im_p;
     }
@@ -275,8 +315,10 @@ static double beta_of(const rr_nonlinear *nl, double v, const wheelset *w, const
 int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g)
 {
   int k = 0;
-  double dl, edge[3] = {0, nl->law.flange_stiffness > 0 ? nl->law.flange_clearance : 0,
-                        nl->prof.kind == RR_PROFILE_POLY && nl->prof.hold_mm > 0 ? nl->prof.hold_mm * 1e-3 : 0};
+  double dl,
+      edge[3] = {0, nl->law.flange_stiffness > 0 ? nl->law.flange_clearance : 0,
+                 nl->prof.kind == RR_PROFILE_POLY && nl->prof.hold_mm > 0 ? nl->prof.hold_mm * 1e-3
+                                                                          : 0};
   rr_profile_eval(&nl->prof, 0, &dl);
   int corner = dl != 0, sat = nl->law.saturation;
   for (int i = 0; i < nl->nw; i++) {
@@ -302,8 +344,8 @@ int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, dou
   return k;
 }
 
-void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i, double *fy, double *mz,
-                         double *flange)
+void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i,
+                         double *fy, double *mz, double *flange)
 {
   double x[4], F[2], dF[2][5];
   wheel_state(nl, &nl->w[i], z, x);

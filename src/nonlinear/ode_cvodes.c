@@ -11,13 +11,17 @@ int rr_ode_cv_rhs(double t, N_Vector y, N_Vector ydot, void *user)
   return 0;
 }
 
-int rr_ode_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix Jm, void *user, N_Vector t1, N_Vector t2, N_Vector t3)
+int rr_ode_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix Jm, void *user, N_Vector t1,
+                  N_Vector t2, N_Vector t3)
 {
-  (void)fy; (void)t1; (void)t2; (void)t3;
+  (void)fy;
+  (void)t1;
+  (void)t2;
+  (void)t3;
   ode_cv *c = user;
   int n = c->ode->n;
   c->ode->jac(c->ode->user, t, c->p, N_VGetArrayPointer(y), c->J);
-  for (int j = 0; j < n; j++) {   /* SUNDIALS' dense matrices are by columns */
+  for (int j = 0; j < n; j++) { /* SUNDIALS' dense matrices are by columns */
     double *col = SUNDenseMatrix_Column(Jm, j);
     for (int i = 0; i < n; i++) col[i] = c->J[i * n + j];
   }
@@ -36,7 +40,8 @@ void rr_ode_close(ode_cv *c)
   memset(c, 0, sizeof *c);
 }
 
-int rr_ode_open(ode_cv *c, const rr_ode *ode, double p, const double *z0, double rtol, const double *atol, rr_error *err)
+int rr_ode_open(ode_cv *c, const rr_ode *ode, double p, const double *z0, double rtol,
+                const double *atol, rr_error *err)
 {
   memset(c, 0, sizeof *c);
   c->ode = ode;
@@ -48,13 +53,20 @@ int rr_ode_open(ode_cv *c, const rr_ode *ode, double p, const double *z0, double
   c->A = SUNDenseMatrix(n, n, c->ctx);
   c->J = malloc(sizeof(double) * (size_t)n * n);
   c->mem = CVodeCreate(CV_BDF, c->ctx);
-  if (!c->y || !c->atol || !c->A || !c->J || !c->mem) { rr_ode_close(c); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!c->y || !c->atol || !c->A || !c->J || !c->mem) {
+    rr_ode_close(c);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   memcpy(N_VGetArrayPointer(c->y), z0, sizeof(double) * (size_t)n);
   memcpy(N_VGetArrayPointer(c->atol), atol, sizeof(double) * (size_t)n);
   c->LS = SUNLinSol_Dense(c->y, c->A, c->ctx);
-  int f = !c->LS || CVodeInit(c->mem, rr_ode_cv_rhs, 0.0, c->y) || CVodeSVtolerances(c->mem, rtol, c->atol) ||
-          CVodeSetUserData(c->mem, c) || CVodeSetLinearSolver(c->mem, c->LS, c->A) ||
-          CVodeSetJacFn(c->mem, rr_ode_cv_jac) || CVodeSetMaxNumSteps(c->mem, 1000000);
-  if (f) { rr_ode_close(c); return rr_seterr(err, RR_EINVAL, "CVODES set-up failed"); }
+  int f = !c->LS || CVodeInit(c->mem, rr_ode_cv_rhs, 0.0, c->y) ||
+          CVodeSVtolerances(c->mem, rtol, c->atol) || CVodeSetUserData(c->mem, c) ||
+          CVodeSetLinearSolver(c->mem, c->LS, c->A) || CVodeSetJacFn(c->mem, rr_ode_cv_jac) ||
+          CVodeSetMaxNumSteps(c->mem, 1000000);
+  if (f) {
+    rr_ode_close(c);
+    return rr_seterr(err, RR_EINVAL, "CVODES set-up failed");
+  }
   return RR_OK;
 }

@@ -21,20 +21,22 @@ typedef struct rr_ode {
 
 typedef struct ode_cv {
   const rr_ode *ode;
-  double p;                      /* the parameter the system runs at */
+  double p; /* the parameter the system runs at */
   SUNContext ctx;
   void *mem;
   N_Vector y, atol;
   SUNMatrix A;
   SUNLinearSolver LS;
-  double *J;                     /* n x n, row-major */
+  double *J; /* n x n, row-major */
 } ode_cv;
 
 /* atol: n per-state absolute tolerances. */
-int rr_ode_open(ode_cv *c, const rr_ode *ode, double p, const double *z0, double rtol, const double *atol, rr_error *err);
+int rr_ode_open(ode_cv *c, const rr_ode *ode, double p, const double *z0, double rtol,
+                const double *atol, rr_error *err);
 void rr_ode_close(ode_cv *c);
 /* CVODES callbacks (user data: the ode_cv). */
 int rr_ode_cv_rhs(double t, N_Vector y, N_Vector ydot, void *user);
-int rr_ode_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix Jm, void *user, N_Vector t1, N_Vector t2, N_Vector t3);
+int rr_ode_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix Jm, void *user, N_Vector t1,
+                  N_Vector t2, N_Vector t3);
 
 #endif

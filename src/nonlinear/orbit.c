@@ -10,14 +10,19 @@
 #include "internal.h"
 
 #define NEWTON_MAXIT 12
-#define NEWTON_TOL 5e-9   /* |phi_T(z0) - z0| relative to |z0| */
-#define PERIOD_GROWTH_MAX 4.0 /* a branch whose period grows past 4 x the Hopf period has left hunting */
-#define KINK_TTOL 1e-12  /* a kink this close (in periods) to a step's start counts as at it */
-#define RTOL_VAR 1e-6     /* the variational equations' tolerance: Phi feeds Newton and Floquet only */
+#define NEWTON_TOL 5e-9 /* |phi_T(z0) - z0| relative to |z0| */
+#define PERIOD_GROWTH_MAX                                                                          \
+  4.0                   /* a branch whose period grows past 4 x the Hopf period has left hunting */
+#define KINK_TTOL 1e-12 /* a kink this close (in periods) to a step's start counts as at it */
+#define RTOL_VAR                                                                                   \
+  1e-6 /* the variational equations' tolerance: Phi feeds Newton and Floquet only                  \
+        */
 
 /* One period from z0: z(T), the monodromy matrix Phi (n x n, row-major) and
    d z(T) / dp, and the amplitude max |z_k_amp| over the period. */
-typedef struct flow { double *zT, *Phi, *phip, amp; } flow;
+typedef struct flow {
+  double *zT, *Phi, *phip, amp;
+} flow;
 
 /* The orbit with its variational equations: Y = [z; Phi by columns; phi_p],
    n (n + 2). The system is not stiff at the speeds of hunting (spectral radius
@@ -27,13 +32,15 @@ typedef struct var_ctx {
   const rr_orbit_sys *s;
   double p;
   int sens;
-  double *J, *a, *b;   /* dense fallback: n x n, n, n */
-  char msg[160];       /* ARKODE's last complaint (the library never prints) */
+  double *J, *a, *b; /* dense fallback: n x n, n, n */
+  char msg[160];     /* ARKODE's last complaint (the library never prints) */
 } var_ctx;
 
 static void var_errors(int code, const char *module, const char *function, char *msg, void *user)
 {
-  (void)code; (void)module; (void)function;
+  (void)code;
+  (void)module;
+  (void)function;
   var_ctx *c = user;
   snprintf(c->msg, sizeof c->msg, "%s", msg);
 }
@@ -65,8 +72,10 @@ static int var_rhs(double t, N_Vector y, N_Vector ydot, void *user)
   double *D = N_VGetArrayPointer(ydot);
   s->ode.rhs(s->ode.user, 0, c->p, Y, D);
   if (!c->sens) return 0;
-  if (s->jvp) s->jvp(s->ode.user, c->p, Y, Y + n, n + 1, 1, D + n);
-  else var_dense(c, Y, Y + n, D + n);
+  if (s->jvp)
+    s->jvp(s->ode.user, c->p, Y, Y + n, n + 1, 1, D + n);
+  else
+    var_dense(c, Y, Y + n, D + n);
   return 0;
 }
 
@@ -118,8 +127,17 @@ static double locate(period *P, int j, double ta, double tb)
     ERKStepGetDky(P->mem, t, 0, P->ytmp);
     indicators(P, N_VGetArrayPointer(P->ytmp), g);
     if (g[j] == 0) break;
-    if (crossed(ga, g[j])) { tb = t; gb = g[j]; if (side == -1) ga *= 0.5; side = -1; }
-    else { ta = t; ga = g[j]; if (side == 1) gb *= 0.5; side = 1; }
+    if (crossed(ga, g[j])) {
+      tb = t;
+      gb = g[j];
+      if (side == -1) ga *= 0.5;
+      side = -1;
+    } else {
+      ta = t;
+      ga = g[j];
+      if (side == 1) gb *= 0.5;
+      side = 1;
+    }
   }
   ERKStepGetDky(P->mem, t, 0, P->ytmp);
   return t;
@@ -128,7 +146,8 @@ static double locate(period *P, int j, double ta, double tb)
 static int period_run(period *P, double T)
 {
   const rr_orbit_sys *s = P->s;
-  int nk = P->sens ? 0 : s->nkinks, at_kink = 0;   /* Phi, at its loose tolerance, steps across kinks */
+  int nk = P->sens ? 0 : s->nkinks,
+      at_kink = 0; /* Phi, at its loose tolerance, steps across kinks */
   double t = 0, tprev = 0, tstop = T, h = 0, h_nat = 0, *Y = N_VGetArrayPointer(P->y);
   indicators(P, Y, P->ga);
   P->amp = fabs(Y[s->k_amp]);
@@ -149,7 +168,7 @@ static int period_run(period *P, double T)
       N_VScale(1, P->yprev, P->y);
       ERKStepSetStopTime(P->mem, tk);
       ERKStepSetInitStep(P->mem, tk - tprev);
-      h_nat = fmax(h_nat, h);   /* the step the smooth side allows, for the restart */
+      h_nat = fmax(h_nat, h); /* the step the smooth side allows, for the restart */
       tstop = tk;
       at_kink = 1;
       t = tprev;
@@ -160,7 +179,7 @@ static int period_run(period *P, double T)
       P->amp = fmax(P->amp, fabs(N_VGetArrayPointer(P->ytmp)[s->k_amp]));
     }
     P->amp = fmax(P->amp, fabs(Y[s->k_amp]));
-    if (at_kink && t >= tstop) {   /* at the kink: a fresh start beyond it */
+    if (at_kink && t >= tstop) { /* at the kink: a fresh start beyond it */
       ERKStepReset(P->mem, t, P->y);
       ERKStepSetStopTime(P->mem, T);
       ERKStepSetInitStep(P->mem, fmin(fmax(0.5 * h_nat, 1e-6 * T), T - t));
@@ -175,8 +194,8 @@ static int period_run(period *P, double T)
   return 0;
 }
 
-static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double T, double rtol, int sens, flow *f,
-                       rr_error *err)
+static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double T, double rtol,
+                       int sens, flow *f, rr_error *err)
 {
   int n = s->ode.n, st = RR_OK;
   sunindextype ny = sens ? (sunindextype)n * (n + 2) : n;
@@ -189,9 +208,13 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   P.yprev = N_VNew_Serial(ny, ctx);
   P.ytmp = N_VNew_Serial(ny, ctx);
   tol = N_VNew_Serial(ny, ctx);
-  if (P.y) N_VEnableFusedOps_Serial(P.y, SUNTRUE);   /* one pass per stage combination, not one per term */
+  if (P.y)
+    N_VEnableFusedOps_Serial(P.y, SUNTRUE); /* one pass per stage combination, not one per term */
   c.J = malloc(sizeof(double) * ((size_t)n * n + 2 * (size_t)n));
-  if (!P.y || !P.yprev || !P.ytmp || !tol || !c.J) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (!P.y || !P.yprev || !P.ytmp || !tol || !c.J) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto done;
+  }
   c.a = c.J + (size_t)n * n;
   c.b = c.a + n;
   double *Y = N_VGetArrayPointer(P.y), scale = fmax(fabs(z0[s->k_amp]) / s->amp_unit, 1e-3);
@@ -200,10 +223,13 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   for (int j = 0; j < n && sens; j++) Y[(size_t)(j + 1) * n + j] = 1;
   var_tolerances(s, rtol, scale, sens, N_VGetArrayPointer(tol));
   P.mem = ERKStepCreate(var_rhs, 0, P.y, ctx);
-  if (!P.mem || ERKStepSetTableNum(P.mem, sens ? ARKODE_DORMAND_PRINCE_7_4_5 : ARKODE_FEHLBERG_13_7_8) || ERKStepSVtolerances(P.mem, rtol, tol) ||
-      ERKStepSetUserData(P.mem, &c) || ERKStepSetErrHandlerFn(P.mem, var_errors, &c) ||
-      ERKStepSetStopTime(P.mem, T) || ERKStepSetMaxNumSteps(P.mem, 200000) || ERKStepSetMaxStep(P.mem, T / 32) ||
-      ERKStepSetMaxErrTestFails(P.mem, 50)) {   /* a step beyond the stability bound fails many times over */
+  if (!P.mem ||
+      ERKStepSetTableNum(P.mem, sens ? ARKODE_DORMAND_PRINCE_7_4_5 : ARKODE_FEHLBERG_13_7_8) ||
+      ERKStepSVtolerances(P.mem, rtol, tol) || ERKStepSetUserData(P.mem, &c) ||
+      ERKStepSetErrHandlerFn(P.mem, var_errors, &c) || ERKStepSetStopTime(P.mem, T) ||
+      ERKStepSetMaxNumSteps(P.mem, 200000) || ERKStepSetMaxStep(P.mem, T / 32) ||
+      ERKStepSetMaxErrTestFails(P.mem,
+                                50)) { /* a step beyond the stability bound fails many times over */
     st = rr_seterr(err, RR_ENOMEM, "orbit: ARKODE set-up failed");
     goto done;
   }
@@ -231,8 +257,8 @@ done:
 /* The constraint closing the Newton system: p fixed, amplitude fixed, or
    pseudo-arclength tA dA + tp dp = ds (scaled units). */
 typedef struct closure {
-  int kind;                  /* 0 p, 1 amplitude, 2 arclength */
-  double amp, p;             /* targets (kinds 0, 1); the previous point (kind 2) */
+  int kind;      /* 0 p, 1 amplitude, 2 arclength */
+  double amp, p; /* targets (kinds 0, 1); the previous point (kind 2) */
   double tA, tp, ds;
 } closure;
 
@@ -241,10 +267,11 @@ typedef struct closure {
    and are then kept up to date by Broyden's rank-one updates, so that most
    iterations cost one plain period; the phase and closure rows are exact. */
 typedef struct work {
-  int n, valid;              /* valid: B holds the flow rows of a nearby orbit */
-  double T_max;              /* periods beyond are out of the domain */
-  double *B, *Jn, *R;        /* n (n + 2), (n + 2)^2, n + 2 */
-  double *F, *Fn, *dX, *zt;  /* z_T - z0 now and after the step (n), the step (n + 2), a trial z0 (n) */
+  int n, valid;       /* valid: B holds the flow rows of a nearby orbit */
+  double T_max;       /* periods beyond are out of the domain */
+  double *B, *Jn, *R; /* n (n + 2), (n + 2)^2, n + 2 */
+  double *F, *Fn, *dX,
+      *zt; /* z_T - z0 now and after the step (n), the step (n + 2), a trial z0 (n) */
   int *piv;
   flow f;
 } work;
@@ -264,13 +291,25 @@ static int work_new(work *w, int n)
   w->f.zT = malloc(sizeof(double) * nn);
   w->f.Phi = malloc(sizeof(double) * nn * nn);
   w->f.phip = malloc(sizeof(double) * nn);
-  return w->B && w->Jn && w->R && w->F && w->Fn && w->dX && w->zt && w->piv && w->f.zT && w->f.Phi && w->f.phip ? 0 : -1;
+  return w->B && w->Jn && w->R && w->F && w->Fn && w->dX && w->zt && w->piv && w->f.zT &&
+                 w->f.Phi && w->f.phip
+             ? 0
+             : -1;
 }
 
 static void work_free(work *w)
 {
-  free(w->B); free(w->Jn); free(w->R); free(w->F); free(w->Fn); free(w->dX); free(w->zt); free(w->piv);
-  free(w->f.zT); free(w->f.Phi); free(w->f.phip);
+  free(w->B);
+  free(w->Jn);
+  free(w->R);
+  free(w->F);
+  free(w->Fn);
+  free(w->dX);
+  free(w->zt);
+  free(w->piv);
+  free(w->f.zT);
+  free(w->f.Phi);
+  free(w->f.phip);
 }
 
 static double norm2(const double *x, int n)
@@ -284,7 +323,7 @@ static double norm2(const double *x, int n)
 static void flow_rows(const rr_orbit_sys *s, work *w, double p)
 {
   int n = w->n, m = n + 2;
-  double *fz = w->R;   /* scratch */
+  double *fz = w->R; /* scratch */
   s->ode.rhs(s->ode.user, 0, p, w->f.zT, fz);
   for (int i = 0; i < n; i++) {
     double *row = w->B + (size_t)i * m;
@@ -297,7 +336,8 @@ static void flow_rows(const rr_orbit_sys *s, work *w, double p)
 
 /* The bordered Newton system in X = (z0, T, p), row-major (n + 2)^2, and its
    right-hand side: F, the phase condition, the closure. */
-static void newton_system(const rr_orbit_sys *s, work *w, const double *z0, double p, const closure *c)
+static void newton_system(const rr_orbit_sys *s, work *w, const double *z0, double p,
+                          const closure *c)
 {
   int n = w->n, m = n + 2;
   double *J = w->Jn, *R = w->R;
@@ -307,12 +347,17 @@ static void newton_system(const rr_orbit_sys *s, work *w, const double *z0, doub
   J[n * m + s->k_phase] = 1;
   R[n] = z0[s->k_phase];
   double *last = J + (size_t)(n + 1) * m;
-  if (c->kind == 0) { last[n + 1] = 1; R[n + 1] = p - c->p; }
-  else if (c->kind == 1) { last[s->k_amp] = 1; R[n + 1] = z0[s->k_amp] - c->amp; }
-  else {
+  if (c->kind == 0) {
+    last[n + 1] = 1;
+    R[n + 1] = p - c->p;
+  } else if (c->kind == 1) {
+    last[s->k_amp] = 1;
+    R[n + 1] = z0[s->k_amp] - c->amp;
+  } else {
     last[s->k_amp] = c->tA / s->amp_unit;
     last[n + 1] = c->tp / s->p_unit;
-    R[n + 1] = c->tA * (z0[s->k_amp] - c->amp) / s->amp_unit + c->tp * (p - c->p) / s->p_unit - c->ds;
+    R[n + 1] =
+        c->tA * (z0[s->k_amp] - c->amp) / s->amp_unit + c->tp * (p - c->p) / s->p_unit - c->ds;
   }
 }
 
@@ -339,7 +384,8 @@ static double floquet_max(const double *Phi, int n, rr_error *err, int *st)
          *wi = malloc(sizeof(double) * (size_t)n);
   double best = -1;
   *st = RR_OK;
-  if (!a || !wr || !wi) *st = rr_seterr(err, RR_ENOMEM, "out of memory");
+  if (!a || !wr || !wi)
+    *st = rr_seterr(err, RR_ENOMEM, "out of memory");
   else {
     memcpy(a, Phi, sizeof(double) * (size_t)n * n);
     if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, a, n, wr, wi, NULL, 1, NULL, 1))
@@ -350,13 +396,15 @@ static double floquet_max(const double *Phi, int n, rr_error *err, int *st)
     for (int i = 0; i < n && !*st; i++)
       if (i != trivial) best = fmax(best, hypot(wr[i], wi[i]));
   }
-  free(a); free(wr); free(wi);
+  free(a);
+  free(wr);
+  free(wi);
   return best;
 }
 
 /* One period at the tight tolerance: F = z_T - z0 and the amplitude. */
-static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, double p, double rtol, double *F,
-                    double *amp, rr_error *err)
+static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, double p,
+                    double rtol, double *F, double *amp, rr_error *err)
 {
   int st = flow_period(s, p, z0, T, rtol, 0, &w->f, err);
   for (int i = 0; i < w->n && !st; i++) F[i] = w->f.zT[i] - z0[i];
@@ -365,7 +413,8 @@ static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, 
 }
 
 /* The flow rows afresh at (z0, T, p), from the variational equations. */
-static int refresh(const rr_orbit_sys *s, work *w, const double *z0, double T, double p, rr_error *err)
+static int refresh(const rr_orbit_sys *s, work *w, const double *z0, double T, double p,
+                   rr_error *err)
 {
   int st = flow_period(s, p, z0, T, RTOL_VAR, 1, &w->f, err);
   if (!st) flow_rows(s, w, p);
@@ -383,8 +432,8 @@ static double closure_scale(const rr_orbit_sys *s, const closure *c)
 }
 
 /* One trial point X + lam dX: its residual (infinite outside the domain). */
-static int trial(const rr_orbit_sys *s, work *w, const double *z0, double T, double p, double lam, double rtol,
-                 double *rn, double *amp, rr_error *err)
+static int trial(const rr_orbit_sys *s, work *w, const double *z0, double T, double p, double lam,
+                 double rtol, double *rn, double *amp, rr_error *err)
 {
   int n = w->n;
   for (int i = 0; i < n; i++) w->zt[i] = z0[i] + lam * w->dX[i];
@@ -392,13 +441,13 @@ static int trial(const rr_orbit_sys *s, work *w, const double *z0, double T, dou
   *rn = INFINITY;
   if (!(Tt > 0 && Tt <= w->T_max && pt > 0)) return RR_OK;
   int st = residual(s, w, w->zt, Tt, pt, rtol, w->Fn, amp, err);
-  if (st == RR_ENOCONV) return RR_OK;   /* a wild trial: no flow; shorter steps may do */
+  if (st == RR_ENOCONV) return RR_OK; /* a wild trial: no flow; shorter steps may do */
   if (!st) *rn = norm2(w->Fn, n) / fmax(norm2(w->zt, n), 1e-300);
   return st;
 }
 
-static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, double *p, double rtol, const closure *c,
-                      rr_orbit *out, rr_error *err)
+static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, double *p, double rtol,
+                      const closure *c, rr_orbit *out, rr_error *err)
 {
   int n = w->n, m = n + 2, st = RR_OK, fresh = 0;
   double amp, res;
@@ -413,7 +462,12 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     if (res <= NEWTON_TOL && fabs(w->R[n + 1]) <= 1e-9 * (c->kind == 0 ? s->p_unit : 1)) {
       if ((st = refresh(s, w, z0, *T, *p, err))) return st;
       double fm = floquet_max(w->f.Phi, n, err, &st);
-      *out = (rr_orbit){.p = *p, .T = *T, .amp = amp, .floquet_max = fm, .stable = fm < 1, .residual = res,
+      *out = (rr_orbit){.p = *p,
+                        .T = *T,
+                        .amp = amp,
+                        .floquet_max = fm,
+                        .stable = fm < 1,
+                        .residual = res,
                         .iterations = it};
       return st;
     }
@@ -422,7 +476,8 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     /* the merit: the return map's residual plus the linear rows' (which a
        full step satisfies); accept a step that lowers it or reaches the
        noise floor, else the variational equations afresh here, then halving */
-    double merit = res + fabs(w->R[n]) / fmax(norm2(z0, n), 1e-300) + fabs(w->R[n + 1]) * closure_scale(s, c);
+    double merit =
+        res + fabs(w->R[n]) / fmax(norm2(z0, n), 1e-300) + fabs(w->R[n + 1]) * closure_scale(s, c);
     for (int i = 0; i < m; i++) w->dX[i] = -w->R[i];
     double lam = 1, rn;
     for (int k = 0;; k++) {
@@ -441,7 +496,7 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     memcpy(z0, w->zt, sizeof(double) * (size_t)n);
     *T += w->dX[n];
     *p += w->dX[n + 1];
-    if (rn > 0.5 * res && !fresh && rn > 10 * NEWTON_TOL) {   /* slow: Newton's own rows from here */
+    if (rn > 0.5 * res && !fresh && rn > 10 * NEWTON_TOL) { /* slow: Newton's own rows from here */
       if ((st = refresh(s, w, z0, *T, *p, err))) return st;
       fresh = 1;
     } else {
@@ -451,19 +506,21 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     memcpy(w->F, w->Fn, sizeof(double) * (size_t)n);
     res = rn;
   }
-  return rr_seterr(err, RR_ENOCONV, "orbit: Newton did not converge in %d iterations (residual %.1e)", NEWTON_MAXIT, res);
+  return rr_seterr(err, RR_ENOCONV,
+                   "orbit: Newton did not converge in %d iterations (residual %.1e)", NEWTON_MAXIT,
+                   res);
 }
 
-static int newton(const rr_orbit_sys *s, work *w, double *z0, double *T, double *p, double rtol, const closure *c,
-                  rr_orbit *out, rr_error *err)
+static int newton(const rr_orbit_sys *s, work *w, double *z0, double *T, double *p, double rtol,
+                  const closure *c, rr_orbit *out, rr_error *err)
 {
   int st = newton_run(s, w, z0, T, p, rtol, c, out, err);
-  if (st) w->valid = 0;   /* the rows may have been updated from a wild step */
+  if (st) w->valid = 0; /* the rows may have been updated from a wild step */
   return st;
 }
 
-int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, double rtol, int fix_amp, double amp,
-                   rr_orbit *out, rr_error *err)
+int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, double rtol,
+                   int fix_amp, double amp, rr_orbit *out, rr_error *err)
 {
   work w;
   int st = work_new(&w, s->ode.n) ? rr_seterr(err, RR_ENOMEM, "out of memory") : RR_OK;
@@ -473,8 +530,8 @@ int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, doub
   return st;
 }
 
-int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, double p, double *mu, double *v,
-                            rr_error *err)
+int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, double p, double *mu,
+                            double *v, rr_error *err)
 {
   int n = s->ode.n, st;
   flow f;
@@ -494,7 +551,7 @@ int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, d
     if (i != trivial && (best < 0 || hypot(wr[i], wi[i]) > hypot(wr[best], wi[best]))) best = i;
   if (!st) {
     *mu = hypot(wr[best], wi[best]);
-    int col = wi[best] < 0 ? best - 1 : best;   /* a complex pair: the real part of its vector */
+    int col = wi[best] < 0 ? best - 1 : best; /* a complex pair: the real part of its vector */
     for (int i = 0; i < n; i++) v[i] = V[(size_t)i * n + col];
   }
   free(buf);
@@ -503,7 +560,8 @@ int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, d
 
 /* The start at the Hopf point: the critical eigenvector of df/dz(0),
    phased so that z[k_phase] = 0 and scaled to z[k_amp] = amp; T = 2 pi / w. */
-static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, double *T, rr_error *err)
+static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, double *T,
+                      rr_error *err)
 {
   int n = s->ode.n, st = RR_OK, best = -1;
   double *J = calloc((size_t)n * n, sizeof(double)), *wr = malloc(sizeof(double) * (size_t)n),
@@ -517,8 +575,9 @@ static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, d
   }
   for (int i = 0; i < n && !st; i++)
     if (wi[i] > 0 && (best < 0 || wr[i] > wr[best])) best = i;
-  if (!st && best < 0) st = rr_seterr(err, RR_ENOCONV, "orbit: no oscillatory eigenvalue at the Hopf point");
-  if (!st) {   /* v = a + i b (columns best, best + 1); Re(v e^{i th}) = a cos th - b sin th */
+  if (!st && best < 0)
+    st = rr_seterr(err, RR_ENOCONV, "orbit: no oscillatory eigenvalue at the Hopf point");
+  if (!st) { /* v = a + i b (columns best, best + 1); Re(v e^{i th}) = a cos th - b sin th */
     double ap = V[s->k_phase * n + best], bp = V[s->k_phase * n + best + 1], th = atan2(ap, bp);
     for (int i = 0; i < n; i++) z0[i] = V[i * n + best] * cos(th) - V[i * n + best + 1] * sin(th);
     double scale = amp / z0[s->k_amp];
@@ -526,7 +585,10 @@ static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, d
     z0[s->k_phase] = 0;
     *T = 2 * RR_PI / wi[best];
   }
-  free(J); free(wr); free(wi); free(V);
+  free(J);
+  free(wr);
+  free(wi);
+  free(V);
   return st;
 }
 
@@ -539,7 +601,10 @@ static void store(const rr_orbit *o, const double *z0, int n, rr_orbit *out, dou
 
 /* The last three points of the branch, X = (z0, T, p), and their arclength
    (chord lengths in the scaled amplitude-parameter plane). */
-typedef struct history { int n, k; double *X[3], s[3]; } history;
+typedef struct history {
+  int n, k;
+  double *X[3], s[3];
+} history;
 
 static double chord(const rr_orbit_sys *s, const double *a, const double *b)
 {
@@ -551,8 +616,12 @@ static void history_push(const rr_orbit_sys *s, history *h, const double *X)
 {
   double *slot = h->X[0];
   double s0 = h->k ? h->s[2] + chord(s, X, h->X[2]) : 0;
-  h->X[0] = h->X[1]; h->X[1] = h->X[2]; h->X[2] = slot;
-  h->s[0] = h->s[1]; h->s[1] = h->s[2]; h->s[2] = s0;
+  h->X[0] = h->X[1];
+  h->X[1] = h->X[2];
+  h->X[2] = slot;
+  h->s[0] = h->s[1];
+  h->s[1] = h->s[2];
+  h->s[2] = s0;
   memcpy(slot, X, sizeof(double) * (size_t)(h->n + 2));
   h->k++;
 }
@@ -568,11 +637,12 @@ static void history_predict(const history *h, double ds, double *X)
     l1 = (t - s[0]) * (t - s[2]) / ((s[1] - s[0]) * (s[1] - s[2]));
     l2 = (t - s[0]) * (t - s[1]) / ((s[2] - s[0]) * (s[2] - s[1]));
   }
-  for (int i = 0; i < h->n + 2; i++) X[i] = l0 * (h->k >= 3 ? h->X[0][i] : 0) + l1 * h->X[1][i] + l2 * h->X[2][i];
+  for (int i = 0; i < h->n + 2; i++)
+    X[i] = l0 * (h->k >= 3 ? h->X[0][i] : 0) + l1 * h->X[1][i] + l2 * h->X[2][i];
 }
 
-int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out, double *z_out, int *np,
-                    int *end, rr_error *err)
+int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
+                    double *z_out, int *np, int *end, rr_error *err)
 {
   int n = s->ode.n, st = RR_OK, k = 0;
   *end = 2;
@@ -581,37 +651,56 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
   work w;
   double *buf = malloc(sizeof(double) * 4 * m), *X = buf + 3 * m;
   history h = {.n = n, .X = {buf, buf + m, buf + 2 * m}};
-  if (work_new(&w, n) || !buf) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (work_new(&w, n) || !buf) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto done;
+  }
   double ds = o->ds;
   rr_orbit r;
   /* two points at fixed amplitudes leave the Hopf point; then arclength */
   X[n + 1] = p_hopf;
   if ((st = hopf_start(s, p_hopf, o->amp_start, X, &X[n], err))) goto done;
   w.T_max = PERIOD_GROWTH_MAX * X[n];
-  for (int i = 0; i < 2; i++) {   /* at amp_start and 3 amp_start: close enough to extrapolate back */
+  for (int i = 0; i < 2; i++) { /* at amp_start and 3 amp_start: close enough to extrapolate back */
     closure c = {.kind = 1, .amp = o->amp_start * (1 + 2 * i)};
     if ((st = newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, err))) goto done;
     store(&r, X, n, out, z_out, &k);
     history_push(s, &h, X);
   }
   for (;;) {
-    if (k >= o->cap) { *end = 2; break; }
-    const double *a = h.X[2], *b = h.X[1];   /* the last two points */
-    if (a[n + 1] < o->p_min || a[n + 1] > o->p_max) { *end = 0; break; }
-    if (fabs(a[s->k_amp]) > o->amp_max) { *end = 1; break; }
-    double dA = (a[s->k_amp] - b[s->k_amp]) / s->amp_unit, dp = (a[n + 1] - b[n + 1]) / s->p_unit, len = hypot(dA, dp);
-    closure c = {.kind = 2, .amp = a[s->k_amp], .p = a[n + 1], .tA = dA / len, .tp = dp / len, .ds = ds};
+    if (k >= o->cap) {
+      *end = 2;
+      break;
+    }
+    const double *a = h.X[2], *b = h.X[1]; /* the last two points */
+    if (a[n + 1] < o->p_min || a[n + 1] > o->p_max) {
+      *end = 0;
+      break;
+    }
+    if (fabs(a[s->k_amp]) > o->amp_max) {
+      *end = 1;
+      break;
+    }
+    double dA = (a[s->k_amp] - b[s->k_amp]) / s->amp_unit, dp = (a[n + 1] - b[n + 1]) / s->p_unit,
+           len = hypot(dA, dp);
+    closure c = {
+        .kind = 2, .amp = a[s->k_amp], .p = a[n + 1], .tA = dA / len, .tp = dp / len, .ds = ds};
     history_predict(&h, ds, X);
     rr_error e2;
     if (newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, &e2)) {
       ds *= 0.5;
-      if (ds < 1e-2 * o->ds) { *end = 3; break; }   /* cannot go on: the branch ends here */
+      if (ds < 1e-2 * o->ds) {
+        *end = 3;
+        break;
+      } /* cannot go on: the branch ends here */
       continue;
     }
     store(&r, X, n, out, z_out, &k);
     history_push(s, &h, X);
-    if (r.iterations <= 6) ds = fmin(ds * 1.5, o->ds_max);   /* Broyden: 5-6 iterations is easy going */
-    else if (r.iterations >= 10) ds *= 0.6;
+    if (r.iterations <= 6)
+      ds = fmin(ds * 1.5, o->ds_max); /* Broyden: 5-6 iterations is easy going */
+    else if (r.iterations >= 10)
+      ds *= 0.6;
   }
 done:
   *np = k;

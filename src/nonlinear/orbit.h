@@ -13,7 +13,7 @@
 #define RR_ORBIT_MAX_KINKS 64
 
 typedef struct rr_orbit_sys {
-  rr_ode ode;           /* autonomous (t unused); p the continuation parameter */
+  rr_ode ode; /* autonomous (t unused); p the continuation parameter */
   /* Optional, for speed: out = [J X_0 .. J X_{m-1}] (columns of n),
      J = df/dz at z, with df/dp added to the last column when dfdp. NULL: the
      dense ode.jac and a central difference in p. */
@@ -22,30 +22,30 @@ typedef struct rr_orbit_sys {
      smooth (a dead band's edges); the integration stops at each. */
   int nkinks;
   void (*kinks)(void *user, double p, const double *z, double *g);
-  int k_amp;            /* the coordinate whose extreme is the amplitude */
-  int k_phase;          /* the phase condition: z0[k_phase] = 0 (its rate: a turning point) */
-  double amp_unit;      /* arclength units of amplitude and parameter */
+  int k_amp;       /* the coordinate whose extreme is the amplitude */
+  int k_phase;     /* the phase condition: z0[k_phase] = 0 (its rate: a turning point) */
+  double amp_unit; /* arclength units of amplitude and parameter */
   double p_unit;
-  const double *atol;   /* per-state typical magnitudes on an orbit of amplitude amp_unit (n) */
+  const double *atol; /* per-state typical magnitudes on an orbit of amplitude amp_unit (n) */
 } rr_orbit_sys;
 
 typedef struct rr_orbit {
   double p, T, amp;
-  double floquet_max;   /* largest |multiplier| but the one nearest 1 */
+  double floquet_max; /* largest |multiplier| but the one nearest 1 */
   int stable;
-  double residual;      /* |phi_T(z0) - z0| / |z0| */
+  double residual; /* |phi_T(z0) - z0| / |z0| */
   int iterations;
 } rr_orbit;
 
 /* Newton on (z0, T) at fixed p (fix_p) or on (z0, T, p) with the amplitude
    fixed at amp (fix_amp): one orbit, refined in place. */
-int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, double rtol, int fix_amp, double amp,
-                   rr_orbit *out, rr_error *err);
+int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, double rtol,
+                   int fix_amp, double amp, rr_orbit *out, rr_error *err);
 
 /* The Floquet multiplier of largest modulus but the trivial one (*mu) and
    its eigenvector (the real part for a complex pair) at the orbit (z0, T, p). */
-int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, double p, double *mu, double *v,
-                            rr_error *err);
+int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, double p, double *mu,
+                            double *v, rr_error *err);
 
 /* The branch from the Hopf point p_hopf (the equilibrium z = 0 there has a
    pair +-i w): points appended to out (cap), states to z_out (cap x n, may be
@@ -55,8 +55,8 @@ typedef struct rr_branch_opts {
   int cap;
 } rr_branch_opts;
 /* *end: 0 left [p_min, p_max], 1 beyond amp_max, 2 cap reached, 3 stalled. */
-int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out, double *z_out,
-                    int *n, int *end, rr_error *err);
+int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
+                    double *z_out, int *n, int *end, rr_error *err);
 
 /* The nonlinear vehicle as an orbit system (bifurcation.c): amplitude y_w1,
    phase dy_w1/dt = 0; *atol allocated (free it). */

@@ -18,7 +18,10 @@ rr_sim_opts rr_sim_opts_default(void)
   return (rr_sim_opts){.duration_s = 10, .fs_hz = 200, .rtol = 1e-7, .atol_m = 1e-10};
 }
 
-typedef struct sim_ctx { rr_nonlinear *nl; const rr_sim_opts *o; } sim_ctx;
+typedef struct sim_ctx {
+  rr_nonlinear *nl;
+  const rr_sim_opts *o;
+} sim_ctx;
 
 /* y_t of every input at time t (Hermite between samples; held at the ends);
    NULL without a track. */
@@ -32,7 +35,8 @@ static const double *track_at(const sim_ctx *s, double t, double *yt)
   if (k < 0) k = 0;
   if (k > ns - 2) k = ns - 2;
   double u = fmin(fmax(x - k, 0), 1);
-  double h00 = (1 + 2 * u) * (1 - u) * (1 - u), h10 = u * (1 - u) * (1 - u), h01 = u * u * (3 - 2 * u), h11 = u * u * (u - 1);
+  double h00 = (1 + 2 * u) * (1 - u) * (1 - u), h10 = u * (1 - u) * (1 - u),
+         h01 = u * u * (3 - 2 * u), h11 = u * u * (u - 1);
   for (int i = 0; i < ni; i++) {
     const double *a = o->yt + (size_t)i * ns, *da = o->dyt + (size_t)i * ns;
     yt[i] = h00 * a[k] + h10 * h * da[k] + h01 * a[k + 1] + h11 * h * da[k + 1];
@@ -62,13 +66,15 @@ void rr_nonlinear_atol(const rr_nonlinear *nl, double atol_m, double *atol)
   for (int i = 0; i < N; i++) atol[i] = i >= n && i < 2 * n ? 50 * atol_m : atol_m;
 }
 
-int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, double *out, int nsamples, rr_error *err)
+int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, double *out,
+                int nsamples, rr_error *err)
 {
   rr_sim_opts def = rr_sim_opts_default();
   if (!o) o = &def;
   if (!(o->duration_s > 0 && o->fs_hz > 0 && o->rtol > 0 && o->atol_m > 0 && nsamples >= 1))
     return rr_seterr(err, RR_EINVAL, "simulate: need duration, fs, tolerances > 0");
-  if (rr_nonlinear_ninputs(nl) > RR_NL_MAX_INPUTS) return rr_seterr(err, RR_EINVAL, "simulate: too many inputs");
+  if (rr_nonlinear_ninputs(nl) > RR_NL_MAX_INPUTS)
+    return rr_seterr(err, RR_EINVAL, "simulate: too many inputs");
   int N = rr_nonlinear_size(nl), st;
   sim_ctx s = {.nl = (rr_nonlinear *)nl, .o = o};
   rr_ode ode = {.n = N, .rhs = sim_rhs, .jac = sim_jac, .user = &s};
@@ -84,9 +90,11 @@ int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, 
     double t = 0;
     int r = CVode(c.mem, k / o->fs_hz, c.y, &t, CV_NORMAL);
     const double *y = N_VGetArrayPointer(c.y);
-    if (r < 0) st = rr_seterr(err, RR_ENOCONV, "simulate: CVODES failed at t = %g s (flag %d)", t, r);
+    if (r < 0)
+      st = rr_seterr(err, RR_ENOCONV, "simulate: CVODES failed at t = %g s (flag %d)", t, r);
     for (int i = 0; i < N && !st; i++)
-      if (!isfinite(y[i])) st = rr_seterr(err, RR_ENOCONV, "simulate: the state is not finite at t = %g s", t);
+      if (!isfinite(y[i]))
+        st = rr_seterr(err, RR_ENOCONV, "simulate: the state is not finite at t = %g s", t);
     if (!st) memcpy(out + (size_t)k * N, y, sizeof(double) * (size_t)N);
   }
   rr_ode_close(&c);

@@ -22,19 +22,28 @@
 #define MAX_MODELS 4
 enum { MO_FMAX = 1, MO_WMIN = 2, MO_RMAX = 4 };
 
-enum obj_kind { OBJ_ZETA_LOW, OBJ_ZETA_HIGH, OBJ_STD_ZETA, OBJ_INDEX, OBJ_CRITICAL, OBJ_SPERLING, OBJ_SPERLING_GB,
-                OBJ_WD_RMS, OBJ_RMS };
+enum obj_kind {
+  OBJ_ZETA_LOW,
+  OBJ_ZETA_HIGH,
+  OBJ_STD_ZETA,
+  OBJ_INDEX,
+  OBJ_CRITICAL,
+  OBJ_SPERLING,
+  OBJ_SPERLING_GB,
+  OBJ_WD_RMS,
+  OBJ_RMS
+};
 
 typedef struct objective {
   char text[128];
-  int kind, sdf;             /* sdf: -1 keeps the vehicle's */
+  int kind, sdf; /* sdf: -1 keeps the vehicle's */
   double speed_ms, conicity, x;
   char spectrum[64];
-  rr_modal_opts mo;          /* the index's rule; fields set by modifiers flagged in mo_set */
+  rr_modal_opts mo; /* the index's rule; fields set by modifiers flagged in mo_set */
   unsigned mo_set;
-  int index_modes;           /* critical_speed: only the index's modes count */
-  double freq_hz;            /* frequency of the mode behind the last value (NaN if none) */
-  int model;                 /* index into the design's models */
+  int index_modes; /* critical_speed: only the index's modes count */
+  double freq_hz;  /* frequency of the mode behind the last value (NaN if none) */
+  int model;       /* index into the design's models */
   /* ride resources */
   rr_frf_plan *plan;
   rr_comfort_plan *cplan;
@@ -49,7 +58,7 @@ struct rr_design {
   const rr_vehicle_key *key[RR_DESIGN_MAX_VARS];
   char objtext[RR_DESIGN_MAX_OBJS][128];
   objective obj[RR_DESIGN_MAX_OBJS];
-  rr_modal_opts mo;          /* the rule of objectives without modifiers */
+  rr_modal_opts mo; /* the rule of objectives without modifiers */
   int nmodels;
   int model_sdf[MAX_MODELS]; /* sdf mode of each model (-1: the vehicle's) */
   rr_model *model[MAX_MODELS];
@@ -60,15 +69,19 @@ struct rr_design {
 };
 
 static const rr_objective_info objective_docs[] = {
-  {"zeta_low", "", "1", "vehicle stability index at 250 km/h, conicity 0.05 (paper Table 1; negative is stable)"},
-  {"zeta_high", "", "1", "vehicle stability index at 350 km/h, conicity 0.40"},
-  {"std_zeta", "", "1", "population standard deviation of the index at 350 km/h over 8 conicities 0.05-0.40"},
-  {"index", "KMH,L", "1", "vehicle stability index at speed KMH, conicity L"},
-  {"critical_speed", "L", "km/h", "lowest speed (10-600 km/h) at which an oscillatory mode has zeta >= 0; 600 when none"},
-  {"sperling", "KMH,L[,X]", "1", "Sperling index, weighting-filter method, floor point x = X m (default 0)"},
-  {"sperling_gb", "KMH,L[,X]", "1", "Sperling index, GB/T 5599 line method"},
-  {"wd_rms", "KMH,L[,X]", "m/s^2", "ISO 2631-1 / EN 12299 Wd-weighted lateral acceleration RMS"},
-  {"rms", "KMH,L[,X]", "m/s^2", "unweighted lateral acceleration RMS, 0.3-30 Hz"},
+    {"zeta_low", "", "1",
+     "vehicle stability index at 250 km/h, conicity 0.05 (paper Table 1; negative is stable)"},
+    {"zeta_high", "", "1", "vehicle stability index at 350 km/h, conicity 0.40"},
+    {"std_zeta", "", "1",
+     "population standard deviation of the index at 350 km/h over 8 conicities 0.05-0.40"},
+    {"index", "KMH,L", "1", "vehicle stability index at speed KMH, conicity L"},
+    {"critical_speed", "L", "km/h",
+     "lowest speed (10-600 km/h) at which an oscillatory mode has zeta >= 0; 600 when none"},
+    {"sperling", "KMH,L[,X]", "1",
+     "Sperling index, weighting-filter method, floor point x = X m (default 0)"},
+    {"sperling_gb", "KMH,L[,X]", "1", "Sperling index, GB/T 5599 line method"},
+    {"wd_rms", "KMH,L[,X]", "m/s^2", "ISO 2631-1 / EN 12299 Wd-weighted lateral acceleration RMS"},
+    {"rms", "KMH,L[,X]", "m/s^2", "unweighted lateral acceleration RMS, 0.3-30 Hz"},
 };
 
 const rr_objective_info *rr_objectives(int *n)
@@ -81,9 +94,15 @@ static const struct objective_name {
   const char *name;
   int kind, nargs_min, nargs_max;
 } objective_names[] = {
-  {"zeta_low", OBJ_ZETA_LOW, 0, 0},   {"zeta_high", OBJ_ZETA_HIGH, 0, 0}, {"std_zeta", OBJ_STD_ZETA, 0, 0},
-  {"index", OBJ_INDEX, 2, 2},         {"critical_speed", OBJ_CRITICAL, 1, 1}, {"sperling", OBJ_SPERLING, 2, 3},
-  {"sperling_gb", OBJ_SPERLING_GB, 2, 3}, {"wd_rms", OBJ_WD_RMS, 2, 3},   {"rms", OBJ_RMS, 2, 3},
+    {"zeta_low", OBJ_ZETA_LOW, 0, 0},
+    {"zeta_high", OBJ_ZETA_HIGH, 0, 0},
+    {"std_zeta", OBJ_STD_ZETA, 0, 0},
+    {"index", OBJ_INDEX, 2, 2},
+    {"critical_speed", OBJ_CRITICAL, 1, 1},
+    {"sperling", OBJ_SPERLING, 2, 3},
+    {"sperling_gb", OBJ_SPERLING_GB, 2, 3},
+    {"wd_rms", OBJ_WD_RMS, 2, 3},
+    {"rms", OBJ_RMS, 2, 3},
 };
 #define NOBJ_NAMES (int)(sizeof objective_names / sizeof objective_names[0])
 
@@ -105,18 +124,25 @@ static int parse_args(char *at, const struct objective_name *nm, objective *o, r
   char *sv;
   for (char *t = at ? strtok_r(at, ",", &sv) : NULL; t; t = strtok_r(NULL, ",", &sv)) {
     if (na >= 3) return rr_seterr(err, RR_EINVAL, "objective '%s': too many arguments", o->text);
-    if (number(t, &a[na++])) return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' is not a number", o->text, t);
+    if (number(t, &a[na++]))
+      return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' is not a number", o->text, t);
   }
   if (na < nm->nargs_min || na > nm->nargs_max)
-    return rr_seterr(err, RR_EINVAL, "objective '%s': %d to %d arguments expected after '@'", o->text,
-                     nm->nargs_min, nm->nargs_max);
-  if (o->kind == OBJ_CRITICAL) o->conicity = a[0];
-  else if (na >= 2) { o->speed_ms = a[0] / RR_KMH; o->conicity = a[1]; o->x = na == 3 ? a[2] : 0; }
+    return rr_seterr(err, RR_EINVAL, "objective '%s': %d to %d arguments expected after '@'",
+                     o->text, nm->nargs_min, nm->nargs_max);
+  if (o->kind == OBJ_CRITICAL)
+    o->conicity = a[0];
+  else if (na >= 2) {
+    o->speed_ms = a[0] / RR_KMH;
+    o->conicity = a[1];
+    o->x = na == 3 ? a[2] : 0;
+  }
   if (na >= 2 && !(o->speed_ms > 0 && o->speed_ms <= RR_SPEED_MAX_MS))
     return rr_seterr(err, RR_EINVAL, "objective '%s': speed must be within (0, %g] km/h", o->text,
                      RR_SPEED_MAX_MS * RR_KMH);
   if (!(o->conicity >= 0 && o->conicity <= RR_CONICITY_MAX))
-    return rr_seterr(err, RR_EINVAL, "objective '%s': conicity must be within [0, %g]", o->text, RR_CONICITY_MAX);
+    return rr_seterr(err, RR_EINVAL, "objective '%s': conicity must be within [0, %g]", o->text,
+                     RR_CONICITY_MAX);
   return RR_OK;
 }
 
@@ -124,33 +150,52 @@ static int parse_rule(const char *t, objective *o, rr_error *err)
 {
   double v;
   const char *eq = strchr(t, '=');
-  if (!eq || number(eq + 1, &v)) return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' needs a number", o->text, t);
+  if (!eq || number(eq + 1, &v))
+    return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' needs a number", o->text, t);
   size_t k = (size_t)(eq - t);
-  if (k == 4 && !strncmp(t, "fmax", 4) && v > 0) { o->mo.fmax_hz = v; o->mo_set |= MO_FMAX; }
-  else if (k == 4 && !strncmp(t, "wmin", 4) && v >= 0 && v <= 1) { o->mo.w_min = v; o->mo_set |= MO_WMIN; }
-  else if (k == 4 && !strncmp(t, "rmax", 4) && v >= 0 && v <= 1) { o->mo.r_max = v; o->mo_set |= MO_RMAX; }
-  else return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' out of range (fmax > 0 Hz, wmin and rmax in 0..1)",
-                        o->text, t);
+  if (k == 4 && !strncmp(t, "fmax", 4) && v > 0) {
+    o->mo.fmax_hz = v;
+    o->mo_set |= MO_FMAX;
+  } else if (k == 4 && !strncmp(t, "wmin", 4) && v >= 0 && v <= 1) {
+    o->mo.w_min = v;
+    o->mo_set |= MO_WMIN;
+  } else if (k == 4 && !strncmp(t, "rmax", 4) && v >= 0 && v <= 1) {
+    o->mo.r_max = v;
+    o->mo_set |= MO_RMAX;
+  } else
+    return rr_seterr(err, RR_EINVAL,
+                     "objective '%s': '%s' out of range (fmax > 0 Hz, wmin and rmax in 0..1)",
+                     o->text, t);
   return RR_OK;
 }
 
 static int parse_option(const char *t, objective *o, rr_error *err)
 {
   if (!strncmp(t, "sdf=", 4)) {
-    if (!strcmp(t + 4, "none")) o->sdf = RR_SDF_NONE;
-    else if (!strcmp(t + 4, "paper")) o->sdf = RR_SDF_PAPER;
-    else if (!strcmp(t + 4, "physical")) o->sdf = RR_SDF_PHYSICAL;
-    else return rr_seterr(err, RR_EINVAL, "objective '%s': sdf must be none, paper or physical", o->text);
+    if (!strcmp(t + 4, "none"))
+      o->sdf = RR_SDF_NONE;
+    else if (!strcmp(t + 4, "paper"))
+      o->sdf = RR_SDF_PAPER;
+    else if (!strcmp(t + 4, "physical"))
+      o->sdf = RR_SDF_PHYSICAL;
+    else
+      return rr_seterr(err, RR_EINVAL, "objective '%s': sdf must be none, paper or physical",
+                       o->text);
     return RR_OK;
   }
   if (!strncmp(t, "spectrum=", 9) && is_ride(o->kind)) {
     snprintf(o->spectrum, sizeof o->spectrum, "%s", t + 9);
     return RR_OK;
   }
-  if (!strcmp(t, "index_modes") && o->kind == OBJ_CRITICAL) { o->index_modes = 1; return RR_OK; }
-  if (is_stability(o->kind) && (!strncmp(t, "fmax=", 5) || !strncmp(t, "wmin=", 5) || !strncmp(t, "rmax=", 5)))
+  if (!strcmp(t, "index_modes") && o->kind == OBJ_CRITICAL) {
+    o->index_modes = 1;
+    return RR_OK;
+  }
+  if (is_stability(o->kind) &&
+      (!strncmp(t, "fmax=", 5) || !strncmp(t, "wmin=", 5) || !strncmp(t, "rmax=", 5)))
     return parse_rule(t, o, err);
-  return rr_seterr(err, RR_EINVAL, "objective '%s': unknown option '%s' for this objective", o->text, t);
+  return rr_seterr(err, RR_EINVAL, "objective '%s': unknown option '%s' for this objective",
+                   o->text, t);
 }
 
 static int parse_objective(const char *text, objective *o, rr_error *err)
@@ -158,7 +203,8 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
   *o = (objective){.sdf = -1, .mo = rr_modal_opts_default(), .freq_hz = NAN};
   snprintf(o->text, sizeof o->text, "%s", text);
   snprintf(o->spectrum, sizeof o->spectrum, "wuhan-guangzhou");
-  if (strlen(text) >= sizeof o->text) return rr_seterr(err, RR_EINVAL, "objective '%.40s...': too long", text);
+  if (strlen(text) >= sizeof o->text)
+    return rr_seterr(err, RR_EINVAL, "objective '%.40s...': too long", text);
   char buf[128];
   snprintf(buf, sizeof buf, "%s", text);
   char *opts = strchr(buf, ';');
@@ -169,11 +215,13 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
   for (int i = 0; i < NOBJ_NAMES; i++)
     if (!strcmp(buf, objective_names[i].name)) nm = &objective_names[i];
   if (!nm)
-    return rr_seterr(err, RR_EINVAL, "objective '%s': unknown name (railride objectives lists them)", text);
+    return rr_seterr(err, RR_EINVAL,
+                     "objective '%s': unknown name (railride objectives lists them)", text);
   o->kind = nm->kind;
   int st = parse_args(at, nm, o, err);
   char *sv;
-  for (char *t = opts && !st ? strtok_r(opts, ";", &sv) : NULL; t && !st; t = strtok_r(NULL, ";", &sv))
+  for (char *t = opts && !st ? strtok_r(opts, ";", &sv) : NULL; t && !st;
+       t = strtok_r(NULL, ";", &sv))
     st = parse_option(t, o, err);
   return st;
 }
@@ -192,7 +240,10 @@ void rr_design_free(rr_design *d)
     rr_comfort_plan_free(d->obj[i].cplan);
     free(d->obj[i].G);
   }
-  for (int i = 0; i < d->nmodels; i++) { rr_model_free(d->model[i]); rr_modal_ws_free(d->ws[i]); }
+  for (int i = 0; i < d->nmodels; i++) {
+    rr_model_free(d->model[i]);
+    rr_modal_ws_free(d->ws[i]);
+  }
   rr_system_free(d->scratch);
   for (int i = 0; i < d->nclones; i++) rr_design_free(d->clones[i]);
   free(d->clones);
@@ -210,8 +261,12 @@ static void variant(const rr_design *d, int sdf, rr_vehicle *v)
 static int model_slot(rr_design *d, int sdf, const char *text, int *slot, rr_error *err)
 {
   for (int j = 0; j < d->nmodels; j++)
-    if (d->model_sdf[j] == sdf) { *slot = j; return RR_OK; }
-  if (d->nmodels >= MAX_MODELS) return rr_seterr(err, RR_EINVAL, "objective '%s': too many SDF variants", text);
+    if (d->model_sdf[j] == sdf) {
+      *slot = j;
+      return RR_OK;
+    }
+  if (d->nmodels >= MAX_MODELS)
+    return rr_seterr(err, RR_EINVAL, "objective '%s': too many SDF variants", text);
   rr_vehicle v;
   variant(d, sdf, &v);
   if (v.sdf_mode != RR_SDF_NONE && v.sdf.kind == RR_CURVE_UNSET)
@@ -237,12 +292,16 @@ static int build(rr_design *d, rr_error *err)
     if (!is_ride(o->kind)) continue;
     double row[RR_SYS_MAX_DOF], pt[1] = {o->x};
     rr_model *mm = d->model[o->model];
-    if ((st = rr_vehicle_floor_rows(mm, &d->cur, pt, 1, RR_FLOOR_HEIGHT_DEFAULT, 0, row, NULL, err))) return st;
+    if ((st =
+             rr_vehicle_floor_rows(mm, &d->cur, pt, 1, RR_FLOOR_HEIGHT_DEFAULT, 0, row, NULL, err)))
+      return st;
     rr_frf_opts fo = rr_frf_opts_default();
     fo.npoints = 1;
     fo.rows = row;
     if ((st = rr_frf_plan_new(mm, &fo, &o->plan, err))) return st;
-    if ((st = rr_comfort_plan_new(rr_frf_freqs(o->plan), fo.nfreq, RR_AXIS_LATERAL, &o->cplan, err))) return st;
+    if ((st =
+             rr_comfort_plan_new(rr_frf_freqs(o->plan), fo.nfreq, RR_AXIS_LATERAL, &o->cplan, err)))
+      return st;
     o->G = malloc(sizeof(double) * (size_t)fo.nfreq);
     if (!o->G) return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
@@ -250,8 +309,8 @@ static int build(rr_design *d, rr_error *err)
 }
 
 /* A context with the base vehicle and keys set and nothing built. */
-static int context(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj, rr_design **out,
-                   rr_error *err)
+static int context(const rr_vehicle *base, int nvar, const char *const *var_keys, int nobj,
+                   rr_design **out, rr_error *err)
 {
   *out = NULL;
   if (nvar < 0 || nvar > RR_DESIGN_MAX_VARS)
@@ -270,10 +329,12 @@ static int context(const rr_vehicle *base, int nvar, const char *const *var_keys
   for (int i = 0; i < nvar; i++) {
     d->key[i] = rr_vehicle_key_find(var_keys[i]);
     if (!d->key[i])
-      return rr_seterr(err, RR_EINVAL, "design variable '%s': not a numeric vehicle-file key (section.key)",
+      return rr_seterr(err, RR_EINVAL,
+                       "design variable '%s': not a numeric vehicle-file key (section.key)",
                        var_keys[i]);
     for (int j = 0; j < i; j++)
-      if (d->key[j] == d->key[i]) return rr_seterr(err, RR_EINVAL, "design variable '%s': listed twice", var_keys[i]);
+      if (d->key[j] == d->key[i])
+        return rr_seterr(err, RR_EINVAL, "design variable '%s': listed twice", var_keys[i]);
     snprintf(d->keys[i], sizeof d->keys[i], "%s", var_keys[i]);
   }
   return RR_OK;
@@ -290,7 +351,10 @@ int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys,
     if (is_ride(d->obj[i].kind)) st = rr_spectrum_open(d->obj[i].spectrum, &d->obj[i].sp, err);
   }
   if (!st) st = build(d, err);
-  if (st) { rr_design_free(d); return st; }
+  if (st) {
+    rr_design_free(d);
+    return st;
+  }
   *out = d;
   return RR_OK;
 }
@@ -314,7 +378,10 @@ int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
     }
     st = build(c, err);
   }
-  if (st) { rr_design_free(c); return st; }
+  if (st) {
+    rr_design_free(c);
+    return st;
+  }
   *out = c;
   return RR_OK;
 }
@@ -348,7 +415,8 @@ static rr_modal_opts rule_of(const rr_design *d, const objective *o)
 
 static int same_rule(const rr_modal_opts *a, const rr_modal_opts *b)
 {
-  return a->fmax_hz == b->fmax_hz && a->w_min == b->w_min && a->r_max == b->r_max && a->tracking == b->tracking;
+  return a->fmax_hz == b->fmax_hz && a->w_min == b->w_min && a->r_max == b->r_max &&
+         a->tracking == b->tracking;
 }
 
 /* Robust indices, shared by the objectives of one model and rule. */
@@ -358,8 +426,8 @@ typedef struct robust_cache {
   rr_robust rb[RR_DESIGN_MAX_OBJS];
 } robust_cache;
 
-static int robust_value(rr_design *d, const objective *o, const rr_modal_opts *mo, robust_cache *rc, double *f,
-                        rr_error *err)
+static int robust_value(rr_design *d, const objective *o, const rr_modal_opts *mo, robust_cache *rc,
+                        double *f, rr_error *err)
 {
   int k = 0;
   while (k < rc->n && !(rc->model[k] == o->model && same_rule(&rc->mo[k], mo))) k++;
@@ -371,7 +439,9 @@ static int robust_value(rr_design *d, const objective *o, const rr_modal_opts *m
     rc->n++;
   }
   const rr_robust *rb = &rc->rb[k];
-  *f = o->kind == OBJ_ZETA_LOW ? rb->zeta_low : o->kind == OBJ_ZETA_HIGH ? rb->zeta_high : rb->std_zeta;
+  *f = o->kind == OBJ_ZETA_LOW    ? rb->zeta_low
+       : o->kind == OBJ_ZETA_HIGH ? rb->zeta_high
+                                  : rb->std_zeta;
   return RR_OK;
 }
 
@@ -383,8 +453,10 @@ static int ride_value(objective *o, rr_model *m, double *f, rr_error *err)
   if ((st = rr_frf_plan_execute(o->plan, m, err))) return st;
   if ((st = rr_pem_psd(o->plan, m, &o->sp, o->G, err))) return st;
   if ((st = rr_comfort_execute(o->cplan, o->G, 1, &c, err))) return st;
-  *f = o->kind == OBJ_SPERLING ? c.sperling : o->kind == OBJ_SPERLING_GB ? c.sperling_gb
-     : o->kind == OBJ_WD_RMS ? c.wd_rms : c.rms;
+  *f = o->kind == OBJ_SPERLING      ? c.sperling
+       : o->kind == OBJ_SPERLING_GB ? c.sperling_gb
+       : o->kind == OBJ_WD_RMS      ? c.wd_rms
+                                    : c.rms;
   return RR_OK;
 }
 
@@ -426,7 +498,8 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
   for (int i = 0; i < d->nobj; i++) f[i] = NAN;
   d->cur = d->base;
   for (int i = 0; i < d->nvar; i++) {
-    if (!isfinite(x[i])) return rr_seterr(err, RR_EINVAL, "design variable %s: not finite", d->keys[i]);
+    if (!isfinite(x[i]))
+      return rr_seterr(err, RR_EINVAL, "design variable %s: not finite", d->keys[i]);
     *rr_vehicle_field(&d->cur, d->key[i]) = x[i];
   }
   if ((st = rr_vehicle_check(&d->cur, err))) return st;
@@ -438,7 +511,8 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
   robust_cache rc = {.n = 0};
   for (int i = 0; i < d->nobj && !st; i++) st = objective_value(d, &d->obj[i], &rc, &f[i], err);
   for (int i = 0; i < d->nobj && !st; i++)
-    if (!isfinite(f[i])) st = rr_seterr(err, RR_ENOCONV, "objective '%s' is not finite", d->obj[i].text);
+    if (!isfinite(f[i]))
+      st = rr_seterr(err, RR_ENOCONV, "objective '%s' is not finite", d->obj[i].text);
   if (st)
     for (int i = 0; i < d->nobj; i++) f[i] = NAN;
   return st;
@@ -456,11 +530,15 @@ int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, in
   /* thread-private contexts, made once and kept */
   if (nt > 1 && d->nclones < nt - 1) {
     rr_design **c = realloc(d->clones, sizeof(rr_design *) * (nt - 1));
-    if (!c) nt = 1;
+    if (!c)
+      nt = 1;
     else {
       d->clones = c;
       while (d->nclones < nt - 1) {
-        if (rr_design_clone(d, &d->clones[d->nclones], NULL)) { nt = d->nclones + 1; break; }
+        if (rr_design_clone(d, &d->clones[d->nclones], NULL)) {
+          nt = d->nclones + 1;
+          break;
+        }
         d->nclones++;
       }
     }
@@ -480,7 +558,8 @@ int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, in
   return failed;
 }
 
-rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl, char *errbuf, int errlen)
+rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl,
+                          char *errbuf, int errlen)
 {
   rr_error e = {0, ""};
   rr_vehicle v;
@@ -491,8 +570,12 @@ rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *
   snprintf(kb, sizeof kb, "%s", keys_nl ? keys_nl : "");
   snprintf(ob, sizeof ob, "%s", objectives_nl ? objectives_nl : "");
   char *sv;
-  for (char *t = strtok_r(kb, "\n", &sv); t && nk < RR_DESIGN_MAX_VARS; t = strtok_r(NULL, "\n", &sv)) keys[nk++] = t;
-  for (char *t = strtok_r(ob, "\n", &sv); t && no < RR_DESIGN_MAX_OBJS; t = strtok_r(NULL, "\n", &sv)) objs[no++] = t;
+  for (char *t = strtok_r(kb, "\n", &sv); t && nk < RR_DESIGN_MAX_VARS;
+       t = strtok_r(NULL, "\n", &sv))
+    keys[nk++] = t;
+  for (char *t = strtok_r(ob, "\n", &sv); t && no < RR_DESIGN_MAX_OBJS;
+       t = strtok_r(NULL, "\n", &sv))
+    objs[no++] = t;
   int st = rr_vehicle_open(vehicle && *vehicle ? vehicle : NULL, &v, &e);
   if (!st) st = rr_design_new(&v, nk, keys, no, objs, &d, &e);
   if (st && errbuf && errlen > 0) snprintf(errbuf, (size_t)errlen, "%s", e.msg);

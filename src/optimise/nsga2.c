@@ -49,18 +49,24 @@ static void sort_idx(int *idx, int n, const double *f, int m)
   /* merge sort on indices (stable, no global context) */
   if (n < 2) return;
   int *tmp = malloc(sizeof(int) * n);
-  if (!tmp) {   /* fall back to insertion sort */
+  if (!tmp) { /* fall back to insertion sort */
     for (int i = 1; i < n; i++) {
       int t = idx[i], j = i;
-      while (j > 0 && lex_cmp(f + (size_t)idx[j - 1] * m, f + (size_t)t * m, m) > 0) { idx[j] = idx[j - 1]; j--; }
+      while (j > 0 && lex_cmp(f + (size_t)idx[j - 1] * m, f + (size_t)t * m, m) > 0) {
+        idx[j] = idx[j - 1];
+        j--;
+      }
       idx[j] = t;
     }
     return;
   }
   for (int w = 1; w < n; w *= 2) {
     for (int lo = 0; lo < n; lo += 2 * w) {
-      int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n, a = lo, b = mid, k = lo;
-      while (a < mid && b < hi) tmp[k++] = lex_cmp(f + (size_t)idx[b] * m, f + (size_t)idx[a] * m, m) < 0 ? idx[b++] : idx[a++];
+      int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n, a = lo, b = mid,
+          k = lo;
+      while (a < mid && b < hi)
+        tmp[k++] =
+            lex_cmp(f + (size_t)idx[b] * m, f + (size_t)idx[a] * m, m) < 0 ? idx[b++] : idx[a++];
       while (a < mid) tmp[k++] = idx[a++];
       while (b < hi) tmp[k++] = idx[b++];
     }
@@ -71,7 +77,10 @@ static void sort_idx(int *idx, int n, const double *f, int m)
 
 /* Per-front staircase of (f2, f3) minima, f2 ascending and f3 descending,
    for the O(log n) dominance query of three objectives. */
-typedef struct stair { int *id; int n, cap; } stair;
+typedef struct stair {
+  int *id;
+  int n, cap;
+} stair;
 
 static int stair_dominated(const stair *st, const double *f, const double *p)
 {
@@ -79,7 +88,11 @@ static int stair_dominated(const stair *st, const double *f, const double *p)
   int lo = 0, hi = st->n - 1, best = -1;
   while (lo <= hi) {
     int mid = (lo + hi) / 2;
-    if (f[(size_t)st->id[mid] * 3 + 1] <= p[1]) { best = mid; lo = mid + 1; } else hi = mid - 1;
+    if (f[(size_t)st->id[mid] * 3 + 1] <= p[1]) {
+      best = mid;
+      lo = mid + 1;
+    } else
+      hi = mid - 1;
   }
   if (best < 0) return 0;
   const double *q = f + (size_t)st->id[best] * 3;
@@ -92,7 +105,7 @@ static int stair_insert(stair *st, const double *f, int id)
 {
   const double *p = f + (size_t)id * 3;
   int w = 0;
-  for (int i = 0; i < st->n; i++) {   /* drop members p weakly dominates in (f2, f3) */
+  for (int i = 0; i < st->n; i++) { /* drop members p weakly dominates in (f2, f3) */
     const double *q = f + (size_t)st->id[i] * 3;
     if (!(q[1] >= p[1] && q[2] >= p[2])) st->id[w++] = st->id[i];
   }
@@ -107,7 +120,10 @@ static int stair_insert(stair *st, const double *f, int id)
   int pos = 0, lo = 0, hi = st->n;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
-    if (f[(size_t)st->id[mid] * 3 + 1] < p[1]) lo = mid + 1; else hi = mid;
+    if (f[(size_t)st->id[mid] * 3 + 1] < p[1])
+      lo = mid + 1;
+    else
+      hi = mid;
   }
   pos = lo;
   memmove(st->id + pos + 1, st->id + pos, sizeof(int) * (st->n - pos));
@@ -123,10 +139,18 @@ int rr_nondominated_ranks(int n, int m, const double *f, int *rank)
      members dominates it. For two and three objectives the test is a search
      (an earlier q dominates p iff q2 <= p2 and q3 <= p3, q != p); otherwise
      fronts are linked lists through next[] scanned newest first. */
-  int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *head = malloc(sizeof(int) * (n + 1)), *next = malloc(sizeof(int) * (n > 0 ? n : 1));
+  int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *head = malloc(sizeof(int) * (n + 1)),
+      *next = malloc(sizeof(int) * (n > 0 ? n : 1));
   double *minf2 = malloc(sizeof(double) * (n + 1));
   stair *st = m == 3 ? calloc((size_t)n + 1, sizeof(stair)) : NULL;
-  if (!idx || !head || !next || !minf2 || (m == 3 && !st)) { free(idx); free(head); free(next); free(minf2); free(st); return -1; }
+  if (!idx || !head || !next || !minf2 || (m == 3 && !st)) {
+    free(idx);
+    free(head);
+    free(next);
+    free(minf2);
+    free(st);
+    return -1;
+  }
   for (int i = 0; i < n; i++) idx[i] = i;
   sort_idx(idx, n, f, m);
   int nf = 0, fail = 0;
@@ -136,27 +160,41 @@ int rr_nondominated_ranks(int n, int m, const double *f, int *rank)
     int k = 0;
     for (; k < nf; k++) {
       int dom = 0;
-      if (m == 3) dom = stair_dominated(&st[k], f, fp);
+      if (m == 3)
+        dom = stair_dominated(&st[k], f, fp);
       else if (m == 2) {
         /* the front member with the least f2 decides; equal points do not dominate */
         const double *q = f + (size_t)head[k] * 2;
         dom = minf2[k] <= fp[1] && (q[0] < fp[0] || minf2[k] < fp[1]);
       } else
-        for (int q = head[k]; q >= 0 && !dom; q = next[q]) dom = dominates(f + (size_t)q * m, fp, m);
+        for (int q = head[k]; q >= 0 && !dom; q = next[q])
+          dom = dominates(f + (size_t)q * m, fp, m);
       if (!dom) break;
     }
-    if (k == nf) { head[nf] = -1; minf2[nf] = INFINITY; nf++; }
+    if (k == nf) {
+      head[nf] = -1;
+      minf2[nf] = INFINITY;
+      nf++;
+    }
     rank[p] = k;
     if (m == 2) {
-      if (fp[1] < minf2[k] || head[k] < 0) { minf2[k] = fp[1]; head[k] = p; }
+      if (fp[1] < minf2[k] || head[k] < 0) {
+        minf2[k] = fp[1];
+        head[k] = p;
+      }
     } else {
       next[p] = head[k];
       head[k] = p;
     }
     if (m == 3 && stair_insert(&st[k], f, p)) fail = 1;
   }
-  if (st) for (int k = 0; k < nf; k++) free(st[k].id);
-  free(st); free(idx); free(head); free(next); free(minf2);
+  if (st)
+    for (int k = 0; k < nf; k++) free(st[k].id);
+  free(st);
+  free(idx);
+  free(head);
+  free(next);
+  free(minf2);
   return fail ? -1 : nf;
 }
 
@@ -165,7 +203,8 @@ static void sort_by_key(int *idx, int cnt, const double *key, int *tmp, int desc
 {
   for (int w = 1; w < cnt; w *= 2) {
     for (int lo = 0; lo < cnt; lo += 2 * w) {
-      int mid = lo + w < cnt ? lo + w : cnt, hi = lo + 2 * w < cnt ? lo + 2 * w : cnt, a = lo, b = mid, k = lo;
+      int mid = lo + w < cnt ? lo + w : cnt, hi = lo + 2 * w < cnt ? lo + 2 * w : cnt, a = lo,
+          b = mid, k = lo;
       while (a < mid && b < hi) {
         int takeb = descending ? key[idx[b]] > key[idx[a]] : key[idx[b]] < key[idx[a]];
         tmp[k++] = takeb ? idx[b++] : idx[a++];
@@ -196,7 +235,11 @@ static int stair2_add(double *s1, double *s2, int *ns, const double *p)
     if (s1[i] <= p[0] && s2[i] <= p[1]) return 0;
   int w = 0;
   for (int i = 0; i < *ns; i++)
-    if (!(p[0] <= s1[i] && p[1] <= s2[i])) { s1[w] = s1[i]; s2[w] = s2[i]; w++; }
+    if (!(p[0] <= s1[i] && p[1] <= s2[i])) {
+      s1[w] = s1[i];
+      s2[w] = s2[i];
+      w++;
+    }
   int pos = 0;
   while (pos < w && s1[pos] < p[0]) pos++;
   memmove(s1 + pos + 1, s1 + pos, sizeof(double) * (w - pos));
@@ -211,13 +254,22 @@ double rr_hypervolume(int n, int m, const double *f, const double *ref)
 {
   if (m != 2 && m != 3) return -1;
   int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *tmp = malloc(sizeof(int) * (n > 0 ? n : 1));
-  double *s1 = malloc(sizeof(double) * (n + 1)), *s2 = malloc(sizeof(double) * (n + 1)), *key = calloc(n > 0 ? n : 1, sizeof(double));
-  if (!idx || !tmp || !s1 || !s2 || !key) { free(idx); free(tmp); free(s1); free(s2); free(key); return -1; }
+  double *s1 = malloc(sizeof(double) * (n + 1)), *s2 = malloc(sizeof(double) * (n + 1)),
+         *key = calloc(n > 0 ? n : 1, sizeof(double));
+  if (!idx || !tmp || !s1 || !s2 || !key) {
+    free(idx);
+    free(tmp);
+    free(s1);
+    free(s2);
+    free(key);
+    return -1;
+  }
   int k = 0, ns = 0;
   for (int i = 0; i < n; i++) {
     const double *p = f + (size_t)i * m;
     int in = 1;
-    for (int j = 0; j < m; j++) if (!(p[j] < ref[j])) in = 0;
+    for (int j = 0; j < m; j++)
+      if (!(p[j] < ref[j])) in = 0;
     if (in) idx[k++] = i;
   }
   double hv = 0;
@@ -236,18 +288,29 @@ double rr_hypervolume(int n, int m, const double *f, const double *ref)
       hv += area * (next - p[2]);
     }
   }
-  free(idx); free(tmp); free(s1); free(s2); free(key);
+  free(idx);
+  free(tmp);
+  free(s1);
+  free(s2);
+  free(key);
   return hv;
 }
 
 /* crowding distance of the members of one front; col: n doubles of scratch */
-static void crowding(const int *mem, int cnt, int m, const double *f, double *cd, int *tmp, int *tmp2, double *col, int n)
+static void crowding(const int *mem, int cnt, int m, const double *f, double *cd, int *tmp,
+                     int *tmp2, double *col, int n)
 {
   for (int i = 0; i < cnt; i++) cd[mem[i]] = 0;
-  if (cnt <= 2) { for (int i = 0; i < cnt; i++) cd[mem[i]] = INFINITY; return; }
+  if (cnt <= 2) {
+    for (int i = 0; i < cnt; i++) cd[mem[i]] = INFINITY;
+    return;
+  }
   (void)n;
   for (int k = 0; k < m; k++) {
-    for (int i = 0; i < cnt; i++) { tmp[i] = mem[i]; col[mem[i]] = f[(size_t)mem[i] * m + k]; }
+    for (int i = 0; i < cnt; i++) {
+      tmp[i] = mem[i];
+      col[mem[i]] = f[(size_t)mem[i] * m + k];
+    }
     sort_by_key(tmp, cnt, col, tmp2, 0);
     double lo = col[tmp[0]], hi = col[tmp[cnt - 1]];
     cd[tmp[0]] = cd[tmp[cnt - 1]] = INFINITY;
@@ -270,13 +333,20 @@ static void sbx(rr_rng *r, double eta, double lo, double hi, double *a, double *
   double c2 = 0.5 * ((y1 + y2) + bq * (y2 - y1));
   c1 = fmin(fmax(c1, lo), hi);
   c2 = fmin(fmax(c2, lo), hi);
-  if (rr_rng_uniform(r) < 0.5) { *a = c2; *b = c1; } else { *a = c1; *b = c2; }
+  if (rr_rng_uniform(r) < 0.5) {
+    *a = c2;
+    *b = c1;
+  } else {
+    *a = c1;
+    *b = c2;
+  }
 }
 
 static double poly_mutation(rr_rng *r, double eta, double lo, double hi, double y)
 {
   if (hi <= lo) return y;
-  double d1 = (y - lo) / (hi - lo), d2 = (hi - y) / (hi - lo), u = rr_rng_uniform(r), mp = 1.0 / (eta + 1), dq;
+  double d1 = (y - lo) / (hi - lo), d2 = (hi - y) / (hi - lo), u = rr_rng_uniform(r),
+         mp = 1.0 / (eta + 1), dq;
   if (u < 0.5) {
     double val = 2 * u + (1 - 2 * u) * pow(1 - d1, eta + 1);
     dq = pow(val, mp) - 1;
@@ -297,15 +367,16 @@ static double now_s(void)
 
 static void sanitize(double *f, int n)
 {
-  for (int i = 0; i < n; i++) if (isnan(f[i])) f[i] = INFINITY;
+  for (int i = 0; i < n; i++)
+    if (isnan(f[i])) f[i] = INFINITY;
 }
 
 /* Constrained ranks (Deb 2000): the feasible designs (cv = 0) by
    non-domination among themselves, then the infeasible ones one front each
    in order of total violation (equal violations share a front). fc (n x m),
    idx and r2 (n) are scratch. */
-static int constrained_ranks(int n, int m, const double *f, const double *cv, int *rank, double *fc, int *idx,
-                             int *r2, int *tmp)
+static int constrained_ranks(int n, int m, const double *f, const double *cv, int *rank, double *fc,
+                             int *idx, int *r2, int *tmp)
 {
   int nfeas = 0, nf = 0;
   for (int i = 0; i < n; i++)
@@ -329,17 +400,20 @@ static int constrained_ranks(int n, int m, const double *f, const double *cv, in
 /* Ranks and crowding of a population of n; fronts gathered in one pass
    (mem: the indices ordered by front, start: nf + 1 offsets). With cv,
    constrained ranks (fc, idx, r2 scratch). */
-static int rank_crowd(int n, int m, const double *f, const double *cv, double *fc, int *idx, int *r2, int *rank,
-                      double *cd, int *mem, int *tmp, int *tmp2, int *start, double *col)
+static int rank_crowd(int n, int m, const double *f, const double *cv, double *fc, int *idx,
+                      int *r2, int *rank, double *cd, int *mem, int *tmp, int *tmp2, int *start,
+                      double *col)
 {
-  int nf = cv ? constrained_ranks(n, m, f, cv, rank, fc, idx, r2, tmp) : rr_nondominated_ranks(n, m, f, rank);
+  int nf = cv ? constrained_ranks(n, m, f, cv, rank, fc, idx, r2, tmp)
+              : rr_nondominated_ranks(n, m, f, rank);
   if (nf < 0) return -1;
   for (int k = 0; k <= nf; k++) start[k] = 0;
   for (int i = 0; i < n; i++) start[rank[i] + 1]++;
   for (int k = 0; k < nf; k++) start[k + 1] += start[k];
   for (int k = 0; k < nf; k++) tmp[k] = start[k];
   for (int i = 0; i < n; i++) mem[tmp[rank[i]]++] = i;
-  for (int k = 0; k < nf; k++) crowding(mem + start[k], start[k + 1] - start[k], m, f, cd, tmp, tmp2, col, n);
+  for (int k = 0; k < nf; k++)
+    crowding(mem + start[k], start[k + 1] - start[k], m, f, cd, tmp, tmp2, col, n);
   return nf;
 }
 
@@ -393,14 +467,23 @@ static int state_save(const char *path, const nsga_state *s, rr_error *err)
   int32_t head[6] = {CKPT_VERSION, s->d, s->m, s->nc, s->N, s->g};
   int64_t ev = s->evals;
   size_t N = (size_t)s->N;
-  int bad = ckpt_io(f, CKPT_MAGIC, 1, 8, 1) || ckpt_io(f, head, sizeof head[0], 6, 1) || ckpt_io(f, &ev, sizeof ev, 1, 1) ||
-            ckpt_io(f, (void *)&s->seed, sizeof s->seed, 1, 1) || ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 1) ||
-            ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 1) || ckpt_io(f, (void *)s->lo, sizeof(double), (size_t)s->d, 1) ||
-            ckpt_io(f, (void *)s->hi, sizeof(double), (size_t)s->d, 1) || ckpt_io(f, s->X, sizeof(double), N * s->d, 1) ||
-            ckpt_io(f, s->F, sizeof(double), N * s->m, 1) || (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 1)) ||
+  int bad = ckpt_io(f, CKPT_MAGIC, 1, 8, 1) || ckpt_io(f, head, sizeof head[0], 6, 1) ||
+            ckpt_io(f, &ev, sizeof ev, 1, 1) ||
+            ckpt_io(f, (void *)&s->seed, sizeof s->seed, 1, 1) ||
+            ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 1) ||
+            ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 1) ||
+            ckpt_io(f, (void *)s->lo, sizeof(double), (size_t)s->d, 1) ||
+            ckpt_io(f, (void *)s->hi, sizeof(double), (size_t)s->d, 1) ||
+            ckpt_io(f, s->X, sizeof(double), N * s->d, 1) ||
+            ckpt_io(f, s->F, sizeof(double), N * s->m, 1) ||
+            (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 1)) ||
             ckpt_io(f, s->cd, sizeof(double), N, 1) || ckpt_io(f, s->rank, sizeof(int), N, 1);
-  if (fclose(f) || bad) { remove(tmpname); return rr_seterr(err, RR_EIO, "nsga2: cannot write the checkpoint %s", tmpname); }
-  if (rename(tmpname, path)) return rr_seterr(err, RR_EIO, "nsga2: cannot rename the checkpoint to %s", path);
+  if (fclose(f) || bad) {
+    remove(tmpname);
+    return rr_seterr(err, RR_EIO, "nsga2: cannot write the checkpoint %s", tmpname);
+  }
+  if (rename(tmpname, path))
+    return rr_seterr(err, RR_EIO, "nsga2: cannot rename the checkpoint to %s", path);
   return RR_OK;
 }
 
@@ -415,29 +498,41 @@ static int state_load(const char *path, nsga_state *s, rr_error *err)
   double lo[64], hi[64];
   int st = RR_OK;
   size_t N = (size_t)s->N;
-  if (ckpt_io(f, magic, 1, 8, 0) || memcmp(magic, CKPT_MAGIC, 8) || ckpt_io(f, head, sizeof head[0], 6, 0) ||
-      head[0] != CKPT_VERSION)
+  if (ckpt_io(f, magic, 1, 8, 0) || memcmp(magic, CKPT_MAGIC, 8) ||
+      ckpt_io(f, head, sizeof head[0], 6, 0) || head[0] != CKPT_VERSION)
     st = rr_seterr(err, RR_EPARSE, "%s: not a railride NSGA-II checkpoint", path);
   else if (head[1] != s->d || head[2] != s->m || head[3] != s->nc || head[4] != s->N || s->d > 64)
-    st = rr_seterr(err, RR_EINVAL, "%s: a checkpoint of another problem (%d variables, %d objectives, %d constraints, "
-                   "population %d)", path, head[1], head[2], head[3], head[4]);
-  else if (ckpt_io(f, &ev, sizeof ev, 1, 0) || ckpt_io(f, &seed, sizeof seed, 1, 0) || ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 0) ||
-           ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 0) || ckpt_io(f, lo, sizeof(double), (size_t)s->d, 0) ||
+    st = rr_seterr(
+        err, RR_EINVAL,
+        "%s: a checkpoint of another problem (%d variables, %d objectives, %d constraints, "
+        "population %d)",
+        path, head[1], head[2], head[3], head[4]);
+  else if (ckpt_io(f, &ev, sizeof ev, 1, 0) || ckpt_io(f, &seed, sizeof seed, 1, 0) ||
+           ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 0) ||
+           ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 0) ||
+           ckpt_io(f, lo, sizeof(double), (size_t)s->d, 0) ||
            ckpt_io(f, hi, sizeof(double), (size_t)s->d, 0))
     st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
-  else if (seed != s->seed || memcmp(lo, s->lo, sizeof(double) * s->d) || memcmp(hi, s->hi, sizeof(double) * s->d))
-    st = rr_seterr(err, RR_EINVAL, "%s: a checkpoint of another run (seed or variable bounds differ)", path);
-  else if (ckpt_io(f, s->X, sizeof(double), N * s->d, 0) || ckpt_io(f, s->F, sizeof(double), N * s->m, 0) ||
-           (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 0)) || ckpt_io(f, s->cd, sizeof(double), N, 0) ||
-           ckpt_io(f, s->rank, sizeof(int), N, 0))
+  else if (seed != s->seed || memcmp(lo, s->lo, sizeof(double) * s->d) ||
+           memcmp(hi, s->hi, sizeof(double) * s->d))
+    st = rr_seterr(err, RR_EINVAL,
+                   "%s: a checkpoint of another run (seed or variable bounds differ)", path);
+  else if (ckpt_io(f, s->X, sizeof(double), N * s->d, 0) ||
+           ckpt_io(f, s->F, sizeof(double), N * s->m, 0) ||
+           (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 0)) ||
+           ckpt_io(f, s->cd, sizeof(double), N, 0) || ckpt_io(f, s->rank, sizeof(int), N, 0))
     st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
   fclose(f);
-  if (!st) { s->g = head[5]; s->evals = (long)ev; }
+  if (!st) {
+    s->g = head[5];
+    s->evals = (long)ev;
+  }
   return st;
 }
 
-int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval, void *user,
-                 const rr_nsga2_opts *o, double *x_out, double *f_out, int *rank_out, rr_error *err)
+int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval,
+                 void *user, const rr_nsga2_opts *o, double *x_out, double *f_out, int *rank_out,
+                 rr_error *err)
 {
   rr_nsga2_opts def = rr_nsga2_opts_default();
   if (!o) o = &def;
@@ -445,12 +540,16 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   if (N < 4 || N % 2) return rr_seterr(err, RR_EINVAL, "nsga2: population must be even and >= 4");
   if (d < 1 || m < 1) return rr_seterr(err, RR_EINVAL, "nsga2: need >= 1 variable and objective");
   for (int j = 0; j < d; j++)
-    if (!(isfinite(lo[j]) && isfinite(hi[j]) && hi[j] >= lo[j])) return rr_seterr(err, RR_EINVAL, "nsga2: bounds of variable %d", j);
+    if (!(isfinite(lo[j]) && isfinite(hi[j]) && hi[j] >= lo[j]))
+      return rr_seterr(err, RR_EINVAL, "nsga2: bounds of variable %d", j);
   double pm = o->p_mutation > 0 ? o->p_mutation : 1.0 / d;
   int R = 2 * N;
-  double *X = malloc(sizeof(double) * R * d), *F = malloc(sizeof(double) * R * m), *cd = malloc(sizeof(double) * R);
-  double *X2 = malloc(sizeof(double) * N * d), *F2 = malloc(sizeof(double) * N * m), *ref = malloc(sizeof(double) * m);
-  int *rank = malloc(sizeof(int) * R), *mem = malloc(sizeof(int) * R), *tmp = malloc(sizeof(int) * (R + 1)), *sel = malloc(sizeof(int) * N);
+  double *X = malloc(sizeof(double) * R * d), *F = malloc(sizeof(double) * R * m),
+         *cd = malloc(sizeof(double) * R);
+  double *X2 = malloc(sizeof(double) * N * d), *F2 = malloc(sizeof(double) * N * m),
+         *ref = malloc(sizeof(double) * m);
+  int *rank = malloc(sizeof(int) * R), *mem = malloc(sizeof(int) * R),
+      *tmp = malloc(sizeof(int) * (R + 1)), *sel = malloc(sizeof(int) * N);
   int *tmp2 = malloc(sizeof(int) * R), *start = malloc(sizeof(int) * (R + 1));
   double *col = malloc(sizeof(double) * R);
   int nc = o->ncon > 0 ? o->ncon : 0, me = m + nc;
@@ -458,14 +557,33 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   double *fc = nc ? malloc(sizeof(double) * R * m) : NULL;
   int *idx = nc ? malloc(sizeof(int) * R) : NULL, *r2 = nc ? malloc(sizeof(int) * R) : NULL;
   int st = RR_OK;
-  if (!E || (nc && (!CV || !fc || !idx || !r2))) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
-  if (!X || !F || !cd || !X2 || !F2 || !ref || !rank || !mem || !tmp || !sel || !tmp2 || !start || !col) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (!E || (nc && (!CV || !fc || !idx || !r2))) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto done;
+  }
+  if (!X || !F || !cd || !X2 || !F2 || !ref || !rank || !mem || !tmp || !sel || !tmp2 || !start ||
+      !col) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto done;
+  }
   rr_rng rng;
   rr_rng_seed(&rng, o->seed);
   double t0 = now_s();
   long evals = 0;
-  nsga_state ck = {.d = d, .m = m, .nc = nc, .N = N, .seed = o->seed, .rng = &rng, .ref = ref, .X = X, .F = F, .CV = CV,
-                   .cd = cd, .lo = lo, .hi = hi, .rank = rank};
+  nsga_state ck = {.d = d,
+                   .m = m,
+                   .nc = nc,
+                   .N = N,
+                   .seed = o->seed,
+                   .rng = &rng,
+                   .ref = ref,
+                   .X = X,
+                   .F = F,
+                   .CV = CV,
+                   .cd = cd,
+                   .lo = lo,
+                   .hi = hi,
+                   .rank = rank};
   int g0 = 0;
   if (o->resume) {
     if ((st = state_load(o->resume, &ck, err))) goto done;
@@ -482,10 +600,17 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
        initial population, plus 10% of its range */
     for (int k = 0; k < m; k++) {
       double a = INFINITY, b = -INFINITY;
-      for (int i = 0; i < N; i++) if (isfinite(F[i * m + k])) { a = fmin(a, F[i * m + k]); b = fmax(b, F[i * m + k]); }
+      for (int i = 0; i < N; i++)
+        if (isfinite(F[i * m + k])) {
+          a = fmin(a, F[i * m + k]);
+          b = fmax(b, F[i * m + k]);
+        }
       ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
     }
-    if (rank_crowd(N, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col) < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+    if (rank_crowd(N, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col) < 0) {
+      st = rr_seterr(err, RR_ENOMEM, "out of memory");
+      goto done;
+    }
   }
   if (o->generations_done) *o->generations_done = g0;
   for (int g = g0 + 1; g <= o->generations; g++) {
@@ -514,15 +639,18 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     memcpy(F + N * m, F2, sizeof(double) * N * m);
     /* environmental selection from parents and offspring */
     int nf = rank_crowd(R, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col);
-    if (nf < 0) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+    if (nf < 0) {
+      st = rr_seterr(err, RR_ENOMEM, "out of memory");
+      goto done;
+    }
     int taken = 0;
-    int *keep = sel;   /* reuse: N entries */
+    int *keep = sel; /* reuse: N entries */
     for (int k = 0; k < nf && taken < N; k++) {
       int *fm = mem + start[k], c = start[k + 1] - start[k];
       if (taken + c <= N) {
         for (int i = 0; i < c; i++) keep[taken++] = fm[i];
       } else {
-        sort_by_key(fm, c, cd, tmp2, 1);   /* the last front by decreasing crowding distance */
+        sort_by_key(fm, c, cd, tmp2, 1); /* the last front by decreasing crowding distance */
         for (int i = 0; taken < N; i++) keep[taken++] = fm[i];
       }
     }
@@ -533,7 +661,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
       memcpy(F2 + i * m, F + keep[i] * m, sizeof(double) * m);
       tmp[i] = rank[keep[i]];
       col[i] = cd[keep[i]];
-      if (CV) fc[i] = CV[keep[i]];   /* fc: scratch for the survivors' violations */
+      if (CV) fc[i] = CV[keep[i]]; /* fc: scratch for the survivors' violations */
     }
     if (CV) memcpy(CV, fc, sizeof(double) * N);
     memcpy(X, X2, sizeof(double) * N * d);
@@ -541,7 +669,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     memcpy(rank, tmp, sizeof(int) * N);
     memcpy(cd, col, sizeof(double) * N);
     if (o->generations_done) *o->generations_done = g;
-    if (o->checkpoint) {   /* before the report: a stop then leaves this generation's state */
+    if (o->checkpoint) { /* before the report: a stop then leaves this generation's state */
       ck.g = g;
       ck.evals = evals;
       if ((st = state_save(o->checkpoint, &ck, err))) goto done;
@@ -553,7 +681,10 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
       if (o->hv_every > 0 && (g % o->hv_every == 0 || g == o->generations) && m <= 3) {
         int c = 0;
         for (int i = 0; i < N; i++)
-          if (rank[i] == 0 && (!CV || CV[i] == 0)) { memcpy(F2 + c * m, F + i * m, sizeof(double) * m); c++; }
+          if (rank[i] == 0 && (!CV || CV[i] == 0)) {
+            memcpy(F2 + c * m, F + i * m, sizeof(double) * m);
+            c++;
+          }
         hv = m == 1 ? NAN : rr_hypervolume(c, m, F2, ref);
       }
       if (o->progress(o->user, g, evals, now_s() - t0, fs, hv)) break;
@@ -563,12 +694,29 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   memcpy(f_out, F, sizeof(double) * N * m);
   if (rank_out) memcpy(rank_out, rank, sizeof(int) * N);
   if (o->cv_out) {
-    if (CV) memcpy(o->cv_out, CV, sizeof(double) * N);
-    else memset(o->cv_out, 0, sizeof(double) * N);
+    if (CV)
+      memcpy(o->cv_out, CV, sizeof(double) * N);
+    else
+      memset(o->cv_out, 0, sizeof(double) * N);
   }
 done:
-  free(X); free(F); free(cd); free(X2); free(F2); free(ref); free(rank); free(mem); free(tmp); free(sel);
-  free(tmp2); free(start); free(col);
-  free(E); free(CV); free(fc); free(idx); free(r2);
+  free(X);
+  free(F);
+  free(cd);
+  free(X2);
+  free(F2);
+  free(ref);
+  free(rank);
+  free(mem);
+  free(tmp);
+  free(sel);
+  free(tmp2);
+  free(start);
+  free(col);
+  free(E);
+  free(CV);
+  free(fc);
+  free(idx);
+  free(r2);
   return st;
 }

@@ -10,13 +10,22 @@
    c^2 = c2, g = gain (x lateral for the lateral axis). */
 static const struct {
   double gain, lateral, c2, n2, d1, d2, d3;
-} sperling_b = {.gain = 0.588, .lateral = 1.25, .c2 = 1.911, .n2 = 0.25, .d1 = 1.563, .d2 = 0.277, .d3 = 0.0368};
-#define SPERLING_W_FACTOR 4.42     /* Wz = 4.42 a_w^0.3 (a_w in m/s^2) */
+} sperling_b = {.gain = 0.588,
+                .lateral = 1.25,
+                .c2 = 1.911,
+                .n2 = 0.25,
+                .d1 = 1.563,
+                .d2 = 0.277,
+                .d3 = 0.0368};
+#define SPERLING_W_FACTOR 4.42 /* Wz = 4.42 a_w^0.3 (a_w in m/s^2) */
 #define SPERLING_W_EXPONENT 0.3
-#define SPERLING_GB_FACTOR 3.57    /* GB/T 5599: W = 3.57 (sum a^3 F / f)^0.1 */
+#define SPERLING_GB_FACTOR 3.57 /* GB/T 5599: W = 3.57 (sum a^3 F / f)^0.1 */
 #define SPERLING_GB_EXPONENT 0.1
 
-static double sperling_gain(int axis) { return sperling_b.gain * (axis == RR_AXIS_LATERAL ? sperling_b.lateral : 1.0); }
+static double sperling_gain(int axis)
+{
+  return sperling_b.gain * (axis == RR_AXIS_LATERAL ? sperling_b.lateral : 1.0);
+}
 
 /* B(f)^2 */
 static double sperling2(double f, int axis)
@@ -27,7 +36,10 @@ static double sperling2(double f, int axis)
   return (g * g) * num / (a * a + b * b);
 }
 
-double rr_sperling_from_weighted_rms(double aw) { return SPERLING_W_FACTOR * pow(aw, SPERLING_W_EXPONENT); }
+double rr_sperling_from_weighted_rms(double aw)
+{
+  return SPERLING_W_FACTOR * pow(aw, SPERLING_W_EXPONENT);
+}
 
 /* The same B as a state-space filter in s = 2 pi j f (controllable form). */
 void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
@@ -46,14 +58,11 @@ void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
   C[2] = n2;
 }
 
-double rr_sperling_filter(double f, int axis)
-{
-  return sqrt(sperling2(f, axis));
-}
+double rr_sperling_filter(double f, int axis) { return sqrt(sperling2(f, axis)); }
 
 double rr_sperling_gb_factor(double f, int axis)
 {
-  if (axis == RR_AXIS_LATERAL) {   /* at a breakpoint the lower range's formula applies */
+  if (axis == RR_AXIS_LATERAL) { /* at a breakpoint the lower range's formula applies */
     if (f <= 5.4) return 0.8 * f * f;
     if (f <= 26) return 650 / (f * f);
     return 1;
@@ -65,10 +74,10 @@ double rr_sperling_gb_factor(double f, int axis)
 
 /* ISO 8041 parameters: f1, f2, f3, f4, Q4, f5, Q5, f6, Q6, K (f5 = 0: no step). */
 static const double iso[4][10] = {
-  {0.4, 100, 16, 16, 0.55, 2.5, 0.9, 4, 0.95, 1.024},   /* Wb */
-  {0.4, 100, 8, 8, 0.63, 0, 0, 0, 0, 1},                /* Wc */
-  {0.4, 100, 2, 2, 0.63, 0, 0, 0, 0, 1},                /* Wd */
-  {0.4, 100, 12.5, 12.5, 0.63, 2.37, 0.91, 3.35, 0.91, 1}, /* Wk */
+    {0.4, 100, 16, 16, 0.55, 2.5, 0.9, 4, 0.95, 1.024},      /* Wb */
+    {0.4, 100, 8, 8, 0.63, 0, 0, 0, 0, 1},                   /* Wc */
+    {0.4, 100, 2, 2, 0.63, 0, 0, 0, 0, 1},                   /* Wd */
+    {0.4, 100, 12.5, 12.5, 0.63, 2.37, 0.91, 3.35, 0.91, 1}, /* Wk */
 };
 
 double complex rr_iso8041_weight(int wt, double f)
@@ -83,7 +92,8 @@ double complex rr_iso8041_weight(int wt, double f)
   double complex Hs = 1;
   if (P[5] > 0) {
     double w5 = 2 * RR_PI * P[5], w6 = 2 * RR_PI * P[7];
-    Hs = (w5 / w6) * (w5 / w6) * (1 + s / (P[6] * w5) + s * s / (w5 * w5)) / (1 + s / (P[8] * w6) + s * s / (w6 * w6));
+    Hs = (w5 / w6) * (w5 / w6) * (1 + s / (P[6] * w5) + s * s / (w5 * w5)) /
+         (1 + s / (P[8] * w6) + s * s / (w6 * w6));
   }
   return Hh * Hl * Ht * Hs;
 }
@@ -101,7 +111,10 @@ static int check_grid(const double *f, int n, rr_error *err)
    most RR_GB_BANDS_MAX (grids up to ~20 kHz). */
 #define RR_GB_BANDS_MAX 100000
 #define GB_DF 0.2
-typedef struct gb_band { double fc, t, ff; int lo; } gb_band;
+typedef struct gb_band {
+  double fc, t, ff;
+  int lo;
+} gb_band;
 
 /* Band k: 1 inside the grid (b filled), 0 below its start, -1 past its end. */
 static int gb_band_at(const double *f, int n, int axis, int k, gb_band *b)
@@ -112,9 +125,15 @@ static int gb_band_at(const double *f, int n, int axis, int k, gb_band *b)
   int a = 0, z = n - 1;
   while (z - a > 1) {
     int mid = (a + z) / 2;
-    if (f[mid] <= fc) a = mid; else z = mid;
+    if (f[mid] <= fc)
+      a = mid;
+    else
+      z = mid;
   }
-  *b = (gb_band){.fc = fc, .t = (fc - f[a]) / (f[z] - f[a]), .ff = rr_sperling_gb_factor(fc, axis) / fc, .lo = a};
+  *b = (gb_band){.fc = fc,
+                 .t = (fc - f[a]) / (f[z] - f[a]),
+                 .ff = rr_sperling_gb_factor(fc, axis) / fc,
+                 .lo = a};
   return 1;
 }
 
@@ -129,16 +148,18 @@ static double gb_term(const gb_band *b, const double *G, int stride)
 static int gb_grid_check(const double *f, int n, rr_error *err)
 {
   if (f[n - 1] > 0.5 + GB_DF * RR_GB_BANDS_MAX)
-    return rr_seterr(err, RR_EINVAL, "comfort: grid to %g Hz: the GB/T 5599 method takes grids up to %g Hz", f[n - 1],
-                     0.5 + GB_DF * RR_GB_BANDS_MAX);
+    return rr_seterr(err, RR_EINVAL,
+                     "comfort: grid to %g Hz: the GB/T 5599 method takes grids up to %g Hz",
+                     f[n - 1], 0.5 + GB_DF * RR_GB_BANDS_MAX);
   return RR_OK;
 }
 
 /* trapezoid of g(f) G(f) */
-static double trapz_weighted(const double *f, const double *G, int n, int stride, double (*g)(double, int), int arg)
+static double trapz_weighted(const double *f, const double *G, int n, int stride,
+                             double (*g)(double, int), int arg)
 {
   double s = 0, a = n > 0 ? G[0] * (g ? g(f[0], arg) : 1) : 0;
-  for (int i = 0; i + 1 < n; i++) {   /* each point weighted once */
+  for (int i = 0; i + 1 < n; i++) { /* each point weighted once */
     double b = G[(i + 1) * stride] * (g ? g(f[i + 1], arg) : 1);
     s += 0.5 * (a + b) * (f[i + 1] - f[i]);
     a = b;
@@ -151,8 +172,8 @@ double rr_psd_rms(const double *f, const double *G, int n, int stride)
   return sqrt(trapz_weighted(f, G, n, stride, NULL, 0));
 }
 
-
-int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis, double *Wz, rr_error *err)
+int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis,
+                             double *Wz, rr_error *err)
 {
   int st = check_grid(f, n, err);
   if (st) return st;
@@ -161,7 +182,8 @@ int rr_sperling_filter_index(const double *f, const double *G, int n, int stride
   return RR_OK;
 }
 
-int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis, double *W, rr_error *err)
+int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis, double *W,
+                         rr_error *err)
 {
   int st = check_grid(f, n, err);
   if (!st) st = gb_grid_check(f, n, err);
@@ -170,8 +192,13 @@ int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, in
   int bands = 0;
   gb_band b;
   for (int k = 0, r; k < RR_GB_BANDS_MAX && (r = gb_band_at(f, n, axis, k, &b)) >= 0; k++)
-    if (r) { sum += gb_term(&b, G, stride); bands++; }
-  if (!bands) return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz", f[0], f[n - 1]);
+    if (r) {
+      sum += gb_term(&b, G, stride);
+      bands++;
+    }
+  if (!bands)
+    return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz",
+                     f[0], f[n - 1]);
   *W = SPERLING_GB_FACTOR * pow(sum, SPERLING_GB_EXPONENT);
   return RR_OK;
 }
@@ -182,9 +209,11 @@ static double iso2(double f, int wt)
   return creal(h * conj(h));
 }
 
-int rr_weighted_rms(const double *f, const double *G, int n, int stride, int wt, double *aw, rr_error *err)
+int rr_weighted_rms(const double *f, const double *G, int n, int stride, int wt, double *aw,
+                    rr_error *err)
 {
-  if (wt < RR_ISO_WB || wt > RR_ISO_WK) return rr_seterr(err, RR_EINVAL, "comfort: unknown ISO weighting");
+  if (wt < RR_ISO_WB || wt > RR_ISO_WK)
+    return rr_seterr(err, RR_EINVAL, "comfort: unknown ISO weighting");
   int st = check_grid(f, n, err);
   if (st) return st;
   *aw = sqrt(trapz_weighted(f, G, n, stride, iso2, wt));
@@ -197,7 +226,7 @@ double rr_en12299_comfort(double awd) { return 6 * awd; }
 
 struct rr_comfort_plan {
   int n, axis, nb;
-  double *f, *gs, *gw;   /* grid, |B|^2, |W|^2 at each point */
+  double *f, *gs, *gw; /* grid, |B|^2, |W|^2 at each point */
   gb_band *band;
 };
 
@@ -214,14 +243,17 @@ void rr_comfort_plan_free(rr_comfort_plan *p)
 int rr_comfort_plan_new(const double *f, int n, int axis, rr_comfort_plan **out, rr_error *err)
 {
   *out = NULL;
-  if (axis != RR_AXIS_LATERAL && axis != RR_AXIS_VERTICAL) return rr_seterr(err, RR_EINVAL, "comfort: unknown axis");
+  if (axis != RR_AXIS_LATERAL && axis != RR_AXIS_VERTICAL)
+    return rr_seterr(err, RR_EINVAL, "comfort: unknown axis");
   int st = check_grid(f, n, err);
   if (!st) st = gb_grid_check(f, n, err);
   if (st) return st;
   gb_band b;
   int nb = 0;
   for (int k = 0, r; k < RR_GB_BANDS_MAX && (r = gb_band_at(f, n, axis, k, &b)) >= 0; k++) nb += r;
-  if (!nb) return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz", f[0], f[n - 1]);
+  if (!nb)
+    return rr_seterr(err, RR_EINVAL, "comfort: no whole 0.2 Hz band from 0.5 Hz inside %g-%g Hz",
+                     f[0], f[n - 1]);
   rr_comfort_plan *p = calloc(1, sizeof *p);
   if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
   p->n = n;
@@ -231,7 +263,10 @@ int rr_comfort_plan_new(const double *f, int n, int axis, rr_comfort_plan **out,
   p->gs = malloc(sizeof(double) * (size_t)n);
   p->gw = malloc(sizeof(double) * (size_t)n);
   p->band = malloc(sizeof *p->band * (size_t)nb);
-  if (!p->f || !p->gs || !p->gw || !p->band) { rr_comfort_plan_free(p); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!p->f || !p->gs || !p->gw || !p->band) {
+    rr_comfort_plan_free(p);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   int wt = axis == RR_AXIS_LATERAL ? RR_ISO_WD : RR_ISO_WB;
   for (int i = 0; i < n; i++) {
     p->f[i] = f[i];
@@ -256,14 +291,18 @@ static double trapz_tab(const double *f, const double *G, int n, int stride, con
   return s;
 }
 
-int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride, rr_comfort *out, rr_error *err)
+int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride, rr_comfort *out,
+                       rr_error *err)
 {
   double sum = 0;
   for (int k = 0; k < p->nb; k++) sum += gb_term(&p->band[k], G, stride);
-  *out = (rr_comfort){.rms = sqrt(trapz_tab(p->f, G, p->n, stride, NULL)),
-                      .sperling = rr_sperling_from_weighted_rms(sqrt(trapz_tab(p->f, G, p->n, stride, p->gs))),
-                      .sperling_gb = SPERLING_GB_FACTOR * pow(sum, SPERLING_GB_EXPONENT),
-                      .wd_rms = sqrt(trapz_tab(p->f, G, p->n, stride, p->gw))};
-  if (isfinite(out->rms) && isfinite(out->sperling) && isfinite(out->sperling_gb) && isfinite(out->wd_rms)) return RR_OK;
+  *out = (rr_comfort){
+      .rms = sqrt(trapz_tab(p->f, G, p->n, stride, NULL)),
+      .sperling = rr_sperling_from_weighted_rms(sqrt(trapz_tab(p->f, G, p->n, stride, p->gs))),
+      .sperling_gb = SPERLING_GB_FACTOR * pow(sum, SPERLING_GB_EXPONENT),
+      .wd_rms = sqrt(trapz_tab(p->f, G, p->n, stride, p->gw))};
+  if (isfinite(out->rms) && isfinite(out->sperling) && isfinite(out->sperling_gb) &&
+      isfinite(out->wd_rms))
+    return RR_OK;
   return rr_seterr(err, RR_EINVAL, "comfort: the PSD is not finite");
 }

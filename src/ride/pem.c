@@ -13,23 +13,24 @@
 #include "internal.h"
 
 #define MAXU 8
-#define FCHUNK 64   /* frequencies per GEMM: the weights and sums stay in cache */
+#define FCHUNK 64 /* frequencies per GEMM: the weights and sums stay in cache */
 
 struct rr_frf_plan {
   int n, ni, np, nf, Nmax, method, has0, use_dgeev;
-  int route;                  /* enum rr_frf_method the last execute took */
-  double *f;                 /* nf */
-  double *rows, *rows0;      /* np x n */
-  double complex *H;         /* nf x np x ni */
+  int route;            /* enum rr_frf_method the last execute took */
+  double *f;            /* nf */
+  double *rows, *rows0; /* np x n */
+  double complex *H;    /* nf x np x ni */
   /* modal workspace */
   double *A, *At, *vl, *vr, *wr, *wi, *work;
   int lwork;
-  double complex *lam, *o, *o0, *b, *u, *c;   /* per mode: np, np, ni, nU, nU */
-  double *T;                  /* 2 nt x E: per term (pair or real mode) the residue entries' real parts, then imaginary parts */
-  double *Wt, *acc;           /* per frequency chunk: 2 FCHUNK x 2 nt weights, 2 FCHUNK x E sums */
-  double *ework, *V, *rhs;    /* eigdec workspace, LU of the eigenvector basis, its right-hand sides */
+  double complex *lam, *o, *o0, *b, *u, *c; /* per mode: np, np, ni, nU, nU */
+  double *T;        /* 2 nt x E: per term (pair or real mode) the residue entries' real parts, then
+                       imaginary parts */
+  double *Wt, *acc; /* per frequency chunk: 2 FCHUNK x 2 nt weights, 2 FCHUNK x E sums */
+  double *ework, *V, *rhs; /* eigdec workspace, LU of the eigenvector basis, its right-hand sides */
   int *iwork, *vpiv;
-  double complex *lag;        /* nf x ni: exp(j w x_i / v) at lag_speed */
+  double complex *lag; /* nf x ni: exp(j w x_i / v) at lag_speed */
   double lag_speed, lag_x[RR_SYS_MAX_INPUTS];
   /* direct workspace */
   double complex *D, *X;
@@ -39,32 +40,63 @@ struct rr_frf_plan {
 void rr_frf_plan_free(rr_frf_plan *p)
 {
   if (!p) return;
-  free(p->f); free(p->rows); free(p->rows0); free(p->H);
-  free(p->A); free(p->At); free(p->vl); free(p->vr); free(p->wr); free(p->wi); free(p->work);
-  free(p->lam); free(p->o); free(p->o0); free(p->b); free(p->u); free(p->c);
-  free(p->T); free(p->Wt); free(p->acc); free(p->ework); free(p->V); free(p->rhs); free(p->iwork); free(p->vpiv);
+  free(p->f);
+  free(p->rows);
+  free(p->rows0);
+  free(p->H);
+  free(p->A);
+  free(p->At);
+  free(p->vl);
+  free(p->vr);
+  free(p->wr);
+  free(p->wi);
+  free(p->work);
+  free(p->lam);
+  free(p->o);
+  free(p->o0);
+  free(p->b);
+  free(p->u);
+  free(p->c);
+  free(p->T);
+  free(p->Wt);
+  free(p->acc);
+  free(p->ework);
+  free(p->V);
+  free(p->rhs);
+  free(p->iwork);
+  free(p->vpiv);
   free(p->lag);
-  free(p->D); free(p->X); free(p->piv);
+  free(p->D);
+  free(p->X);
+  free(p->piv);
   free(p);
 }
 
 rr_frf_opts rr_frf_opts_default(void)
 {
-  return (rr_frf_opts){.nfreq = RR_FRF_NFREQ_DEFAULT, .freqs_hz = NULL, .f_lo_hz = RR_FRF_F_LO_DEFAULT,
-                       .f_hi_hz = RR_FRF_F_HI_DEFAULT, .npoints = 0, .rows = NULL, .rows0 = NULL,
+  return (rr_frf_opts){.nfreq = RR_FRF_NFREQ_DEFAULT,
+                       .freqs_hz = NULL,
+                       .f_lo_hz = RR_FRF_F_LO_DEFAULT,
+                       .f_hi_hz = RR_FRF_F_HI_DEFAULT,
+                       .npoints = 0,
+                       .rows = NULL,
+                       .rows0 = NULL,
                        .method = RR_FRF_MODAL};
 }
 
 int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, rr_error *err)
 {
   *out = NULL;
-  if (!o || o->npoints < 1 || !o->rows) return rr_seterr(err, RR_EINVAL, "frf: at least one output row is needed");
+  if (!o || o->npoints < 1 || !o->rows)
+    return rr_seterr(err, RR_EINVAL, "frf: at least one output row is needed");
   int nf = o->nfreq > 0 ? o->nfreq : RR_FRF_NFREQ_DEFAULT;
   if (!o->freqs_hz) {
-    double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT, hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
+    double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT,
+           hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
     if (!(hi > lo) && nf > 1) return rr_seterr(err, RR_EINVAL, "frf: need 0 < f_lo < f_hi");
   }
-  if (o->method != RR_FRF_MODAL && o->method != RR_FRF_DIRECT && o->method != RR_FRF_MODAL_LAPACK) return rr_seterr(err, RR_EINVAL, "frf: unknown method");
+  if (o->method != RR_FRF_MODAL && o->method != RR_FRF_DIRECT && o->method != RR_FRF_MODAL_LAPACK)
+    return rr_seterr(err, RR_EINVAL, "frf: unknown method");
   rr_frf_plan *p = calloc(1, sizeof *p);
   if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
   int n = p->n = m->n, np = p->np = o->npoints, ni = p->ni = m->ni;
@@ -73,7 +105,7 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->use_dgeev = o->method == RR_FRF_MODAL_LAPACK;
   p->has0 = o->rows0 != NULL;
   int N = p->Nmax = 2 * n + m->nmx + m->nsdf + 2;
-  for (int i = 0; i < m->nmx; i++) N += m->mx[i].sdf;   /* room for physical mode */
+  for (int i = 0; i < m->nmx; i++) N += m->mx[i].sdf; /* room for physical mode */
   p->Nmax = N;
   size_t NN = (size_t)N * N;
   p->f = malloc(sizeof(double) * nf);
@@ -99,35 +131,48 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->acc = malloc(sizeof(double) * 2 * FCHUNK * E);
   p->ework = malloc(sizeof(double) * RR_EIGDEC_LWORK(N));
   p->V = malloc(sizeof(double) * NN);
-  p->rhs = malloc(sizeof(double) * N * (ni + MAXU + 4 * N));   /* also dgecon's 4N */
+  p->rhs = malloc(sizeof(double) * N * (ni + MAXU + 4 * N)); /* also dgecon's 4N */
   p->iwork = malloc(sizeof(int) * (RR_EIGDEC_LIWORK(N) + N));
   p->vpiv = malloc(sizeof(int) * N);
   p->lag = malloc(sizeof(double complex) * nf * ni);
   p->lag_speed = -1;
   p->X = malloc(sizeof(double complex) * n * (ni + MAXU));
   p->piv = malloc(sizeof(int) * n);
-  if (!p->f || !p->rows || !p->rows0 || !p->H || !p->A || !p->At || !p->vl || !p->vr || !p->wr || !p->wi || !p->lam ||
-      !p->o || !p->o0 || !p->b || !p->u || !p->c || !p->D || !p->X || !p->piv || !p->T || !p->Wt || !p->acc ||
-      !p->ework || !p->V || !p->rhs || !p->iwork || !p->vpiv || !p->lag) {
+  if (!p->f || !p->rows || !p->rows0 || !p->H || !p->A || !p->At || !p->vl || !p->vr || !p->wr ||
+      !p->wi || !p->lam || !p->o || !p->o0 || !p->b || !p->u || !p->c || !p->D || !p->X ||
+      !p->piv || !p->T || !p->Wt || !p->acc || !p->ework || !p->V || !p->rhs || !p->iwork ||
+      !p->vpiv || !p->lag) {
     rr_frf_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
   for (int i = 0; i < nf; i++) {
-    if (o->freqs_hz) p->f[i] = o->freqs_hz[i];
+    if (o->freqs_hz)
+      p->f[i] = o->freqs_hz[i];
     else {
-      double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT, hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
+      double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT,
+             hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
       p->f[i] = nf == 1 ? lo : lo * pow(hi / lo, (double)i / (nf - 1));
     }
-    if (!(isfinite(p->f[i]) && p->f[i] > 0)) { rr_frf_plan_free(p); return rr_seterr(err, RR_EINVAL, "frf: frequencies must be > 0"); }
+    if (!(isfinite(p->f[i]) && p->f[i] > 0)) {
+      rr_frf_plan_free(p);
+      return rr_seterr(err, RR_EINVAL, "frf: frequencies must be > 0");
+    }
   }
   memcpy(p->rows, o->rows, sizeof(double) * np * n);
   if (o->rows0) memcpy(p->rows0, o->rows0, sizeof(double) * np * n);
   double q;
-  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, p->At, N, p->wr, p->wi, p->vl, N, p->vr, N, &q, -1);
-  if (info) { rr_frf_plan_free(p); return rr_seterr(err, RR_ELAPACK, "dgeev workspace query failed"); }
+  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, p->At, N, p->wr, p->wi, p->vl, N,
+                                p->vr, N, &q, -1);
+  if (info) {
+    rr_frf_plan_free(p);
+    return rr_seterr(err, RR_ELAPACK, "dgeev workspace query failed");
+  }
   p->lwork = (int)q + 1;
   p->work = malloc(sizeof(double) * p->lwork);
-  if (!p->work) { rr_frf_plan_free(p); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!p->work) {
+    rr_frf_plan_free(p);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   *out = p;
   return RR_OK;
 }
@@ -157,7 +202,10 @@ static int execute_direct(rr_frf_plan *p, const rr_model *m)
       for (int i = 0; i < ni; i++) {
         double complex acc = 0, acc0 = 0;
         const double complex *x = p->X + (size_t)i * n;
-        for (int r = 0; r < n; r++) { acc += p->rows[q * n + r] * x[r]; acc0 += p->rows0[q * n + r] * x[r]; }
+        for (int r = 0; r < n; r++) {
+          acc += p->rows[q * n + r] * x[r];
+          acc0 += p->rows0[q * n + r] * x[r];
+        }
         p->H[((size_t)k * np + q) * ni + i] = -w * w * acc + acc0;
       }
   }
@@ -185,12 +233,16 @@ static int smw_elements(const rr_model *m, int *elem, double *mult)
 
 /* Right projections of eigenvector x (state space) for term j: output rows,
    roll-gravity rows and the SMW elements' strokes. */
-static void right_proj(rr_frf_plan *p, const rr_model *m, int j, int nu, const int *uel, const double complex *x)
+static void right_proj(rr_frf_plan *p, const rr_model *m, int j, int nu, const int *uel,
+                       const double complex *x)
 {
   int n = p->n, np = p->np;
   for (int q = 0; q < np; q++) {
     double complex a = 0, a0 = 0;
-    for (int r = 0; r < n; r++) { a += p->rows[q * n + r] * x[r]; a0 += p->rows0[q * n + r] * x[r]; }
+    for (int r = 0; r < n; r++) {
+      a += p->rows[q * n + r] * x[r];
+      a0 += p->rows0[q * n + r] * x[r];
+    }
     p->o[j * np + q] = a;
     p->o0[j * np + q] = a0;
   }
@@ -207,25 +259,30 @@ static void eigvec(const double *v, const double *wi, int N, int j, double compl
 {
   int pair = wi[j] != 0, c0 = pair && wi[j] < 0 ? j - 1 : j;
   double sg = pair && wi[j] < 0 ? -1.0 : 1.0;
-  for (int r = 0; r < N; r++) x[r] = v[(size_t)c0 * N + r] + (pair ? sg * I * v[(size_t)(c0 + 1) * N + r] : 0);
+  for (int r = 0; r < N; r++)
+    x[r] = v[(size_t)c0 * N + r] + (pair ? sg * I * v[(size_t)(c0 + 1) * N + r] : 0);
 }
 
 /* Residues from LAPACK's eigenvectors of the state matrix in p->A (left and
    right): (sI - A)^-1 = sum_j x_j u_j^H / (u_j^H x_j (s - lambda_j)). */
-static int residues_dgeev(rr_frf_plan *p, const rr_model *m, int N, int nu, const int *uel, rr_error *err)
+static int residues_dgeev(rr_frf_plan *p, const rr_model *m, int N, int nu, const int *uel,
+                          rr_error *err)
 {
   int n = p->n, ni = p->ni;
   for (int i = 0; i < N; i++)
     for (int j = 0; j < N; j++) p->At[j * N + i] = p->A[i * N + j];
-  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, p->At, N, p->wr, p->wi, p->vl, N, p->vr, N, p->work, p->lwork);
+  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, p->At, N, p->wr, p->wi, p->vl, N,
+                                p->vr, N, p->work, p->lwork);
   if (info) return rr_seterr(err, RR_ELAPACK, "dgeev failed (info %d)", info);
-  double complex x[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES], ul[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
+  double complex x[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES],
+      ul[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
   for (int j = 0; j < N; j++) {
     eigvec(p->vr, p->wi, N, j, x);
     eigvec(p->vl, p->wi, N, j, ul);
     double complex s = 0;
     for (int r = 0; r < N; r++) s += conj(ul[r]) * x[r];
-    if (cabs(s) == 0) return rr_seterr(err, RR_ELAPACK, "frf: defective state matrix (use the direct method)");
+    if (cabs(s) == 0)
+      return rr_seterr(err, RR_ELAPACK, "frf: defective state matrix (use the direct method)");
     double complex is = 1.0 / s;
     p->lam[j] = p->wr[j] + I * p->wi[j];
     right_proj(p, m, j, nu, uel, x);
@@ -237,7 +294,8 @@ static int residues_dgeev(rr_frf_plan *p, const rr_model *m, int N, int nu, cons
     for (int e = 0; e < nu; e++) {
       const rr_mx *mx = &m->mx[uel[e]];
       double complex cc = 0;
-      for (int t = 0; t < mx->nz; t++) cc += conj(ul[n + mx->idx[t]]) * (mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]]);
+      for (int t = 0; t < mx->nz; t++)
+        cc += conj(ul[n + mx->idx[t]]) * (mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]]);
       p->c[j * MAXU + e] = cc * is;
     }
   }
@@ -268,25 +326,29 @@ static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const
     for (int r = 0; r < n; r++) rhs[(size_t)i * N + n + r] = m->B[r * ni + i] / m->mdiag[r];
   for (int e = 0; e < nu; e++) {
     const rr_mx *mx = &m->mx[uel[e]];
-    for (int t = 0; t < mx->nz; t++) rhs[(size_t)(ni + e) * N + n + mx->idx[t]] = mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]];
+    for (int t = 0; t < mx->nz; t++)
+      rhs[(size_t)(ni + e) * N + n + mx->idx[t]] = mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]];
   }
   memcpy(p->V, p->vr, sizeof(double) * N * N);
   double vnorm = LAPACKE_dlange_work(LAPACK_COL_MAJOR, '1', N, N, p->V, N, NULL), rcond = 0;
   if (LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, N, N, p->V, N, p->vpiv)) return 1;
-  if (LAPACKE_dgecon_work(LAPACK_COL_MAJOR, '1', N, p->V, N, vnorm, &rcond, rhs + (size_t)N * nr, p->iwork) ||
+  if (LAPACKE_dgecon_work(LAPACK_COL_MAJOR, '1', N, p->V, N, vnorm, &rcond, rhs + (size_t)N * nr,
+                          p->iwork) ||
       !(rcond >= RCOND_MIN))
     return 1;
   LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', N, nr, p->V, N, p->vpiv, rhs, N);
   double complex x[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
   for (int j = 0; j < N; j++) {
-    if (p->wi[j] < 0) continue;   /* a pair is stored once, by its Im > 0 member */
+    if (p->wi[j] < 0) continue; /* a pair is stored once, by its Im > 0 member */
     int pair = p->wi[j] > 0;
     eigvec(p->vr, p->wi, N, j, x);
     p->lam[j] = p->wr[j] + I * p->wi[j];
     right_proj(p, m, j, nu, uel, x);
     /* real-basis coefficients (g_re, g_im) of the pair's columns are
        (2 Re beta, -2 Im beta) */
-#define BETA(col) (pair ? 0.5 * (rhs[(size_t)(col) * N + j] - I * rhs[(size_t)(col) * N + j + 1]) : rhs[(size_t)(col) * N + j])
+#define BETA(col)                                                                                  \
+  (pair ? 0.5 * (rhs[(size_t)(col)*N + j] - I * rhs[(size_t)(col)*N + j + 1])                      \
+        : rhs[(size_t)(col)*N + j])
     for (int i = 0; i < ni; i++) p->b[j * ni + i] = BETA(i);
     for (int e = 0; e < nu; e++) p->c[j * MAXU + e] = BETA(ni + e);
 #undef BETA
@@ -298,24 +360,28 @@ static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const
    factorisation per frequency is most of the SMW cost), else LU. */
 static void smw_factor(double complex *W, int nu, int *piv)
 {
-  if (nu == 1) W[0] = 1 / W[0];
+  if (nu == 1)
+    W[0] = 1 / W[0];
   else if (nu == 2) {
     double complex id = 1 / (W[0] * W[3] - W[1] * W[2]), w0 = W[0];
     W[0] = W[3] * id;
     W[1] *= -id;
     W[2] *= -id;
     W[3] = w0 * id;
-  } else rr_clu_factor(W, nu, piv, 1e-300);
+  } else
+    rr_clu_factor(W, nu, piv, 1e-300);
 }
 
 static void smw_solve(const double complex *W, int nu, const int *piv, double complex *r)
 {
-  if (nu == 1) r[0] *= W[0];
+  if (nu == 1)
+    r[0] *= W[0];
   else if (nu == 2) {
     double complex r0 = r[0];
     r[0] = W[0] * r0 + W[1] * r[1];
     r[1] = W[2] * r0 + W[3] * r[1];
-  } else rr_clu_solve(W, nu, piv, r);
+  } else
+    rr_clu_solve(W, nu, piv, r);
 }
 
 /* The SDF elements handled by SMW and where their blocks sit among the
@@ -329,11 +395,16 @@ typedef struct smw_set {
 /* M2 = (I + dK Z)^-1 diag(dK), nu x nu: the SMW correction is then
    O D^-1 B = O D0^-1 B - (O D0^-1 U) M2 (U^T D0^-1 B). Closed form for the
    usual one or two dampers (one merged pair per bogie). */
-RR_INLINE void smw_matrix(const double complex *dK, const double complex *Z, int nu, double complex *M2)
+RR_INLINE void smw_matrix(const double complex *dK, const double complex *Z, int nu,
+                          double complex *M2)
 {
-  if (nu == 1) { M2[0] = dK[0] / (1 + dK[0] * Z[0]); return; }
+  if (nu == 1) {
+    M2[0] = dK[0] / (1 + dK[0] * Z[0]);
+    return;
+  }
   if (nu == 2) {
-    double complex w0 = 1 + dK[0] * Z[0], w1 = dK[0] * Z[1], w2 = dK[1] * Z[2], w3 = 1 + dK[1] * Z[3];
+    double complex w0 = 1 + dK[0] * Z[0], w1 = dK[0] * Z[1], w2 = dK[1] * Z[2],
+                   w3 = 1 + dK[1] * Z[3];
     double complex id = 1 / (w0 * w3 - w1 * w2);
     M2[0] = w3 * id * dK[0];
     M2[1] = -w1 * id * dK[1];
@@ -346,7 +417,7 @@ RR_INLINE void smw_matrix(const double complex *dK, const double complex *Z, int
   for (int e = 0; e < nu; e++)
     for (int g = 0; g < nu; g++) W[e * nu + g] = (e == g) + dK[e] * Z[e * nu + g];
   smw_factor(W, nu, piv);
-  for (int g = 0; g < nu; g++) {   /* column g of W^-1 diag(dK) */
+  for (int g = 0; g < nu; g++) { /* column g of W^-1 diag(dK) */
     double complex col[MAXU];
     for (int e = 0; e < nu; e++) col[e] = e == g ? dK[g] : 0;
     smw_solve(W, nu, piv, col);
@@ -357,14 +428,15 @@ RR_INLINE void smw_matrix(const double complex *dK, const double complex *Z, int
 /* H -= (G M2) Hu for one output block (G: np x nu entries at og of the
    modal sums; Hu at ou; H in real and imaginary parts apart, so that the
    loop over the inputs vectorises). */
-RR_INLINE void smw_correct(const double *are, const double *aim, int og, int ou, int np, int ni, int nu,
-                           const double complex *M2, double *Hr, double *Hi)
+RR_INLINE void smw_correct(const double *are, const double *aim, int og, int ou, int np, int ni,
+                           int nu, const double complex *M2, double *Hr, double *Hi)
 {
   const double *ur = are + ou, *ui = aim + ou;
   for (int q = 0; q < np; q++) {
     for (int e = 0; e < nu; e++) {
       double complex g = 0;
-      for (int h = 0; h < nu; h++) g += (are[og + q * nu + h] + I * aim[og + q * nu + h]) * M2[h * nu + e];
+      for (int h = 0; h < nu; h++)
+        g += (are[og + q * nu + h] + I * aim[og + q * nu + h]) * M2[h * nu + e];
       double gr = creal(g), gi = cimag(g);
       double *hr = Hr + q * ni, *hi = Hi + q * ni;
       const double *xr = ur + e * ni, *xi = ui + e * ni;
@@ -380,8 +452,8 @@ RR_INLINE void smw_correct(const double *are, const double *aim, int og, int ou,
 /* Frequency k's FRFs from its modal sums (are, aim: the real and imaginary
    parts of the residue entries): the SMW correction for the SDF elements,
    then the acceleration -w^2 Hq (+ the roll-gravity H0). */
-RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k, const double *are,
-                                       const double *aim)
+RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k,
+                                       const double *are, const double *aim)
 {
   int ni = p->ni, np = p->np, nu = u->nu, nH = np * ni;
   double w = 2 * RR_PI * p->f[k];
@@ -394,7 +466,8 @@ RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const 
   }
   if (nu) {
     double complex s = I * w, dK[MAXU], Z[MAXU * MAXU], M2[MAXU * MAXU];
-    double complex kf = rr_model_series_k(m, u->uel[0], s, 0);   /* every SMW element follows the one curve */
+    double complex kf =
+        rr_model_series_k(m, u->uel[0], s, 0); /* every SMW element follows the one curve */
     for (int e = 0; e < nu; e++) {
       /* kf c s / (kf + c s) - k_lo c s / (k_lo + c s), without the
          cancellation when kf is near k_lo */
@@ -419,7 +492,8 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   smw_set su = {.nu = 0};
   int nu = su.nu = smw_elements(m, su.uel, su.umult);
   int *uel = su.uel;
-  if (nu < 0) return rr_seterr(err, RR_EINVAL, "frf: more than %d SDF dampers (use the direct method)", MAXU);
+  if (nu < 0)
+    return rr_seterr(err, RR_EINVAL, "frf: more than %d SDF dampers (use the direct method)", MAXU);
   double k_lo = 0, k_hi = 0;
   if (nu) rr_sdf_range(&m->curve, &k_lo, &k_hi);
   su.k_lo = k_lo;
@@ -428,8 +502,14 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   int mode_saved = mm->sdf_mode;
   if (nu) mm->sdf_mode = RR_SDF_PAPER;
   int N, st = rr_state_matrix_merged(m, k_lo, p->A, &N, err);
-  if (st) { mm->sdf_mode = mode_saved; return st; }
-  if (N > p->Nmax) { mm->sdf_mode = mode_saved; return rr_seterr(err, RR_EINVAL, "frf plan too small for this model"); }
+  if (st) {
+    mm->sdf_mode = mode_saved;
+    return st;
+  }
+  if (N > p->Nmax) {
+    mm->sdf_mode = mode_saved;
+    return rr_seterr(err, RR_EINVAL, "frf plan too small for this model");
+  }
   mm->sdf_mode = mode_saved;
   if (p->use_dgeev) {
     if ((st = residues_dgeev(p, m, N, nu, uel, err))) return st;
@@ -446,24 +526,38 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
      (2 nf x K: rows Re, Im of each frequency; columns d1 + d2 of each
      term, then j (d1 - d2) of each pair) times entries (K x E: Re R rows,
      then the pairs' Im R rows). */
-  int nHq = np * ni, nHu = nu * ni, nGq = np * nu, nZ = nu * nu;   /* entry counts */
+  int nHq = np * ni, nHu = nu * ni, nGq = np * nu, nZ = nu * nu; /* entry counts */
   /* the roll-gravity blocks H0, G0 last, and only when asked for */
   int oHq = 0, oHu = nHq, oGq = oHu + nHu, oZ = oGq + nGq, oH0 = oZ + nZ, oG0 = oH0 + nHq;
   int E = p->has0 ? oG0 + nGq : oH0;
-  su.oHq = oHq; su.oHu = oHu; su.oGq = oGq; su.oZ = oZ; su.oH0 = oH0; su.oG0 = oG0;
+  su.oHq = oHq;
+  su.oHu = oHu;
+  su.oGq = oGq;
+  su.oZ = oZ;
+  su.oH0 = oH0;
+  su.oG0 = oG0;
   int nt = 0, npair = 0;
-  for (int j = 0; j < N; j++) { nt += p->wi[j] >= 0; npair += p->wi[j] > 0; }
+  for (int j = 0; j < N; j++) {
+    nt += p->wi[j] >= 0;
+    npair += p->wi[j] > 0;
+  }
   /* a real mode's residues are real (real vectors): its Im row, written
      after the pairs' Im rows, is left out of the product */
   int K = nt + npair;
   double complex tlam[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
   /* pairs first, then real modes: branch-free weight loops */
   for (int j = 0, tp = 0, tr_ = npair; j < N; j++) {
-    if (p->wi[j] < 0) continue;   /* the conjugate of a stored pair */
+    if (p->wi[j] < 0) continue; /* the conjugate of a stored pair */
     int t = p->wi[j] > 0 ? tp++ : tr_++;
     double *tr = p->T + (size_t)t * E, *ti = p->T + (size_t)(nt + t) * E;
-    const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni, *uu = p->u + j * MAXU, *cc = p->c + j * MAXU;
-#define PUT(off, val) do { double complex v_ = (val); tr[off] = creal(v_); ti[off] = cimag(v_); } while (0)
+    const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni,
+                         *uu = p->u + j * MAXU, *cc = p->c + j * MAXU;
+#define PUT(off, val)                                                                              \
+  do {                                                                                             \
+    double complex v_ = (val);                                                                     \
+    tr[off] = creal(v_);                                                                           \
+    ti[off] = cimag(v_);                                                                           \
+  } while (0)
     for (int q = 0; q < np; q++) {
       for (int i = 0; i < ni; i++) PUT(oHq + q * ni + i, o[q] * bb[i]);
       for (int e = 0; e < nu; e++) PUT(oGq + q * nu + e, o[q] * cc[e]);
@@ -502,7 +596,8 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
         wim[t] = -w * inv;
       }
     }
-    cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * nk, E, K, 1.0, p->Wt, K, p->T, E, 0.0, p->acc, E);
+    cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * nk, E, K, 1.0, p->Wt, K, p->T, E,
+                0.0, p->acc, E);
     for (int kk = 0; kk < nk; kk++) {
       const double *are = p->acc + (size_t)2 * kk * E;
       finish_frequency(p, m, &su, k0 + kk, are, are + E);
@@ -525,7 +620,8 @@ static void update_lags(rr_frf_plan *p, const rr_model *m)
   if (lags_current(p, m)) return;
   for (int k = 0; k < p->nf; k++) {
     double w = 2 * RR_PI * p->f[k];
-    for (int i = 0; i < p->ni; i++) p->lag[(size_t)k * p->ni + i] = cexp(I * w * m->contacts[i].x / m->speed);
+    for (int i = 0; i < p->ni; i++)
+      p->lag[(size_t)k * p->ni + i] = cexp(I * w * m->contacts[i].x / m->speed);
   }
   p->lag_speed = m->speed;
   for (int i = 0; i < p->ni; i++) p->lag_x[i] = m->contacts[i].x;
@@ -533,8 +629,10 @@ static void update_lags(rr_frf_plan *p, const rr_model *m)
 
 int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
 {
-  if (m->n != p->n || m->ni != p->ni) return rr_seterr(err, RR_EINVAL, "frf: plan was made for another model size");
-  if (p->np > 16 || p->ni > 16) return rr_seterr(err, RR_EINVAL, "frf: at most 16 points and 16 inputs");
+  if (m->n != p->n || m->ni != p->ni)
+    return rr_seterr(err, RR_EINVAL, "frf: plan was made for another model size");
+  if (p->np > 16 || p->ni > 16)
+    return rr_seterr(err, RR_EINVAL, "frf: at most 16 points and 16 inputs");
   if (m->ni > RR_SYS_MAX_INPUTS) return rr_seterr(err, RR_EINVAL, "frf: too many inputs");
   update_lags(p, m);
   p->route = p->use_dgeev ? RR_FRF_MODAL_LAPACK : p->method;
@@ -543,27 +641,32 @@ int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
   size_t nH = (size_t)p->nf * p->np * p->ni;
   for (size_t t = 0; t < nH; t++)
     if (!isfinite(creal(p->H[t])) || !isfinite(cimag(p->H[t])))
-      return rr_seterr(err, RR_ENOCONV, "frf: response not finite at %g Hz (singular dynamic stiffness)", p->f[t / ((size_t)p->np * p->ni)]);
+      return rr_seterr(err, RR_ENOCONV,
+                       "frf: response not finite at %g Hz (singular dynamic stiffness)",
+                       p->f[t / ((size_t)p->np * p->ni)]);
   return RR_OK;
 }
 
-double rr_pem_combine(const double complex *H, const double *x, int ni, double w, double v, double Gt)
+double rr_pem_combine(const double complex *H, const double *x, int ni, double w, double v,
+                      double Gt)
 {
   double complex a = 0;
   for (int i = 0; i < ni; i++) a += H[i] * cexp(I * w * x[i] / v);
   return Gt * creal(a * conj(a));
 }
 
-int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G, rr_error *err)
+int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G,
+               rr_error *err)
 {
   double v = m->speed;
   int cached = lags_current(p, m);
   for (int k = 0; k < p->nf; k++) {
     double f = p->f[k], w = 2 * RR_PI * f;
-    double Gt = rr_spectrum_eval(sp, f / v) / v;   /* temporal one-sided PSD, m^2/Hz */
+    double Gt = rr_spectrum_eval(sp, f / v) / v; /* temporal one-sided PSD, m^2/Hz */
     double complex lagk[RR_SYS_MAX_INPUTS];
     const double complex *lag = lagk;
-    if (cached) lag = p->lag + (size_t)k * p->ni;
+    if (cached)
+      lag = p->lag + (size_t)k * p->ni;
     else
       for (int i = 0; i < p->ni; i++) lagk[i] = cexp(I * w * m->contacts[i].x / v);
     for (int q = 0; q < p->np; q++) {
@@ -571,14 +674,15 @@ int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, d
       double complex a = 0;
       for (int i = 0; i < p->ni; i++) a += h[i] * lag[i];
       G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
-      if (!isfinite(G[k * p->np + q])) return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", f);
+      if (!isfinite(G[k * p->np + q]))
+        return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", f);
     }
   }
   return RR_OK;
 }
 
-int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int np, double h_p,
-                          int roll_gravity, double *rows, double *rows0, rr_error *err)
+int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int np,
+                          double h_p, int roll_gravity, double *rows, double *rows0, rr_error *err)
 {
   for (int q = 0; q < np; q++) {
     double pt[3] = {x[q], 0, h_p};
@@ -589,7 +693,8 @@ int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double
       for (int i = 0; i < m->n; i++) r0[i] = 0;
       if (roll_gravity) {
         for (int b = 0; b < m->nbodies; b++)
-          if (!strcmp(m->bodies[b].name, "c") && m->bodies[b].dof_phi >= 0) r0[m->bodies[b].dof_phi] = RR_G;
+          if (!strcmp(m->bodies[b].name, "c") && m->bodies[b].dof_phi >= 0)
+            r0[m->bodies[b].dof_phi] = RR_G;
       }
     }
   }

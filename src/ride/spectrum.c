@@ -1,5 +1,5 @@
 /* Track irregularity spectra: file format, evaluation, RMS. */
-#define _GNU_SOURCE   /* dladdr */
+#define _GNU_SOURCE /* dladdr */
 #include <ctype.h>
 #include <dlfcn.h>
 #include <limits.h>
@@ -20,7 +20,7 @@
 #define RR_SPECTRA_DIR "/usr/local/share/railride/spectra"
 #endif
 #ifndef RR_INSTALL_DATA_REL
-#define RR_INSTALL_DATA_REL "../share"   /* the data directory relative to the library's */
+#define RR_INSTALL_DATA_REL "../share" /* the data directory relative to the library's */
 #endif
 
 #define SP_SEEN_MAX 32
@@ -36,25 +36,29 @@ typedef struct sp_ctx {
   int have_valid;
   double psd_scale;
   int two_sided;
-  int psd_rad;            /* PSD unit per (rad/m) */
-  int psd_angle;          /* PSD numerator an angle squared (rad^2) */
-  char seen[SP_SEEN_MAX][16];   /* single-valued keys given so far */
+  int psd_rad;                /* PSD unit per (rad/m) */
+  int psd_angle;              /* PSD numerator an angle squared (rad^2) */
+  char seen[SP_SEEN_MAX][16]; /* single-valued keys given so far */
   int nseen;
 } sp_ctx;
 
 static int sp_fail(sp_ctx *c, int code, const char *key, const char *msg)
 {
-  if (!c->status) c->status = rr_seterr(c->err, code, "%s:%d: %s: %s", c->path, c->rl.line, key, msg);
+  if (!c->status)
+    c->status = rr_seterr(c->err, code, "%s:%d: %s: %s", c->path, c->rl.line, key, msg);
   return 0;
 }
 
 /* Every key but segment, point, source and note may appear once. */
 static int sp_once(sp_ctx *c, const char *name)
 {
-  if (!strcmp(name, "segment") || !strcmp(name, "point") || !strcmp(name, "source") || !strcmp(name, "note")) return 1;
+  if (!strcmp(name, "segment") || !strcmp(name, "point") || !strcmp(name, "source") ||
+      !strcmp(name, "note"))
+    return 1;
   for (int i = 0; i < c->nseen; i++)
     if (!strcmp(c->seen[i], name)) return sp_fail(c, RR_EPARSE, name, "key given twice");
-  if (c->nseen < SP_SEEN_MAX && strlen(name) < sizeof c->seen[0]) snprintf(c->seen[c->nseen++], sizeof c->seen[0], "%s", name);
+  if (c->nseen < SP_SEEN_MAX && strlen(name) < sizeof c->seen[0])
+    snprintf(c->seen[c->nseen++], sizeof c->seen[0], "%s", name);
   return 1;
 }
 
@@ -77,21 +81,30 @@ static int parse_psd_unit(sp_ctx *c, const char *val)
 {
   char num[64], den[64];
   const char *slash = strstr(val, "/(");
-  if (!slash) return sp_fail(c, RR_EUNIT, "psd_unit", "expected LENGTH^2/(1/m) or LENGTH^2/(rad/m)");
+  if (!slash)
+    return sp_fail(c, RR_EUNIT, "psd_unit", "expected LENGTH^2/(1/m) or LENGTH^2/(rad/m)");
   snprintf(num, sizeof num, "%.*s", (int)(slash - val), val);
   snprintf(den, sizeof den, "%s", slash + 2);
   size_t ld = strlen(den);
   if (!ld || den[ld - 1] != ')') return sp_fail(c, RR_EUNIT, "psd_unit", "missing ')'");
   den[ld - 1] = 0;
-  if (!strcmp(den, "1/m") || !strcmp(den, "cycle/m")) c->psd_rad = 0;
-  else if (!strcmp(den, "rad/m")) c->psd_rad = 1;
-  else return sp_fail(c, RR_EUNIT, "psd_unit", "denominator must be (1/m) or (rad/m)");
-  if (!strcmp(num, "rad^2") || !strcmp(num, "rad2")) { c->psd_scale = 1; c->psd_angle = 1; return 1; }
+  if (!strcmp(den, "1/m") || !strcmp(den, "cycle/m"))
+    c->psd_rad = 0;
+  else if (!strcmp(den, "rad/m"))
+    c->psd_rad = 1;
+  else
+    return sp_fail(c, RR_EUNIT, "psd_unit", "denominator must be (1/m) or (rad/m)");
+  if (!strcmp(num, "rad^2") || !strcmp(num, "rad2")) {
+    c->psd_scale = 1;
+    c->psd_angle = 1;
+    return 1;
+  }
   double x;
   rr_error e;
   char buf[80];
   snprintf(buf, sizeof buf, "1 %s", num);
-  if (rr_units_parse(NULL, buf, "m2", 0, &x, "psd_unit", &e)) return sp_fail(c, RR_EUNIT, "psd_unit", e.msg);
+  if (rr_units_parse(NULL, buf, "m2", 0, &x, "psd_unit", &e))
+    return sp_fail(c, RR_EUNIT, "psd_unit", e.msg);
   c->psd_scale = x;
   return 1;
 }
@@ -105,42 +118,60 @@ static int sp_handler(void *user, const char *section, const char *name, const c
   if (!sp_once(c, name)) return 0;
   char val[256];
   snprintf(val, sizeof val, "%s", value);
-  if (!strcmp(name, "name")) snprintf(s->name, sizeof s->name, "%s", val);
-  else if (!strcmp(name, "title")) snprintf(s->title, sizeof s->title, "%s", val);
-  else if (!strcmp(name, "source") || !strcmp(name, "note")) {}
-  else if (!strcmp(name, "direction")) {
-    if (strcmp(val, "lateral") && strcmp(val, "vertical") && strcmp(val, "crosslevel") && strcmp(val, "gauge"))
+  if (!strcmp(name, "name"))
+    snprintf(s->name, sizeof s->name, "%s", val);
+  else if (!strcmp(name, "title"))
+    snprintf(s->title, sizeof s->title, "%s", val);
+  else if (!strcmp(name, "source") || !strcmp(name, "note")) {
+  } else if (!strcmp(name, "direction")) {
+    if (strcmp(val, "lateral") && strcmp(val, "vertical") && strcmp(val, "crosslevel") &&
+        strcmp(val, "gauge"))
       return sp_fail(c, RR_EINVAL, name, "lateral, vertical, crosslevel or gauge expected");
     snprintf(s->direction, sizeof s->direction, "%s", val);
   } else if (!strcmp(name, "form")) {
     c->have_form = 1;
-    if (!strcmp(val, "powerlaw")) s->form = RR_FORM_POWERLAW;
-    else if (!strcmp(val, "german")) s->form = RR_FORM_GERMAN;
-    else if (!strcmp(val, "fra")) s->form = RR_FORM_FRA;
-    else if (!strcmp(val, "rational7")) s->form = RR_FORM_RATIONAL7;
-    else if (!strcmp(val, "table")) s->form = RR_FORM_TABLE;
-    else return sp_fail(c, RR_EINVAL, name, "powerlaw, german, fra, rational7 or table expected");
+    if (!strcmp(val, "powerlaw"))
+      s->form = RR_FORM_POWERLAW;
+    else if (!strcmp(val, "german"))
+      s->form = RR_FORM_GERMAN;
+    else if (!strcmp(val, "fra"))
+      s->form = RR_FORM_FRA;
+    else if (!strcmp(val, "rational7"))
+      s->form = RR_FORM_RATIONAL7;
+    else if (!strcmp(val, "table"))
+      s->form = RR_FORM_TABLE;
+    else
+      return sp_fail(c, RR_EINVAL, name, "powerlaw, german, fra, rational7 or table expected");
   } else if (!strcmp(name, "freq_unit")) {
     c->have_freq = 1;
-    if (!strcmp(val, "1/m") || !strcmp(val, "cycle/m")) s->rad_per_m = 0;
-    else if (!strcmp(val, "rad/m")) s->rad_per_m = 1;
-    else return sp_fail(c, RR_EUNIT, name, "1/m or rad/m expected");
+    if (!strcmp(val, "1/m") || !strcmp(val, "cycle/m"))
+      s->rad_per_m = 0;
+    else if (!strcmp(val, "rad/m"))
+      s->rad_per_m = 1;
+    else
+      return sp_fail(c, RR_EUNIT, name, "1/m or rad/m expected");
   } else if (!strcmp(name, "psd_unit")) {
     c->have_psd = 1;
     return parse_psd_unit(c, val);
   } else if (!strcmp(name, "sided")) {
     c->have_sided = 1;
-    if (!strcmp(val, "one")) c->two_sided = 0;
-    else if (!strcmp(val, "two")) c->two_sided = 1;
-    else return sp_fail(c, RR_EINVAL, name, "one or two expected");
+    if (!strcmp(val, "one"))
+      c->two_sided = 0;
+    else if (!strcmp(val, "two"))
+      c->two_sided = 1;
+    else
+      return sp_fail(c, RR_EINVAL, name, "one or two expected");
   } else if (!strcmp(name, "valid")) {
     if (numbers(val, c->valid, 2) || !(c->valid[0] > 0 && c->valid[1] > c->valid[0]))
       return sp_fail(c, RR_EINVAL, name, "two numbers 0 < lo < hi expected");
     c->have_valid = 1;
   } else if (!strcmp(name, "outside")) {
-    if (!strcmp(val, "extend")) s->clip = 0;
-    else if (!strcmp(val, "zero")) s->clip = 1;
-    else return sp_fail(c, RR_EINVAL, name, "extend or zero expected");
+    if (!strcmp(val, "extend"))
+      s->clip = 0;
+    else if (!strcmp(val, "zero"))
+      s->clip = 1;
+    else
+      return sp_fail(c, RR_EINVAL, name, "extend or zero expected");
   } else if (!strcmp(name, "segment")) {
     double v[4];
     if (numbers(val, v, 4) || !(v[0] > 0 && v[1] > v[0] && v[2] > 0))
@@ -148,28 +179,46 @@ static int sp_handler(void *user, const char *section, const char *name, const c
     if (s->nseg >= RR_SPECTRUM_MAX_TERMS) return sp_fail(c, RR_EINVAL, name, "too many segments");
     if (s->nseg && fabs(v[0] - s->seg_hi[s->nseg - 1]) > 1e-12 * v[0])
       return sp_fail(c, RR_EINVAL, name, "segments must be contiguous and increasing");
-    s->seg_lo[s->nseg] = v[0]; s->seg_hi[s->nseg] = v[1]; s->seg_A[s->nseg] = v[2]; s->seg_k[s->nseg] = v[3];
+    s->seg_lo[s->nseg] = v[0];
+    s->seg_hi[s->nseg] = v[1];
+    s->seg_A[s->nseg] = v[2];
+    s->seg_k[s->nseg] = v[3];
     s->nseg++;
   } else if (!strcmp(name, "point")) {
     double v[2];
-    if (numbers(val, v, 2) || !(v[0] > 0 && v[1] > 0)) return sp_fail(c, RR_EINVAL, name, "n S expected, both > 0");
+    if (numbers(val, v, 2) || !(v[0] > 0 && v[1] > 0))
+      return sp_fail(c, RR_EINVAL, name, "n S expected, both > 0");
     if (s->npts >= RR_SPECTRUM_MAX_TERMS * 4) return sp_fail(c, RR_EINVAL, name, "too many points");
-    if (s->npts && !(v[0] > s->tab_n[s->npts - 1])) return sp_fail(c, RR_EINVAL, name, "frequencies must increase");
-    s->tab_n[s->npts] = v[0]; s->tab_S[s->npts] = v[1];
+    if (s->npts && !(v[0] > s->tab_n[s->npts - 1]))
+      return sp_fail(c, RR_EINVAL, name, "frequencies must increase");
+    s->tab_n[s->npts] = v[0];
+    s->tab_S[s->npts] = v[1];
     s->npts++;
   } else if (!strcmp(name, "shape")) {
-    if (!strcmp(val, "alignment")) s->shape = RR_GERMAN_ALIGNMENT;
-    else if (!strcmp(val, "vertical")) s->shape = RR_GERMAN_VERTICAL;
-    else if (!strcmp(val, "crosslevel")) s->shape = RR_GERMAN_CROSSLEVEL;
-    else if (!strcmp(val, "gauge")) s->shape = RR_GERMAN_GAUGE;
-    else return sp_fail(c, RR_EINVAL, name, "alignment, vertical, crosslevel or gauge expected");
+    if (!strcmp(val, "alignment"))
+      s->shape = RR_GERMAN_ALIGNMENT;
+    else if (!strcmp(val, "vertical"))
+      s->shape = RR_GERMAN_VERTICAL;
+    else if (!strcmp(val, "crosslevel"))
+      s->shape = RR_GERMAN_CROSSLEVEL;
+    else if (!strcmp(val, "gauge"))
+      s->shape = RR_GERMAN_GAUGE;
+    else
+      return sp_fail(c, RR_EINVAL, name, "alignment, vertical, crosslevel or gauge expected");
   } else if (!strcmp(name, "params")) {
-    if (numbers(val, s->p, 7)) return sp_fail(c, RR_EINVAL, name, "seven numbers A B C D E F G expected");
+    if (numbers(val, s->p, 7))
+      return sp_fail(c, RR_EINVAL, name, "seven numbers A B C D E F G expected");
   } else {
-    double *dst = !strcmp(name, "A") ? &s->A : !strcmp(name, "Oc") ? &s->Oc : !strcmp(name, "Or") ? &s->Or
-                : !strcmp(name, "Os") ? &s->Os : !strcmp(name, "b") ? &s->b : !strcmp(name, "k") ? &s->k : NULL;
+    double *dst = !strcmp(name, "A")    ? &s->A
+                  : !strcmp(name, "Oc") ? &s->Oc
+                  : !strcmp(name, "Or") ? &s->Or
+                  : !strcmp(name, "Os") ? &s->Os
+                  : !strcmp(name, "b")  ? &s->b
+                  : !strcmp(name, "k")  ? &s->k
+                                        : NULL;
     if (!dst) return sp_fail(c, RR_EPARSE, name, "unknown key");
-    if (numbers(val, dst, 1) || !(*dst > 0)) return sp_fail(c, RR_EINVAL, name, "a number > 0 expected");
+    if (numbers(val, dst, 1) || !(*dst > 0))
+      return sp_fail(c, RR_EINVAL, name, "a number > 0 expected");
   }
   return 1;
 }
@@ -188,49 +237,65 @@ int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err)
   rr_lines_close(&c.rl);
   if (c.status) return c.status;
   if (c.rl.status) return rr_seterr(err, c.rl.status, "%s", c.rl.err.msg);
-  if (r > 0) return rr_seterr(err, RR_EPARSE, "%s:%d: malformed line (expected key = value)", path, r);
-  const char *miss = !c.have_form ? "form" : !c.have_freq ? "freq_unit" : !c.have_psd ? "psd_unit" : !c.have_sided ? "sided"
-                   : !c.have_valid ? "valid" : !sp->direction[0] ? "direction" : NULL;
+  if (r > 0)
+    return rr_seterr(err, RR_EPARSE, "%s:%d: malformed line (expected key = value)", path, r);
+  const char *miss = !c.have_form        ? "form"
+                     : !c.have_freq      ? "freq_unit"
+                     : !c.have_psd       ? "psd_unit"
+                     : !c.have_sided     ? "sided"
+                     : !c.have_valid     ? "valid"
+                     : !sp->direction[0] ? "direction"
+                                         : NULL;
   if (miss) return rr_seterr(err, RR_EPARSE, "%s: %s: missing required key", path, miss);
   if (c.psd_rad != sp->rad_per_m)
     return rr_seterr(err, RR_EUNIT, "%s: psd_unit: its denominator must match freq_unit", path);
-  if (c.psd_angle && strcmp(sp->direction, "crosslevel"))   /* cross level: an angle or a height difference */
-    return rr_seterr(err, RR_EUNIT, "%s: psd_unit: a %s spectrum is in a length squared (m^2, mm^2), not rad^2", path,
-                     sp->direction);
+  if (c.psd_angle &&
+      strcmp(sp->direction, "crosslevel")) /* cross level: an angle or a height difference */
+    return rr_seterr(err, RR_EUNIT,
+                     "%s: psd_unit: a %s spectrum is in a length squared (m^2, mm^2), not rad^2",
+                     path, sp->direction);
   if (!sp->name[0]) {
     const char *b = strrchr(path, '/');
     snprintf(sp->name, sizeof sp->name, "%s", b ? b + 1 : path);
     char *dot = strrchr(sp->name, '.');
     if (dot) *dot = 0;
   }
-  double f = sp->rad_per_m ? 1.0 / (2 * RR_PI) : 1.0;   /* validity to cycles/m */
+  double f = sp->rad_per_m ? 1.0 / (2 * RR_PI) : 1.0; /* validity to cycles/m */
   sp->valid_lo = c.valid[0] * f;
   sp->valid_hi = c.valid[1] * f;
   sp->scale = c.psd_scale * (c.two_sided ? 2.0 : 1.0) * (sp->rad_per_m ? 2 * RR_PI : 1.0);
   switch (sp->form) {
   case RR_FORM_POWERLAW:
-    if (!sp->nseg) return rr_seterr(err, RR_EPARSE, "%s: segment: powerlaw needs at least one segment", path);
+    if (!sp->nseg)
+      return rr_seterr(err, RR_EPARSE, "%s: segment: powerlaw needs at least one segment", path);
     break;
   case RR_FORM_GERMAN:
-    if (!(sp->A > 0 && sp->Oc > 0 && sp->Or > 0)) return rr_seterr(err, RR_EPARSE, "%s: german form needs A, Oc, Or", path);
-    if (sp->shape >= RR_GERMAN_CROSSLEVEL && !(sp->Os > 0)) return rr_seterr(err, RR_EPARSE, "%s: Os: needed for this shape", path);
-    if (sp->shape == RR_GERMAN_CROSSLEVEL && !(sp->b > 0)) return rr_seterr(err, RR_EPARSE, "%s: b: needed for cross level", path);
+    if (!(sp->A > 0 && sp->Oc > 0 && sp->Or > 0))
+      return rr_seterr(err, RR_EPARSE, "%s: german form needs A, Oc, Or", path);
+    if (sp->shape >= RR_GERMAN_CROSSLEVEL && !(sp->Os > 0))
+      return rr_seterr(err, RR_EPARSE, "%s: Os: needed for this shape", path);
+    if (sp->shape == RR_GERMAN_CROSSLEVEL && !(sp->b > 0))
+      return rr_seterr(err, RR_EPARSE, "%s: b: needed for cross level", path);
     break;
   case RR_FORM_FRA:
-    if (!(sp->A > 0 && sp->Oc > 0 && sp->k > 0)) return rr_seterr(err, RR_EPARSE, "%s: fra form needs k, A, Oc", path);
+    if (!(sp->A > 0 && sp->Oc > 0 && sp->k > 0))
+      return rr_seterr(err, RR_EPARSE, "%s: fra form needs k, A, Oc", path);
     break;
   case RR_FORM_TABLE:
-    if (sp->npts < 2) return rr_seterr(err, RR_EPARSE, "%s: point: a table needs at least two points", path);
+    if (sp->npts < 2)
+      return rr_seterr(err, RR_EPARSE, "%s: point: a table needs at least two points", path);
     break;
   case RR_FORM_RATIONAL7:
-    if (!(sp->p[0] > 0)) return rr_seterr(err, RR_EPARSE, "%s: params: seven numbers with A > 0 needed", path);
+    if (!(sp->p[0] > 0))
+      return rr_seterr(err, RR_EPARSE, "%s: params: seven numbers with A > 0 needed", path);
     break;
   }
   /* the formula must be finite and positive across the validity range */
   for (int i = 0; i <= 50; i++) {
     double n = sp->valid_lo * pow(sp->valid_hi / sp->valid_lo, i / 50.0);
     double s = rr_spectrum_eval(sp, n);
-    if (!(isfinite(s) && s > 0)) return rr_seterr(err, RR_EINVAL, "%s: PSD not finite and positive at n = %g 1/m", path, n);
+    if (!(isfinite(s) && s > 0))
+      return rr_seterr(err, RR_EINVAL, "%s: PSD not finite and positive at n = %g 1/m", path, n);
   }
   return RR_OK;
 }
@@ -250,9 +315,10 @@ static void find_spectra(void)
   const char *slash = strrchr(info.dli_fname, '/');
   if (!slash) return;
   char cand[PATH_MAX];
-  snprintf(cand, sizeof cand, "%.*s/" RR_INSTALL_DATA_REL "/railride/spectra", (int)(slash - info.dli_fname),
-           info.dli_fname);
-  if (!stat(cand, &st) && S_ISDIR(st.st_mode)) snprintf(spectra_dir, sizeof spectra_dir, "%s", cand);
+  snprintf(cand, sizeof cand, "%.*s/" RR_INSTALL_DATA_REL "/railride/spectra",
+           (int)(slash - info.dli_fname), info.dli_fname);
+  if (!stat(cand, &st) && S_ISDIR(st.st_mode))
+    snprintf(spectra_dir, sizeof spectra_dir, "%s", cand);
 }
 
 const char *rr_spectrum_dir(void)
@@ -266,7 +332,8 @@ const char *rr_spectrum_dir(void)
 int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err)
 {
   size_t len = strlen(spec);
-  if (strchr(spec, '/') || (len > 4 && !strcmp(spec + len - 4, ".txt"))) return rr_spectrum_load(spec, sp, err);
+  if (strchr(spec, '/') || (len > 4 && !strcmp(spec + len - 4, ".txt")))
+    return rr_spectrum_load(spec, sp, err);
   for (const char *p = spec; *p; p++)
     if (!(isalnum((unsigned char)*p) || *p == '-' || *p == '_' || *p == '.'))
       return rr_seterr(err, RR_EINVAL, "spectrum name '%s': letters, digits, '-', '_' only", spec);
@@ -284,7 +351,7 @@ static double raw(const rr_spectrum *s, double x)
   switch (s->form) {
   case RR_FORM_POWERLAW: {
     int i = 0;
-    while (i < s->nseg - 1 && x > s->seg_hi[i]) i++;   /* end segments extend outward */
+    while (i < s->nseg - 1 && x > s->seg_hi[i]) i++; /* end segments extend outward */
     return s->seg_A[i] / pow(x, s->seg_k[i]);
   }
   case RR_FORM_GERMAN: {
@@ -292,23 +359,31 @@ static double raw(const rr_spectrum *s, double x)
     switch (s->shape) {
     case RR_GERMAN_ALIGNMENT:
     case RR_GERMAN_VERTICAL: return s->A * c2 / ((w2 + r2) * (w2 + c2));
-    case RR_GERMAN_CROSSLEVEL: return (s->A / (s->b * s->b)) * c2 * w2 / ((w2 + r2) * (w2 + c2) * (w2 + s2));
+    case RR_GERMAN_CROSSLEVEL:
+      return (s->A / (s->b * s->b)) * c2 * w2 / ((w2 + r2) * (w2 + c2) * (w2 + s2));
     default: return s->A * c2 * w2 / ((w2 + r2) * (w2 + c2) * (w2 + s2));
     }
   }
   case RR_FORM_FRA: return s->k * s->A * s->Oc * s->Oc / (x * x * (x * x + s->Oc * s->Oc));
   case RR_FORM_RATIONAL7: {
     const double *p = s->p;
-    return p[0] * (x * x + p[1] * x + p[2]) / (x * x * x * x + p[3] * x * x * x + p[4] * x * x + p[5] * x + p[6]);
+    return p[0] * (x * x + p[1] * x + p[2]) /
+           (x * x * x * x + p[3] * x * x * x + p[4] * x * x + p[5] * x + p[6]);
   }
   case RR_FORM_TABLE: {
-    if (x <= s->tab_n[0]) return s->tab_S[0] * pow(x / s->tab_n[0], log(s->tab_S[1] / s->tab_S[0]) / log(s->tab_n[1] / s->tab_n[0]));
+    if (x <= s->tab_n[0])
+      return s->tab_S[0] *
+             pow(x / s->tab_n[0], log(s->tab_S[1] / s->tab_S[0]) / log(s->tab_n[1] / s->tab_n[0]));
     int lo = 0, hi = s->npts - 1;
-    if (x >= s->tab_n[hi]) lo = hi - 1;
+    if (x >= s->tab_n[hi])
+      lo = hi - 1;
     else
       while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
-        if (s->tab_n[mid] <= x) lo = mid; else hi = mid;
+        if (s->tab_n[mid] <= x)
+          lo = mid;
+        else
+          hi = mid;
       }
     hi = lo + 1;
     double slope = log(s->tab_S[hi] / s->tab_S[lo]) / log(s->tab_n[hi] / s->tab_n[lo]);
@@ -345,7 +420,9 @@ double rr_spectrum_rms(const rr_spectrum *s, double n1, double n2)
     double h = (b - a) / m, sum = 0;
     for (int i = 0; i <= m; i++) {
       /* end samples just inside the piece: segments need not meet continuously */
-      double x = i == 0 ? cuts[c] * (1 + 1e-13) : i == m ? cuts[c + 1] * (1 - 1e-13) : exp(a + i * h);
+      double x = i == 0   ? cuts[c] * (1 + 1e-13)
+                 : i == m ? cuts[c + 1] * (1 - 1e-13)
+                          : exp(a + i * h);
       double w = (i == 0 || i == m) ? 1 : (i % 2 ? 4 : 2);
       sum += w * rr_spectrum_eval(s, x) * x;
     }
@@ -357,8 +434,14 @@ double rr_spectrum_rms(const rr_spectrum *s, double n1, double n2)
 rr_spectrum *rr_spectrum_new(const char *spec, rr_error *err)
 {
   rr_spectrum *sp = malloc(sizeof *sp);
-  if (!sp) { rr_seterr(err, RR_ENOMEM, "out of memory"); return NULL; }
-  if (rr_spectrum_open(spec, sp, err)) { free(sp); return NULL; }
+  if (!sp) {
+    rr_seterr(err, RR_ENOMEM, "out of memory");
+    return NULL;
+  }
+  if (rr_spectrum_open(spec, sp, err)) {
+    free(sp);
+    return NULL;
+  }
   return sp;
 }
 

@@ -17,10 +17,12 @@ void rr_lti_disc_free(rr_lti_disc *d)
   d->Phi = d->G = NULL;
 }
 
-int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt, rr_lti_disc *d, rr_error *err)
+int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt, rr_lti_disc *d,
+                      rr_error *err)
 {
   memset(d, 0, sizeof *d);
-  if (!(N >= 1 && m >= 1 && dt > 0)) return rr_seterr(err, RR_EINVAL, "lti: need N, m >= 1 and dt > 0");
+  if (!(N >= 1 && m >= 1 && dt > 0))
+    return rr_seterr(err, RR_EINVAL, "lti: need N, m >= 1 and dt > 0");
   /* Van Loan: exp(dt [[A, B, 0, 0, 0], [0, 0, I/dt, 0, 0], [0, 0, 0, 2I/dt, 0],
      [0, 0, 0, 0, 3I/dt], [0...]]): the block row of x holds
      Gamma_p = int_0^dt e^{A(dt - tau)} B (tau/dt)^p dtau in the column block of
@@ -29,18 +31,33 @@ int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt,
   double *Mx = calloc((size_t)S * S, sizeof(double)), *E = malloc(sizeof(double) * S * S);
   d->Phi = malloc(sizeof(double) * N * N);
   d->G = malloc(sizeof(double) * N * 4 * m);
-  if (!Mx || !E || !d->Phi || !d->G) { free(Mx); free(E); rr_lti_disc_free(d); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!Mx || !E || !d->Phi || !d->G) {
+    free(Mx);
+    free(E);
+    rr_lti_disc_free(d);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   for (int i = 0; i < N; i++) {
     for (int j = 0; j < N; j++) Mx[i * S + j] = A[i * N + j] * dt;
     for (int j = 0; j < m; j++) Mx[i * S + N + j] = B[i * m + j] * dt;
   }
-  for (int p = 1; p <= 3; p++)   /* y_{p-1}' = p y_p / dt */
+  for (int p = 1; p <= 3; p++) /* y_{p-1}' = p y_p / dt */
     for (int j = 0; j < m; j++) Mx[(N + (p - 1) * m + j) * S + N + p * m + j] = p;
   int st = rr_expm(S, Mx, E, NULL, err);
-  if (st) { free(Mx); free(E); rr_lti_disc_free(d); return st; }
+  if (st) {
+    free(Mx);
+    free(E);
+    rr_lti_disc_free(d);
+    return st;
+  }
   double *Gam[4];
   double *gbuf = malloc(sizeof(double) * 4 * N * m);
-  if (!gbuf) { free(Mx); free(E); rr_lti_disc_free(d); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!gbuf) {
+    free(Mx);
+    free(E);
+    rr_lti_disc_free(d);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   for (int p = 0; p < 4; p++) {
     Gam[p] = gbuf + (size_t)p * N * m;
     for (int i = 0; i < N; i++)
@@ -69,8 +86,9 @@ int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt,
 }
 
 /* One pass over the period from x (updated in place); outputs when y != NULL. */
-static void pass(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny, const double *C,
-                 const double *D, const double *E, double *y, double *x, double *xn, double *in)
+static void pass(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny,
+                 const double *C, const double *D, const double *E, double *y, double *x,
+                 double *xn, double *in)
 {
   int N = d->N, m = d->m;
   for (int k = 0; k < ns; k++) {
@@ -97,15 +115,20 @@ static void pass(const rr_lti_disc *d, int ns, const double *w, const double *dw
   }
 }
 
-int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny, const double *C,
-                    const double *D, const double *E, double *y, rr_error *err)
+int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double *dw, int ny,
+                    const double *C, const double *D, const double *E, double *y, rr_error *err)
 {
   int N = d->N;
-  double *x = calloc(N, sizeof(double)), *xn = malloc(sizeof(double) * N), *in = malloc(sizeof(double) * 4 * d->m);
-  double *P = malloc(sizeof(double) * N * N), *T = malloc(sizeof(double) * N * N), *R = malloc(sizeof(double) * N * N);
+  double *x = calloc(N, sizeof(double)), *xn = malloc(sizeof(double) * N),
+         *in = malloc(sizeof(double) * 4 * d->m);
+  double *P = malloc(sizeof(double) * N * N), *T = malloc(sizeof(double) * N * N),
+         *R = malloc(sizeof(double) * N * N);
   int *piv = malloc(sizeof(int) * N);
   int st = RR_OK;
-  if (!x || !xn || !in || !P || !T || !R || !piv) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (!x || !xn || !in || !P || !T || !R || !piv) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto done;
+  }
   /* r: the state after one period from rest */
   pass(d, ns, w, dw, 0, NULL, NULL, NULL, NULL, x, xn, in);
   /* Phi^ns by binary powering */
@@ -126,9 +149,19 @@ int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double 
   for (int i = 0; i < N * N; i++) R[i] = -R[i];
   for (int i = 0; i < N; i++) R[i * N + i] += 1;
   int info = LAPACKE_dgesv(LAPACK_ROW_MAJOR, N, 1, R, N, piv, x, 1);
-  if (info) { st = rr_seterr(err, RR_ELAPACK, "lti: no periodic steady state (a mode with period dividing the record?)"); goto done; }
+  if (info) {
+    st = rr_seterr(err, RR_ELAPACK,
+                   "lti: no periodic steady state (a mode with period dividing the record?)");
+    goto done;
+  }
   pass(d, ns, w, dw, ny, C, D, E, y, x, xn, in);
 done:
-  free(x); free(xn); free(in); free(P); free(T); free(R); free(piv);
+  free(x);
+  free(xn);
+  free(in);
+  free(P);
+  free(T);
+  free(R);
+  free(piv);
   return st;
 }

@@ -7,17 +7,22 @@
 #include "rng.h"
 #include "internal.h"
 
-int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, double fs, int ns, double f_lo,
-                     double f_hi, uint64_t seed, double *u, double *du, rr_error *err)
+int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, double fs, int ns,
+                     double f_lo, double f_hi, uint64_t seed, double *u, double *du, rr_error *err)
 {
   if (!(v > 0 && fs > 0 && ns >= 4 && ni >= 1 && f_hi > f_lo && f_lo >= 0))
-    return rr_seterr(err, RR_EINVAL, "track: need speed > 0, fs > 0, >= 4 samples, 0 <= f_lo < f_hi");
+    return rr_seterr(err, RR_EINVAL,
+                     "track: need speed > 0, fs > 0, >= 4 samples, 0 <= f_lo < f_hi");
   int nh = ns / 2 + 1;
   double T = ns / fs, dn = 1.0 / (v * T);
-  double *amp = malloc(sizeof(double) * nh), *phase = malloc(sizeof(double) * nh), *out = fftw_malloc(sizeof(double) * ns);
+  double *amp = malloc(sizeof(double) * nh), *phase = malloc(sizeof(double) * nh),
+         *out = fftw_malloc(sizeof(double) * ns);
   fftw_complex *Y = fftw_malloc(sizeof(fftw_complex) * nh);
   int st = RR_OK;
-  if (!amp || !phase || !Y || !out) { st = rr_seterr(err, RR_ENOMEM, "out of memory"); goto done; }
+  if (!amp || !phase || !Y || !out) {
+    st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    goto done;
+  }
   /* phases first, one per line whatever the band, so a band change keeps them */
   rr_rng rng;
   rr_rng_seed(&rng, seed);
@@ -28,7 +33,10 @@ int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, d
     amp[k] = in ? sqrt(2 * rr_spectrum_eval(sp, n) * dn) : 0;
   }
   fftw_plan plan = fftw_plan_dft_c2r_1d(ns, Y, out, FFTW_ESTIMATE);
-  if (!plan) { st = rr_seterr(err, RR_ENOMEM, "fftw plan failed"); goto done; }
+  if (!plan) {
+    st = rr_seterr(err, RR_ENOMEM, "fftw plan failed");
+    goto done;
+  }
   for (int i = 0; i < ni; i++)
     for (int d = 0; d < 2; d++) {
       double *dst = (d ? du : u) + (size_t)i * ns;
@@ -36,11 +44,11 @@ int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, d
       for (int k = 0; k < nh; k++) {
         double f = k / T, arg = phase[k] + 2 * RR_PI * (f / v) * x[i];
         double complex y = 0.5 * amp[k] * cexp(I * arg);
-        if (d) y *= I * 2 * RR_PI * f;   /* d/dt */
+        if (d) y *= I * 2 * RR_PI * f; /* d/dt */
         Y[k][0] = creal(y);
         Y[k][1] = cimag(y);
       }
-      fftw_execute(plan);   /* out[m] = sum_k A_k cos(2 pi f_k t_m + arg_k) */
+      fftw_execute(plan); /* out[m] = sum_k A_k cos(2 pi f_k t_m + arg_k) */
       memcpy(dst, out, sizeof(double) * ns);
     }
   fftw_destroy_plan(plan);

@@ -44,12 +44,20 @@ int rr_track_record_load(const char *path, rr_track_record *r, rr_error *err)
     int row = rr_csv_pair(line, r->n, &x, &y);
     if (row == 0) continue;
     if (row < 0)
-      st = rr_seterr(err, RR_EPARSE, "%s:%d: expected two numbers distance_m, alignment_m", path, L.line);
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: expected two numbers distance_m, alignment_m", path,
+                     L.line);
     else if (!(isfinite(x) && isfinite(y) && fabs(y) <= 1 && (r->n == 0 || x > r->x[r->n - 1])))
-      st = rr_seterr(err, RR_EPARSE, "%s:%d: distance must rise, alignment within 1 m", path, L.line);
-    else if (r->n >= RECORD_MAX_ROWS) st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, L.line, RECORD_MAX_ROWS);
-    else if (r->n == cap && grow(r, &cap)) st = rr_seterr(err, RR_ENOMEM, "out of memory");
-    else { r->x[r->n] = x; r->y[r->n] = y; r->n++; }
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: distance must rise, alignment within 1 m", path,
+                     L.line);
+    else if (r->n >= RECORD_MAX_ROWS)
+      st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, L.line, RECORD_MAX_ROWS);
+    else if (r->n == cap && grow(r, &cap))
+      st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    else {
+      r->x[r->n] = x;
+      r->y[r->n] = y;
+      r->n++;
+    }
   }
   if (!st && L.status) st = rr_seterr(err, L.status, "%s", L.err.msg);
   rr_lines_close(&L);
@@ -71,12 +79,15 @@ static double record_at(const rr_track_record *r, double x, int *hint)
 double rr_track_record_duration(const rr_track_record *r, double v, const double *x, int ni)
 {
   double lo = x[0], hi = x[0];
-  for (int i = 1; i < ni; i++) { lo = fmin(lo, x[i]); hi = fmax(hi, x[i]); }
+  for (int i = 1; i < ni; i++) {
+    lo = fmin(lo, x[i]);
+    hi = fmax(hi, x[i]);
+  }
   return (r->x[r->n - 1] - r->x[0] - (hi - lo)) / v;
 }
 
-int rr_track_record_sample(const rr_track_record *r, double v, const double *x, int ni, double fs, int ns, double *u,
-                           double *du, rr_error *err)
+int rr_track_record_sample(const rr_track_record *r, double v, const double *x, int ni, double fs,
+                           int ns, double *u, double *du, rr_error *err)
 {
   if (!(v > 0 && fs > 0 && ns >= 2 && ni >= 1))
     return rr_seterr(err, RR_EINVAL, "track record: need speed > 0, fs > 0, >= 2 samples");
@@ -85,7 +96,8 @@ int rr_track_record_sample(const rr_track_record *r, double v, const double *x, 
                      r->x[r->n - 1] - r->x[0], (ns - 1) / fs, v * RR_KMH);
   double lo = x[0];
   for (int i = 1; i < ni; i++) lo = fmin(lo, x[i]);
-  for (int i = 0; i < ni; i++) {   /* y_t(v t + x_i), the last contact starting at the record's start */
+  for (int i = 0; i < ni;
+       i++) { /* y_t(v t + x_i), the last contact starting at the record's start */
     int hint = 0;
     double *ui = u + (size_t)i * ns;
     for (int k = 0; k < ns; k++) ui[k] = record_at(r, r->x[0] + v * k / fs + (x[i] - lo), &hint);

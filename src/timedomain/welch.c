@@ -5,21 +5,32 @@
 #include "railride/timesim.h"
 #include "internal.h"
 
-int rr_welch_psd(const double *x, int n, double fs, int nseg, double *f, double *P, int *navg, rr_error *err)
+int rr_welch_psd(const double *x, int n, double fs, int nseg, double *f, double *P, int *navg,
+                 rr_error *err)
 {
   if (!(nseg >= 8 && nseg % 2 == 0 && n >= nseg && fs > 0))
-    return rr_seterr(err, RR_EINVAL, "welch: need an even segment >= 8 samples, no longer than the record (%d > %d)", nseg, n);
+    return rr_seterr(
+        err, RR_EINVAL,
+        "welch: need an even segment >= 8 samples, no longer than the record (%d > %d)", nseg, n);
   int nh = nseg / 2 + 1, step = nseg / 2, K = (n - nseg) / step + 1;
   double *buf = fftw_malloc(sizeof(double) * nseg), *win = malloc(sizeof(double) * nseg);
   fftw_complex *X = fftw_malloc(sizeof(fftw_complex) * nh);
-  if (!buf || !win || !X) { fftw_free(buf); free(win); fftw_free(X); return rr_seterr(err, RR_ENOMEM, "out of memory"); }
+  if (!buf || !win || !X) {
+    fftw_free(buf);
+    free(win);
+    fftw_free(X);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
   fftw_plan plan = fftw_plan_dft_r2c_1d(nseg, buf, X, FFTW_ESTIMATE);
   double wss = 0;
   for (int j = 0; j < nseg; j++) {
-    win[j] = 0.5 * (1 - cos(2 * RR_PI * j / nseg));   /* periodic Hann */
+    win[j] = 0.5 * (1 - cos(2 * RR_PI * j / nseg)); /* periodic Hann */
     wss += win[j] * win[j];
   }
-  for (int k = 0; k < nh; k++) { P[k] = 0; f[k] = k * fs / nseg; }
+  for (int k = 0; k < nh; k++) {
+    P[k] = 0;
+    f[k] = k * fs / nseg;
+  }
   for (int s = 0; s < K; s++) {
     const double *seg = x + (size_t)s * step;
     double mean = 0;

@@ -17,7 +17,7 @@
    so that they are compiled into each copy. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
 #define RR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#define RR_HAVE_V4 1   /* an AVX-512 copy of the 8-lane batch, used where present */
+#define RR_HAVE_V4 1 /* an AVX-512 copy of the 8-lane batch, used where present */
 #else
 #define RR_CLONES
 #define RR_HAVE_V4 0

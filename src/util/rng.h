@@ -4,7 +4,9 @@
 #define RR_RNG_H
 #include <stdint.h>
 
-typedef struct rr_rng { uint64_t s[4]; } rr_rng;
+typedef struct rr_rng {
+  uint64_t s[4];
+} rr_rng;
 
 static inline uint64_t rr_splitmix64(uint64_t *x)
 {
@@ -24,7 +26,10 @@ static inline uint64_t rr_rotl(uint64_t x, int k) { return (x << k) | (x >> (64 
 static inline uint64_t rr_rng_next(rr_rng *r)
 {
   uint64_t *s = r->s, res = rr_rotl(s[1] * 5, 7) * 9, t = s[1] << 17;
-  s[2] ^= s[0]; s[3] ^= s[1]; s[1] ^= s[2]; s[0] ^= s[3];
+  s[2] ^= s[0];
+  s[3] ^= s[1];
+  s[1] ^= s[2];
+  s[0] ^= s[3];
   s[2] ^= t;
   s[3] = rr_rotl(s[3], 45);
   return res;

@@ -16,7 +16,8 @@ FILE *rr_open_regular(const char *path, rr_error *err)
     return NULL;
   }
   if (!S_ISREG(st.st_mode)) {
-    rr_seterr(err, RR_EIO, "%s: not a regular file%s", path, S_ISDIR(st.st_mode) ? " (a directory)" : "");
+    rr_seterr(err, RR_EIO, "%s: not a regular file%s", path,
+              S_ISDIR(st.st_mode) ? " (a directory)" : "");
     return NULL;
   }
   FILE *fp = fopen(path, "r");
@@ -52,7 +53,8 @@ int rr_lines_next(rr_lines *r, const char **text)
   ssize_t n = getline(&r->buf, &r->cap, r->fp);
   if (n < 0) {
     if (ferror(r->fp)) {
-      r->status = rr_seterr(&r->err, RR_EIO, "%s:%d: cannot read: %s", r->path, r->line + 1, strerror(errno));
+      r->status = rr_seterr(&r->err, RR_EIO, "%s:%d: cannot read: %s", r->path, r->line + 1,
+                            strerror(errno));
       return -1;
     }
     return 0;
@@ -62,7 +64,11 @@ int rr_lines_next(rr_lines *r, const char **text)
   while (n > 0 && (r->buf[n - 1] == '\n' || r->buf[n - 1] == '\r')) r->buf[--n] = 0;
   const char *p = r->buf;
   while (isspace((unsigned char)*p)) p++;
-  if (*p == '#' || *p == ';') { r->buf[0] = 0; *text = r->buf; return 1; }
+  if (*p == '#' || *p == ';') {
+    r->buf[0] = 0;
+    *text = r->buf;
+    return 1;
+  }
   if (n > r->limit) {
     char msg[96];
     snprintf(msg, sizeof msg, "line of %zd characters, longer than the limit of %d", n, r->limit);
@@ -89,6 +95,8 @@ int rr_csv_pair(const char *line, int rows_so_far, double *a, double *b)
 {
   char tail;
   if (!line[0] || (rows_so_far == 0 && sscanf(line, " %lf", a) != 1)) return 0;
-  if (sscanf(line, " %lf , %lf %c", a, b, &tail) == 2 || sscanf(line, " %lf %lf %c", a, b, &tail) == 2) return 1;
+  if (sscanf(line, " %lf , %lf %c", a, b, &tail) == 2 ||
+      sscanf(line, " %lf %lf %c", a, b, &tail) == 2)
+    return 1;
   return -1;
 }

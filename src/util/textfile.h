@@ -21,12 +21,12 @@ FILE *rr_open_regular(const char *path, rr_error *err);
 typedef struct rr_lines {
   FILE *fp;
   const char *path;
-  char *buf;              /* getline's buffer (freed by rr_lines_close) */
+  char *buf; /* getline's buffer (freed by rr_lines_close) */
   size_t cap;
-  int line;               /* number of the last line read */
-  int limit;              /* longest data line accepted */
-  int status;             /* RR_OK, or the error that stopped reading */
-  rr_error err;           /* its message: path:line: ... */
+  int line;     /* number of the last line read */
+  int limit;    /* longest data line accepted */
+  int status;   /* RR_OK, or the error that stopped reading */
+  rr_error err; /* its message: path:line: ... */
 } rr_lines;
 
 /* Opens path; limit is the longest data line accepted. */

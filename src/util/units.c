@@ -28,11 +28,11 @@
 
 static pthread_once_t db_once = PTHREAD_ONCE_INIT;
 static pthread_mutex_t db_lock = PTHREAD_MUTEX_INITIALIZER;
-static ut_system *db;   /* read-only once loaded */
+static ut_system *db; /* read-only once loaded */
 
 static void db_load(void)
 {
-  ut_set_error_message_handler(ut_ignore);   /* a library must not print */
+  ut_set_error_message_handler(ut_ignore); /* a library must not print */
   db = ut_read_xml(NULL);
 }
 
@@ -40,10 +40,13 @@ static int db_get(rr_error *err)
 {
   pthread_once(&db_once, db_load);
   if (db) return RR_OK;
-  return rr_seterr(err, RR_EIO, "cannot load the udunits2 unit database (package libudunits2-data)");
+  return rr_seterr(err, RR_EIO,
+                   "cannot load the udunits2 unit database (package libudunits2-data)");
 }
 
-struct rr_units { int unused; };
+struct rr_units {
+  int unused;
+};
 
 int rr_units_new(rr_units **out, rr_error *err)
 {
@@ -72,53 +75,78 @@ static int plain_unit(const char *s, const char **bad)
   int depth = 0;
   for (const char *p = s; *p;) {
     unsigned char c = (unsigned char)*p;
-    if (c == ' ' || c == '.' || c == '*' || c == '/') { p++; continue; }
-    if (c == '(') { depth++; p++; continue; }
-    if (c == ')') { if (--depth < 0) break; p++; continue; }
+    if (c == ' ' || c == '.' || c == '*' || c == '/') {
+      p++;
+      continue;
+    }
+    if (c == '(') {
+      depth++;
+      p++;
+      continue;
+    }
+    if (c == ')') {
+      if (--depth < 0) break;
+      p++;
+      continue;
+    }
     if (isalpha(c) || c == '_' || c == '%') {
       const char *id = p;
       while (isalpha((unsigned char)*p) || *p == '_' || *p == '%') p++;
-      if (keyword(id, (size_t)(p - id))) { *bad = id; return -1; }
-      if (*p == '^') p++;   /* a power: m^2, m2, s-1, s^-2 */
+      if (keyword(id, (size_t)(p - id))) {
+        *bad = id;
+        return -1;
+      }
+      if (*p == '^') p++; /* a power: m^2, m2, s-1, s^-2 */
       if (*p == '-' && isdigit((unsigned char)p[1])) p++;
       while (isdigit((unsigned char)*p)) p++;
       continue;
     }
-    if (c == '1') {   /* a numerator only: 1/m */
+    if (c == '1') { /* a numerator only: 1/m */
       const char *q = p + 1;
       while (*q == ' ') q++;
-      if (*q == '/' && !isdigit((unsigned char)q[1])) { p = q; continue; }
+      if (*q == '/' && !isdigit((unsigned char)q[1])) {
+        p = q;
+        continue;
+      }
     }
     *bad = p;
     return -1;
   }
-  if (depth != 0) { *bad = s + strlen(s); return -1; }
+  if (depth != 0) {
+    *bad = s + strlen(s);
+    return -1;
+  }
   return 0;
 }
 
 /* The scale a of the converter, when it is x -> a x with a > 0. */
 static int plain_scale(const cv_converter *cv, double *a)
 {
-  double c0 = cv_convert_double(cv, 0.0), c1 = cv_convert_double(cv, 1.0), c2 = cv_convert_double(cv, 2.0);
+  double c0 = cv_convert_double(cv, 0.0), c1 = cv_convert_double(cv, 1.0),
+         c2 = cv_convert_double(cv, 2.0);
   if (!(c0 == 0 && c1 > 0 && isfinite(c1) && fabs(c2 - 2 * c1) <= 1e-12 * c1)) return -1;
   *a = c1;
   return 0;
 }
 
 /* text is what udunits reads, unit what the user wrote (for messages). */
-static int convert_locked(const char *text, const char *unit, const char *si_unit, double *scale, const char *what,
-                          rr_error *err)
+static int convert_locked(const char *text, const char *unit, const char *si_unit, double *scale,
+                          const char *what, rr_error *err)
 {
   ut_unit *from = ut_parse(db, text, UT_ASCII), *to = ut_parse(db, si_unit, UT_ASCII);
   int st = RR_OK;
   const char *q = strcmp(si_unit, "1") ? si_unit : "a dimensionless quantity";
-  if (!from) st = rr_seterr(err, RR_EUNIT, "%s: unknown unit '%s'", what, unit);
-  else if (!to) st = rr_seterr(err, RR_EUNIT, "%s: internal unit '%s' not understood", what, si_unit);
-  else if (!ut_are_convertible(from, to)) st = rr_seterr(err, RR_EUNIT, "%s: '%s' is not a unit of %s", what, unit, q);
+  if (!from)
+    st = rr_seterr(err, RR_EUNIT, "%s: unknown unit '%s'", what, unit);
+  else if (!to)
+    st = rr_seterr(err, RR_EUNIT, "%s: internal unit '%s' not understood", what, si_unit);
+  else if (!ut_are_convertible(from, to))
+    st = rr_seterr(err, RR_EUNIT, "%s: '%s' is not a unit of %s", what, unit, q);
   else {
     cv_converter *cv = ut_get_converter(from, to);
     if (!cv || plain_scale(cv, scale))
-      st = rr_seterr(err, RR_EUNIT, "%s: '%s' is not a plain multiple of %s (no offset, logarithm or reciprocal)",
+      st = rr_seterr(err, RR_EUNIT,
+                     "%s: '%s' is not a plain multiple of %s (no offset, logarithm or reciprocal)",
                      what, unit, q);
     cv_free(cv);
   }
@@ -130,8 +158,8 @@ static int convert_locked(const char *text, const char *unit, const char *si_uni
 /* Engineers' run-together spellings, read as their dotted forms: Ns/m,
    kNs/m, kgm^2, MNm/rad. (None of them is a udunits name.) */
 static const char *const joined[][2] = {
-  {"Ns", "N.s"},   {"kNs", "kN.s"},   {"MNs", "MN.s"},   {"Nm", "N.m"},       {"kNm", "kN.m"},
-  {"MNm", "MN.m"}, {"kgm", "kg.m"},   {"Nms", "N.m.s"},  {"kNms", "kN.m.s"},
+    {"Ns", "N.s"},   {"kNs", "kN.s"}, {"MNs", "MN.s"},  {"Nm", "N.m"},      {"kNm", "kN.m"},
+    {"MNm", "MN.m"}, {"kgm", "kg.m"}, {"Nms", "N.m.s"}, {"kNms", "kN.m.s"},
 };
 
 /* unit with every identifier in joined[] spelled out into out (n bytes). */
@@ -139,14 +167,18 @@ static void spell_out(const char *unit, char *out, size_t n)
 {
   size_t k = 0;
   for (const char *p = unit; *p && k + 1 < n;) {
-    if (!isalpha((unsigned char)*p)) { out[k++] = *p++; continue; }
+    if (!isalpha((unsigned char)*p)) {
+      out[k++] = *p++;
+      continue;
+    }
     const char *id = p;
     while (isalpha((unsigned char)*p)) p++;
     size_t len = (size_t)(p - id);
     const char *rep = NULL;
     for (size_t i = 0; i < sizeof joined / sizeof joined[0] && !rep; i++)
       if (strlen(joined[i][0]) == len && !strncmp(joined[i][0], id, len)) rep = joined[i][1];
-    int w = rep ? snprintf(out + k, n - k, "%s", rep) : snprintf(out + k, n - k, "%.*s", (int)len, id);
+    int w =
+        rep ? snprintf(out + k, n - k, "%s", rep) : snprintf(out + k, n - k, "%.*s", (int)len, id);
     k += w > 0 ? (size_t)w : 0;
     if (k >= n) k = n - 1;
   }
@@ -154,12 +186,15 @@ static void spell_out(const char *unit, char *out, size_t n)
 }
 
 /* The SI scale of unit text (trimmed). */
-static int unit_scale(const char *unit, const char *si_unit, double *scale, const char *what, rr_error *err)
+static int unit_scale(const char *unit, const char *si_unit, double *scale, const char *what,
+                      rr_error *err)
 {
   const char *bad;
   if (plain_unit(unit, &bad))
-    return rr_seterr(err, RR_EUNIT, "%s: unit '%s' not understood at '%.12s' (one number, then a unit such as kN/mm)",
-                     what, unit, bad);
+    return rr_seterr(
+        err, RR_EUNIT,
+        "%s: unit '%s' not understood at '%.12s' (one number, then a unit such as kN/mm)", what,
+        unit, bad);
   int st = db_get(err);
   if (st) return st;
   char spelled[2 * UNIT_TEXT_MAX];
@@ -178,8 +213,8 @@ static const char *skip_space(const char *s)
 
 /* The number at the start of text: finite (or +inf where allowed), not out
    of double's range. */
-static int leading_number(const char *text, int allow_inf, double *v, const char **end, const char *what,
-                          rr_error *err)
+static int leading_number(const char *text, int allow_inf, double *v, const char **end,
+                          const char *what, rr_error *err)
 {
   char *e;
   errno = 0;
@@ -188,13 +223,14 @@ static int leading_number(const char *text, int allow_inf, double *v, const char
   if (e == text) return rr_seterr(err, RR_EINVAL, "%s: '%s' is not a number", what, text);
   if (isnan(*v)) return rr_seterr(err, RR_EINVAL, "%s: NaN is not allowed", what);
   int literal_inf = isinf(*v) && errno != ERANGE;
-  if (isinf(*v) && !(allow_inf && literal_inf && *v > 0)) return rr_seterr(err, RR_EINVAL, "%s: '%s' must be finite", what, text);
+  if (isinf(*v) && !(allow_inf && literal_inf && *v > 0))
+    return rr_seterr(err, RR_EINVAL, "%s: '%s' must be finite", what, text);
   if (errno == ERANGE) return rr_seterr(err, RR_EINVAL, "%s: '%s' is out of range", what, text);
   return RR_OK;
 }
 
-int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf, double *out, const char *what,
-                   rr_error *err)
+int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf, double *out,
+                   const char *what, rr_error *err)
 {
   (void)u;
   const char *end;
@@ -202,20 +238,29 @@ int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow
   if (!text || !*skip_space(text)) return rr_seterr(err, RR_EINVAL, "%s: empty value", what);
   int st = leading_number(skip_space(text), allow_inf, &v, &end, what, err);
   if (st) return st;
-  if (end > text && !isspace((unsigned char)*end) && *end && !isalpha((unsigned char)*end) && *end != '%')
+  if (end > text && !isspace((unsigned char)*end) && *end && !isalpha((unsigned char)*end) &&
+      *end != '%')
     return rr_seterr(err, RR_EINVAL, "%s: '%s' is not a number followed by a unit", what, text);
   end = skip_space(end);
-  if (!*end) { *out = v; return RR_OK; }   /* a bare number: SI */
+  if (!*end) {
+    *out = v;
+    return RR_OK;
+  } /* a bare number: SI */
   char unit[UNIT_TEXT_MAX];
   size_t len = strlen(end);
   while (len && isspace((unsigned char)end[len - 1])) len--;
-  if (len >= sizeof unit) return rr_seterr(err, RR_EUNIT, "%s: unit '%.40s...' too long", what, end);
+  if (len >= sizeof unit)
+    return rr_seterr(err, RR_EUNIT, "%s: unit '%.40s...' too long", what, end);
   memcpy(unit, end, len);
   unit[len] = 0;
   if ((st = unit_scale(unit, si_unit, &scale, what, err))) return st;
   double r = v * scale;
-  if (isinf(v)) { *out = v; return RR_OK; }
-  if (!isfinite(r) || (r == 0 && v != 0)) return rr_seterr(err, RR_EINVAL, "%s: '%s' is out of range in SI", what, text);
+  if (isinf(v)) {
+    *out = v;
+    return RR_OK;
+  }
+  if (!isfinite(r) || (r == 0 && v != 0))
+    return rr_seterr(err, RR_EINVAL, "%s: '%s' is out of range in SI", what, text);
   *out = r;
   return RR_OK;
 }

@@ -24,17 +24,18 @@ typedef struct parse_ctx {
   rr_units *units;
   rr_error *err;
   int status;
-  int pass;                 /* 1: [vehicle] only; 2: everything */
+  int pass; /* 1: [vehicle] only; 2: everything */
   char base[PATH_MAX];
   int base_line;
   char name[64];
-  int seen[NKEYS_MAX];      /* line where each key was set, 0 if not */
-  int curve_keys;           /* sdf_k1/k2/k3 given: bit mask */
-  int profile_keys, profile_line;   /* conicity_poly 1, conicity_table 2; where */
+  int seen[NKEYS_MAX];            /* line where each key was set, 0 if not */
+  int curve_keys;                 /* sdf_k1/k2/k3 given: bit mask */
+  int profile_keys, profile_line; /* conicity_poly 1, conicity_table 2; where */
   int table_line;
 } parse_ctx;
 
-static int fail(parse_ctx *c, int code, const char *fmt, const char *a, const char *b, const char *msg)
+static int fail(parse_ctx *c, int code, const char *fmt, const char *a, const char *b,
+                const char *msg)
 {
   if (c->status == RR_OK) {
     char buf[RR_ERROR_MSG_MAX];
@@ -67,9 +68,12 @@ static int poly_value(parse_ctx *c, const char *section, const char *name, const
     char *end;
     errno = 0;
     double x = strtod(s, &end);
-    if (end == s || errno == ERANGE || !isfinite(x) || (*end && !isspace((unsigned char)*end) && *end != ','))
-      return fail(c, RR_EPARSE, "[%s] %s: coefficients are plain numbers (a in mm), got '%s'", section, name, val);
-    if (p->n >= RR_PROFILE_MAX) return fail(c, RR_EPARSE, "[%s] %s: more than 64 coefficients%s", section, name, "");
+    if (end == s || errno == ERANGE || !isfinite(x) ||
+        (*end && !isspace((unsigned char)*end) && *end != ','))
+      return fail(c, RR_EPARSE, "[%s] %s: coefficients are plain numbers (a in mm), got '%s'",
+                  section, name, val);
+    if (p->n >= RR_PROFILE_MAX)
+      return fail(c, RR_EPARSE, "[%s] %s: more than 64 coefficients%s", section, name, "");
     p->c[p->n++] = x;
     s = end;
   }
@@ -81,20 +85,23 @@ static int poly_value(parse_ctx *c, const char *section, const char *name, const
 
 static void resolve_path(const parse_ctx *c, const char *rel, char *out, size_t n)
 {
-  if (rel[0] == '/' || !c->dir[0]) snprintf(out, n, "%s", rel);
-  else snprintf(out, n, "%s/%s", c->dir, rel);
+  if (rel[0] == '/' || !c->dir[0])
+    snprintf(out, n, "%s", rel);
+  else
+    snprintf(out, n, "%s/%s", c->dir, rel);
 }
 
 static int handler(void *user, const char *section, const char *name, const char *value)
 {
   parse_ctx *c = user;
-  if (c->status) return 1;   /* first error only */
+  if (c->status) return 1; /* first error only */
   if (c->pass == 1) {
     if (!strcmp(section, "vehicle") && !strcmp(name, "base")) {
       trim_copy(c->base, sizeof c->base, value);
       c->base_line = c->rs.line;
     }
-    if (!strcmp(section, "vehicle") && !strcmp(name, "name")) trim_copy(c->name, sizeof c->name, value);
+    if (!strcmp(section, "vehicle") && !strcmp(name, "name"))
+      trim_copy(c->name, sizeof c->name, value);
     return 1;
   }
   int nk;
@@ -103,7 +110,10 @@ static int handler(void *user, const char *section, const char *name, const char
   for (int i = 0; i < nk; i++) {
     if (strcmp(keys[i].section, section)) continue;
     section_known = 1;
-    if (!strcmp(keys[i].key, name)) { idx = i; break; }
+    if (!strcmp(keys[i].key, name)) {
+      idx = i;
+      break;
+    }
   }
   if (!section_known) return fail(c, RR_EPARSE, "[%s] %s: unknown section%s", section, name, "");
   if (idx < 0) return fail(c, RR_EPARSE, "[%s] %s: unknown key%s", section, name, "");
@@ -117,20 +127,27 @@ static int handler(void *user, const char *section, const char *name, const char
   char val[PATH_MAX];
   trim_copy(val, sizeof val, value);
   if (k->flags & RR_KEY_SPECIAL) {
-    if (!strcmp(k->section, "vehicle")) return 1;   /* handled in pass 1 */
+    if (!strcmp(k->section, "vehicle")) return 1; /* handled in pass 1 */
     if (!strcmp(k->key, "sdf")) {
-      if (!strcmp(val, "none")) c->veh->sdf_mode = RR_SDF_NONE;
-      else if (!strcmp(val, "paper")) c->veh->sdf_mode = RR_SDF_PAPER;
-      else if (!strcmp(val, "physical")) c->veh->sdf_mode = RR_SDF_PHYSICAL;
-      else return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none, paper or physical", section, name, val);
+      if (!strcmp(val, "none"))
+        c->veh->sdf_mode = RR_SDF_NONE;
+      else if (!strcmp(val, "paper"))
+        c->veh->sdf_mode = RR_SDF_PAPER;
+      else if (!strcmp(val, "physical"))
+        c->veh->sdf_mode = RR_SDF_PHYSICAL;
+      else
+        return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none, paper or physical", section, name,
+                    val);
       return 1;
     }
     if (!strcmp(k->key, "gravity_stiffness")) {
       if (!strcmp(val, "yes") || !strcmp(val, "true") || !strcmp(val, "on") || !strcmp(val, "1"))
         c->veh->gravity_stiffness = 1;
-      else if (!strcmp(val, "no") || !strcmp(val, "false") || !strcmp(val, "off") || !strcmp(val, "0"))
+      else if (!strcmp(val, "no") || !strcmp(val, "false") || !strcmp(val, "off") ||
+               !strcmp(val, "0"))
         c->veh->gravity_stiffness = 0;
-      else return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", section, name, val);
+      else
+        return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", section, name, val);
       return 1;
     }
     if (!strcmp(k->key, "conicity_poly")) return poly_value(c, section, name, val);
@@ -138,7 +155,8 @@ static int handler(void *user, const char *section, const char *name, const char
       char full[PATH_MAX + 8];
       resolve_path(c, val, full, sizeof full);
       rr_error e2;
-      if (rr_profile_load(full, &c->veh->profile, &e2)) return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
+      if (rr_profile_load(full, &c->veh->profile, &e2))
+        return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
       c->profile_line = c->rs.line;
       c->profile_keys |= 2;
       return 1;
@@ -149,7 +167,8 @@ static int handler(void *user, const char *section, const char *name, const char
       rr_sdf_curve cur;
       rr_error e2;
       memset(&cur, 0, sizeof cur);
-      if (rr_sdf_table_load(full, &cur, &e2)) return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
+      if (rr_sdf_table_load(full, &cur, &e2))
+        return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
       c->veh->sdf = cur;
       c->table_line = c->rs.line;
       return 1;
@@ -159,8 +178,12 @@ static int handler(void *user, const char *section, const char *name, const char
   char what[RR_ERROR_MSG_MAX];
   snprintf(what, sizeof what, "%s:%d: [%s] %s", c->path, c->rs.line, section, name);
   double x;
-  int st = rr_units_parse(c->units, val, k->si_unit, (k->flags & RR_KEY_INF_OK) != 0, &x, what, c->err);
-  if (st) { c->status = st; return 0; }
+  int st =
+      rr_units_parse(c->units, val, k->si_unit, (k->flags & RR_KEY_INF_OK) != 0, &x, what, c->err);
+  if (st) {
+    c->status = st;
+    return 0;
+  }
   rr_error e2;
   if ((st = rr_vehicle_key_check(k, x, &e2))) {
     c->status = rr_seterr(c->err, st, "%s:%d: %s (got '%s')", c->path, c->rs.line, e2.msg, val);
@@ -184,7 +207,9 @@ static int run_pass(parse_ctx *c, int pass)
   c->rs.line = line;
   if (c->status) return c->status;
   if (c->rs.status) return rr_seterr(c->err, c->rs.status, "%s", c->rs.err.msg);
-  if (r > 0) return rr_seterr(c->err, RR_EPARSE, "%s:%d: malformed line (expected [section] or key = value)", c->path, r);
+  if (r > 0)
+    return rr_seterr(c->err, RR_EPARSE, "%s:%d: malformed line (expected [section] or key = value)",
+                     c->path, r);
   if (r < 0) return rr_seterr(c->err, RR_EIO, "%s: cannot read", c->path);
   return RR_OK;
 }
@@ -200,7 +225,8 @@ static int load_base(parse_ctx *c, rr_vehicle *veh, rr_error *err, int depth)
   if (rr_vehicle_builtin(c->base, veh, &e2) == RR_OK) return RR_OK;
   resolve_path(c, c->base, bpath, sizeof bpath);
   FILE *fp = rr_open_regular(bpath, &e2);
-  if (!fp) return rr_seterr(err, RR_EIO, "%s:%d: [vehicle] base: %s", c->path, c->base_line, e2.msg);
+  if (!fp)
+    return rr_seterr(err, RR_EIO, "%s:%d: [vehicle] base: %s", c->path, c->base_line, e2.msg);
   fclose(fp);
   return load_depth(bpath, veh, err, depth + 1);
 }
@@ -208,7 +234,8 @@ static int load_base(parse_ctx *c, rr_vehicle *veh, rr_error *err, int depth)
 static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int depth)
 {
   if (depth > MAX_BASE_DEPTH)
-    return rr_seterr(err, RR_EPARSE, "%s: base chain deeper than %d (a cycle?)", path, MAX_BASE_DEPTH);
+    return rr_seterr(err, RR_EPARSE, "%s: base chain deeper than %d (a cycle?)", path,
+                     MAX_BASE_DEPTH);
   parse_ctx *c = calloc(1, sizeof *c);
   if (!c) return rr_seterr(err, RR_ENOMEM, "out of memory");
   c->path = path;
@@ -223,7 +250,7 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
     if ((st = load_base(c, veh, err, depth))) goto done;
   } else {
     memset(veh, 0, sizeof *veh);
-    rr_vehicle_contact_defaults(veh);   /* the optional nonlinear-model keys */
+    rr_vehicle_contact_defaults(veh); /* the optional nonlinear-model keys */
   }
   const char *stem = slash ? slash + 1 : path;
   snprintf(veh->name, sizeof veh->name, "%s", c->name[0] ? c->name : stem);
@@ -237,13 +264,15 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
   if (!has_base) {
     for (int i = 0; i < nk; i++)
       if (!(keys[i].flags & RR_KEY_OPTIONAL) && !c->seen[i]) {
-        st = rr_seterr(err, RR_EPARSE, "%s:%d: [%s] %s: missing required key (no base given)",
-                       path, c->rs.line, keys[i].section, keys[i].key);
+        st = rr_seterr(err, RR_EPARSE, "%s:%d: [%s] %s: missing required key (no base given)", path,
+                       c->rs.line, keys[i].section, keys[i].key);
         goto done;
       }
   }
   if (c->profile_keys == 3) {
-    st = rr_seterr(err, RR_EPARSE, "%s:%d: [contact] conicity_table: give either conicity_poly or conicity_table", path, c->profile_line);
+    st = rr_seterr(err, RR_EPARSE,
+                   "%s:%d: [contact] conicity_table: give either conicity_poly or conicity_table",
+                   path, c->profile_line);
     goto done;
   }
   if (veh->profile.kind == RR_PROFILE_POLY) veh->profile.hold_mm = veh->conicity_hold * 1e3;
@@ -256,20 +285,26 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
     }
   }
   if (c->table_line && c->curve_keys) {
-    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] sdf_table: give either sdf_table or sdf_k1/sdf_k2/sdf_k3", path, c->table_line);
+    st = rr_seterr(err, RR_EPARSE,
+                   "%s:%d: [yaw_damper] sdf_table: give either sdf_table or sdf_k1/sdf_k2/sdf_k3",
+                   path, c->table_line);
     goto done;
   }
   if (c->curve_keys && c->curve_keys != 7) {
     const char *miss = !(c->curve_keys & 1) ? "sdf_k1" : !(c->curve_keys & 2) ? "sdf_k2" : "sdf_k3";
-    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] %s: sdf_k1, sdf_k2 and sdf_k3 go together", path, c->rs.line, miss);
+    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] %s: sdf_k1, sdf_k2 and sdf_k3 go together",
+                   path, c->rs.line, miss);
     goto done;
   }
-  if (c->curve_keys) {   /* the file's curve replaces the inherited one as a whole */
+  if (c->curve_keys) { /* the file's curve replaces the inherited one as a whole */
     veh->sdf.kind = RR_CURVE_SLS;
     veh->sdf.n = 0;
   }
   if (veh->sdf_mode != RR_SDF_NONE && veh->sdf.kind == RR_CURVE_UNSET) {
-    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] sdf: a curve is required (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", path, c->rs.line);
+    st = rr_seterr(
+        err, RR_EPARSE,
+        "%s:%d: [yaw_damper] sdf: a curve is required (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", path,
+        c->rs.line);
     goto done;
   }
   {
@@ -293,7 +328,10 @@ int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err)
 
 int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err)
 {
-  if (!spec) { rr_vehicle_default(veh); return RR_OK; }
+  if (!spec) {
+    rr_vehicle_default(veh);
+    return RR_OK;
+  }
   if (rr_vehicle_builtin(spec, veh, NULL) == RR_OK) return RR_OK;
   return rr_vehicle_load(spec, veh, err);
 }
@@ -301,8 +339,14 @@ int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err)
 rr_vehicle *rr_vehicle_new(const char *spec, rr_error *err)
 {
   rr_vehicle *v = malloc(sizeof *v);
-  if (!v) { rr_seterr(err, RR_ENOMEM, "out of memory"); return NULL; }
-  if (rr_vehicle_open(spec, v, err)) { free(v); return NULL; }
+  if (!v) {
+    rr_seterr(err, RR_ENOMEM, "out of memory");
+    return NULL;
+  }
+  if (rr_vehicle_open(spec, v, err)) {
+    free(v);
+    return NULL;
+  }
   return v;
 }
 

@@ -39,8 +39,8 @@ static inline void fuzz_index(const rr_vehicle *v)
   double z;
   if (rr_model_from_vehicle(v, &m, &e)) return;
   if (!rr_modal_ws_new(m, &ws, &e)) {
-    if (!rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e) && !rr_modal_stability_index(m, NULL, ws, &z, &e) &&
-        !(z >= -1 && z <= 1))
+    if (!rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e) &&
+        !rr_modal_stability_index(m, NULL, ws, &z, &e) && !(z >= -1 && z <= 1))
       abort();
     rr_modal_ws_free(ws);
   }

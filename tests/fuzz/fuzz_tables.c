@@ -38,7 +38,9 @@ static void record(const uint8_t *data, size_t size)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
   if (size < 1) return 0;
-  if (data[0] & 1) record(data + 1, size - 1);
-  else profile(data + 1, size - 1);
+  if (data[0] & 1)
+    record(data + 1, size - 1);
+  else
+    profile(data + 1, size - 1);
   return 0;
 }

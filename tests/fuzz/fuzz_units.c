@@ -4,7 +4,8 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-  static const char *units[] = {"kg", "kg.m2", "m", "N/m", "N.s/m", "N.m/rad", "Hz", "N", "km/h", "1", "m2"};
+  static const char *units[] = {"kg", "kg.m2", "m",    "N/m", "N.s/m", "N.m/rad",
+                                "Hz", "N",     "km/h", "1",   "m2"};
   char text[256];
   if (size >= sizeof text) return 0;
   memcpy(text, data, size);
