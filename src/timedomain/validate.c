@@ -39,7 +39,14 @@ void rr_validate_result_free(rr_validate_result *r)
 static int pem_on(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o, int nf,
                   const double *f, double *G, rr_error *err)
 {
-  rr_frf_opts fo = {nf, f, o->f_lo_hz, o->f_hi_hz, o->npoints, o->rows, o->rows0, RR_FRF_MODAL};
+  rr_frf_opts fo = {.nfreq = nf,
+                    .freqs_hz = f,
+                    .f_lo_hz = o->f_lo_hz,
+                    .f_hi_hz = o->f_hi_hz,
+                    .npoints = o->npoints,
+                    .rows = o->rows,
+                    .rows0 = o->rows0,
+                    .method = RR_FRF_MODAL};
   rr_frf_plan *p;
   int st = rr_frf_plan_new(m, &fo, &p, err);
   if (st) return st;
@@ -86,10 +93,23 @@ static int results_finite(const rr_validate_result *r, rr_error *err)
   return RR_OK;
 }
 
-int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o,
-                rr_validate_result *r, rr_error *err)
+/* The validation's scratch, allocated and freed together. */
+typedef struct vwork {
+  int n, ni, np, N, ns, nh, ny;
+  double dt;
+  double *A, *A2, *Bs, *ABs; /* state matrix, its square, input matrix, A Bs */
+  double *u, *du;            /* track inputs and their rates (ni x ns) */
+  double *y, *aw;      /* outputs (accelerations, then their rates; ny x ns); a weighted one */
+  double *C, *D, *E;   /* y = C z + D u + E u' */
+  double *Gp, *fp;     /* PEM PSDs on the standard grid (nfreq x np), the grid */
+  rr_lti_disc dv, dfl; /* the vehicle and the Sperling filter, discretised */
+  double fA[9], fB[3], fC[3];
+  int kb0, kb1;      /* the Welch bins inside the band */
+  long step, nsteps; /* progress */
+} vwork;
+
+static int check_opts(const rr_model *m, const rr_validate_opts *o, int *ns, rr_error *err)
 {
-  memset(r, 0, sizeof *r);
   if (m->sdf_mode == RR_SDF_PAPER && m->nsdf)
     return rr_seterr(
         err, RR_EUNSUP,
@@ -100,234 +120,288 @@ int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts
         o->f_lo_hz > 0 && o->npoints >= 1))
     return rr_seterr(err, RR_EINVAL,
                      "validate: need duration > 0, 0 < f_lo < f_hi < fs/2 and an output point");
-  int n = m->n, ni = m->ni, np = o->npoints, N = rr_model_state_size(m);
-  int ns = (int)lround(o->duration_s * o->fs_hz);
-  ns += ns % 2;
-  if (o->nseg > ns)
+  *ns = (int)lround(o->duration_s * o->fs_hz);
+  *ns += *ns % 2;
+  if (o->nseg > *ns)
     return rr_seterr(err, RR_EINVAL,
                      "validate: Welch segment (%d) longer than the record (%d samples)", o->nseg,
-                     ns);
-  double dt = 1.0 / o->fs_hz;
-  int st = RR_OK, ny = 2 * np, nh = o->nseg / 2 + 1;
-  double *A = malloc(sizeof(double) * N * N), *A2 = malloc(sizeof(double) * N * N),
-         *Bs = malloc(sizeof(double) * N * ni);
-  double *ABs = malloc(sizeof(double) * N * ni);
-  double *u = malloc(sizeof(double) * ni * (size_t)ns),
-         *du = malloc(sizeof(double) * ni * (size_t)ns);
-  double *y = malloc(sizeof(double) * ny * (size_t)ns), *aw = malloc(sizeof(double) * (size_t)ns);
-  double *C = calloc((size_t)ny * N, sizeof(double)), *D = calloc((size_t)ny * ni, sizeof(double)),
-         *E = calloc((size_t)ny * ni, sizeof(double));
-  double *Gp = malloc(sizeof(double) * o->nfreq * np), *fp = malloc(sizeof(double) * o->nfreq);
-  rr_lti_disc dv = {0}, dfl = {0};
-  r->npoints = np;
-  r->nwelch = nh;
-  r->welch_f = malloc(sizeof(double) * nh);
-  r->welch_P = malloc(sizeof(double) * nh * np);
-  r->pem_P = calloc((size_t)nh * np, sizeof(double));
-  r->points = calloc(np, sizeof(rr_validate_point));
-  if (!A || !A2 || !Bs || !ABs || !u || !du || !y || !aw || !C || !D || !E || !Gp || !fp ||
-      !r->welch_f || !r->welch_P || !r->pem_P || !r->points) {
-    st = rr_seterr(err, RR_ENOMEM, "out of memory");
-    goto done;
-  }
-  if ((st = rr_model_state_matrix(m, 0, A, err)) || (st = rr_model_state_input(m, Bs, err)))
-    goto done;
-  {
-    /* an unstable vehicle has no steady state: neither the time run nor the
-       PEM describe anything then */
-    double *wr = malloc(sizeof(double) * N), *wi = malloc(sizeof(double) * N);
-    if (!wr || !wi) {
-      free(wr);
-      free(wi);
-      st = rr_seterr(err, RR_ENOMEM, "out of memory");
-      goto done;
-    }
-    memcpy(A2, A, sizeof(double) * N * N);
-    int bad = rr_eig_small(N, A2, wr, wi);
-    double remax = -INFINITY, fr = 0;
-    for (int i = 0; i < N && !bad; i++)
-      if (wr[i] > remax) {
-        remax = wr[i];
-        fr = fabs(wi[i]) / (2 * RR_PI);
-      }
+                     *ns);
+  return RR_OK;
+}
+
+static void work_free(vwork *w)
+{
+  double *arrays[] = {w->A,  w->A2, w->Bs, w->ABs, w->u,  w->du, w->y,
+                      w->aw, w->C,  w->D,  w->E,   w->Gp, w->fp};
+  for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) free(arrays[i]);
+  rr_lti_disc_free(&w->dv);
+  rr_lti_disc_free(&w->dfl);
+}
+
+static int work_alloc(vwork *w, const rr_model *m, const rr_validate_opts *o, int ns,
+                      rr_validate_result *r, rr_error *err)
+{
+  *w = (vwork){.n = m->n,
+               .ni = m->ni,
+               .np = o->npoints,
+               .N = rr_model_state_size(m),
+               .ns = ns,
+               .nh = o->nseg / 2 + 1,
+               .ny = 2 * o->npoints,
+               .dt = 1.0 / o->fs_hz,
+               .kb0 = -1,
+               .kb1 = -1,
+               .nsteps = 3 + o->npoints};
+  size_t N = (size_t)w->N, ni = (size_t)w->ni, ny = (size_t)w->ny, nsz = (size_t)ns;
+  w->A = malloc(sizeof(double) * N * N);
+  w->A2 = malloc(sizeof(double) * N * N);
+  w->Bs = malloc(sizeof(double) * N * ni);
+  w->ABs = malloc(sizeof(double) * N * ni);
+  w->u = malloc(sizeof(double) * ni * nsz);
+  w->du = malloc(sizeof(double) * ni * nsz);
+  w->y = malloc(sizeof(double) * ny * nsz);
+  w->aw = malloc(sizeof(double) * nsz);
+  w->C = calloc(ny * N, sizeof(double));
+  w->D = calloc(ny * ni, sizeof(double));
+  w->E = calloc(ny * ni, sizeof(double));
+  w->Gp = malloc(sizeof(double) * (size_t)o->nfreq * (size_t)w->np);
+  w->fp = malloc(sizeof(double) * (size_t)o->nfreq);
+  r->npoints = w->np;
+  r->nwelch = w->nh;
+  r->welch_f = malloc(sizeof(double) * (size_t)w->nh);
+  r->welch_P = malloc(sizeof(double) * (size_t)w->nh * (size_t)w->np);
+  r->pem_P = calloc((size_t)w->nh * (size_t)w->np, sizeof(double));
+  r->points = calloc((size_t)w->np, sizeof(rr_validate_point));
+  void *all[] = {w->A, w->A2, w->Bs, w->ABs, w->u,       w->du,      w->y,     w->aw,    w->C,
+                 w->D, w->E,  w->Gp, w->fp,  r->welch_f, r->welch_P, r->pem_P, r->points};
+  for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+    if (!all[i]) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  return RR_OK;
+}
+
+/* An unstable vehicle has no steady state: neither the time run nor the PEM
+   describe anything then. A2 is scratch. */
+static int check_stable(const rr_model *m, vwork *w, rr_error *err)
+{
+  int N = w->N;
+  double *wr = malloc(sizeof(double) * (size_t)N), *wi = malloc(sizeof(double) * (size_t)N);
+  if (!wr || !wi) {
     free(wr);
     free(wi);
-    if (!bad && remax > 0) {
-      st = rr_seterr(err, RR_EINVAL,
-                     "validate: the vehicle is unstable at %g km/h, conicity %g (eigenvalue "
-                     "%.4g%+.4gi, %.3g Hz): "
-                     "no steady state to compare",
-                     m->speed * RR_KMH, m->conicity, remax, 2 * RR_PI * fr, fr);
-      goto done;
-    }
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
-  cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, N, N, 1.0, A, N, A, N, 0.0, A2, N);
-  cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, ni, N, 1.0, A, N, Bs, ni, 0.0, ABs, ni);
-  /* a = rows . (A z + Bs u)[accelerations] + rows0 . q;
-     a' = rows . (A^2 z + A Bs u + Bs u')[accelerations] + rows0 . q' */
+  memcpy(w->A2, w->A, sizeof(double) * (size_t)N * (size_t)N);
+  int bad = rr_eig_small(N, w->A2, wr, wi);
+  double remax = -INFINITY, fr = 0;
+  for (int i = 0; i < N && !bad; i++)
+    if (wr[i] > remax) {
+      remax = wr[i];
+      fr = fabs(wi[i]) / (2 * RR_PI);
+    }
+  free(wr);
+  free(wi);
+  if (bad || remax <= 0) return RR_OK;
+  return rr_seterr(err, RR_EINVAL,
+                   "validate: the vehicle is unstable at %g km/h, conicity %g (eigenvalue "
+                   "%.4g%+.4gi, %.3g Hz): no steady state to compare",
+                   m->speed * RR_KMH, m->conicity, remax, 2 * RR_PI * fr, fr);
+}
+
+/* The outputs y = C z + D u + E u':
+   a = rows . (A z + Bs u)[accelerations] + rows0 . q;
+   a' = rows . (A^2 z + A Bs u + Bs u')[accelerations] + rows0 . q' */
+static void output_rows(const rr_validate_opts *o, vwork *w)
+{
+  int n = w->n, N = w->N, ni = w->ni, np = w->np;
+  cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, N, N, 1.0, w->A, N, w->A, N, 0.0, w->A2,
+              N);
+  cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, ni, N, 1.0, w->A, N, w->Bs, ni, 0.0,
+              w->ABs, ni);
   for (int q = 0; q < np; q++) {
     const double *row = o->rows + (size_t)q * n, *row0 = o->rows0 ? o->rows0 + (size_t)q * n : NULL;
     for (int k = 0; k < n; k++) {
       if (row[k] == 0) continue;
       for (int j = 0; j < N; j++) {
-        C[q * N + j] += row[k] * A[(n + k) * N + j];
-        C[(np + q) * N + j] += row[k] * A2[(n + k) * N + j];
+        w->C[q * N + j] += row[k] * w->A[(n + k) * N + j];
+        w->C[(np + q) * N + j] += row[k] * w->A2[(n + k) * N + j];
       }
       for (int j = 0; j < ni; j++) {
-        D[q * ni + j] += row[k] * Bs[(n + k) * ni + j];
-        D[(np + q) * ni + j] += row[k] * ABs[(n + k) * ni + j];
-        E[(np + q) * ni + j] += row[k] * Bs[(n + k) * ni + j];
+        w->D[q * ni + j] += row[k] * w->Bs[(n + k) * ni + j];
+        w->D[(np + q) * ni + j] += row[k] * w->ABs[(n + k) * ni + j];
+        w->E[(np + q) * ni + j] += row[k] * w->Bs[(n + k) * ni + j];
       }
     }
-    if (row0)
-      for (int k = 0; k < n; k++) {
-        C[q * N + k] += row0[k];
-        C[(np + q) * N + n + k] += row0[k];
-      }
+    for (int k = 0; k < n && row0; k++) {
+      w->C[q * N + k] += row0[k];
+      w->C[(np + q) * N + n + k] += row0[k];
+    }
   }
+}
+
+/* The track realisation, the vehicle's periodic steady state over it, the
+   Sperling filter discretised, and the PEM on its standard grid. */
+static int time_run(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o, vwork *w,
+                    rr_validate_result *r, rr_error *err)
+{
   double xin[RR_SYS_MAX_INPUTS];
-  for (int i = 0; i < ni; i++) xin[i] = m->contacts[i].x;
-  long step = 0, nsteps = 3 + np;
-  if ((st = rr_track_realise(sp, m->speed, xin, ni, o->fs_hz, ns, o->f_lo_hz, o->f_hi_hz, o->seed,
-                             u, du, err)))
-    goto done;
-  if ((st = rr_progress_step(&o->progress, ++step, nsteps, err))) goto done;
-  if ((st = rr_lti_discretise(N, ni, A, Bs, dt, &dv, err))) goto done;
-  if ((st = rr_lti_periodic(&dv, ns, u, du, ny, C, D, E, y, err))) goto done;
-  if ((st = rr_progress_step(&o->progress, ++step, nsteps, err))) goto done;
-  r->seconds_simulated = 2 * ns * dt; /* two passes over the period */
-  /* the Sperling weighting as a filter in the time domain */
-  double fA[9], fB[3], fC[3], zero = 0;
-  rr_sperling_filter_ss(RR_AXIS_LATERAL, fA, fB, fC);
-  if ((st = rr_lti_discretise(3, 1, fA, fB, dt, &dfl, err))) goto done;
-  /* PEM on its standard grid */
+  for (int i = 0; i < w->ni; i++) xin[i] = m->contacts[i].x;
+  int st = rr_track_realise(sp, m->speed, xin, w->ni, o->fs_hz, w->ns, o->f_lo_hz, o->f_hi_hz,
+                            o->seed, w->u, w->du, err);
+  if (st || (st = rr_progress_step(&o->progress, ++w->step, w->nsteps, err))) return st;
+  if ((st = rr_lti_discretise(w->N, w->ni, w->A, w->Bs, w->dt, &w->dv, err))) return st;
+  st = rr_lti_periodic(&w->dv, w->ns, w->u, w->du, w->ny, w->C, w->D, w->E, w->y, err);
+  if (st || (st = rr_progress_step(&o->progress, ++w->step, w->nsteps, err))) return st;
+  r->seconds_simulated = 2 * w->ns * w->dt; /* two passes over the period */
+  rr_sperling_filter_ss(RR_AXIS_LATERAL, w->fA, w->fB, w->fC);
+  if ((st = rr_lti_discretise(3, 1, w->fA, w->fB, w->dt, &w->dfl, err))) return st;
   for (int k = 0; k < o->nfreq; k++)
-    fp[k] = o->f_lo_hz * pow(o->f_hi_hz / o->f_lo_hz, (double)k / (o->nfreq - 1));
-  if ((st = pem_on(m, sp, o, o->nfreq, fp, Gp, err))) goto done;
-  /* Welch, and the PEM at the Welch bins inside the band */
-  int kb0 = -1, kb1 = -1;
-  for (int q = 0; q < np && !st; q++) {
-    rr_validate_point *pt = &r->points[q];
-    const double *a = y + (size_t)q * ns, *ad = y + (size_t)(np + q) * ns;
-    double ss = 0;
-    for (int k = 0; k < ns; k++) ss += a[k] * a[k];
-    pt->rms_time = sqrt(ss / ns);
-    if ((st = rr_lti_periodic(&dfl, ns, a, ad, 1, fC, &zero, NULL, aw, err))) break;
-    ss = 0;
-    for (int k = 0; k < ns; k++) ss += aw[k] * aw[k];
-    pt->sperling_time = rr_sperling_from_weighted_rms(sqrt(ss / ns));
-    pt->rms_pem = rr_psd_rms(fp, Gp + q, o->nfreq, np);
-    rr_sperling_filter_index(fp, Gp + q, o->nfreq, np, RR_AXIS_LATERAL, &pt->sperling_pem, err);
-    rr_sperling_gb_index(fp, Gp + q, o->nfreq, np, RR_AXIS_LATERAL, &pt->sperling_gb_pem, err);
-    rr_weighted_rms(fp, Gp + q, o->nfreq, np, RR_ISO_WD, &pt->wd_rms_pem, err);
-    double *P = r->welch_P + (size_t)q * nh;
-    if ((st = rr_welch_psd(a, ns, o->fs_hz, o->nseg, r->welch_f, P, &r->navg, err))) break;
-    if (kb0 < 0) {
-      for (int k = 0; k < nh; k++)
-        if (r->welch_f[k] >= o->f_lo_hz && r->welch_f[k] <= o->f_hi_hz) {
-          if (kb0 < 0) kb0 = k;
-          kb1 = k;
-        }
-    }
-    int nb = kb1 - kb0 + 1;
-    if (nb < 2) {
-      st = rr_seterr(err, RR_EINVAL, "validate: Welch segment too short for the band");
-      break;
-    }
-    rr_sperling_filter_index(r->welch_f + kb0, P + kb0, nb, 1, RR_AXIS_LATERAL, &pt->sperling_welch,
-                             err);
-    rr_sperling_gb_index(r->welch_f + kb0, P + kb0, nb, 1, RR_AXIS_LATERAL, &pt->sperling_gb_welch,
-                         err);
-    rr_weighted_rms(r->welch_f + kb0, P + kb0, nb, 1, RR_ISO_WD, &pt->wd_rms_welch, err);
-    st = rr_progress_step(&o->progress, ++step, nsteps, err);
-  }
-  if (st) goto done;
-  {
-    /* The Welch estimator's expectation under the PEM spectrum: each line of
-       the realisation (f_l = l / T, power G_pem(f_l) / T) seen through the Hann
-       window's spectral kernel |W(f_l - f_k)|^2 / (fs sum w^2). Comparing
-       with this, not with the PEM at the bin centres, leaves only statistical
-       scatter (no leakage bias from strong neighbours). */
-    double T = ns * dt;
-    int l0 = (int)ceil(o->f_lo_hz * T - 1e-9), l1 = (int)floor(o->f_hi_hz * T + 1e-9),
-        nl = l1 - l0 + 1;
-    double *fl = malloc(sizeof(double) * nl), *Gl = malloc(sizeof(double) * nl * np);
-    if (!fl || !Gl) {
-      free(fl);
-      free(Gl);
-      st = rr_seterr(err, RR_ENOMEM, "out of memory");
-      goto done;
-    }
-    for (int l = 0; l < nl; l++) fl[l] = (l0 + l) / T;
-    st = pem_on(m, sp, o, nl, fl, Gl, err);
-    double wss = 0;
-    for (int j = 0; j < o->nseg; j++) {
-      double wj = 0.5 * (1 - cos(2 * RR_PI * j / o->nseg));
-      wss += wj * wj;
-    }
-    double dfb = o->fs_hz / o->nseg;
-    int reach = (int)ceil(32 * dfb * T); /* lines within 32 bins of a bin */
-    for (int k = kb0; k <= kb1 && !st; k++) {
-      double fk = r->welch_f[k];
-      int lc = (int)lround(fk * T) - l0;
-      for (int l = (lc - reach > 0 ? lc - reach : 0); l <= lc + reach && l < nl; l++) {
-        double complex W = hann_dtft(2 * RR_PI * (fl[l] - fk) / o->fs_hz, o->nseg);
-        double kern = creal(W * conj(W)) / (o->fs_hz * wss);
-        for (int q = 0; q < np; q++) r->pem_P[(size_t)q * nh + k] += Gl[l * np + q] / T * kern;
+    w->fp[k] = o->f_lo_hz * pow(o->f_hi_hz / o->f_lo_hz, (double)k / (o->nfreq - 1));
+  return pem_on(m, sp, o, o->nfreq, w->fp, w->Gp, err);
+}
+
+/* Point q's indices from the time run (RMS, Sperling by filtering), from the
+   PEM and from the Welch PSD of the run (within the band). */
+static int point_indices(const rr_validate_opts *o, vwork *w, rr_validate_result *r, int q,
+                         rr_error *err)
+{
+  rr_validate_point *pt = &r->points[q];
+  int ns = w->ns, np = w->np, nh = w->nh;
+  const double *a = w->y + (size_t)q * ns, *ad = w->y + (size_t)(np + q) * ns, zero = 0;
+  double ss = 0;
+  for (int k = 0; k < ns; k++) ss += a[k] * a[k];
+  pt->rms_time = sqrt(ss / ns);
+  int st = rr_lti_periodic(&w->dfl, ns, a, ad, 1, w->fC, &zero, NULL, w->aw, err);
+  if (st) return st;
+  ss = 0;
+  for (int k = 0; k < ns; k++) ss += w->aw[k] * w->aw[k];
+  pt->sperling_time = rr_sperling_from_weighted_rms(sqrt(ss / ns));
+  const double *G = w->Gp + q;
+  pt->rms_pem = rr_psd_rms(w->fp, G, o->nfreq, np);
+  if ((st = rr_sperling_filter_index(w->fp, G, o->nfreq, np, RR_AXIS_LATERAL, &pt->sperling_pem,
+                                     err)) ||
+      (st = rr_sperling_gb_index(w->fp, G, o->nfreq, np, RR_AXIS_LATERAL, &pt->sperling_gb_pem,
+                                 err)) ||
+      (st = rr_weighted_rms(w->fp, G, o->nfreq, np, RR_ISO_WD, &pt->wd_rms_pem, err)))
+    return st;
+  double *P = r->welch_P + (size_t)q * nh;
+  if ((st = rr_welch_psd(a, ns, o->fs_hz, o->nseg, r->welch_f, P, &r->navg, err))) return st;
+  for (int k = 0; k < nh && w->kb0 < 0; k++) /* the first point: the bins inside the band */
+    if (r->welch_f[k] >= o->f_lo_hz && r->welch_f[k] <= o->f_hi_hz) {
+      w->kb0 = k;
+      for (w->kb1 = k; w->kb1 + 1 < nh && r->welch_f[w->kb1 + 1] <= o->f_hi_hz; w->kb1++) {
       }
     }
+  int kb0 = w->kb0, nb = w->kb1 - w->kb0 + 1;
+  if (nb < 2) return rr_seterr(err, RR_EINVAL, "validate: Welch segment too short for the band");
+  const double *fw = r->welch_f + kb0;
+  if ((st = rr_sperling_filter_index(fw, P + kb0, nb, 1, RR_AXIS_LATERAL, &pt->sperling_welch,
+                                     err)) ||
+      (st = rr_sperling_gb_index(fw, P + kb0, nb, 1, RR_AXIS_LATERAL, &pt->sperling_gb_welch,
+                                 err)) ||
+      (st = rr_weighted_rms(fw, P + kb0, nb, 1, RR_ISO_WD, &pt->wd_rms_welch, err)))
+    return st;
+  return rr_progress_step(&o->progress, ++w->step, w->nsteps, err);
+}
+
+/* The Welch estimator's expectation under the PEM spectrum: each line of the
+   realisation (f_l = l / T, power G_pem(f_l) / T) seen through the Hann
+   window's spectral kernel |W(f_l - f_k)|^2 / (fs sum w^2). Comparing with
+   this, not with the PEM at the bin centres, leaves only statistical scatter
+   (no leakage bias from strong neighbours). */
+static int welch_expectation(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o,
+                             const vwork *w, rr_validate_result *r, rr_error *err)
+{
+  int np = w->np, nh = w->nh;
+  double T = w->ns * w->dt;
+  int l0 = (int)ceil(o->f_lo_hz * T - 1e-9), l1 = (int)floor(o->f_hi_hz * T + 1e-9),
+      nl = l1 - l0 + 1;
+  double *fl = malloc(sizeof(double) * (size_t)nl),
+         *Gl = malloc(sizeof(double) * (size_t)nl * (size_t)np);
+  if (!fl || !Gl) {
     free(fl);
     free(Gl);
-    if (st || (st = rr_progress_step(&o->progress, ++step, nsteps, err))) goto done;
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
-  /* 1/3-octave bands wholly inside the band; expected spread of a band from
-     K Hann segments at 50% overlap (variance factor 1 + 2 c^2, c = 0.167)
-     over M bins of which 1/1.5 are independent (Hann ENBW 1.5 bins):
-     sigma = sqrt((1 + 2 c^2) / K * 1.5 / M), M >= 1.5 */
-  double df = o->fs_hz / o->nseg;
-  r->bin_sigma = sqrt((1 + 2 * 0.167 * 0.167) / r->navg);
-  for (int q = 0; q < np; q++) {
-    rr_validate_point *pt = &r->points[q];
-    const double *P = r->welch_P + (size_t)q * nh, *Q = r->pem_P + (size_t)q * nh;
-    pt->nbands = 0;
-    for (int b = -20; b <= 20 && pt->nbands < RR_NBANDS_MAX; b++) {
-      double fc = pow(10, b / 10.0), lo = fc * pow(10, -0.05), hi = fc * pow(10, 0.05);
-      if (lo < o->f_lo_hz || hi > o->f_hi_hz) continue;
-      double pt_time = 0, pt_pem = 0;
-      int M = 0;
-      for (int k = kb0; k <= kb1; k++)
-        if (r->welch_f[k] >= lo && r->welch_f[k] < hi) {
-          pt_time += P[k] * df;
-          pt_pem += Q[k] * df;
-          M++;
-        }
-      if (M == 0) continue;
-      int i = pt->nbands++;
-      pt->band_fc[i] = fc;
-      pt->band_time[i] = pt_time;
-      pt->band_pem[i] = pt_pem;
-      pt->band_sigma[i] = r->bin_sigma * sqrt(1.5 / fmax(M, 1.5));
-      double e = fabs(pt_time - pt_pem) / pt_pem;
-      if (e > pt->band_error_max) pt->band_error_max = e;
-      if (e / pt->band_sigma[i] > pt->band_z_max) pt->band_z_max = e / pt->band_sigma[i];
+  for (int l = 0; l < nl; l++) fl[l] = (l0 + l) / T;
+  int st = pem_on(m, sp, o, nl, fl, Gl, err);
+  double wss = 0;
+  for (int j = 0; j < o->nseg; j++) {
+    double wj = 0.5 * (1 - cos(2 * RR_PI * j / o->nseg));
+    wss += wj * wj;
+  }
+  double dfb = o->fs_hz / o->nseg;
+  int reach = (int)ceil(32 * dfb * T); /* lines within 32 bins of a bin */
+  for (int k = w->kb0; k <= w->kb1 && !st; k++) {
+    double fk = r->welch_f[k];
+    int lc = (int)lround(fk * T) - l0;
+    for (int l = (lc - reach > 0 ? lc - reach : 0); l <= lc + reach && l < nl; l++) {
+      double complex W = hann_dtft(2 * RR_PI * (fl[l] - fk) / o->fs_hz, o->nseg);
+      double kern = creal(W * conj(W)) / (o->fs_hz * wss);
+      for (int q = 0; q < np; q++) r->pem_P[(size_t)q * nh + k] += Gl[l * np + q] / T * kern;
     }
   }
-done:
-  free(A);
-  free(A2);
-  free(Bs);
-  free(ABs);
-  free(u);
-  free(du);
-  free(y);
-  free(aw);
-  free(C);
-  free(D);
-  free(E);
-  free(Gp);
-  free(fp);
-  rr_lti_disc_free(&dv);
-  rr_lti_disc_free(&dfl);
+  free(fl);
+  free(Gl);
+  return st;
+}
+
+/* 1/3-octave bands wholly inside the band; expected spread of a band from K
+   Hann segments at 50% overlap (variance factor 1 + 2 c^2, c = 0.167) over M
+   bins of which 1/1.5 are independent (Hann ENBW 1.5 bins):
+   sigma = sqrt((1 + 2 c^2) / K * 1.5 / M), M >= 1.5 */
+static void band_compare(const rr_validate_opts *o, const vwork *w, rr_validate_result *r, int q)
+{
+  double df = o->fs_hz / o->nseg;
+  rr_validate_point *pt = &r->points[q];
+  const double *P = r->welch_P + (size_t)q * w->nh, *Q = r->pem_P + (size_t)q * w->nh;
+  pt->nbands = 0;
+  for (int b = -20; b <= 20 && pt->nbands < RR_NBANDS_MAX; b++) {
+    double fc = pow(10, b / 10.0), lo = fc * pow(10, -0.05), hi = fc * pow(10, 0.05);
+    if (lo < o->f_lo_hz || hi > o->f_hi_hz) continue;
+    double pt_time = 0, pt_pem = 0;
+    int M = 0;
+    for (int k = w->kb0; k <= w->kb1; k++)
+      if (r->welch_f[k] >= lo && r->welch_f[k] < hi) {
+        pt_time += P[k] * df;
+        pt_pem += Q[k] * df;
+        M++;
+      }
+    if (M == 0) continue;
+    int i = pt->nbands++;
+    pt->band_fc[i] = fc;
+    pt->band_time[i] = pt_time;
+    pt->band_pem[i] = pt_pem;
+    pt->band_sigma[i] = r->bin_sigma * sqrt(1.5 / fmax(M, 1.5));
+    double e = fabs(pt_time - pt_pem) / pt_pem;
+    if (e > pt->band_error_max) pt->band_error_max = e;
+    if (e / pt->band_sigma[i] > pt->band_z_max) pt->band_z_max = e / pt->band_sigma[i];
+  }
+}
+
+int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o,
+                rr_validate_result *r, rr_error *err)
+{
+  memset(r, 0, sizeof *r);
+  int ns = 0;
+  int st = check_opts(m, o, &ns, err);
+  if (st) return st;
+  vwork w;
+  st = work_alloc(&w, m, o, ns, r, err);
+  if (!st) st = rr_model_state_matrix(m, 0, w.A, err);
+  if (!st) st = rr_model_state_input(m, w.Bs, err);
+  if (!st) st = check_stable(m, &w, err);
+  if (!st) {
+    output_rows(o, &w);
+    st = time_run(m, sp, o, &w, r, err);
+  }
+  for (int q = 0; q < w.np && !st; q++) st = point_indices(o, &w, r, q, err);
+  if (!st) st = welch_expectation(m, sp, o, &w, r, err);
+  if (!st) st = rr_progress_step(&o->progress, ++w.step, w.nsteps, err);
+  if (!st) {
+    r->bin_sigma = sqrt((1 + 2 * 0.167 * 0.167) / r->navg);
+    for (int q = 0; q < w.np; q++) band_compare(o, &w, r, q);
+  }
+  work_free(&w);
   if (!st) st = results_finite(r, err);
   if (st) rr_validate_result_free(r);
   return st;
