@@ -194,13 +194,192 @@ enum {
 typedef struct optim_args {
   long pop, gen, threads;
   long long seed;
-  const char *out;
+  const char *out, *problem;
   double limit;
   int progress, resume;
 } optim_args;
 
 /* The largest population whose NSGA-II arrays stay within ~2 GB. */
 #define CLI_POPULATION_MAX 2000000
+
+/* Options into a; the problem file's name in a->problem. Returns 0,
+   CLI_HELP_SHOWN or an exit status. */
+static int optim_parse(int argc, char **argv, optim_args *a, const char *help)
+{
+  static const struct option opts[] = {{"population", required_argument, 0, OPT_POP},
+                                       {"generations", required_argument, 0, OPT_GEN},
+                                       {"seed", required_argument, 0, OPT_OSEED},
+                                       {"threads", required_argument, 0, OPT_THREADS},
+                                       {"output", required_argument, 0, OPT_OUT},
+                                       {"limit", required_argument, 0, OPT_OLIMIT},
+                                       {"progress", no_argument, 0, OPT_PROGRESS},
+                                       {"resume", no_argument, 0, OPT_RESUME},
+                                       {"help", no_argument, 0, 'h'},
+                                       {0, 0, 0, 0}};
+  optind = 1;
+  opterr = 0;
+  int opt;
+  while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
+    long k;
+    switch (opt) {
+    case 'h': fputs(help, stdout); return CLI_HELP_SHOWN;
+    case OPT_POP:
+      if (whole(optarg, 4, 10000000, &k) || k % 2)
+        return cli_bad("--population: an even whole number >= 4 expected");
+      a->pop = k;
+      break;
+    case OPT_GEN:
+      if (whole(optarg, 0, 1000000, &k))
+        return cli_bad("--generations: a whole number >= 0 expected");
+      a->gen = k;
+      break;
+    case OPT_OSEED:
+      if (whole(optarg, 0, LONG_MAX, &k)) return cli_bad("--seed: a whole number >= 0 expected");
+      a->seed = k;
+      break;
+    case OPT_THREADS:
+      if (whole(optarg, 0, 1024, &k)) return cli_bad("--threads: a whole number >= 0 expected");
+      a->threads = k;
+      break;
+    case OPT_OUT: a->out = optarg; break;
+    case OPT_OLIMIT:
+      if (cli_limit(optarg, &a->limit)) return EXIT_BADINPUT;
+      break;
+    case OPT_PROGRESS: a->progress = 1; break;
+    case OPT_RESUME: a->resume = 1; break;
+    default: return cli_getopt_error("optimise", opt, argv[optind - 1]);
+    }
+  }
+  if (optind >= argc) return cli_bad("optimise: a problem file is required (see --help)");
+  if (argc - optind > 1) return cli_bad("unexpected argument '%s'", argv[optind + 1]);
+  a->problem = argv[optind];
+  return 0;
+}
+
+/* The problem file with the command line's overrides, within the limits. */
+static int optim_problem(const optim_args *a, rr_problem *p)
+{
+  rr_error e;
+  int st = rr_problem_load(a->problem, p, &e);
+  if (st) return cli_fail(&e, st);
+  if (a->pop > 0) p->population = (int)a->pop;
+  if (a->gen >= 0) p->generations = (int)a->gen;
+  if (a->seed >= 0) p->seed = (unsigned long long)a->seed;
+  if (a->threads >= 0) p->threads = (int)a->threads;
+  if (a->out) snprintf(p->output, sizeof p->output, "%s", a->out);
+  if (p->population > CLI_POPULATION_MAX)
+    return cli_bad("optimise: population %d exceeds %d (memory)", p->population,
+                   CLI_POPULATION_MAX);
+  double designs = (double)p->population * (p->generations + 1.0);
+  return cli_over_limit("optimise", designs, a->limit, "designs") ? EXIT_BADINPUT : 0;
+}
+
+/* A run: its output files, design context and final population. */
+typedef struct optim_run {
+  char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16], cpath[PATH_MAX + 16];
+  FILE *fp, *fj;
+  run_log log;
+  rr_design *d;
+  double *X, *F, *cv; /* population x variables, x objectives, violations */
+  int *rank;
+  int done_gens;
+  double seconds;
+} optim_run;
+
+static void run_close(optim_run *r)
+{
+  FILE *files[] = {r->fp, r->fj, r->log.history};
+  for (int i = 0; i < 3; i++)
+    if (files[i]) fclose(files[i]);
+  rr_design_free(r->d);
+  free(r->X);
+  free(r->F);
+  free(r->cv);
+  free(r->rank);
+}
+
+/* The outputs (opened before the run, so that a bad folder shows now), the
+   design context and the population's arrays. */
+static int run_open(optim_run *r, const rr_problem *p, const optim_args *a)
+{
+  int st = cli_par_all(open_outputs(p->output, a->resume, r->path, r->hpath, r->jpath, r->cpath,
+                                    &r->fp, &r->fj, &r->log.history));
+  if (st) return st; /* on any rank: every rank stops */
+  rr_vehicle v;
+  rr_error e;
+  if ((st = rr_vehicle_open(p->vehicle[0] ? p->vehicle : NULL, &v, &e))) return cli_fail(&e, st);
+  const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
+  for (int i = 0; i < p->nvar; i++) keys[i] = p->keys[i];
+  for (int i = 0; i < p->nobj; i++) objs[i] = p->objs[i];
+  for (int i = 0; i < p->ncon; i++)
+    objs[p->nobj + i] = p->cons[i]; /* constraints: evaluated after the objectives */
+  if ((st = rr_design_new(&v, p->nvar, keys, p->nobj + p->ncon, objs, &r->d, &e)))
+    return cli_fail(&e, st);
+  size_t N = (size_t)p->population;
+  r->X = malloc(sizeof(double) * N * (size_t)p->nvar);
+  r->F = malloc(sizeof(double) * N * (size_t)p->nobj);
+  r->cv = malloc(sizeof(double) * N);
+  r->rank = malloc(sizeof(int) * N);
+  return r->X && r->F && r->cv && r->rank ? 0 : cli_bad("out of memory");
+}
+
+/* NSGA-II over the problem; every rank runs it on the same numbers and rank 0
+   writes the checkpoint. */
+static int run_nsga2(optim_run *r, const rr_problem *p, const optim_args *a)
+{
+  eval_ctx ec = {.d = r->d, .threads = p->threads, .p = p};
+  rr_nsga2_opts o = rr_nsga2_opts_default();
+  o.population = p->population;
+  o.generations = p->generations;
+  o.seed = p->seed;
+  o.progress = progress;
+  o.user = &r->log;
+  o.generations_done = &r->done_gens;
+  o.ncon = p->ncon;
+  o.cv_out = r->cv;
+  o.checkpoint = cli_par_rank() == 0 ? r->cpath : NULL;
+  o.resume = a->resume ? r->cpath : NULL;
+  cli_catch_stops();
+  rr_error e;
+  double t0 = cli_now_s();
+  int st =
+      rr_nsga2_run(p->nvar, p->nobj, p->lo, p->hi, eval_batch, &ec, &o, r->X, r->F, r->rank, &e);
+  r->seconds = cli_now_s() - t0;
+  if (st) return cli_fail(&e, st);
+  for (int i = 0; i < p->population; i++) /* maximised objectives back to their sign */
+    for (int k = 0; k < p->nobj; k++)
+      if (p->maximize[k]) r->F[i * p->nobj + k] = -r->F[i * p->nobj + k];
+  return 0;
+}
+
+/* The front's files and the summary on standard output. */
+static void run_report(optim_run *r, const rr_problem *p, const char *problem)
+{
+  int N = p->population, nfeas = 0;
+  double best[RR_DESIGN_MAX_OBJS], worst[RR_DESIGN_MAX_OBJS];
+  int nfront = write_front(r->fp, r->fj, p, r->X, r->F, r->rank, r->cv, N, best, worst);
+  for (int i = 0; i < N; i++) nfeas += r->rank[i] == 0 && r->cv[i] == 0;
+  long evals = (long)N * (r->done_gens + 1);
+  printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", problem, N,
+         p->generations, p->seed);
+  if (r->done_gens < p->generations)
+    printf("  stopped by a signal after generation %d of %d: the front below is that "
+           "generation's\n",
+           r->done_gens, p->generations);
+  printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, r->seconds,
+         evals / r->seconds);
+  printf("  Pareto front: %d designs, written to %s (also %s; history: %s)\n", nfront, r->path,
+         r->jpath, r->hpath);
+  if (p->ncon)
+    printf("  constraints: %d of the front's designs feasible%s\n", nfeas,
+           nfeas ? "" : " (none: the front is the least violating)");
+  for (int k = 0; k < p->nobj; k++) {
+    int mx = p->maximize[k];
+    printf("  %-28s %s: best %.6g, range on the front %.6g .. %.6g\n", p->objs[k],
+           mx ? "max" : "min", mx ? -best[k] : best[k], mx ? -worst[k] : best[k],
+           mx ? -best[k] : worst[k]);
+  }
+}
 
 int cmd_optimise(int argc, char **argv)
 {
@@ -223,175 +402,21 @@ int cmd_optimise(int argc, char **argv)
       "1e8)\n"
       "  --progress           progress on stderr even when it is not a terminal\n"
       "  --resume             go on from PREFIX-checkpoint.bin\n";
-  static const struct option opts[] = {{"population", required_argument, 0, OPT_POP},
-                                       {"generations", required_argument, 0, OPT_GEN},
-                                       {"seed", required_argument, 0, OPT_OSEED},
-                                       {"threads", required_argument, 0, OPT_THREADS},
-                                       {"output", required_argument, 0, OPT_OUT},
-                                       {"limit", required_argument, 0, OPT_OLIMIT},
-                                       {"progress", no_argument, 0, OPT_PROGRESS},
-                                       {"resume", no_argument, 0, OPT_RESUME},
-                                       {"help", no_argument, 0, 'h'},
-                                       {0, 0, 0, 0}};
-  optim_args a = {
-      .pop = -1, .gen = -1, .threads = -1, .seed = -1, .out = NULL, .limit = CLI_LIMIT_DESIGNS};
-  optind = 1;
-  opterr = 0;
-  int opt;
-  while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
-    long k;
-    switch (opt) {
-    case 'h': fputs(help, stdout); return 0;
-    case OPT_POP:
-      if (whole(optarg, 4, 10000000, &k) || k % 2)
-        return cli_bad("--population: an even whole number >= 4 expected");
-      a.pop = k;
-      break;
-    case OPT_GEN:
-      if (whole(optarg, 0, 1000000, &k))
-        return cli_bad("--generations: a whole number >= 0 expected");
-      a.gen = k;
-      break;
-    case OPT_OSEED:
-      if (whole(optarg, 0, LONG_MAX, &k)) return cli_bad("--seed: a whole number >= 0 expected");
-      a.seed = k;
-      break;
-    case OPT_THREADS:
-      if (whole(optarg, 0, 1024, &k)) return cli_bad("--threads: a whole number >= 0 expected");
-      a.threads = k;
-      break;
-    case OPT_OUT: a.out = optarg; break;
-    case OPT_OLIMIT:
-      if (cli_limit(optarg, &a.limit)) return EXIT_BADINPUT;
-      break;
-    case OPT_PROGRESS: a.progress = 1; break;
-    case OPT_RESUME: a.resume = 1; break;
-    default: return cli_getopt_error("optimise", opt, argv[optind - 1]);
-    }
-  }
-  if (optind >= argc) return cli_bad("optimise: a problem file is required (see --help)");
-  if (argc - optind > 1) return cli_bad("unexpected argument '%s'", argv[optind + 1]);
+  optim_args a = {.pop = -1, .gen = -1, .threads = -1, .seed = -1, .limit = CLI_LIMIT_DESIGNS};
+  int st = optim_parse(argc, argv, &a, help);
+  if (st) return st == CLI_HELP_SHOWN ? 0 : st;
   rr_problem p;
-  rr_error e;
-  int st = rr_problem_load(argv[optind], &p, &e);
-  if (st) return cli_fail(&e, st);
-  if (a.pop > 0) p.population = (int)a.pop;
-  if (a.gen >= 0) p.generations = (int)a.gen;
-  if (a.seed >= 0) p.seed = (unsigned long long)a.seed;
-  if (a.threads >= 0) p.threads = (int)a.threads;
-  if (a.out) snprintf(p.output, sizeof p.output, "%s", a.out);
-  if (p.population > CLI_POPULATION_MAX)
-    return cli_bad("optimise: population %d exceeds %d (memory)", p.population, CLI_POPULATION_MAX);
-  if (cli_over_limit("optimise", (double)p.population * (p.generations + 1.0), a.limit, "designs"))
-    return EXIT_BADINPUT;
-  /* the outputs are opened before the run, so that a bad folder shows now */
-  char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16], cpath[PATH_MAX + 16];
-  FILE *fp, *fj;
-  run_log log = {.total = p.generations,
-                 .show = (a.progress || isatty(STDERR_FILENO)) && cli_par_rank() == 0};
-  int r = cli_par_all(
-      open_outputs(p.output, a.resume, path, hpath, jpath, cpath, &fp, &fj, &log.history));
-  if (r) { /* another rank's failure: this one's files closed too */
-    if (fp) fclose(fp);
-    if (fj) fclose(fj);
-    if (log.history) fclose(log.history);
-    return r;
-  }
-  rr_vehicle v;
-  st = rr_vehicle_open(p.vehicle[0] ? p.vehicle : NULL, &v, &e);
-  if (st) {
-    fclose(fp);
-    fclose(fj);
-    fclose(log.history);
-    return cli_fail(&e, st);
-  }
-  const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
-  for (int i = 0; i < p.nvar; i++) keys[i] = p.keys[i];
-  for (int i = 0; i < p.nobj; i++) objs[i] = p.objs[i];
-  for (int i = 0; i < p.ncon; i++)
-    objs[p.nobj + i] = p.cons[i]; /* constraints: evaluated after the objectives */
-  rr_design *d;
-  if ((st = rr_design_new(&v, p.nvar, keys, p.nobj + p.ncon, objs, &d, &e))) {
-    fclose(fp);
-    fclose(fj);
-    fclose(log.history);
-    return cli_fail(&e, st);
-  }
-  eval_ctx ec = {.d = d, .threads = p.threads, .p = &p};
-  rr_nsga2_opts o = rr_nsga2_opts_default();
-  o.population = p.population;
-  o.generations = p.generations;
-  o.seed = p.seed;
-  int done_gens = 0;
-  o.progress = progress;
-  o.user = &log;
-  o.generations_done = &done_gens;
-  o.ncon = p.ncon;
-  o.checkpoint =
-      cli_par_rank() == 0 ? cpath : NULL; /* every rank holds the same state: rank 0 writes it */
-  o.resume = a.resume ? cpath : NULL;
-  cli_catch_stops();
-  int N = p.population;
-  double *X = malloc(sizeof(double) * N * p.nvar), *F = malloc(sizeof(double) * N * p.nobj),
-         *cv = malloc(sizeof(double) * N);
-  int *rank = malloc(sizeof(int) * N);
-  o.cv_out = cv;
-  if (!X || !F || !rank || !cv) {
-    free(X);
-    free(F);
-    free(rank);
-    free(cv);
-    rr_design_free(d);
-    fclose(fp);
-    fclose(fj);
-    fclose(log.history);
-    return cli_bad("out of memory");
-  }
-  double t0 = cli_now_s();
-  st = rr_nsga2_run(p.nvar, p.nobj, p.lo, p.hi, eval_batch, &ec, &o, X, F, rank, &e);
-  double secs = cli_now_s() - t0;
-  rr_design_free(d);
-  fclose(log.history);
-  if (st) {
-    free(X);
-    free(F);
-    free(rank);
-    free(cv);
-    fclose(fp);
-    fclose(fj);
-    return cli_fail(&e, st);
-  }
-  for (int i = 0; i < N; i++)
-    for (int k = 0; k < p.nobj; k++)
-      if (p.maximize[k]) F[i * p.nobj + k] = -F[i * p.nobj + k];
-  double best[RR_DESIGN_MAX_OBJS], worst[RR_DESIGN_MAX_OBJS];
-  int nfront = write_front(fp, fj, &p, X, F, rank, cv, N, best, worst), nfeas = 0;
-  for (int i = 0; i < N; i++) nfeas += rank[i] == 0 && cv[i] == 0;
-  fclose(fp);
-  fclose(fj);
-  long evals = (long)N * (done_gens + 1);
-  printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", argv[optind],
-         N, p.generations, p.seed);
-  if (done_gens < p.generations)
-    printf(
-        "  stopped by a signal after generation %d of %d: the front below is that generation's\n",
-        done_gens, p.generations);
-  printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, secs, evals / secs);
-  printf("  Pareto front: %d designs, written to %s (also %s; history: %s)\n", nfront, path, jpath,
-         hpath);
-  if (p.ncon)
-    printf("  constraints: %d of the front's designs feasible%s\n", nfeas,
-           nfeas ? "" : " (none: the front is the least violating)");
-  for (int k = 0; k < p.nobj; k++)
-    printf("  %-28s %s: best %.6g, range on the front %.6g .. %.6g\n", p.objs[k],
-           p.maximize[k] ? "max" : "min", p.maximize[k] ? -best[k] : best[k],
-           p.maximize[k] ? -worst[k] : best[k], p.maximize[k] ? -best[k] : worst[k]);
-  free(X);
-  free(F);
-  free(rank);
-  free(cv);
-  return done_gens < p.generations ? 130
-                                   : 0; /* 128 + SIGINT, as a shell reports an interrupted job */
+  if ((st = optim_problem(&a, &p))) return st;
+  optim_run r = {.log = {.total = p.generations,
+                         .show = (a.progress || isatty(STDERR_FILENO)) && cli_par_rank() == 0}};
+  st = run_open(&r, &p, &a);
+  if (!st) st = run_nsga2(&r, &p, &a);
+  if (r.log.history) fclose(r.log.history); /* complete before the summary */
+  r.log.history = NULL;
+  if (!st) run_report(&r, &p, a.problem);
+  run_close(&r);
+  if (st) return st;
+  return r.done_gens < p.generations ? CLI_EXIT_STOPPED : 0; /* 128 + SIGINT, as a shell says */
 }
 
 /* An axis: a vehicle-file key, or the operating point's speed (km/h) or
