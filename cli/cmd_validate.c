@@ -53,6 +53,168 @@ static int val_cb(int opt, const char *arg, void *u)
   return r < 0 ? 1 : r;
 }
 
+/* The figures a verdict and a report need, beside the result. */
+typedef struct val_summary {
+  double emax, zmax, seconds; /* largest band error and |error|/sigma; run time */
+  int pass;
+} val_summary;
+
+/* The time run and its analysis (rr_validate) for the command's vehicle and
+   points; progress and Ctrl-C on the way. */
+static int val_run(cli_common *c, val_args *a, rr_validate_result *res, double *secs)
+{
+  rr_model *m;
+  int r = cli_model(c, &m, 1, 1);
+  if (r) return r;
+  rr_error e;
+  rr_spectrum sp;
+  int st = rr_spectrum_open(a->rs.spectrum, &sp, &e), n = rr_model_ndof(m), np = a->rs.npoints;
+  double *rows = malloc(sizeof(double) * (size_t)(n * np)),
+         *rows0 = malloc(sizeof(double) * (size_t)(n * np));
+  if (!st && (!rows || !rows0)) {
+    st = e.code = RR_ENOMEM;
+    snprintf(e.msg, sizeof e.msg, "out of memory");
+  }
+  if (!st)
+    st = rr_vehicle_floor_rows(m, &c->veh, a->rs.x, np, a->rs.h_p, a->rs.roll_gravity, rows, rows0,
+                               &e);
+  a->vo.npoints = np;
+  a->vo.rows = rows;
+  a->vo.rows0 = a->rs.roll_gravity ? rows0 : NULL;
+  cli_progress pr;
+  cli_progress_start(&pr, "validate", 3 + np, c->progress);
+  a->vo.progress = cli_progress_hook(&pr);
+  cli_catch_stops();
+  double t0 = cli_now_s();
+  if (!st) st = rr_validate(m, &sp, &a->vo, res, &e);
+  cli_progress_end(&pr);
+  *secs = cli_now_s() - t0;
+  free(rows);
+  free(rows0);
+  rr_model_free(m);
+  if (st == RR_ESTOPPED) { /* one result: nothing partial to write */
+    fprintf(stderr, "railride: validate: stopped by a signal (%s); nothing written\n", e.msg);
+    return CLI_EXIT_STOPPED;
+  }
+  return st ? cli_fail(&e, st) : 0;
+}
+
+static void write_psd(FILE *fp, const val_args *a, const rr_validate_result *res)
+{
+  int np = res->npoints;
+  fprintf(fp, "f_hz");
+  for (int q = 0; q < np; q++) fprintf(fp, ",welch_x%gm_m2s-4_per_hz", a->rs.x[q]);
+  for (int q = 0; q < np; q++) fprintf(fp, ",pem_x%gm_m2s-4_per_hz", a->rs.x[q]);
+  fprintf(fp, ",welch_sigma_rel\n");
+  for (int k = 0; k < res->nwelch; k++) {
+    fprintf(fp, "%.10g", res->welch_f[k]);
+    for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res->welch_P[(size_t)q * res->nwelch + k]);
+    for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res->pem_P[(size_t)q * res->nwelch + k]);
+    fprintf(fp, ",%.6g\n", res->bin_sigma);
+  }
+}
+
+/* The verdict: the time domain's RMS and Sperling index within VAL_REL_TOL of
+   the PEM's (the same state space: only the realisation's discrete lines
+   differ), and every 1/3-octave band within VAL_Z_TOL of its sampling spread. */
+static void val_verdict(const rr_validate_result *res, val_summary *v)
+{
+  v->emax = v->zmax = 0;
+  for (int q = 0; q < res->npoints; q++) {
+    v->emax = fmax(v->emax, res->points[q].band_error_max);
+    v->zmax = fmax(v->zmax, res->points[q].band_z_max);
+  }
+  v->pass = v->zmax <= VAL_Z_TOL;
+  for (int q = 0; q < res->npoints; q++) {
+    const rr_validate_point *p = &res->points[q];
+    v->pass = v->pass && fabs(p->rms_time / p->rms_pem - 1) <= VAL_REL_TOL &&
+              fabs(p->sperling_time / p->sperling_pem - 1) <= VAL_REL_TOL;
+  }
+}
+
+static void val_json(const val_args *a, const rr_validate_result *res, const val_summary *v)
+{
+  int np = res->npoints, pass = v->pass;
+  double emax = v->emax, zmax = v->zmax, secs = v->seconds;
+  const rr_validate_point *p0 = &res->points[0];
+  cJSON *root = cJSON_CreateObject();
+  cJSON_AddNumberToObject(root, "point_x", a->rs.x[0]);
+  cJSON_AddNumberToObject(root, "sperling_pem", p0->sperling_pem);
+  cJSON_AddNumberToObject(root, "sperling_time", p0->sperling_time);
+  cJSON_AddNumberToObject(root, "rms_pem", p0->rms_pem);
+  cJSON_AddNumberToObject(root, "rms_time", p0->rms_time);
+  cJSON_AddNumberToObject(root, "psd_band_error_max", emax);
+  cJSON_AddNumberToObject(root, "psd_band_z_max", zmax);
+  cJSON_AddNumberToObject(root, "navg", res->navg);
+  cJSON_AddNumberToObject(root, "duration_s", a->vo.duration_s);
+  cJSON_AddNumberToObject(root, "fs_hz", a->vo.fs_hz);
+  cJSON_AddNumberToObject(root, "nseg", a->vo.nseg);
+  cJSON_AddNumberToObject(root, "seed", (double)a->vo.seed);
+  cJSON_AddStringToObject(root, "spectrum", a->rs.spectrum);
+  cJSON_AddNumberToObject(root, "cpu_seconds", secs);
+  cJSON_AddStringToObject(root, "band_sigma_rule",
+                          "sqrt((1 + 2 c^2) / K * 1.5 / M): K Hann segments at 50% overlap (c = "
+                          "0.167), M bins in the band, 1.5 = Hann ENBW in bins");
+  cJSON_AddStringToObject(root, "verdict", pass ? "PASS" : "FAIL");
+  cJSON *tol = cJSON_AddObjectToObject(root, "tolerances");
+  cJSON_AddNumberToObject(tol, "rms_and_sperling_relative", VAL_REL_TOL);
+  cJSON_AddNumberToObject(tol, "band_sigmas", VAL_Z_TOL);
+  cJSON *pa = cJSON_AddArrayToObject(root, "points");
+  for (int q = 0; q < np; q++) {
+    const rr_validate_point *p = &res->points[q];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "x", a->rs.x[q]);
+    cJSON_AddNumberToObject(o, "rms_pem", p->rms_pem);
+    cJSON_AddNumberToObject(o, "rms_time", p->rms_time);
+    cJSON_AddNumberToObject(o, "sperling_pem", p->sperling_pem);
+    cJSON_AddNumberToObject(o, "sperling_time", p->sperling_time);
+    cJSON_AddNumberToObject(o, "sperling_welch", p->sperling_welch);
+    cJSON_AddNumberToObject(o, "sperling_gb_pem", p->sperling_gb_pem);
+    cJSON_AddNumberToObject(o, "sperling_gb_welch", p->sperling_gb_welch);
+    cJSON_AddNumberToObject(o, "wd_rms_pem", p->wd_rms_pem);
+    cJSON_AddNumberToObject(o, "wd_rms_welch", p->wd_rms_welch);
+    cJSON_AddNumberToObject(o, "band_error_max", p->band_error_max);
+    cJSON_AddNumberToObject(o, "band_z_max", p->band_z_max);
+    cJSON *ba = cJSON_AddArrayToObject(o, "bands");
+    for (int b = 0; b < p->nbands; b++) {
+      cJSON *bo = cJSON_CreateObject();
+      cJSON_AddNumberToObject(bo, "fc_hz", p->band_fc[b]);
+      cJSON_AddNumberToObject(bo, "pem", p->band_pem[b]);
+      cJSON_AddNumberToObject(bo, "time", p->band_time[b]);
+      cJSON_AddNumberToObject(bo, "sigma_rel", p->band_sigma[b]);
+      cJSON_AddItemToArray(ba, bo);
+    }
+    cJSON_AddItemToArray(pa, o);
+  }
+  cli_json_print(root);
+}
+
+static void val_text(const cli_common *c, const val_args *a, const rr_validate_result *res,
+                     const val_summary *v)
+{
+  int np = res->npoints, pass = v->pass;
+  double emax = v->emax, zmax = v->zmax, secs = v->seconds;
+  printf("%s at %g km/h, conicity %g: %g s of track (%s, seed %llu), fs %g Hz, Welch %d-point "
+         "segments, K = %d averages\n",
+         c->veh.name, c->speed_kmh, c->conicity, a->vo.duration_s, a->rs.spectrum,
+         (unsigned long long)a->vo.seed, a->vo.fs_hz, a->vo.nseg, res->navg);
+  printf("%8s %10s %10s %9s %9s %9s %9s %9s %8s\n", "x_m", "rms_pem", "rms_time", "W_pem", "W_time",
+         "W_welch", "Wgb_pem", "Wgb_welch", "band_z");
+  for (int q = 0; q < np; q++) {
+    const rr_validate_point *p = &res->points[q];
+    printf("%8.3f %10.6f %10.6f %9.5f %9.5f %9.5f %9.4f %9.4f %8.2f\n", a->rs.x[q], p->rms_pem,
+           p->rms_time, p->sperling_pem, p->sperling_time, p->sperling_welch, p->sperling_gb_pem,
+           p->sperling_gb_welch, p->band_z_max);
+  }
+  printf("1/3-octave bands: largest error %.1f%%, largest |error|/sigma %.2f (sigma from K "
+         "averages)\n",
+         100 * emax, zmax);
+  printf("simulated and analysed in %.3f s\n", secs);
+  printf("verdict: %s (RMS and Sperling within %g %% of the PEM at every point, every band "
+         "within %g sigma)\n",
+         pass ? "PASS" : "FAIL", 100 * VAL_REL_TOL, VAL_Z_TOL);
+}
+
 int cmd_validate(int argc, char **argv)
 {
   static const char help[] =
@@ -99,150 +261,23 @@ int cmd_validate(int argc, char **argv)
   if (a.vo.nseg > samples)
     return cli_bad("--nseg: %d exceeds the record's %.0f samples", a.vo.nseg, samples);
   ride_setup_points(&a.rs, &c.veh, argc, argv);
-  rr_model *m;
-  if ((r = cli_model(&c, &m, 1, 1))) return r;
-  rr_error e;
-  rr_spectrum sp;
-  int st = rr_spectrum_open(a.rs.spectrum, &sp, &e);
-  if (st) {
-    rr_model_free(m);
-    return cli_fail(&e, st);
-  }
-  int n = rr_model_ndof(m), np = a.rs.npoints;
-  double *rows = malloc(sizeof(double) * n * np), *rows0 = malloc(sizeof(double) * n * np);
-  if (!rows || !rows0) {
-    free(rows);
-    free(rows0);
-    rr_model_free(m);
-    return cli_bad("out of memory");
-  }
-  st = rr_vehicle_floor_rows(m, &c.veh, a.rs.x, np, a.rs.h_p, a.rs.roll_gravity, rows, rows0, &e);
-  a.vo.npoints = np;
-  a.vo.rows = rows;
-  a.vo.rows0 = a.rs.roll_gravity ? rows0 : NULL;
+  FILE *fp = a.psd_path ? fopen(a.psd_path, "w") : NULL; /* checked before the run */
+  if (a.psd_path && !fp) return cli_bad("--psd: cannot write %s", a.psd_path);
   rr_validate_result res;
-  cli_progress pr;
-  cli_progress_start(&pr, "validate", 3 + np, c.progress);
-  a.vo.progress = cli_progress_hook(&pr);
-  cli_catch_stops();
-  double t0 = cli_now_s();
-  if (!st) st = rr_validate(m, &sp, &a.vo, &res, &e);
-  cli_progress_end(&pr);
-  double secs = cli_now_s() - t0;
-  free(rows);
-  free(rows0);
-  rr_model_free(m);
-  if (st == RR_ESTOPPED) { /* one result: nothing partial to write */
-    fprintf(stderr, "railride: validate: stopped by a signal (%s); nothing written\n", e.msg);
-    return CLI_EXIT_STOPPED;
+  val_summary v;
+  if ((r = val_run(&c, &a, &res, &v.seconds))) {
+    if (fp) fclose(fp);
+    return r;
   }
-  if (st) return cli_fail(&e, st);
-  double emax = 0, zmax = 0;
-  for (int q = 0; q < np; q++) {
-    emax = fmax(emax, res.points[q].band_error_max);
-    zmax = fmax(zmax, res.points[q].band_z_max);
-  }
-  if (a.psd_path) {
-    FILE *fp = fopen(a.psd_path, "w");
-    if (!fp) {
-      rr_validate_result_free(&res);
-      return cli_bad("--psd: cannot write %s", a.psd_path);
-    }
-    fprintf(fp, "f_hz");
-    for (int q = 0; q < np; q++) fprintf(fp, ",welch_x%gm_m2s-4_per_hz", a.rs.x[q]);
-    for (int q = 0; q < np; q++) fprintf(fp, ",pem_x%gm_m2s-4_per_hz", a.rs.x[q]);
-    fprintf(fp, ",welch_sigma_rel\n");
-    for (int k = 0; k < res.nwelch; k++) {
-      fprintf(fp, "%.10g", res.welch_f[k]);
-      for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res.welch_P[(size_t)q * res.nwelch + k]);
-      for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res.pem_P[(size_t)q * res.nwelch + k]);
-      fprintf(fp, ",%.6g\n", res.bin_sigma);
-    }
+  if (fp) {
+    write_psd(fp, &a, &res);
     fclose(fp);
   }
-  /* the verdict: the time domain's RMS and Sperling index within VAL_REL_TOL of
-     the PEM's (the same state space: only the realisation's discrete lines
-     differ), and every 1/3-octave band within VAL_Z_TOL of its sampling
-     spread */
-  int pass = zmax <= VAL_Z_TOL;
-  for (int q = 0; q < np; q++) {
-    const rr_validate_point *p = &res.points[q];
-    pass = pass && fabs(p->rms_time / p->rms_pem - 1) <= VAL_REL_TOL &&
-           fabs(p->sperling_time / p->sperling_pem - 1) <= VAL_REL_TOL;
-  }
-  const rr_validate_point *p0 = &res.points[0];
-  if (c.json) {
-    cJSON *root = cJSON_CreateObject();
-    cJSON_AddNumberToObject(root, "point_x", a.rs.x[0]);
-    cJSON_AddNumberToObject(root, "sperling_pem", p0->sperling_pem);
-    cJSON_AddNumberToObject(root, "sperling_time", p0->sperling_time);
-    cJSON_AddNumberToObject(root, "rms_pem", p0->rms_pem);
-    cJSON_AddNumberToObject(root, "rms_time", p0->rms_time);
-    cJSON_AddNumberToObject(root, "psd_band_error_max", emax);
-    cJSON_AddNumberToObject(root, "psd_band_z_max", zmax);
-    cJSON_AddNumberToObject(root, "navg", res.navg);
-    cJSON_AddNumberToObject(root, "duration_s", a.vo.duration_s);
-    cJSON_AddNumberToObject(root, "fs_hz", a.vo.fs_hz);
-    cJSON_AddNumberToObject(root, "nseg", a.vo.nseg);
-    cJSON_AddNumberToObject(root, "seed", (double)a.vo.seed);
-    cJSON_AddStringToObject(root, "spectrum", a.rs.spectrum);
-    cJSON_AddNumberToObject(root, "cpu_seconds", secs);
-    cJSON_AddStringToObject(root, "band_sigma_rule",
-                            "sqrt((1 + 2 c^2) / K * 1.5 / M): K Hann segments at 50% overlap (c = "
-                            "0.167), M bins in the band, 1.5 = Hann ENBW in bins");
-    cJSON_AddStringToObject(root, "verdict", pass ? "PASS" : "FAIL");
-    cJSON *tol = cJSON_AddObjectToObject(root, "tolerances");
-    cJSON_AddNumberToObject(tol, "rms_and_sperling_relative", VAL_REL_TOL);
-    cJSON_AddNumberToObject(tol, "band_sigmas", VAL_Z_TOL);
-    cJSON *pa = cJSON_AddArrayToObject(root, "points");
-    for (int q = 0; q < np; q++) {
-      const rr_validate_point *p = &res.points[q];
-      cJSON *o = cJSON_CreateObject();
-      cJSON_AddNumberToObject(o, "x", a.rs.x[q]);
-      cJSON_AddNumberToObject(o, "rms_pem", p->rms_pem);
-      cJSON_AddNumberToObject(o, "rms_time", p->rms_time);
-      cJSON_AddNumberToObject(o, "sperling_pem", p->sperling_pem);
-      cJSON_AddNumberToObject(o, "sperling_time", p->sperling_time);
-      cJSON_AddNumberToObject(o, "sperling_welch", p->sperling_welch);
-      cJSON_AddNumberToObject(o, "sperling_gb_pem", p->sperling_gb_pem);
-      cJSON_AddNumberToObject(o, "sperling_gb_welch", p->sperling_gb_welch);
-      cJSON_AddNumberToObject(o, "wd_rms_pem", p->wd_rms_pem);
-      cJSON_AddNumberToObject(o, "wd_rms_welch", p->wd_rms_welch);
-      cJSON_AddNumberToObject(o, "band_error_max", p->band_error_max);
-      cJSON_AddNumberToObject(o, "band_z_max", p->band_z_max);
-      cJSON *ba = cJSON_AddArrayToObject(o, "bands");
-      for (int b = 0; b < p->nbands; b++) {
-        cJSON *bo = cJSON_CreateObject();
-        cJSON_AddNumberToObject(bo, "fc_hz", p->band_fc[b]);
-        cJSON_AddNumberToObject(bo, "pem", p->band_pem[b]);
-        cJSON_AddNumberToObject(bo, "time", p->band_time[b]);
-        cJSON_AddNumberToObject(bo, "sigma_rel", p->band_sigma[b]);
-        cJSON_AddItemToArray(ba, bo);
-      }
-      cJSON_AddItemToArray(pa, o);
-    }
-    cli_json_print(root);
-  } else {
-    printf("%s at %g km/h, conicity %g: %g s of track (%s, seed %llu), fs %g Hz, Welch %d-point "
-           "segments, K = %d averages\n",
-           c.veh.name, c.speed_kmh, c.conicity, a.vo.duration_s, a.rs.spectrum,
-           (unsigned long long)a.vo.seed, a.vo.fs_hz, a.vo.nseg, res.navg);
-    printf("%8s %10s %10s %9s %9s %9s %9s %9s %8s\n", "x_m", "rms_pem", "rms_time", "W_pem",
-           "W_time", "W_welch", "Wgb_pem", "Wgb_welch", "band_z");
-    for (int q = 0; q < np; q++) {
-      const rr_validate_point *p = &res.points[q];
-      printf("%8.3f %10.6f %10.6f %9.5f %9.5f %9.5f %9.4f %9.4f %8.2f\n", a.rs.x[q], p->rms_pem,
-             p->rms_time, p->sperling_pem, p->sperling_time, p->sperling_welch, p->sperling_gb_pem,
-             p->sperling_gb_welch, p->band_z_max);
-    }
-    printf("1/3-octave bands: largest error %.1f%%, largest |error|/sigma %.2f (sigma from K "
-           "averages)\n",
-           100 * emax, zmax);
-    printf("simulated and analysed in %.3f s\n", secs);
-    printf("verdict: %s (RMS and Sperling within %g %% of the PEM at every point, every band "
-           "within %g sigma)\n",
-           pass ? "PASS" : "FAIL", 100 * VAL_REL_TOL, VAL_Z_TOL);
-  }
+  val_verdict(&res, &v);
+  if (c.json)
+    val_json(&a, &res, &v);
+  else
+    val_text(&c, &a, &res, &v);
   rr_validate_result_free(&res);
-  return pass ? 0 : EXIT_FAIL;
+  return v.pass ? 0 : EXIT_FAIL;
 }
