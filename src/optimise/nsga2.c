@@ -530,193 +530,244 @@ static int state_load(const char *path, nsga_state *s, rr_error *err)
   return st;
 }
 
+/* The run's arrays: parents and offspring together (R = 2N rows) and the
+   sorting's scratch. */
+typedef struct nsga_work {
+  int d, m, nc, N, R;
+  double *X, *F, *cd, *X2, *F2, *ref, *col, *E, *CV, *fc;
+  int *rank, *mem, *tmp, *sel, *tmp2, *start, *idx, *r2;
+} nsga_work;
+
+static void work_free(nsga_work *w)
+{
+  double *dbl[] = {w->X, w->F, w->cd, w->X2, w->F2, w->ref, w->col, w->E, w->CV, w->fc};
+  int *ints[] = {w->rank, w->mem, w->tmp, w->sel, w->tmp2, w->start, w->idx, w->r2};
+  for (size_t i = 0; i < sizeof dbl / sizeof dbl[0]; i++) free(dbl[i]);
+  for (size_t i = 0; i < sizeof ints / sizeof ints[0]; i++) free(ints[i]);
+}
+
+static int work_alloc(nsga_work *w, int d, int m, int nc, int N, rr_error *err)
+{
+  size_t R = 2 * (size_t)N, n = (size_t)N;
+  *w = (nsga_work){.d = d, .m = m, .nc = nc, .N = N, .R = (int)R};
+  w->X = malloc(sizeof(double) * R * (size_t)d);
+  w->F = malloc(sizeof(double) * R * (size_t)m);
+  w->cd = malloc(sizeof(double) * R);
+  w->X2 = malloc(sizeof(double) * n * (size_t)d);
+  w->F2 = malloc(sizeof(double) * n * (size_t)m);
+  w->ref = malloc(sizeof(double) * (size_t)m);
+  w->col = malloc(sizeof(double) * R);
+  w->E = malloc(sizeof(double) * n * (size_t)(m + nc));
+  w->rank = malloc(sizeof(int) * R);
+  w->mem = malloc(sizeof(int) * R);
+  w->tmp = malloc(sizeof(int) * (R + 1));
+  w->sel = malloc(sizeof(int) * n);
+  w->tmp2 = malloc(sizeof(int) * R);
+  w->start = malloc(sizeof(int) * (R + 1));
+  int ok = w->X && w->F && w->cd && w->X2 && w->F2 && w->ref && w->col && w->E && w->rank &&
+           w->mem && w->tmp && w->sel && w->tmp2 && w->start;
+  if (nc) { /* Deb's constrained domination */
+    w->CV = calloc(R, sizeof(double));
+    w->fc = malloc(sizeof(double) * R * (size_t)m);
+    w->idx = malloc(sizeof(int) * R);
+    w->r2 = malloc(sizeof(int) * R);
+    ok = ok && w->CV && w->fc && w->idx && w->r2;
+  }
+  return ok ? RR_OK : rr_seterr(err, RR_ENOMEM, "out of memory");
+}
+
+static int rank_all(nsga_work *w, int n, rr_error *err)
+{
+  int nf = rank_crowd(n, w->m, w->F, w->CV, w->fc, w->idx, w->r2, w->rank, w->cd, w->mem, w->tmp,
+                      w->tmp2, w->start, w->col);
+  return nf < 0 ? -rr_seterr(err, RR_ENOMEM, "out of memory") : nf; /* -status or fronts */
+}
+
+/* n designs X evaluated into F (and the violations CV); the callback's
+   failure ends the run. */
+static int evaluate(nsga_work *w, rr_nsga2_eval_fn eval, void *user, const double *X, double *F,
+                    double *CV, rr_error *err)
+{
+  int r = eval(user, w->N, X, w->E);
+  if (r) return rr_seterr(err, RR_EINVAL, "nsga2: the evaluation failed (callback status %d)", r);
+  split_eval(w->E, w->N, w->m, w->nc, F, CV);
+  sanitize(F, w->N * w->m);
+  return RR_OK;
+}
+
+/* The initial population, uniform within the bounds, evaluated and ranked;
+   the hypervolume reference: the worst finite value of each objective in it,
+   plus 10% of its range. */
+static int initial_population(nsga_work *w, const double *lo, const double *hi, rr_rng *rng,
+                              rr_nsga2_eval_fn eval, void *user, rr_error *err)
+{
+  int N = w->N, d = w->d, m = w->m;
+  for (int i = 0; i < N; i++)
+    for (int j = 0; j < d; j++) w->X[i * d + j] = lo[j] + (hi[j] - lo[j]) * rr_rng_uniform(rng);
+  int st = evaluate(w, eval, user, w->X, w->F, w->CV, err);
+  if (st) return st;
+  for (int k = 0; k < m; k++) {
+    double a = INFINITY, b = -INFINITY;
+    for (int i = 0; i < N; i++)
+      if (isfinite(w->F[i * m + k])) {
+        a = fmin(a, w->F[i * m + k]);
+        b = fmax(b, w->F[i * m + k]);
+      }
+    w->ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
+  }
+  st = rank_all(w, N, err);
+  return st < 0 ? -st : RR_OK;
+}
+
+/* Offspring into X2: binary tournament, SBX and polynomial mutation. */
+static void make_offspring(nsga_work *w, const double *lo, const double *hi, rr_rng *rng,
+                           const rr_nsga2_opts *o)
+{
+  int N = w->N, d = w->d;
+  double pm = o->p_mutation > 0 ? o->p_mutation : 1.0 / d;
+  for (int i = 0; i < N; i++) {
+    int a = (int)(rr_rng_next(rng) % N), b = (int)(rr_rng_next(rng) % N);
+    w->sel[i] = better(a, b, w->rank, w->cd) ? a : b;
+  }
+  for (int i = 0; i < N; i += 2) {
+    double *c1 = w->X2 + i * d, *c2 = w->X2 + (i + 1) * d;
+    memcpy(c1, w->X + w->sel[i] * d, sizeof(double) * d);
+    memcpy(c2, w->X + w->sel[i + 1] * d, sizeof(double) * d);
+    if (rr_rng_uniform(rng) < o->p_crossover)
+      for (int j = 0; j < d; j++)
+        if (rr_rng_uniform(rng) < 0.5) sbx(rng, o->eta_c, lo[j], hi[j], &c1[j], &c2[j]);
+    for (int j = 0; j < d; j++) {
+      if (rr_rng_uniform(rng) < pm) c1[j] = poly_mutation(rng, o->eta_m, lo[j], hi[j], c1[j]);
+      if (rr_rng_uniform(rng) < pm) c2[j] = poly_mutation(rng, o->eta_m, lo[j], hi[j], c2[j]);
+    }
+  }
+}
+
+/* Environmental selection from parents and offspring (rows 0..2N-1, ranked):
+   whole fronts while they fit, the last by decreasing crowding distance.
+   Survivors keep the ranks and crowding distances of the combined sort:
+   whole earlier fronts are kept, so no survivor's rank changes (Deb et al.). */
+static void select_survivors(nsga_work *w, int nf)
+{
+  int N = w->N, d = w->d, m = w->m, taken = 0;
+  int *keep = w->sel; /* reuse: N entries */
+  for (int k = 0; k < nf && taken < N; k++) {
+    int *fm = w->mem + w->start[k], c = w->start[k + 1] - w->start[k];
+    if (taken + c <= N) {
+      for (int i = 0; i < c; i++) keep[taken++] = fm[i];
+    } else {
+      sort_by_key(fm, c, w->cd, w->tmp2, 1);
+      for (int i = 0; taken < N; i++) keep[taken++] = fm[i];
+    }
+  }
+  for (int i = 0; i < N; i++) {
+    memcpy(w->X2 + i * d, w->X + keep[i] * d, sizeof(double) * d);
+    memcpy(w->F2 + i * m, w->F + keep[i] * m, sizeof(double) * m);
+    w->tmp[i] = w->rank[keep[i]];
+    w->col[i] = w->cd[keep[i]];
+    if (w->CV) w->fc[i] = w->CV[keep[i]]; /* fc: scratch for the survivors' violations */
+  }
+  if (w->CV) memcpy(w->CV, w->fc, sizeof(double) * N);
+  memcpy(w->X, w->X2, sizeof(double) * N * d);
+  memcpy(w->F, w->F2, sizeof(double) * N * m);
+  memcpy(w->rank, w->tmp, sizeof(int) * N);
+  memcpy(w->cd, w->col, sizeof(double) * N);
+}
+
+/* Generation g's report to the progress callback: the front's size and, every
+   hv_every generations (and the last), its feasible members' hypervolume.
+   Nonzero: the callback asks to stop. */
+static int report(nsga_work *w, const rr_nsga2_opts *o, int g, long evals, double seconds)
+{
+  int N = w->N, m = w->m, fs = 0;
+  for (int i = 0; i < N; i++) fs += w->rank[i] == 0;
+  double hv = NAN;
+  if (o->hv_every > 0 && (g % o->hv_every == 0 || g == o->generations) && m <= 3) {
+    int c = 0;
+    for (int i = 0; i < N; i++)
+      if (w->rank[i] == 0 && (!w->CV || w->CV[i] == 0)) {
+        memcpy(w->F2 + c * m, w->F + i * m, sizeof(double) * m);
+        c++;
+      }
+    hv = m == 1 ? NAN : rr_hypervolume(c, m, w->F2, w->ref);
+  }
+  return o->progress(o->user, g, evals, seconds, fs, hv);
+}
+
+static int check_args(int d, int m, const double *lo, const double *hi, int N, rr_error *err)
+{
+  if (N < 4 || N % 2) return rr_seterr(err, RR_EINVAL, "nsga2: population must be even and >= 4");
+  if (d < 1 || m < 1) return rr_seterr(err, RR_EINVAL, "nsga2: need >= 1 variable and objective");
+  for (int j = 0; j < d; j++)
+    if (!(isfinite(lo[j]) && isfinite(hi[j]) && hi[j] >= lo[j]))
+      return rr_seterr(err, RR_EINVAL, "nsga2: bounds of variable %d", j);
+  return RR_OK;
+}
+
 int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval_fn eval,
                  void *user, const rr_nsga2_opts *o, double *x_out, double *f_out, int *rank_out,
                  rr_error *err)
 {
   rr_nsga2_opts def = rr_nsga2_opts_default();
   if (!o) o = &def;
-  int N = o->population;
-  if (N < 4 || N % 2) return rr_seterr(err, RR_EINVAL, "nsga2: population must be even and >= 4");
-  if (d < 1 || m < 1) return rr_seterr(err, RR_EINVAL, "nsga2: need >= 1 variable and objective");
-  for (int j = 0; j < d; j++)
-    if (!(isfinite(lo[j]) && isfinite(hi[j]) && hi[j] >= lo[j]))
-      return rr_seterr(err, RR_EINVAL, "nsga2: bounds of variable %d", j);
-  double pm = o->p_mutation > 0 ? o->p_mutation : 1.0 / d;
-  int R = 2 * N;
-  double *X = malloc(sizeof(double) * R * d), *F = malloc(sizeof(double) * R * m),
-         *cd = malloc(sizeof(double) * R);
-  double *X2 = malloc(sizeof(double) * N * d), *F2 = malloc(sizeof(double) * N * m),
-         *ref = malloc(sizeof(double) * m);
-  int *rank = malloc(sizeof(int) * R), *mem = malloc(sizeof(int) * R),
-      *tmp = malloc(sizeof(int) * (R + 1)), *sel = malloc(sizeof(int) * N);
-  int *tmp2 = malloc(sizeof(int) * R), *start = malloc(sizeof(int) * (R + 1));
-  double *col = malloc(sizeof(double) * R);
-  int nc = o->ncon > 0 ? o->ncon : 0, me = m + nc;
-  double *E = malloc(sizeof(double) * N * me), *CV = nc ? calloc((size_t)R, sizeof(double)) : NULL;
-  double *fc = nc ? malloc(sizeof(double) * R * m) : NULL;
-  int *idx = nc ? malloc(sizeof(int) * R) : NULL, *r2 = nc ? malloc(sizeof(int) * R) : NULL;
-  int st = RR_OK;
-  if (!E || (nc && (!CV || !fc || !idx || !r2))) {
-    st = rr_seterr(err, RR_ENOMEM, "out of memory");
-    goto done;
-  }
-  if (!X || !F || !cd || !X2 || !F2 || !ref || !rank || !mem || !tmp || !sel || !tmp2 || !start ||
-      !col) {
-    st = rr_seterr(err, RR_ENOMEM, "out of memory");
-    goto done;
+  int N = o->population, st = check_args(d, m, lo, hi, N, err);
+  if (st) return st;
+  nsga_work w;
+  if ((st = work_alloc(&w, d, m, o->ncon > 0 ? o->ncon : 0, N, err))) {
+    work_free(&w);
+    return st;
   }
   rr_rng rng;
   rr_rng_seed(&rng, o->seed);
   double t0 = now_s();
-  long evals = 0;
   nsga_state ck = {.d = d,
                    .m = m,
-                   .nc = nc,
+                   .nc = w.nc,
                    .N = N,
                    .seed = o->seed,
                    .rng = &rng,
-                   .ref = ref,
-                   .X = X,
-                   .F = F,
-                   .CV = CV,
-                   .cd = cd,
+                   .ref = w.ref,
+                   .X = w.X,
+                   .F = w.F,
+                   .CV = w.CV,
+                   .cd = w.cd,
                    .lo = lo,
                    .hi = hi,
-                   .rank = rank};
-  int g0 = 0;
-  if (o->resume) {
-    if ((st = state_load(o->resume, &ck, err))) goto done;
-    g0 = ck.g;
-    evals = ck.evals;
-  } else {
-    for (int i = 0; i < N; i++)
-      for (int j = 0; j < d; j++) X[i * d + j] = lo[j] + (hi[j] - lo[j]) * rr_rng_uniform(&rng);
-    eval(user, N, X, E);
-    split_eval(E, N, m, nc, F, CV);
-    evals += N;
-    sanitize(F, N * m);
-    /* hypervolume reference: the worst finite value of each objective in the
-       initial population, plus 10% of its range */
-    for (int k = 0; k < m; k++) {
-      double a = INFINITY, b = -INFINITY;
-      for (int i = 0; i < N; i++)
-        if (isfinite(F[i * m + k])) {
-          a = fmin(a, F[i * m + k]);
-          b = fmax(b, F[i * m + k]);
-        }
-      ref[k] = isfinite(b) ? b + 0.1 * (b - a + 1e-12) : 1;
-    }
-    if (rank_crowd(N, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col) < 0) {
-      st = rr_seterr(err, RR_ENOMEM, "out of memory");
-      goto done;
-    }
+                   .rank = w.rank};
+  if (o->resume)
+    st = state_load(o->resume, &ck, err);
+  else {
+    st = initial_population(&w, lo, hi, &rng, eval, user, err);
+    ck.evals = N;
   }
-  if (o->generations_done) *o->generations_done = g0;
-  for (int g = g0 + 1; g <= o->generations; g++) {
-    /* offspring by binary tournament, SBX and polynomial mutation */
-    for (int i = 0; i < N; i++) {
-      int a = (int)(rr_rng_next(&rng) % N), b = (int)(rr_rng_next(&rng) % N);
-      sel[i] = better(a, b, rank, cd) ? a : b;
-    }
-    for (int i = 0; i < N; i += 2) {
-      double *c1 = X2 + i * d, *c2 = X2 + (i + 1) * d;
-      memcpy(c1, X + sel[i] * d, sizeof(double) * d);
-      memcpy(c2, X + sel[i + 1] * d, sizeof(double) * d);
-      if (rr_rng_uniform(&rng) < o->p_crossover)
-        for (int j = 0; j < d; j++)
-          if (rr_rng_uniform(&rng) < 0.5) sbx(&rng, o->eta_c, lo[j], hi[j], &c1[j], &c2[j]);
-      for (int j = 0; j < d; j++) {
-        if (rr_rng_uniform(&rng) < pm) c1[j] = poly_mutation(&rng, o->eta_m, lo[j], hi[j], c1[j]);
-        if (rr_rng_uniform(&rng) < pm) c2[j] = poly_mutation(&rng, o->eta_m, lo[j], hi[j], c2[j]);
-      }
-    }
-    eval(user, N, X2, E);
-    split_eval(E, N, m, nc, F2, CV ? CV + N : NULL);
-    evals += N;
-    sanitize(F2, N * m);
-    memcpy(X + N * d, X2, sizeof(double) * N * d);
-    memcpy(F + N * m, F2, sizeof(double) * N * m);
-    /* environmental selection from parents and offspring */
-    int nf = rank_crowd(R, m, F, CV, fc, idx, r2, rank, cd, mem, tmp, tmp2, start, col);
+  if (o->generations_done) *o->generations_done = ck.g;
+  for (int g = ck.g + 1; g <= o->generations && !st; g++) {
+    make_offspring(&w, lo, hi, &rng, o);
+    if ((st = evaluate(&w, eval, user, w.X2, w.F2, w.CV ? w.CV + N : NULL, err))) break;
+    ck.evals += N;
+    memcpy(w.X + N * d, w.X2, sizeof(double) * N * d);
+    memcpy(w.F + N * m, w.F2, sizeof(double) * N * m);
+    int nf = rank_all(&w, w.R, err);
     if (nf < 0) {
-      st = rr_seterr(err, RR_ENOMEM, "out of memory");
-      goto done;
+      st = -nf;
+      break;
     }
-    int taken = 0;
-    int *keep = sel; /* reuse: N entries */
-    for (int k = 0; k < nf && taken < N; k++) {
-      int *fm = mem + start[k], c = start[k + 1] - start[k];
-      if (taken + c <= N) {
-        for (int i = 0; i < c; i++) keep[taken++] = fm[i];
-      } else {
-        sort_by_key(fm, c, cd, tmp2, 1); /* the last front by decreasing crowding distance */
-        for (int i = 0; taken < N; i++) keep[taken++] = fm[i];
-      }
-    }
-    /* survivors keep the ranks and crowding distances of the combined sort:
-       whole earlier fronts are kept, so no survivor's rank changes (Deb et al.) */
-    for (int i = 0; i < N; i++) {
-      memcpy(X2 + i * d, X + keep[i] * d, sizeof(double) * d);
-      memcpy(F2 + i * m, F + keep[i] * m, sizeof(double) * m);
-      tmp[i] = rank[keep[i]];
-      col[i] = cd[keep[i]];
-      if (CV) fc[i] = CV[keep[i]]; /* fc: scratch for the survivors' violations */
-    }
-    if (CV) memcpy(CV, fc, sizeof(double) * N);
-    memcpy(X, X2, sizeof(double) * N * d);
-    memcpy(F, F2, sizeof(double) * N * m);
-    memcpy(rank, tmp, sizeof(int) * N);
-    memcpy(cd, col, sizeof(double) * N);
+    select_survivors(&w, nf);
     if (o->generations_done) *o->generations_done = g;
-    if (o->checkpoint) { /* before the report: a stop then leaves this generation's state */
-      ck.g = g;
-      ck.evals = evals;
-      if ((st = state_save(o->checkpoint, &ck, err))) goto done;
-    }
-    if (o->progress) {
-      int fs = 0;
-      for (int i = 0; i < N; i++) fs += rank[i] == 0;
-      double hv = NAN;
-      if (o->hv_every > 0 && (g % o->hv_every == 0 || g == o->generations) && m <= 3) {
-        int c = 0;
-        for (int i = 0; i < N; i++)
-          if (rank[i] == 0 && (!CV || CV[i] == 0)) {
-            memcpy(F2 + c * m, F + i * m, sizeof(double) * m);
-            c++;
-          }
-        hv = m == 1 ? NAN : rr_hypervolume(c, m, F2, ref);
-      }
-      if (o->progress(o->user, g, evals, now_s() - t0, fs, hv)) break;
-    }
+    ck.g = g;
+    /* the checkpoint before the report: a stop then leaves this generation's state */
+    if (o->checkpoint && (st = state_save(o->checkpoint, &ck, err))) break;
+    if (o->progress && report(&w, o, g, ck.evals, now_s() - t0)) break;
   }
-  memcpy(x_out, X, sizeof(double) * N * d);
-  memcpy(f_out, F, sizeof(double) * N * m);
-  if (rank_out) memcpy(rank_out, rank, sizeof(int) * N);
-  if (o->cv_out) {
-    if (CV)
-      memcpy(o->cv_out, CV, sizeof(double) * N);
-    else
+  if (!st) {
+    memcpy(x_out, w.X, sizeof(double) * N * d);
+    memcpy(f_out, w.F, sizeof(double) * N * m);
+    if (rank_out) memcpy(rank_out, w.rank, sizeof(int) * N);
+    if (o->cv_out && w.CV)
+      memcpy(o->cv_out, w.CV, sizeof(double) * N);
+    else if (o->cv_out)
       memset(o->cv_out, 0, sizeof(double) * N);
   }
-done:
-  free(X);
-  free(F);
-  free(cd);
-  free(X2);
-  free(F2);
-  free(ref);
-  free(rank);
-  free(mem);
-  free(tmp);
-  free(sel);
-  free(tmp2);
-  free(start);
-  free(col);
-  free(E);
-  free(CV);
-  free(fc);
-  free(idx);
-  free(r2);
+  work_free(&w);
   return st;
 }

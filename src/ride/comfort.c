@@ -27,13 +27,15 @@ static double sperling_gain(int axis)
   return sperling_b.gain * (axis == RR_AXIS_LATERAL ? sperling_b.lateral : 1.0);
 }
 
-/* B(f)^2 */
+/* B(f)^2, the lateral factor applied last (the order the published figures
+   were checked with) */
 static double sperling2(double f, int axis)
 {
-  double f2 = f * f, g = sperling_gain(axis);
+  double f2 = f * f;
   double num = sperling_b.c2 * f2 + (sperling_b.n2 * f2) * (sperling_b.n2 * f2);
   double a = 1 - sperling_b.d2 * f2, b = sperling_b.d1 * f - sperling_b.d3 * f2 * f;
-  return (g * g) * num / (a * a + b * b);
+  double B2 = (sperling_b.gain * sperling_b.gain) * num / (a * a + b * b);
+  return axis == RR_AXIS_LATERAL ? (sperling_b.lateral * sperling_b.lateral) * B2 : B2;
 }
 
 double rr_sperling_from_weighted_rms(double aw)
