@@ -87,8 +87,13 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   }
   if ((st = rr_vehicle_floor_rows(m, veh, r->x, np, r->h_p, r->roll_gravity, rows, rows0, err)))
     goto out;
-  rr_frf_opts o = {r->nfreq, NULL, r->f_lo, r->f_hi, np, rows, r->roll_gravity ? rows0 : NULL,
-                   r->method};
+  rr_frf_opts o = {.nfreq = r->nfreq,
+                   .f_lo_hz = r->f_lo,
+                   .f_hi_hz = r->f_hi,
+                   .npoints = np,
+                   .rows = rows,
+                   .rows0 = r->roll_gravity ? rows0 : NULL,
+                   .method = r->method};
   if ((st = rr_frf_plan_new(m, &o, &plan, err))) goto out;
   if ((st = rr_frf_plan_execute(plan, m, err))) goto out;
   if ((st = rr_pem_psd(plan, m, &sp, G, err))) goto out;

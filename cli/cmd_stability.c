@@ -239,7 +239,7 @@ int cmd_robust(int argc, char **argv)
   static const struct option extra[] = {{"n-conicity", required_argument, 0, OPT_NCON},
                                         {0, 0, 0, 0}};
   cli_common c;
-  robust_args a = {rr_robust_opts_default()};
+  robust_args a = {.ro = rr_robust_opts_default()};
   RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX, extra, robust_cb, &a, help);
   rr_model *m;
   int r = cli_model(&c, &m, 0, 0);
