@@ -31,9 +31,9 @@ int main(int argc, char **argv)
   }
   double rate[3] = {0, 0, 0};
   for (int t = 1; t <= 2; t++) {
-    rr_design_evaluate_batch(d, 64, x, f, t); /* warm: thread contexts */
+    rr_design_evaluate_batch(d, 64, x, f, t, NULL, NULL); /* warm: thread contexts */
     double t0 = bench_now();
-    rr_design_evaluate_batch(d, n, x, f, t);
+    rr_design_evaluate_batch(d, n, x, f, t, NULL, NULL);
     rate[t] = n / (bench_now() - t0);
     printf("designs_per_s_%d_thread%s %.0f\n", t, t > 1 ? "s" : "", rate[t]);
   }

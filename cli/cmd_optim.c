@@ -38,7 +38,9 @@ static int eval_items(void *user, long lo, long hi, void *out)
   const rr_problem *p = c->p;
   int w = p->nobj + p->ncon, n = (int)(hi - lo);
   double *f = out;
-  rr_design_evaluate_batch(c->d, n, c->x + lo * p->nvar, f, c->threads);
+  rr_error e;
+  int st = rr_design_evaluate_batch(c->d, n, c->x + lo * p->nvar, f, c->threads, NULL, &e);
+  if (st) return cli_fail(&e, st);
   for (int i = 0; i < n; i++) {
     for (int k = 0; k < p->nobj; k++)
       if (p->maximize[k]) f[i * w + k] = -f[i * w + k];

@@ -15,24 +15,41 @@ static const double r0 = 0.46, l0 = 0.7465, lam = 0.2;
 static rr_model *wheelset(double m, double Iz, double f11, double f22, double ky, double kpsi)
 {
   rr_error e;
-  rr_system *s = rr_system_new();
-  rr_body_spec w = {"w", RR_GROUP_WHEELSET, m, Iz, 0, {0, 0, r0}, RR_DOF_Y | RR_DOF_PSI};
-  int bw = rr_system_add_body(s, &w, &e);
+  rr_system *s;
+  if (rr_system_new(&s, &e)) return NULL;
+  rr_body_spec w = {.name = "w",
+                    .group = RR_GROUP_WHEELSET,
+                    .mass = m,
+                    .yaw_inertia = Iz,
+                    .ref = {0, 0, r0},
+                    .dofs = RR_DOF_Y | RR_DOF_PSI};
+  int bw = -1;
+  rr_system_add_body(s, &w, &bw, &e);
   if (ky > 0) {
-    rr_element_spec ey = {"ky", bw, RR_GROUND, {0, 0, r0}, RR_DIR_Y, RR_LAW_SPRING, ky, 0, 0};
-    rr_system_add_element(s, &ey, &e);
+    rr_element_spec ey = {.name = "ky",
+                          .body_a = bw,
+                          .body_b = RR_GROUND,
+                          .point = {0, 0, r0},
+                          .direction = RR_DIR_Y,
+                          .law = RR_LAW_SPRING,
+                          .k = ky};
+    rr_system_add_element(s, &ey, NULL, &e);
   }
   if (kpsi > 0) {
     const double l1 = 1.0;
     for (int sd = -1; sd <= 1; sd += 2) {
-      rr_element_spec ex = {
-          "kx", bw, RR_GROUND, {0, sd * l1, r0}, RR_DIR_X, RR_LAW_SPRING, kpsi / (2 * l1 * l1),
-          0,    0};
-      rr_system_add_element(s, &ex, &e);
+      rr_element_spec ex = {.name = "kx",
+                            .body_a = bw,
+                            .body_b = RR_GROUND,
+                            .point = {0, sd * l1, r0},
+                            .direction = RR_DIR_X,
+                            .law = RR_LAW_SPRING,
+                            .k = kpsi / (2 * l1 * l1)};
+      rr_system_add_element(s, &ex, NULL, &e);
     }
   }
-  rr_contact_spec c = {bw, f11, f22, r0, l0, 0, 0};
-  rr_system_add_contact(s, &c, &e);
+  rr_contact_spec c = {.body = bw, .f11 = f11, .f22 = f22, .r0 = r0, .l0 = l0};
+  rr_system_add_contact(s, &c, NULL, &e);
   rr_model *mod;
   int st = rr_model_new(s, &mod, &e);
   rr_system_free(s);
@@ -112,14 +129,19 @@ static void test_rigid_bogie(void)
   /* One body, two contacts at +-b: kinematic wavelength in the large-creep limit. */
   const double b = 1.25, f11 = 1e11, f22 = 0.5e11;
   rr_error e;
-  rr_system *s = rr_system_new();
-  rr_body_spec bg = {
-      "bogie", RR_GROUP_WHEELSET, 2 * 1639 + 2328,      2 * 822 + 4080 + 2 * 1639 * b * b,
-      0,       {0, 0, r0},        RR_DOF_Y | RR_DOF_PSI};
-  int bb = rr_system_add_body(s, &bg, &e);
+  rr_system *s;
+  CHECK_OK(rr_system_new(&s, &e), e);
+  rr_body_spec bg = {.name = "bogie",
+                     .group = RR_GROUP_WHEELSET,
+                     .mass = 2 * 1639 + 2328,
+                     .yaw_inertia = 2 * 822 + 4080 + 2 * 1639 * b * b,
+                     .ref = {0, 0, r0},
+                     .dofs = RR_DOF_Y | RR_DOF_PSI};
+  int bb = -1;
+  CHECK_OK(rr_system_add_body(s, &bg, &bb, &e), e);
   for (int k = -1; k <= 1; k += 2) {
-    rr_contact_spec c = {bb, f11, f22, r0, l0, 0, k * b};
-    CHECK(rr_system_add_contact(s, &c, &e) >= 0, "contact: %s", e.msg);
+    rr_contact_spec c = {.body = bb, .f11 = f11, .f22 = f22, .r0 = r0, .l0 = l0, .dx = k * b};
+    CHECK_OK(rr_system_add_contact(s, &c, NULL, &e), e);
   }
   rr_model *m;
   CHECK_OK(rr_model_new(s, &m, &e), e);

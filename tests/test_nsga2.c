@@ -38,7 +38,8 @@ static void test_zdt(int which, double hv_true, double hv_frac)
   rr_error e;
   CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X, F, rank, &e), e);
   double ref[2] = {1, 1};
-  double hv = rr_hypervolume(100, 2, F, ref);
+  double hv = -1;
+  CHECK_OK(rr_hypervolume(100, 2, F, ref, &hv, &e), e);
   /* the analytic front's hypervolume: int_0^1 (1 - f2(f1)) df1 */
   CHECK(hv > hv_frac * hv_true && hv <= hv_true + 1e-9, "ZDT%d hypervolume %.5f of %.5f", which, hv,
         hv_true);
@@ -182,7 +183,9 @@ static void test_sort(int m)
   } /* ties on purpose */
   int *rank = malloc(sizeof(int) * n), *brute = malloc(sizeof(int) * n),
       *done = calloc(n, sizeof(int));
-  int nf = rr_nondominated_ranks(n, m, f, rank);
+  int nf = -1;
+  rr_error e;
+  CHECK_OK(rr_nondominated_ranks(n, m, f, rank, &nf, &e), e);
   int left = n, k = 0;
   while (left) {
     int *cur = calloc(n, sizeof(int));
@@ -224,11 +227,15 @@ static void test_hv(void)
   /* hypervolume: boxes with closed-form union */
   double p3[6] = {0, 0.5, 0.5, 0.5, 0, 0.5}, r3[3] = {1, 1, 1};
   /* boxes 1 x 0.5 x 0.5 and 0.5 x 1 x 0.5 overlapping in 0.5^3 */
-  CHECK_CLOSE(rr_hypervolume(2, 3, p3, r3), 0.25 + 0.25 - 0.125, 1e-12, 0,
-              "3-D hypervolume of two boxes");
+  double hv3 = -1, hv2 = -1, hv4 = 0;
+  rr_error e;
+  CHECK_OK(rr_hypervolume(2, 3, p3, r3, &hv3, &e), e);
+  CHECK_CLOSE(hv3, 0.25 + 0.25 - 0.125, 1e-12, 0, "3-D hypervolume of two boxes");
   double p2[6] = {0.2, 0.8, 0.5, 0.5, 0.8, 0.2}, r2[2] = {1, 1};
-  CHECK_CLOSE(rr_hypervolume(3, 2, p2, r2), 0.8 * 0.2 + 0.5 * 0.3 + 0.2 * 0.3, 1e-12, 0,
-              "2-D staircase");
+  CHECK_OK(rr_hypervolume(3, 2, p2, r2, &hv2, &e), e);
+  CHECK_CLOSE(hv2, 0.8 * 0.2 + 0.5 * 0.3 + 0.2 * 0.3, 1e-12, 0, "2-D staircase");
+  CHECK(rr_hypervolume(1, 4, p3, r3, &hv4, &e) == RR_EUNSUP && e.code == RR_EUNSUP,
+        "4 objectives: a status with a message, not a number");
 }
 
 static void test_design(void)
@@ -262,7 +269,8 @@ static void test_design(void)
   CHECK(f[4] > 1 && f[4] < 4, "sperling via design %g", f[4]);
   /* batch over threads = one by one */
   double X[8] = {10e6, 2e6, 50e6, 10e6, 120e6, 30e6, 70e6, 5e6}, F[20], Fs[20];
-  int failed = rr_design_evaluate_batch(d, 4, X, F, 2);
+  int failed = -1;
+  CHECK_OK(rr_design_evaluate_batch(d, 4, X, F, 2, &failed, &e), e);
   CHECK(failed == 0, "batch failures %d", failed);
   for (int i = 0; i < 4; i++) rr_design_evaluate(d, X + 2 * i, Fs + 5 * i, &e);
   CHECK(!memcmp(F, Fs, sizeof F), "threaded batch equals sequential");

@@ -24,15 +24,14 @@ typedef struct job {
 
 static int one_round(job *j, const double *x)
 {
-  char err[RR_ERROR_MSG_MAX] = "";
-  rr_design *d = rr_design_open(j->id % 2 ? vehicle_path : "type1", "yaw_damper.series_stiffness",
-                                objs, err, sizeof err);
-  if (!d) {
-    snprintf(j->msg, sizeof j->msg, "open: %s", err);
+  rr_error e;
+  rr_design *d;
+  if (rr_design_open(j->id % 2 ? vehicle_path : "type1", "yaw_damper.series_stiffness", objs, &d,
+                     &e)) {
+    snprintf(j->msg, sizeof j->msg, "open: %s", e.msg);
     return -1;
   }
   rr_design *c;
-  rr_error e;
   double f[4], g[4];
   int st = rr_design_clone(d, &c, &e);
   if (!st) st = rr_design_evaluate(c, x, f, &e);
@@ -70,12 +69,12 @@ int main(void)
                        "[vehicle]\nbase = type1\n[carbody]\nmass = 38.936 t\n[primary]\n"
                        "longitudinal_stiffness = 50 kN/mm\n[yaw_damper]\ndamping = 4000 kN.s/m\n"));
   (void)src;
-  char err[RR_ERROR_MSG_MAX];
-  rr_design *d = rr_design_open("type1", "yaw_damper.series_stiffness", objs, err, sizeof err);
-  CHECK(d != NULL, "open: %s", err);
-  if (!d) return check_done("threads");
-  double x[1] = {10e6};
   rr_error e;
+  rr_design *d;
+  int st = rr_design_open("type1", "yaw_damper.series_stiffness", objs, &d, &e);
+  CHECK(st == RR_OK, "open: %s", e.msg);
+  if (st) return check_done("threads");
+  double x[1] = {10e6};
   CHECK_OK(rr_design_evaluate(d, x, expect, &e), e);
   rr_design_free(d);
   pthread_t t[NTHREADS];

@@ -58,13 +58,17 @@ RR_API int rr_design_nobj(const rr_design *d);
  * mass) returns the status and sets f to NaN. Allocation-free. */
 RR_API int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err);
 /* x: n x nvar, f: n x nobj, row-major. nthreads <= 0: OpenMP's default.
- * Failed designs get NaN objectives; returns the number that failed. */
-RR_API int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, int nthreads);
+ * A design that fails gets NaN objectives (its status is rr_design_evaluate's);
+ * *nfailed (may be NULL) counts them. Returns RR_OK: a failed design is a
+ * result, not an error of the batch. */
+RR_API int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, int nthreads,
+                                    int *nfailed, rr_error *err);
 
 /* Plain-C entry for bindings (ctypes): vehicle is a built-in name or a file;
- * keys and objectives are newline-separated; errbuf receives the message. */
-RR_API rr_design *rr_design_open(const char *vehicle, const char *keys_nl,
-                                 const char *objectives_nl, char *errbuf, int errlen);
+ * keys and objectives are newline-separated. *out: the context (free with
+ * rr_design_free). */
+RR_API int rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl,
+                          rr_design **out, rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -33,7 +33,8 @@ RR_API int rr_vehicle_system(const rr_vehicle *veh, rr_system **out, rr_error *e
 /* Vehicle -> system -> model, with the vehicle's SDF mode and curve. */
 RR_API int rr_model_from_vehicle(const rr_vehicle *veh, rr_model **out, rr_error *err);
 RR_API void rr_model_free(rr_model *m);
-RR_API rr_model *rr_model_clone(const rr_model *m);
+/* An independent copy into *out (free with rr_model_free). */
+RR_API int rr_model_clone(const rr_model *m, rr_model **out, rr_error *err);
 
 /* Operating point: speed (m/s) and equivalent conicity, within the range above. */
 RR_API int rr_model_set_operating(rr_model *m, double speed_ms, double conicity, rr_error *err);

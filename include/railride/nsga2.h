@@ -54,11 +54,14 @@ RR_API int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsg
                         int *rank_out, rr_error *err);
 
 /* Non-dominated ranks of n points (m objectives, minimised); 0 = first front.
- * Returns the number of fronts, or -1 on allocation failure. */
-RR_API int rr_nondominated_ranks(int n, int m, const double *f, int *rank);
-/* Exact hypervolume dominated by the points (m = 2 or 3) up to ref; points
- * not strictly better than ref in every objective do not count. -1 for other m. */
-RR_API double rr_hypervolume(int n, int m, const double *f, const double *ref);
+ * *nfronts (may be NULL): the number of fronts. */
+RR_API int rr_nondominated_ranks(int n, int m, const double *f, int *rank, int *nfronts,
+                                 rr_error *err);
+/* Exact hypervolume dominated by the points (m = 2 or 3, else RR_EUNSUP) up
+ * to ref into *hv; points not strictly better than ref in every objective do
+ * not count. */
+RR_API int rr_hypervolume(int n, int m, const double *f, const double *ref, double *hv,
+                          rr_error *err);
 
 #ifdef __cplusplus
 }

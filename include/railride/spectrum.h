@@ -56,8 +56,9 @@ RR_API int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err);
 RR_API int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err);
 /* Directory searched for spectrum names. */
 RR_API const char *rr_spectrum_dir(void);
-/* For bindings: a spectrum opened (as rr_spectrum_open) on the heap; NULL on error. */
-RR_API rr_spectrum *rr_spectrum_new(const char *spec, rr_error *err);
+/* For bindings: a spectrum opened (as rr_spectrum_open) on the heap into *out
+ * (free with rr_spectrum_delete). */
+RR_API int rr_spectrum_new(const char *spec, rr_spectrum **out, rr_error *err);
 RR_API void rr_spectrum_delete(rr_spectrum *sp);
 /* One-sided PSD at n cycles/m, in m^2/(cycle/m) (0 outside the validity
  * range when clip is set). */

@@ -61,15 +61,18 @@ typedef struct rr_contact_spec {
                        bogie carries two contacts at +-b; 0 for a wheelset */
 } rr_contact_spec;
 
-RR_API rr_system *rr_system_new(void);
+/* An empty system into *out (free with rr_system_free). */
+RR_API int rr_system_new(rr_system **out, rr_error *err);
 RR_API void rr_system_free(rr_system *sys);
-/* Returns the new body's index (>= 0) or -status. */
-RR_API int rr_system_add_body(rr_system *sys, const rr_body_spec *b, rr_error *err);
-/* Returns the element's index (>= 0) or -status. Maxwell elements with c = 0
- * exert no force and are dropped (returns index -1 with RR_OK semantics: 0 status). */
-RR_API int rr_system_add_element(rr_system *sys, const rr_element_spec *e, rr_error *err);
-/* Adds a wheel-rail contact; its track input is the next input column. */
-RR_API int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *err);
+/* Adds a body; *index (may be NULL) receives its index. */
+RR_API int rr_system_add_body(rr_system *sys, const rr_body_spec *b, int *index, rr_error *err);
+/* Adds an element; *index (may be NULL) receives its index. */
+RR_API int rr_system_add_element(rr_system *sys, const rr_element_spec *e, int *index,
+                                 rr_error *err);
+/* Adds a wheel-rail contact; its track input is the next input column, whose
+ * number *index (may be NULL) receives. */
+RR_API int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, int *index,
+                                 rr_error *err);
 RR_API int rr_system_ndof(const rr_system *sys);
 RR_API const char *rr_system_dof_name(const rr_system *sys, int i);
 /* The elongation row J (length ndof) of an element spec, without adding it. */

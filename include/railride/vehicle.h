@@ -65,8 +65,9 @@ RR_API int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err);
 /* Loads a built-in name if `spec` is one, otherwise a file. NULL -> default. */
 RR_API int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err);
 /* For bindings that cannot size an rr_vehicle (ctypes, FFI): one opened from
- * a spec (as rr_vehicle_open) on the heap; NULL on error. */
-RR_API rr_vehicle *rr_vehicle_new(const char *spec, rr_error *err);
+ * a spec (as rr_vehicle_open) on the heap into *out (free with
+ * rr_vehicle_delete). */
+RR_API int rr_vehicle_new(const char *spec, rr_vehicle **out, rr_error *err);
 RR_API void rr_vehicle_delete(rr_vehicle *veh);
 /* Checks every value's range and finiteness. */
 RR_API int rr_vehicle_check(const rr_vehicle *veh, rr_error *err);

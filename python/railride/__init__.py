@@ -47,13 +47,16 @@ def library():
     global _lib
     if _lib is None:
         lib = ctypes.CDLL(_find_library())
-        lib.rr_design_open.restype = ctypes.c_void_p
-        lib.rr_design_open.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int]
+        from ._model import _Error
+        lib.rr_design_open.restype = ctypes.c_int
+        lib.rr_design_open.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p,
+                                       ctypes.POINTER(ctypes.c_void_p), ctypes.POINTER(_Error)]
         lib.rr_design_free.argtypes = [ctypes.c_void_p]
         lib.rr_design_nvar.argtypes = [ctypes.c_void_p]
         lib.rr_design_nobj.argtypes = [ctypes.c_void_p]
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
-        lib.rr_design_evaluate_batch.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr, ctypes.c_int]
+        lib.rr_design_evaluate_batch.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr, ctypes.c_int,
+                                                 ctypes.POINTER(ctypes.c_int), ctypes.POINTER(_Error)]
         lib.rr_design_evaluate_batch.restype = ctypes.c_int
         from ._model import declare
         declare(lib)
@@ -81,11 +84,12 @@ class Design:
 
     def __init__(self, vehicle="type1", variables=(), objectives=("zeta_low", "zeta_high", "std_zeta"), threads=0):
         lib = library()
-        err = ctypes.create_string_buffer(512)
-        self._h = lib.rr_design_open(vehicle.encode(), "\n".join(variables).encode(),
-                                     "\n".join(objectives).encode(), err, len(err))
-        if not self._h:
-            raise RailrideError(err.value.decode())
+        from ._model import _Error
+        err, h = _Error(), ctypes.c_void_p()
+        if lib.rr_design_open(vehicle.encode(), "\n".join(variables).encode(), "\n".join(objectives).encode(),
+                              ctypes.byref(h), ctypes.byref(err)):
+            raise RailrideError(err.msg.decode())
+        self._h = h.value
         self.variables = list(variables)
         self.objectives = list(objectives)
         self.threads = int(threads)
@@ -106,7 +110,10 @@ class Design:
         if x.shape[1] != self.nvar:
             raise ValueError("x has %d columns, the design has %d variables" % (x.shape[1], self.nvar))
         f = np.empty((x.shape[0], self.nobj), dtype=np.float64)
-        library().rr_design_evaluate_batch(self._h, x.shape[0], x, f, self.threads)
+        from ._model import _Error
+        err = _Error()
+        if library().rr_design_evaluate_batch(self._h, x.shape[0], x, f, self.threads, None, ctypes.byref(err)):
+            raise RailrideError(err.msg.decode())
         return f
 
     def evaluate(self, x):

@@ -75,7 +75,7 @@ def declare(lib):
     P = ctypes.c_void_p
     E = ctypes.POINTER(_Error)
     sig = {
-        "rr_vehicle_new": (P, [ctypes.c_char_p, E]), "rr_vehicle_delete": (None, [P]),
+        "rr_vehicle_new": (ctypes.c_int, [ctypes.c_char_p, ctypes.POINTER(P), E]), "rr_vehicle_delete": (None, [P]),
         "rr_model_from_vehicle": (ctypes.c_int, [P, ctypes.POINTER(P), E]), "rr_model_free": (None, [P]),
         "rr_model_set_operating": (ctypes.c_int, [P, ctypes.c_double, ctypes.c_double, E]),
         "rr_model_ndof": (ctypes.c_int, [P]), "rr_model_ninputs": (ctypes.c_int, [P]),
@@ -98,7 +98,7 @@ def declare(lib):
         "rr_frf_nfreq": (ctypes.c_int, [P]), "rr_frf_freqs": (c_double_p, [P]), "rr_frf_H": (c_double_p, [P]),
         "rr_vehicle_floor_rows": (ctypes.c_int, [P, P, c_double_p, ctypes.c_int, ctypes.c_double, ctypes.c_int,
                                                  c_double_p, c_double_p, E]),
-        "rr_spectrum_new": (P, [ctypes.c_char_p, E]), "rr_spectrum_delete": (None, [P]),
+        "rr_spectrum_new": (ctypes.c_int, [ctypes.c_char_p, ctypes.POINTER(P), E]), "rr_spectrum_delete": (None, [P]),
         "rr_pem_psd": (ctypes.c_int, [P, P, P, c_double_p, E]),
         "rr_comfort_plan_new": (ctypes.c_int, [c_double_p, ctypes.c_int, ctypes.c_int, ctypes.POINTER(P), E]),
         "rr_comfort_plan_free": (None, [P]),
@@ -126,10 +126,10 @@ class Vehicle:
     def __init__(self, spec="type1"):
         from . import library, RailrideError
         self._lib, self._Err = library(), RailrideError
-        err = _Error()
-        self._veh = self._lib.rr_vehicle_new(spec.encode(), ctypes.byref(err))
-        if not self._veh:
+        err, veh = _Error(), ctypes.c_void_p()
+        if self._lib.rr_vehicle_new(spec.encode(), ctypes.byref(veh), ctypes.byref(err)):
             raise RailrideError(err.msg.decode())
+        self._veh = veh
         self._m, self._ws = ctypes.c_void_p(), ctypes.c_void_p()
         self._call("rr_model_from_vehicle", self._veh, ctypes.byref(self._m))
         self._call("rr_modal_ws_new", self._m, ctypes.byref(self._ws))
@@ -246,9 +246,8 @@ class Vehicle:
         """Frequencies (Hz) and the floor's lateral acceleration PSD G (nfreq x
         points, (m/s^2)^2/Hz) by the pseudo-excitation method."""
         self._at(speed_kmh, conicity)
-        err = _Error()
-        sp = self._lib.rr_spectrum_new(spectrum.encode(), ctypes.byref(err))
-        if not sp:
+        err, sp = _Error(), ctypes.c_void_p()
+        if self._lib.rr_spectrum_new(spectrum.encode(), ctypes.byref(sp), ctypes.byref(err)):
             raise self._Err(err.msg.decode())
         plan, rows, x = self._plan(points, height, nfreq, f_lo, f_hi)
         try:

@@ -89,11 +89,12 @@ int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err)
 
 void rr_model_free(rr_model *m) { free(m); }
 
-rr_model *rr_model_clone(const rr_model *m)
+int rr_model_clone(const rr_model *m, rr_model **out, rr_error *err)
 {
-  rr_model *c = malloc(sizeof *c);
-  if (c) memcpy(c, m, sizeof *c);
-  return c;
+  *out = malloc(sizeof **out);
+  if (!*out) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  memcpy(*out, m, sizeof **out);
+  return RR_OK;
 }
 
 int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)

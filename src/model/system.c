@@ -7,7 +7,11 @@
 #include "system_impl.h"
 #include "internal.h"
 
-rr_system *rr_system_new(void) { return calloc(1, sizeof(rr_system)); }
+int rr_system_new(rr_system **out, rr_error *err)
+{
+  *out = calloc(1, sizeof(rr_system));
+  return *out ? RR_OK : rr_seterr(err, RR_ENOMEM, "out of memory");
+}
 
 void rr_system_free(rr_system *sys)
 {
@@ -30,7 +34,8 @@ static int grow(void **p, int *cap, int need, size_t size)
   return 0;
 }
 
-int rr_system_add_body(rr_system *sys, const rr_body_spec *b, rr_error *err)
+/* The new body's index (>= 0) or -status. */
+static int add_body(rr_system *sys, const rr_body_spec *b, rr_error *err)
 {
   if (!(isfinite(b->mass) && b->mass > 0))
     return -rr_seterr(err, RR_EINVAL, "body %s: mass must be > 0", b->name);
@@ -109,7 +114,8 @@ int rr_system_element_row(const rr_system *sys, const rr_element_spec *e, double
   return RR_OK;
 }
 
-int rr_system_add_element(rr_system *sys, const rr_element_spec *e, rr_error *err)
+/* The new element's index (>= 0) or -status. */
+static int add_element(rr_system *sys, const rr_element_spec *e, rr_error *err)
 {
   const char *nm = e->name ? e->name : "element";
   int needk = e->law == RR_LAW_SPRING || e->law == RR_LAW_KC || e->law == RR_LAW_MAXWELL;
@@ -137,7 +143,8 @@ int rr_system_add_element(rr_system *sys, const rr_element_spec *e, rr_error *er
   return sys->nelements++;
 }
 
-int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *err)
+/* The new contact's index (>= 0) or -status. */
+static int add_contact(rr_system *sys, const rr_contact_spec *c, rr_error *err)
 {
   if (c->body < 0 || c->body >= sys->nbodies)
     return -rr_seterr(err, RR_EINVAL, "contact: unknown body");
@@ -174,4 +181,28 @@ int rr_system_ndof(const rr_system *sys) { return sys->ndof; }
 const char *rr_system_dof_name(const rr_system *sys, int i)
 {
   return (i >= 0 && i < sys->ndof) ? sys->dof_name[i] : NULL;
+}
+
+int rr_system_add_body(rr_system *sys, const rr_body_spec *b, int *index, rr_error *err)
+{
+  int r = add_body(sys, b, err);
+  if (r < 0) return -r;
+  if (index) *index = r;
+  return RR_OK;
+}
+
+int rr_system_add_element(rr_system *sys, const rr_element_spec *e, int *index, rr_error *err)
+{
+  int r = add_element(sys, e, err);
+  if (r < 0) return -r;
+  if (index) *index = r;
+  return RR_OK;
+}
+
+int rr_system_add_contact(rr_system *sys, const rr_contact_spec *c, int *index, rr_error *err)
+{
+  int r = add_contact(sys, c, err);
+  if (r < 0) return -r;
+  if (index) *index = r;
+  return RR_OK;
 }

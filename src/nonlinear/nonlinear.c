@@ -71,9 +71,9 @@ static int check_inputs(const rr_model *m, const rr_profile *p, const rr_contact
    nonzeros. */
 static int suspension(rr_nonlinear *nl, const rr_model *m, rr_error *err)
 {
-  rr_model *s = rr_model_clone(m);
+  rr_model *s = NULL;
   double *A = malloc(sizeof(double) * (size_t)nl->N * nl->N);
-  if (!s || !A) {
+  if (rr_model_clone(m, &s, err) || !A) {
     free(s);
     free(A);
     return rr_seterr(err, RR_ENOMEM, "out of memory");

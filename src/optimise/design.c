@@ -284,8 +284,7 @@ static int model_slot(rr_design *d, int sdf, const char *text, int *slot, rr_err
 static int build(rr_design *d, rr_error *err)
 {
   int st;
-  d->scratch = rr_system_new();
-  if (!d->scratch) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  if ((st = rr_system_new(&d->scratch, err))) return st;
   for (int i = 0; i < d->nobj; i++) {
     objective *o = &d->obj[i];
     if ((st = model_slot(d, o->sdf, o->text, &o->model, err))) return st;
@@ -518,8 +517,11 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
   return st;
 }
 
-int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, int nthreads)
+int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, int nthreads,
+                             int *nfailed, rr_error *err)
 {
+  if (n < 0 || (n > 0 && (!x || !f)))
+    return rr_seterr(err, RR_EINVAL, "design: a batch needs n >= 0 and its arrays");
   int nt = 1;
 #ifdef _OPENMP
   nt = nthreads > 0 ? nthreads : omp_get_max_threads();
@@ -555,15 +557,15 @@ int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, in
     rr_design *ctx = t == 0 ? d : d->clones[t - 1];
     if (rr_design_evaluate(ctx, x + (size_t)i * d->nvar, f + (size_t)i * d->nobj, NULL)) failed++;
   }
-  return failed;
+  if (nfailed) *nfailed = failed;
+  return RR_OK;
 }
 
-rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl,
-                          char *errbuf, int errlen)
+int rr_design_open(const char *vehicle, const char *keys_nl, const char *objectives_nl,
+                   rr_design **out, rr_error *err)
 {
-  rr_error e = {0, ""};
   rr_vehicle v;
-  rr_design *d = NULL;
+  *out = NULL;
   char kb[4096], ob[4096];
   const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
   int nk = 0, no = 0;
@@ -576,8 +578,7 @@ rr_design *rr_design_open(const char *vehicle, const char *keys_nl, const char *
   for (char *t = strtok_r(ob, "\n", &sv); t && no < RR_DESIGN_MAX_OBJS;
        t = strtok_r(NULL, "\n", &sv))
     objs[no++] = t;
-  int st = rr_vehicle_open(vehicle && *vehicle ? vehicle : NULL, &v, &e);
-  if (!st) st = rr_design_new(&v, nk, keys, no, objs, &d, &e);
-  if (st && errbuf && errlen > 0) snprintf(errbuf, (size_t)errlen, "%s", e.msg);
-  return st ? NULL : d;
+  int st = rr_vehicle_open(vehicle && *vehicle ? vehicle : NULL, &v, err);
+  if (!st) st = rr_design_new(&v, nk, keys, no, objs, out, err);
+  return st;
 }

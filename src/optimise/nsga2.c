@@ -132,7 +132,8 @@ static int stair_insert(stair *st, const double *f, int id)
   return 0;
 }
 
-int rr_nondominated_ranks(int n, int m, const double *f, int *rank)
+/* The fronts' count, or -1 when out of memory. */
+static int nondominated_ranks(int n, int m, const double *f, int *rank)
 {
   /* ENS-SS (Zhang et al., IEEE TEC 2015): in lexicographic order no point is
      dominated by a later one, so each point joins the first front none of whose
@@ -250,9 +251,9 @@ static int stair2_add(double *s1, double *s2, int *ns, const double *p)
   return 1;
 }
 
-double rr_hypervolume(int n, int m, const double *f, const double *ref)
+/* m = 2 or 3; -1 when out of memory. */
+static double hypervolume(int n, int m, const double *f, const double *ref)
 {
-  if (m != 2 && m != 3) return -1;
   int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *tmp = malloc(sizeof(int) * (n > 0 ? n : 1));
   double *s1 = malloc(sizeof(double) * (n + 1)), *s2 = malloc(sizeof(double) * (n + 1)),
          *key = calloc(n > 0 ? n : 1, sizeof(double));
@@ -294,6 +295,26 @@ double rr_hypervolume(int n, int m, const double *f, const double *ref)
   free(s2);
   free(key);
   return hv;
+}
+
+int rr_nondominated_ranks(int n, int m, const double *f, int *rank, int *nfronts, rr_error *err)
+{
+  if (n < 0 || m < 1)
+    return rr_seterr(err, RR_EINVAL, "nondominated ranks: n >= 0, m >= 1 expected");
+  int nf = nondominated_ranks(n, m, f, rank);
+  if (nf < 0) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  if (nfronts) *nfronts = nf;
+  return RR_OK;
+}
+
+int rr_hypervolume(int n, int m, const double *f, const double *ref, double *hv, rr_error *err)
+{
+  if (m != 2 && m != 3)
+    return rr_seterr(err, RR_EUNSUP, "hypervolume: 2 or 3 objectives, not %d", m);
+  double v = hypervolume(n, m, f, ref);
+  if (v < 0) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  *hv = v;
+  return RR_OK;
 }
 
 /* crowding distance of the members of one front; col: n doubles of scratch */
@@ -384,7 +405,7 @@ static int constrained_ranks(int n, int m, const double *f, const double *cv, in
       memcpy(fc + (size_t)nfeas * m, f + (size_t)i * m, sizeof(double) * m);
       idx[nfeas++] = i;
     }
-  if (nfeas && (nf = rr_nondominated_ranks(nfeas, m, fc, r2)) < 0) return -1;
+  if (nfeas && (nf = nondominated_ranks(nfeas, m, fc, r2)) < 0) return -1;
   for (int k = 0; k < nfeas; k++) rank[idx[k]] = r2[k];
   int ninf = 0;
   for (int i = 0; i < n; i++)
@@ -405,7 +426,7 @@ static int rank_crowd(int n, int m, const double *f, const double *cv, double *f
                       double *col)
 {
   int nf = cv ? constrained_ranks(n, m, f, cv, rank, fc, idx, r2, tmp)
-              : rr_nondominated_ranks(n, m, f, rank);
+              : nondominated_ranks(n, m, f, rank);
   if (nf < 0) return -1;
   for (int k = 0; k <= nf; k++) start[k] = 0;
   for (int i = 0; i < n; i++) start[rank[i] + 1]++;
@@ -689,7 +710,7 @@ static int report(nsga_work *w, const rr_nsga2_opts *o, int g, long evals, doubl
         memcpy(w->F2 + c * m, w->F + i * m, sizeof(double) * m);
         c++;
       }
-    hv = m == 1 ? NAN : rr_hypervolume(c, m, w->F2, w->ref);
+    hv = m == 1 ? NAN : hypervolume(c, m, w->F2, w->ref);
   }
   return o->progress(o->user, g, evals, seconds, fs, hv);
 }

@@ -431,18 +431,18 @@ double rr_spectrum_rms(const rr_spectrum *s, double n1, double n2)
   return sqrt(total);
 }
 
-rr_spectrum *rr_spectrum_new(const char *spec, rr_error *err)
+int rr_spectrum_new(const char *spec, rr_spectrum **out, rr_error *err)
 {
   rr_spectrum *sp = malloc(sizeof *sp);
-  if (!sp) {
-    rr_seterr(err, RR_ENOMEM, "out of memory");
-    return NULL;
-  }
-  if (rr_spectrum_open(spec, sp, err)) {
+  *out = NULL;
+  if (!sp) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  int st = rr_spectrum_open(spec, sp, err);
+  if (st) {
     free(sp);
-    return NULL;
+    return st;
   }
-  return sp;
+  *out = sp;
+  return RR_OK;
 }
 
 void rr_spectrum_delete(rr_spectrum *sp) { free(sp); }

@@ -336,18 +336,18 @@ int rr_vehicle_open(const char *spec, rr_vehicle *veh, rr_error *err)
   return rr_vehicle_load(spec, veh, err);
 }
 
-rr_vehicle *rr_vehicle_new(const char *spec, rr_error *err)
+int rr_vehicle_new(const char *spec, rr_vehicle **out, rr_error *err)
 {
   rr_vehicle *v = malloc(sizeof *v);
-  if (!v) {
-    rr_seterr(err, RR_ENOMEM, "out of memory");
-    return NULL;
-  }
-  if (rr_vehicle_open(spec, v, err)) {
+  *out = NULL;
+  if (!v) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  int st = rr_vehicle_open(spec, v, err);
+  if (st) {
     free(v);
-    return NULL;
+    return st;
   }
-  return v;
+  *out = v;
+  return RR_OK;
 }
 
 void rr_vehicle_delete(rr_vehicle *veh) { free(veh); }

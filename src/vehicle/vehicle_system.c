@@ -7,9 +7,10 @@
 int rr_vehicle_system(const rr_vehicle *v, rr_system **out, rr_error *err)
 {
   *out = NULL;
-  rr_system *s = rr_system_new();
-  if (!s) return rr_seterr(err, RR_ENOMEM, "out of memory");
-  int st = rr_vehicle_fill(v, s, err);
+  rr_system *s;
+  int st = rr_system_new(&s, err);
+  if (st) return st;
+  st = rr_vehicle_fill(v, s, err);
   if (st) {
     rr_system_free(s);
     return st;
@@ -35,7 +36,8 @@ static int add_bodies(const rr_vehicle *v, rr_system *s, car_layout *car, rr_err
                      .roll_inertia = v->carbody_roll_inertia,
                      .ref = {0, 0, v->carbody_cg_height},
                      .dofs = RR_DOF_Y | RR_DOF_PSI | RR_DOF_PHI};
-  if ((car->c = rr_system_add_body(s, &cb, err)) < 0) return -car->c;
+  int st = rr_system_add_body(s, &cb, &car->c, err);
+  if (st) return st;
   for (int j = 0; j < 2; j++) {
     char nm[8];
     snprintf(nm, sizeof nm, "f%d", j + 1);
@@ -46,7 +48,7 @@ static int add_bodies(const rr_vehicle *v, rr_system *s, car_layout *car, rr_err
                        .roll_inertia = v->frame_roll_inertia,
                        .ref = {car->xf[j], 0, v->frame_cg_height},
                        .dofs = RR_DOF_Y | RR_DOF_PSI | RR_DOF_PHI};
-    if ((car->f[j] = rr_system_add_body(s, &fb, err)) < 0) return -car->f[j];
+    if ((st = rr_system_add_body(s, &fb, &car->f[j], err))) return st;
   }
   for (int i = 0; i < 4; i++) {
     char nm[8];
@@ -58,15 +60,14 @@ static int add_bodies(const rr_vehicle *v, rr_system *s, car_layout *car, rr_err
                        .roll_inertia = 0,
                        .ref = {car->xw[i], 0, v->rolling_radius},
                        .dofs = RR_DOF_Y | RR_DOF_PSI};
-    if ((car->w[i] = rr_system_add_body(s, &wb, err)) < 0) return -car->w[i];
+    if ((st = rr_system_add_body(s, &wb, &car->w[i], err))) return st;
   }
   return RR_OK;
 }
 
 static int add_element(rr_system *s, const rr_element_spec *e, rr_error *err)
 {
-  int r = rr_system_add_element(s, e, err);
-  return r < 0 ? -r : RR_OK;
+  return rr_system_add_element(s, e, NULL, err);
 }
 
 /* Maxwell elements first, in state order: yaw dampers (bogie 1 L, R, bogie 2
@@ -190,8 +191,8 @@ static int add_contacts(const rr_vehicle *v, rr_system *s, const car_layout *car
                          .l0 = v->contact_half_spacing,
                          .axle_load = W,
                          .dx = 0};
-    int r = rr_system_add_contact(s, &c, err);
-    if (r < 0) return -r;
+    int st = rr_system_add_contact(s, &c, NULL, err);
+    if (st) return st;
   }
   return RR_OK;
 }
