@@ -538,6 +538,85 @@ static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, con
   return r;
 }
 
+/* The range over the swept parameter: the default when none is given, then
+   checked against the model's limits. */
+static int locus_range(grid_args *a)
+{
+  if (!a->have_range) { /* 20:500:25 km/h, or conicity 0.02:0.5:25 */
+    a->from = a->param == 0 ? 20 : 0.02;
+    a->to = a->param == 0 ? 500 : 0.5;
+    a->n = 25;
+  }
+  if (a->param == 0 &&
+      !(a->from > 0 && a->to > 0 && fmax(a->from, a->to) <= RR_SPEED_MAX_MS * RR_KMH))
+    return cli_bad("--range: speeds must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
+  if (a->param == 1 && !(a->from >= 0 && a->to >= 0 && fmax(a->from, a->to) <= RR_CONICITY_MAX))
+    return cli_bad("--range: conicities must be within [0, %g]", RR_CONICITY_MAX);
+  return 0;
+}
+
+/* The branches as CSV rows or JSON points; a point where a branch was not
+   matched (or not reached) has no row. v0, l0: the fixed speed (km/h) and
+   conicity. */
+static void locus_print(const cli_common *c, const grid_args *a, const rr_locus_point *pts, int nb,
+                        double v0, double l0)
+{
+  cJSON *root = c->json ? cJSON_CreateObject() : NULL,
+        *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
+  if (!c->json)
+    printf("branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,"
+           "e_carbody,e_frames,e_wheelsets,roll_share,hunting_related\n");
+  for (int b = 0; b < nb; b++)
+    for (int p = 0; p < a->n; p++) {
+      const rr_locus_point *lp = &pts[(size_t)p * nb + b];
+      if (!isfinite(lp->re)) continue;
+      double sp = a->param == 0 ? lp->param * RR_KMH : v0, co = a->param == 1 ? lp->param : l0;
+      if (!c->json) {
+        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", b, sp, co,
+               lp->freq_hz, lp->re, lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1],
+               lp->energy[2], lp->roll_share, lp->hunting);
+        continue;
+      }
+      cJSON *o = cJSON_CreateObject();
+      cJSON_AddNumberToObject(o, "branch", b);
+      cJSON_AddNumberToObject(o, "speed_kmh", sp);
+      cJSON_AddNumberToObject(o, "conicity", co);
+      cJSON_AddNumberToObject(o, "freq_hz", lp->freq_hz);
+      cJSON_AddNumberToObject(o, "real", lp->re);
+      cJSON_AddNumberToObject(o, "imag", lp->im);
+      cJSON_AddNumberToObject(o, "stability_index", lp->zeta);
+      cJSON_AddNumberToObject(o, "mac", lp->mac);
+      cJSON_AddNumberToObject(o, "roll_share", lp->roll_share);
+      cJSON_AddBoolToObject(o, "hunting_related", lp->hunting);
+      cJSON_AddItemToArray(arr, o);
+    }
+  if (root) cli_json_print(root);
+}
+
+/* The locus: point by point with progress (one process), or spread over
+   the MPI ranks. Returns 0, CLI_EXIT_STOPPED (the points done in pts) or an
+   exit status. */
+static int locus_compute(rr_model *m, const cli_common *c, const grid_args *a, const double *vals,
+                         rr_locus_point *pts, int *nb)
+{
+  cli_progress pr;
+  cli_catch_stops();
+  cli_progress_start(&pr, "locus", a->n, c->progress);
+  int r = 0;
+  if (cli_par_size() > 1) {
+    long ndone = a->n;
+    r = locus_mpi(m, c, (rr_locus_param)a->param, vals, a->n, pts, nb, &ndone, &pr);
+    if (!r && ndone < a->n) r = CLI_EXIT_STOPPED;
+  } else {
+    rr_progress hook = cli_progress_hook(&pr);
+    rr_error e;
+    int st = rr_locus(m, (rr_locus_param)a->param, vals, a->n, &c->mo, &hook, pts, nb, &e);
+    r = st == RR_ESTOPPED ? CLI_EXIT_STOPPED : st ? cli_fail(&e, st) : 0;
+  }
+  cli_progress_end(&pr);
+  return r;
+}
+
 int cmd_locus(int argc, char **argv)
 {
   static const char help[] =
@@ -565,97 +644,23 @@ int cmd_locus(int argc, char **argv)
   if (a.param == 1 && c.have_conicity)
     return cli_bad("locus: --over conicity sweeps the conicity (--range); --conicity is not read");
   if (cli_over_limit("locus", a.n, a.limit, "points")) return EXIT_BADINPUT;
-  if (!a.have_range) {
-    if (a.param == 0) {
-      a.from = 20;
-      a.to = 500;
-      a.n = 25;
-    } else {
-      a.from = 0.02;
-      a.to = 0.5;
-      a.n = 25;
-    }
-  }
-  if (a.param == 0 && !(a.from > 0 && a.to > 0 && fmax(a.from, a.to) <= RR_SPEED_MAX_MS * RR_KMH))
-    return cli_bad("--range: speeds must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
-  if (a.param == 1 && !(a.from >= 0 && a.to >= 0 && fmax(a.from, a.to) <= RR_CONICITY_MAX))
-    return cli_bad("--range: conicities must be within [0, %g]", RR_CONICITY_MAX);
+  int r = locus_range(&a);
   rr_model *m;
-  int r = cli_model(&c, &m, 0, 0);
-  if (r) return r;
+  if (r || (r = cli_model(&c, &m, 0, 0))) return r;
   double *vals = malloc(sizeof(double) * (size_t)a.n);
   rr_locus_point *pts =
       malloc(sizeof(rr_locus_point) * (size_t)a.n * (size_t)rr_model_state_size(m));
-  if (!vals || !pts) {
-    free(vals);
-    free(pts);
-    rr_model_free(m);
-    return cli_bad("out of memory");
-  }
-  for (int i = 0; i < a.n; i++) vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? RR_KMH : 1.0);
-  rr_error e;
-  int nb = 0, st = 0;
-  long ndone = a.n;
-  cli_progress pr;
-  cli_catch_stops();
-  if (cli_par_size() > 1) { /* under mpirun: blocks of points over the ranks */
-    cli_progress_start(&pr, "locus", a.n, c.progress);
-    r = locus_mpi(m, &c, (rr_locus_param)a.param, vals, a.n, pts, &nb, &ndone, &pr);
-    if (r) {
-      cli_progress_end(&pr);
-      rr_model_free(m);
-      free(vals);
-      free(pts);
-      return r;
-    }
-    if (ndone < a.n) st = RR_ESTOPPED;
-  } else {
-    cli_progress_start(&pr, "locus", a.n, c.progress);
-    rr_progress hook = cli_progress_hook(&pr);
-    st = rr_locus(m, (rr_locus_param)a.param, vals, a.n, &c.mo, &hook, pts, &nb, &e);
-  }
-  cli_progress_end(&pr);
-  double v0 = rr_model_speed(m) * RR_KMH, l0 = rr_model_conicity(m);
+  int nb = 0;
+  if (!vals || !pts) r = cli_bad("out of memory");
+  for (int i = 0; i < a.n && !r; i++)
+    vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? RR_KMH : 1.0);
+  if (!r) r = locus_compute(m, &c, &a, vals, pts, &nb);
+  if (!r || r == CLI_EXIT_STOPPED) /* stopped: the points done */
+    locus_print(&c, &a, pts, nb, rr_model_speed(m) * RR_KMH, rr_model_conicity(m));
   rr_model_free(m);
-  if (st && st != RR_ESTOPPED) {
-    free(vals);
-    free(pts);
-    return cli_fail(&e, st);
-  } /* stopped: the points done */
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL,
-        *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
-  if (!c.json)
-    printf("branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_"
-           "carbody,e_frames,e_wheelsets,"
-           "roll_share,hunting_related\n");
-  for (int b = 0; b < nb; b++)
-    for (int p = 0; p < a.n; p++) {
-      const rr_locus_point *lp = &pts[(size_t)p * nb + b];
-      if (!isfinite(lp->re)) continue; /* the branch was not matched at this point: no row */
-      double sp = a.param == 0 ? lp->param * RR_KMH : v0, co = a.param == 1 ? lp->param : l0;
-      if (c.json) {
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddNumberToObject(o, "branch", b);
-        cJSON_AddNumberToObject(o, "speed_kmh", sp);
-        cJSON_AddNumberToObject(o, "conicity", co);
-        cJSON_AddNumberToObject(o, "freq_hz", lp->freq_hz);
-        cJSON_AddNumberToObject(o, "real", lp->re);
-        cJSON_AddNumberToObject(o, "imag", lp->im);
-        cJSON_AddNumberToObject(o, "stability_index", lp->zeta);
-        cJSON_AddNumberToObject(o, "mac", lp->mac);
-        cJSON_AddNumberToObject(o, "roll_share", lp->roll_share);
-        cJSON_AddBoolToObject(o, "hunting_related", lp->hunting);
-        cJSON_AddItemToArray(arr, o);
-      } else {
-        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", b, sp, co,
-               lp->freq_hz, lp->re, lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1],
-               lp->energy[2], lp->roll_share, lp->hunting);
-      }
-    }
-  if (root) cli_json_print(root);
   free(vals);
   free(pts);
-  return st == RR_ESTOPPED ? CLI_EXIT_STOPPED : 0;
+  return r;
 }
 
 static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
