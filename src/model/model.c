@@ -198,9 +198,8 @@ double complex rr_model_series_k(const rr_model *m, int i, double complex s, dou
 {
   const rr_mx *x = &m->mx[i];
   if (!x->sdf || m->sdf_mode == RR_SDF_NONE) return x->k;
-  if (m->sdf_mode == RR_SDF_PAPER)
-    return sdf_k > 0 ? sdf_k : rr_sdf_storage(&m->curve, fabs(cimag(s)) / (2 * RR_PI));
-  return rr_sdf_laplace(&m->curve, s);
+  if (m->sdf_mode == RR_SDF_PAPER && sdf_k > 0) return sdf_k; /* a self-consistent root's k */
+  return rr_sdf_series_k(&m->curve, m->sdf_mode, s);
 }
 
 void rr_model_dynamic_stiffness(const rr_model *m, double complex s, double sdf_k,
