@@ -15,29 +15,29 @@ enum rr_axis { RR_AXIS_LATERAL = 0, RR_AXIS_VERTICAL = 1 };
 enum rr_iso_weighting { RR_ISO_WB = 0, RR_ISO_WC = 1, RR_ISO_WD = 2, RR_ISO_WK = 3 };
 
 /* Sperling weighting filter |B(f)|: B_s vertical, 1.25 B_s lateral. */
-RR_API double rr_sperling_filter(double f_hz, int axis);
+RR_API double rr_sperling_filter(double f_hz, enum rr_axis axis);
 /* The Sperling weighting B(f) as a continuous state-space filter (3 states):
  * |C (j w I - A)^-1 B| = rr_sperling_filter(f, axis). A 3x3, B 3, C 3. */
-RR_API void rr_sperling_filter_ss(int axis, double *A, double *B, double *C);
+RR_API void rr_sperling_filter_ss(enum rr_axis axis, double *A, double *B, double *C);
 /* Sperling's index from the weighted RMS acceleration a_w (m/s^2): 4.42 a_w^0.3. */
 RR_API double rr_sperling_from_weighted_rms(double aw_ms2);
 /* GB/T 5599 frequency correction factor F(f). */
-RR_API double rr_sperling_gb_factor(double f_hz, int axis);
+RR_API double rr_sperling_gb_factor(double f_hz, enum rr_axis axis);
 /* ISO 8041 frequency weighting H(j 2 pi f), band limits included. */
-RR_API rr_complex rr_iso8041_weight(int weighting, double f_hz);
+RR_API rr_complex rr_iso8041_weight(enum rr_iso_weighting weighting, double f_hz);
 
 /* RMS sqrt(integral G df) (m/s^2). */
 RR_API double rr_psd_rms(const double *f, const double *G, int n, int stride);
 /* Sperling by the weighting filter: Wz = 4.42 a_w^0.3, a_w^2 = integral |B|^2 G df. */
-RR_API int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis,
-                                    double *Wz, rr_error *err);
+RR_API int rr_sperling_filter_index(const double *f, const double *G, int n, int stride,
+                                    enum rr_axis axis, double *Wz, rr_error *err);
 /* Sperling by the GB/T 5599 line method: 0.2 Hz bands from 0.5 Hz lying
  * wholly inside the grid, A_i = sqrt(2 G(f_i) df), W = 3.57 (sum A^3 F/f)^0.1. */
-RR_API int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis,
-                                double *W, rr_error *err);
+RR_API int rr_sperling_gb_index(const double *f, const double *G, int n, int stride,
+                                enum rr_axis axis, double *W, rr_error *err);
 /* ISO 2631-1 / EN 12299 frequency-weighted RMS (m/s^2). */
-RR_API int rr_weighted_rms(const double *f, const double *G, int n, int stride, int weighting,
-                           double *aw, rr_error *err);
+RR_API int rr_weighted_rms(const double *f, const double *G, int n, int stride,
+                           enum rr_iso_weighting weighting, double *aw, rr_error *err);
 /* Every index of one axis on a fixed grid, planned once (FFTW's split): the
  * weightings |B|^2, |Wd|^2 and the GB/T 5599 bands' interpolation are
  * computed at plan time; executing it on a PSD column is a few dot products,
@@ -49,7 +49,7 @@ typedef struct rr_comfort {
   double sperling_gb; /* GB/T 5599 line method */
   double wd_rms;      /* ISO 2631-1 Wd (lateral) or Wb (vertical) weighted RMS, m/s^2 */
 } rr_comfort;
-RR_API int rr_comfort_plan_new(const double *f, int n, int axis, rr_comfort_plan **out,
+RR_API int rr_comfort_plan_new(const double *f, int n, enum rr_axis axis, rr_comfort_plan **out,
                                rr_error *err);
 RR_API void rr_comfort_plan_free(rr_comfort_plan *p);
 RR_API int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride,

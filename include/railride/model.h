@@ -43,7 +43,8 @@ RR_API double rr_model_conicity(const rr_model *m);
 /* Gravitational stiffness option (docs/model.md section 3). */
 RR_API void rr_model_set_gravity_stiffness(rr_model *m, int on);
 /* SDF mode and curve for the elements flagged sdf. */
-RR_API int rr_model_set_sdf(rr_model *m, int mode, const rr_sdf_curve *curve, rr_error *err);
+RR_API int rr_model_set_sdf(rr_model *m, rr_sdf_mode mode, const rr_sdf_curve *curve,
+                            rr_error *err);
 RR_API int rr_model_sdf_mode(const rr_model *m);
 RR_API const rr_sdf_curve *rr_model_sdf_curve(const rr_model *m);
 
@@ -60,8 +61,8 @@ RR_API const double *rr_model_B(const rr_model *m);           /* n x ninputs */
 /* Displacement row (length ndof) of a point (absolute x, y, z) fixed to the
  * named body, along dir (enum rr_direction): u = row . q. The vehicle's
  * bodies are "c", "f1", "f2", "w1".."w4". */
-RR_API int rr_model_point_row(const rr_model *m, const char *body, const double point[3], int dir,
-                              double *row, rr_error *err);
+RR_API int rr_model_point_row(const rr_model *m, const char *body, const double point[3],
+                              enum rr_direction dir, double *row, rr_error *err);
 
 /* Maxwell elements (c in series with finite k), in state order. */
 RR_API int rr_model_nmaxwell(const rr_model *m);

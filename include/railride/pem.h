@@ -40,7 +40,7 @@ typedef struct rr_frf_opts {
   int npoints;             /* output points */
   const double *rows;      /* npoints x ndof: displacement rows; output = -w^2 rows.q + rows0.q */
   const double *rows0;     /* npoints x ndof or NULL: rows taken without -w^2 (roll gravity) */
-  int method;              /* enum rr_frf_method */
+  enum rr_frf_method method;
 } rr_frf_opts;
 
 /* The defaults above, modal method, no output rows yet. */

@@ -47,7 +47,7 @@ RR_API rr_complex rr_sdf_laplace(const rr_sdf_curve *c, rr_complex s);
  * rr_sdf_mode) at the Laplace variable s: paper mode the real storage
  * stiffness at |Im s| / 2 pi, physical mode the complex one. The one rule the
  * model and the damper characteristics share. */
-RR_API rr_complex rr_sdf_series_k(const rr_sdf_curve *c, int mode, rr_complex s);
+RR_API rr_complex rr_sdf_series_k(const rr_sdf_curve *c, rr_sdf_mode mode, rr_complex s);
 /* Smallest and largest storage stiffness of the curve (K3, K3+K2 for SLS). */
 RR_API void rr_sdf_range(const rr_sdf_curve *c, double *k_lo, double *k_hi);
 /* Reads a CSV table f_hz,k_storage[,k_loss] (N/m); '#' comments and one

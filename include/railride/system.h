@@ -32,8 +32,8 @@ enum rr_law {
 typedef struct rr_system rr_system;
 
 typedef struct rr_body_spec {
-  const char *name;    /* DOFs are named y_<name>, psi_<name>, phi_<name> */
-  int group;           /* enum rr_group */
+  const char *name; /* DOFs are named y_<name>, psi_<name>, phi_<name> */
+  enum rr_group group;
   double mass;         /* kg */
   double yaw_inertia;  /* kg m^2 (about z) */
   double roll_inertia; /* kg m^2 (about x) */
@@ -45,11 +45,11 @@ typedef struct rr_element_spec {
   const char *name;
   int body_a, body_b; /* body indices or RR_GROUND */
   double point[3];    /* absolute point x, y, z (m); unused for roll */
-  int direction;      /* enum rr_direction */
-  int law;            /* enum rr_law */
-  double k;           /* N/m (N m/rad in roll): parallel spring, or series spring of a Maxwell */
-  double c;           /* N s/m */
-  int sdf;            /* Maxwell whose series spring follows the SDF curve */
+  enum rr_direction direction;
+  enum rr_law law;
+  double k; /* N/m (N m/rad in roll): parallel spring, or series spring of a Maxwell */
+  double c; /* N s/m */
+  int sdf;  /* Maxwell whose series spring follows the SDF curve */
 } rr_element_spec;
 
 typedef struct rr_contact_spec {

@@ -152,7 +152,7 @@ void rr_model_set_gravity_stiffness(rr_model *m, int on)
   rr_model_set_operating(m, m->speed, m->conicity, NULL);
 }
 
-int rr_model_set_sdf(rr_model *m, int mode, const rr_sdf_curve *curve, rr_error *err)
+int rr_model_set_sdf(rr_model *m, rr_sdf_mode mode, const rr_sdf_curve *curve, rr_error *err)
 {
   if (mode < RR_SDF_NONE || mode > RR_SDF_PHYSICAL)
     return rr_seterr(err, RR_EINVAL, "unknown SDF mode %d", mode);
@@ -221,8 +221,8 @@ void rr_model_dynamic_stiffness(const rr_model *m, double complex s, double sdf_
   }
 }
 
-int rr_model_point_row(const rr_model *m, const char *body, const double point[3], int dir,
-                       double *row, rr_error *err)
+int rr_model_point_row(const rr_model *m, const char *body, const double point[3],
+                       enum rr_direction dir, double *row, rr_error *err)
 {
   int b = -1;
   for (int i = 0; i < m->nbodies; i++)

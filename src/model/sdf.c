@@ -46,7 +46,7 @@ double complex rr_sdf_laplace(const rr_sdf_curve *c, double complex s)
 
 double complex rr_sdf_complex(const rr_sdf_curve *c, double w) { return rr_sdf_laplace(c, I * w); }
 
-double complex rr_sdf_series_k(const rr_sdf_curve *c, int mode, double complex s)
+double complex rr_sdf_series_k(const rr_sdf_curve *c, rr_sdf_mode mode, double complex s)
 {
   if (mode == RR_SDF_PAPER) return rr_sdf_storage(c, fabs(cimag(s)) / (2 * RR_PI));
   return rr_sdf_laplace(c, s);

@@ -44,7 +44,7 @@ double rr_sperling_from_weighted_rms(double aw)
 }
 
 /* The same B as a state-space filter in s = 2 pi j f (controllable form). */
-void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
+void rr_sperling_filter_ss(enum rr_axis axis, double *A, double *B, double *C)
 {
   double g = sperling_gain(axis), tp = 2 * RR_PI;
   double a3 = sperling_b.d3 / (tp * tp * tp);
@@ -60,9 +60,9 @@ void rr_sperling_filter_ss(int axis, double *A, double *B, double *C)
   C[2] = n2;
 }
 
-double rr_sperling_filter(double f, int axis) { return sqrt(sperling2(f, axis)); }
+double rr_sperling_filter(double f, enum rr_axis axis) { return sqrt(sperling2(f, axis)); }
 
-double rr_sperling_gb_factor(double f, int axis)
+double rr_sperling_gb_factor(double f, enum rr_axis axis)
 {
   if (axis == RR_AXIS_LATERAL) { /* at a breakpoint the lower range's formula applies */
     if (f <= 5.4) return 0.8 * f * f;
@@ -82,7 +82,7 @@ static const double iso[4][10] = {
     {0.4, 100, 12.5, 12.5, 0.63, 2.37, 0.91, 3.35, 0.91, 1}, /* Wk */
 };
 
-double complex rr_iso8041_weight(int wt, double f)
+double complex rr_iso8041_weight(enum rr_iso_weighting wt, double f)
 {
   const double *P = iso[wt];
   double complex s = I * 2 * RR_PI * f;
@@ -174,7 +174,7 @@ double rr_psd_rms(const double *f, const double *G, int n, int stride)
   return sqrt(trapz_weighted(f, G, n, stride, NULL, 0));
 }
 
-int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, int axis,
+int rr_sperling_filter_index(const double *f, const double *G, int n, int stride, enum rr_axis axis,
                              double *Wz, rr_error *err)
 {
   int st = check_grid(f, n, err);
@@ -184,8 +184,8 @@ int rr_sperling_filter_index(const double *f, const double *G, int n, int stride
   return RR_OK;
 }
 
-int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, int axis, double *W,
-                         rr_error *err)
+int rr_sperling_gb_index(const double *f, const double *G, int n, int stride, enum rr_axis axis,
+                         double *W, rr_error *err)
 {
   int st = check_grid(f, n, err);
   if (!st) st = gb_grid_check(f, n, err);
@@ -211,8 +211,8 @@ static double iso2(double f, int wt)
   return creal(h * conj(h));
 }
 
-int rr_weighted_rms(const double *f, const double *G, int n, int stride, int wt, double *aw,
-                    rr_error *err)
+int rr_weighted_rms(const double *f, const double *G, int n, int stride, enum rr_iso_weighting wt,
+                    double *aw, rr_error *err)
 {
   if (wt < RR_ISO_WB || wt > RR_ISO_WK)
     return rr_seterr(err, RR_EINVAL, "comfort: unknown ISO weighting");
@@ -242,7 +242,8 @@ void rr_comfort_plan_free(rr_comfort_plan *p)
   free(p);
 }
 
-int rr_comfort_plan_new(const double *f, int n, int axis, rr_comfort_plan **out, rr_error *err)
+int rr_comfort_plan_new(const double *f, int n, enum rr_axis axis, rr_comfort_plan **out,
+                        rr_error *err)
 {
   *out = NULL;
   if (axis != RR_AXIS_LATERAL && axis != RR_AXIS_VERTICAL)
