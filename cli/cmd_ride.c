@@ -367,14 +367,8 @@ int cmd_frf(int argc, char **argv)
   for (int k = 0; k < a.rs.nfreq; k++)
     for (int q = 0; q < np; q++)
       for (int i = 0; i <= ni; i++) {
-        double complex h;
-        if (i < ni)
-          h = H[((size_t)k * np + q) * ni + i];
-        else {
-          h = 0;
-          for (int j = 0; j < ni; j++)
-            h += H[((size_t)k * np + q) * ni + j] * cexp(I * 2 * RR_PI * f[k] * xin[j] / v);
-        }
+        const double complex *Hq = H + ((size_t)k * np + q) * ni;
+        double complex h = i < ni ? Hq[i] : rr_pem_lagged_sum(Hq, xin, ni, 2 * RR_PI * f[k], v);
         char inp[8];
         snprintf(inp, sizeof inp, i < ni ? "%d" : "sum", i + 1);
         if (c.json) {

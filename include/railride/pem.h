@@ -69,7 +69,11 @@ RR_API const rr_complex *rr_frf_H(const rr_frf_plan *p);
  * at each input, G_t(f) = G_s(f/v)/v. */
 RR_API int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G,
                       rr_error *err);
-/* One PEM term: Gt |sum_i H_i exp(j w x_i / v)|^2. */
+/* The response to one alignment seen by every input with its lag:
+ * sum_i H_i exp(j w x_i / v) (x: the inputs' positions, m; w rad/s; v m/s). */
+RR_API rr_complex rr_pem_lagged_sum(const rr_complex *H, const double *x, int ninputs, double w,
+                                    double v);
+/* One PEM term: Gt |rr_pem_lagged_sum|^2. */
 RR_API double rr_pem_combine(const rr_complex *H, const double *x, int ninputs, double w, double v,
                              double Gt);
 

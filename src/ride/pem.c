@@ -647,11 +647,18 @@ int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
   return RR_OK;
 }
 
-double rr_pem_combine(const double complex *H, const double *x, int ni, double w, double v,
-                      double Gt)
+double complex rr_pem_lagged_sum(const double complex *H, const double *x, int ni, double w,
+                                 double v)
 {
   double complex a = 0;
   for (int i = 0; i < ni; i++) a += H[i] * cexp(I * w * x[i] / v);
+  return a;
+}
+
+double rr_pem_combine(const double complex *H, const double *x, int ni, double w, double v,
+                      double Gt)
+{
+  double complex a = rr_pem_lagged_sum(H, x, ni, w, v);
   return Gt * creal(a * conj(a));
 }
 
