@@ -164,12 +164,13 @@ typedef struct ride_setup {
   int roll_gravity;
   double f_lo, f_hi;
   int nfreq;
-  int method; /* RR_FRF_MODAL / RR_FRF_DIRECT */
+  enum rr_frf_method method;
 } ride_setup;
 typedef struct ride_point {
   double x, rms, sperling, sperling_gb, wd_rms, nmv;
 } ride_point;
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
+void ride_default_points(ride_setup *r, const rr_vehicle *veh);
 /* The floor-point options every ride-type command takes. */
 enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
 #define RIDE_SETUP_OPTIONS                                                                         \

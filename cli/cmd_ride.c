@@ -5,29 +5,33 @@
 #include <string.h>
 #include "cli.h"
 
-void ride_setup_default(ride_setup *r, const rr_vehicle *veh)
+/* The paper's floor points: above the bogie centres and the car's centre,
+   x = +L, 0, -L. */
+void ride_default_points(ride_setup *r, const rr_vehicle *veh)
 {
-  memset(r, 0, sizeof *r);
-  r->spectrum = "wuhan-guangzhou";
   r->npoints = 3;
   r->x[0] = veh->bogie_half_spacing;
   r->x[1] = 0;
   r->x[2] = -veh->bogie_half_spacing;
-  r->h_p = 1.2;
-  r->f_lo = 0.3;
-  r->f_hi = 30;
-  r->nfreq = 400;
-  r->method = RR_FRF_MODAL;
+}
+
+void ride_setup_default(ride_setup *r, const rr_vehicle *veh)
+{
+  rr_frf_opts fo = rr_frf_opts_default();
+  *r = (ride_setup){.spectrum = "wuhan-guangzhou",
+                    .h_p = RR_FLOOR_HEIGHT_DEFAULT,
+                    .f_lo = fo.f_lo_hz,
+                    .f_hi = fo.f_hi_hz,
+                    .nfreq = fo.nfreq,
+                    .method = fo.method};
+  ride_default_points(r, veh);
 }
 
 void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv)
 {
   for (int i = 1; i < argc; i++)
     if (!strncmp(argv[i], "--points", 8)) return;
-  r->npoints = 3;
-  r->x[0] = veh->bogie_half_spacing;
-  r->x[1] = 0;
-  r->x[2] = -veh->bogie_half_spacing;
+  ride_default_points(r, veh);
 }
 
 cJSON *ride_methods_json(void)
@@ -435,10 +439,7 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
     return cli_fail(&e, st);
   }
   ride_setup rs = a->ra.rs;
-  rs.npoints = 3;
-  rs.x[0] = base->bogie_half_spacing;
-  rs.x[1] = 0;
-  rs.x[2] = -base->bogie_half_spacing;
+  ride_default_points(&rs, base);
   if (!jarr && !a->csv) {
     printf("\n%s: yaw damper series stiffness constant (k = %g MN/m) vs SDF (%s mode, K1 %g Hz, K2 "
            "%g MN/m, K3 %g MN/m)\n",
