@@ -51,7 +51,7 @@ int cmd_matrices(int argc, char **argv)
     cJSON *mx = cJSON_AddArrayToObject(root, "maxwell");
     for (int i = 0; i < rr_model_nmaxwell(m); i++) {
       rr_maxwell_info info;
-      rr_model_maxwell(m, i, &info);
+      rr_model_maxwell(m, i, &info, NULL); /* i in range */
       cJSON *o = cJSON_CreateObject();
       cJSON_AddStringToObject(o, "name", info.name);
       cJSON_AddItemToObject(o, "J", cJSON_CreateDoubleArray(info.J, n));
@@ -78,7 +78,7 @@ int cmd_matrices(int argc, char **argv)
     printf("Maxwell elements (state order):\n");
     for (int i = 0; i < rr_model_nmaxwell(m); i++) {
       rr_maxwell_info info;
-      rr_model_maxwell(m, i, &info);
+      rr_model_maxwell(m, i, &info, NULL); /* i in range */
       printf("  %-24s k = %.6g N/m  c = %.6g N s/m%s\n", info.name, info.k, info.c,
              info.sdf ? "  (SDF)" : "");
     }

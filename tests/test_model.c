@@ -93,20 +93,22 @@ static void test_entries(void)
   /* Maxwell rows */
   CHECK(rr_model_nmaxwell(m) == 6, "6 Maxwell elements");
   rr_maxwell_info info;
-  rr_model_maxwell(m, 0, &info); /* yaw damper bogie 1 left: e = -l_cx (psi_c - psi_f1) */
+  CHECK_OK(rr_model_maxwell(m, 0, &info, &e), e); /* yaw damper bogie 1 left */
   CHECK_CLOSE(info.J[PC], -v.yaw_half_spacing, 1e-12, 0, "yaw damper J psi_c");
   CHECK_CLOSE(info.J[PF1], v.yaw_half_spacing, 1e-12, 0, "yaw damper J psi_f1");
   CHECK(info.k == 10e6 && info.c == 4000e3, "yaw damper k, c");
-  rr_model_maxwell(m, 1, &info);
+  CHECK_OK(rr_model_maxwell(m, 1, &info, &e), e);
   CHECK_CLOSE(info.J[PC], v.yaw_half_spacing, 1e-12, 0, "right yaw damper J psi_c");
-  rr_model_maxwell(m, 5, &info); /* lateral damper bogie 2 */
+  CHECK_OK(rr_model_maxwell(m, 5, &info, &e), e); /* lateral damper bogie 2 */
+  CHECK(rr_model_maxwell(m, 6, &info, &e) == RR_EINVAL && e.code == RR_EINVAL,
+        "element 6: a status and a message");
   CHECK_CLOSE(info.J[YC], 1, 1e-12, 0, "lateral damper J y_c");
   CHECK_CLOSE(info.J[PC], -L, 1e-12, 0, "lateral damper J psi_c");
   CHECK_CLOSE(info.J[RC], -(v.lateral_damper_height - hc), 1e-12, 0, "lateral damper J phi_c");
   CHECK_CLOSE(info.J[YF2], -1, 1e-12, 0, "lateral damper J y_f2");
   CHECK_CLOSE(info.J[RF2], v.lateral_damper_height - hf, 1e-12, 0, "lateral damper J phi_f2");
   /* gravitational stiffness option */
-  rr_model_set_gravity_stiffness(m, 1);
+  CHECK_OK(rr_model_set_gravity_stiffness(m, 1, &e), e);
   double W = 9.81 * (v.carbody_mass + 2 * v.frame_mass + 4 * v.wheelset_mass) / 4;
   CHECK_CLOSE(K_(YW2, YW2), 2 * kpy + W * lam / l0, 1e-12, 0, "gravity K y_w");
   CHECK_CLOSE(K_(PW2, PW2), 2 * kpx * l1 * l1 + 2 * kpy * lb * lb - W * lam * l0, 1e-12, 0,

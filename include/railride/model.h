@@ -40,8 +40,9 @@ RR_API int rr_model_clone(const rr_model *m, rr_model **out, rr_error *err);
 RR_API int rr_model_set_operating(rr_model *m, double speed_ms, double conicity, rr_error *err);
 RR_API double rr_model_speed(const rr_model *m);
 RR_API double rr_model_conicity(const rr_model *m);
-/* Gravitational stiffness option (docs/model.md section 3). */
-RR_API void rr_model_set_gravity_stiffness(rr_model *m, int on);
+/* Gravitational stiffness option (docs/model.md section 3); the operating
+ * point's contact terms are rebuilt with it. */
+RR_API int rr_model_set_gravity_stiffness(rr_model *m, int on, rr_error *err);
 /* SDF mode and curve for the elements flagged sdf. */
 RR_API int rr_model_set_sdf(rr_model *m, rr_sdf_mode mode, const rr_sdf_curve *curve,
                             rr_error *err);
@@ -72,7 +73,8 @@ typedef struct rr_maxwell_info {
   double k, c;     /* series stiffness N/m, damping N s/m */
   int sdf;         /* follows the SDF curve */
 } rr_maxwell_info;
-RR_API int rr_model_maxwell(const rr_model *m, int i, rr_maxwell_info *info);
+/* Maxwell element i (0 .. rr_model_nmaxwell - 1) into *info. */
+RR_API int rr_model_maxwell(const rr_model *m, int i, rr_maxwell_info *info, rr_error *err);
 
 /* State space z = [q; dq/dt; u] (docs/model.md section 5). Size 2n + nmaxwell,
  * plus one inner state per SDF element in physical mode. */

@@ -146,10 +146,10 @@ int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
 double rr_model_speed(const rr_model *m) { return m->speed; }
 double rr_model_conicity(const rr_model *m) { return m->conicity; }
 
-void rr_model_set_gravity_stiffness(rr_model *m, int on)
+int rr_model_set_gravity_stiffness(rr_model *m, int on, rr_error *err)
 {
   m->gravity = on != 0;
-  rr_model_set_operating(m, m->speed, m->conicity, NULL);
+  return rr_model_set_operating(m, m->speed, m->conicity, err);
 }
 
 int rr_model_set_sdf(rr_model *m, rr_sdf_mode mode, const rr_sdf_curve *curve, rr_error *err)
@@ -183,9 +183,10 @@ const double *rr_model_K(const rr_model *m) { return m->K; }
 const double *rr_model_B(const rr_model *m) { return m->B; }
 int rr_model_nmaxwell(const rr_model *m) { return m->nmx; }
 
-int rr_model_maxwell(const rr_model *m, int i, rr_maxwell_info *info)
+int rr_model_maxwell(const rr_model *m, int i, rr_maxwell_info *info, rr_error *err)
 {
-  if (i < 0 || i >= m->nmx) return RR_EINVAL;
+  if (i < 0 || i >= m->nmx)
+    return rr_seterr(err, RR_EINVAL, "Maxwell element %d: the model has %d", i, m->nmx);
   info->name = m->mx[i].name;
   info->J = m->mx[i].J;
   info->k = m->mx[i].k;

@@ -108,16 +108,16 @@ static rr_contact_law law_of(const rr_vehicle *veh)
   return l;
 }
 
-static const rr_profile *profile_of(const rr_vehicle *veh, const rr_profile *p, rr_error *err)
+/* The tread profile: the one given, else the vehicle's. */
+static int profile_of(const rr_vehicle *veh, const rr_profile **p, rr_error *err)
 {
-  if (p) return p;
-  if (veh->profile.kind == RR_PROFILE_NONE) {
-    rr_seterr(err, RR_EINVAL,
-              "no tread profile: give one (new, worn or a table) or [contact] conicity_poly / "
-              "conicity_table");
-    return NULL;
-  }
-  return &veh->profile;
+  if (*p) return RR_OK;
+  if (veh->profile.kind == RR_PROFILE_NONE)
+    return rr_seterr(err, RR_EINVAL,
+                     "no tread profile: give one (new, worn or a table) or [contact] conicity_poly "
+                     "/ conicity_table");
+  *p = &veh->profile;
+  return RR_OK;
 }
 
 /* The model at (v, lambda(0)) and the nonlinear vehicle on it. */
@@ -145,7 +145,8 @@ int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const 
                               double v, rr_nonlinear **out, rr_error *err)
 {
   *out = NULL;
-  if (!(p = profile_of(veh, p, err))) return RR_EINVAL;
+  int st0 = profile_of(veh, &p, err);
+  if (st0) return st0;
   rr_model *m;
   int st = build(veh, p, law, v, &m, out, err);
   rr_model_free(m);
@@ -246,7 +247,8 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
         err, RR_EINVAL,
         "bifurcation: speeds 0 < min < max <= %g km/h, positive steps, room for 2 points",
         RR_SPEED_MAX_MS * RR_KMH);
-  if (!(p = profile_of(veh, p, err))) return RR_EINVAL;
+  int st0 = profile_of(veh, &p, err);
+  if (st0) return st0;
   rr_contact_law lv = law ? *law : law_of(veh);
   rr_model *m;
   rr_nonlinear *nl;
@@ -363,7 +365,8 @@ int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_con
     if (!(vs[i] > 0 && vs[i] <= RR_SPEED_MAX_MS) || (i && !(vs[i] > vs[i - 1])))
       return rr_seterr(err, RR_EINVAL, "scan: speeds must rise within (0, %g] km/h",
                        RR_SPEED_MAX_MS * RR_KMH);
-  if (!(p = profile_of(veh, p, err))) return RR_EINVAL;
+  int st0 = profile_of(veh, &p, err);
+  if (st0) return st0;
   rr_model *m;
   rr_nonlinear *nl;
   int st = build(veh, p, law, vs[0], &m, &nl, err);
