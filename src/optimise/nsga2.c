@@ -44,35 +44,49 @@ static int lex_cmp(const double *a, const double *b, int m)
   return 0;
 }
 
-static void sort_idx(int *idx, int n, const double *f, int m)
+/* "b goes before a" for a sort over indices. */
+typedef int (*idx_before)(const void *ctx, int b, int a);
+
+/* The one sort here: stable bottom-up merge sort of n indices; tmp: n ints. */
+static void merge_sort(int *idx, int n, int *tmp, idx_before before, const void *ctx)
 {
-  /* merge sort on indices (stable, no global context) */
-  if (n < 2) return;
-  int *tmp = malloc(sizeof(int) * n);
-  if (!tmp) { /* fall back to insertion sort */
-    for (int i = 1; i < n; i++) {
-      int t = idx[i], j = i;
-      while (j > 0 && lex_cmp(f + (size_t)idx[j - 1] * m, f + (size_t)t * m, m) > 0) {
-        idx[j] = idx[j - 1];
-        j--;
-      }
-      idx[j] = t;
-    }
-    return;
-  }
   for (int w = 1; w < n; w *= 2) {
     for (int lo = 0; lo < n; lo += 2 * w) {
       int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n, a = lo, b = mid,
           k = lo;
-      while (a < mid && b < hi)
-        tmp[k++] =
-            lex_cmp(f + (size_t)idx[b] * m, f + (size_t)idx[a] * m, m) < 0 ? idx[b++] : idx[a++];
+      while (a < mid && b < hi) tmp[k++] = before(ctx, idx[b], idx[a]) ? idx[b++] : idx[a++];
       while (a < mid) tmp[k++] = idx[a++];
       while (b < hi) tmp[k++] = idx[b++];
     }
-    memcpy(idx, tmp, sizeof(int) * n);
+    memcpy(idx, tmp, sizeof(int) * (size_t)n);
   }
-  free(tmp);
+}
+
+typedef struct lex_order {
+  const double *f;
+  int m;
+} lex_order;
+static int lex_before(const void *ctx, int b, int a)
+{
+  const lex_order *o = ctx;
+  return lex_cmp(o->f + (size_t)b * o->m, o->f + (size_t)a * o->m, o->m) < 0;
+}
+
+typedef struct key_order {
+  const double *key;
+  int descending;
+} key_order;
+static int key_before(const void *ctx, int b, int a)
+{
+  const key_order *o = ctx;
+  return o->descending ? o->key[b] > o->key[a] : o->key[b] < o->key[a];
+}
+
+/* Indices by key[idx] (ascending, or descending), stable. */
+static void sort_by_key(int *idx, int cnt, const double *key, int *tmp, int descending)
+{
+  key_order o = {.key = key, .descending = descending};
+  merge_sort(idx, cnt, tmp, key_before, &o);
 }
 
 /* Per-front staircase of (f2, f3) minima, f2 ascending and f3 descending,
@@ -153,7 +167,8 @@ static int nondominated_ranks(int n, int m, const double *f, int *rank)
     return -1;
   }
   for (int i = 0; i < n; i++) idx[i] = i;
-  sort_idx(idx, n, f, m);
+  lex_order lex = {.f = f, .m = m};
+  merge_sort(idx, n, next, lex_before, &lex); /* next: scratch until the fronts use it */
   int nf = 0, fail = 0;
   for (int t = 0; t < n && !fail; t++) {
     int p = idx[t];
@@ -197,24 +212,6 @@ static int nondominated_ranks(int n, int m, const double *f, int *rank)
   free(next);
   free(minf2);
   return fail ? -1 : nf;
-}
-
-/* Stable merge sort of cnt indices by key[idx] (ascending, or descending). */
-static void sort_by_key(int *idx, int cnt, const double *key, int *tmp, int descending)
-{
-  for (int w = 1; w < cnt; w *= 2) {
-    for (int lo = 0; lo < cnt; lo += 2 * w) {
-      int mid = lo + w < cnt ? lo + w : cnt, hi = lo + 2 * w < cnt ? lo + 2 * w : cnt, a = lo,
-          b = mid, k = lo;
-      while (a < mid && b < hi) {
-        int takeb = descending ? key[idx[b]] > key[idx[a]] : key[idx[b]] < key[idx[a]];
-        tmp[k++] = takeb ? idx[b++] : idx[a++];
-      }
-      while (a < mid) tmp[k++] = idx[a++];
-      while (b < hi) tmp[k++] = idx[b++];
-    }
-    memcpy(idx, tmp, sizeof(int) * cnt);
-  }
 }
 
 /* 2-D staircase area of points sorted by f1 ascending (f2 descending), up to ref. */
