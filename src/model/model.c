@@ -229,25 +229,8 @@ int rr_model_point_row(const rr_model *m, const char *body, const double point[3
   for (int i = 0; i < m->nbodies; i++)
     if (!strcmp(m->bodies[i].name, body)) b = i;
   if (b < 0) return rr_seterr(err, RR_EINVAL, "no body named '%s'", body);
-  const rr_body *bd = &m->bodies[b];
-  double dx = point[0] - bd->ref[0], dy = point[1] - bd->ref[1], dz = point[2] - bd->ref[2];
   for (int i = 0; i < m->n; i++) row[i] = 0;
-  switch (dir) {
-  case RR_DIR_X:
-    if (bd->dof_psi >= 0) row[bd->dof_psi] = -dy;
-    break;
-  case RR_DIR_Y:
-    if (bd->dof_y >= 0) row[bd->dof_y] = 1;
-    if (bd->dof_psi >= 0) row[bd->dof_psi] = dx;
-    if (bd->dof_phi >= 0) row[bd->dof_phi] = -dz;
-    break;
-  case RR_DIR_Z:
-    if (bd->dof_phi >= 0) row[bd->dof_phi] = dy;
-    break;
-  case RR_DIR_ROLL:
-    if (bd->dof_phi >= 0) row[bd->dof_phi] = 1;
-    break;
-  default: return rr_seterr(err, RR_EINVAL, "unknown direction %d", dir);
-  }
+  if (rr_point_motion(&m->bodies[b], point, dir, 1.0, row))
+    return rr_seterr(err, RR_EINVAL, "unknown direction %d", dir);
   return RR_OK;
 }

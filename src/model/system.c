@@ -75,28 +75,32 @@ static int add_body(rr_system *sys, const rr_body_spec *b, rr_error *err)
 }
 
 /* Adds sign * (displacement of the point along dir) to J. */
-static void add_point_motion(const rr_system *sys, int body, const double *pt, int dir, double sign,
-                             double *J)
+int rr_point_motion(const rr_body *b, const double *pt, int dir, double sign, double *J)
 {
-  if (body == RR_GROUND) return;
-  const rr_body *b = &sys->bodies[body];
   double dx = pt[0] - b->ref[0], dy = pt[1] - b->ref[1], dz = pt[2] - b->ref[2];
   switch (dir) {
   case RR_DIR_X:
     if (b->dof_psi >= 0) J[b->dof_psi] += sign * -dy;
-    break;
+    return 0;
   case RR_DIR_Y:
     if (b->dof_y >= 0) J[b->dof_y] += sign;
     if (b->dof_psi >= 0) J[b->dof_psi] += sign * dx;
     if (b->dof_phi >= 0) J[b->dof_phi] += sign * -dz;
-    break;
+    return 0;
   case RR_DIR_Z:
     if (b->dof_phi >= 0) J[b->dof_phi] += sign * dy;
-    break;
+    return 0;
   case RR_DIR_ROLL:
     if (b->dof_phi >= 0) J[b->dof_phi] += sign;
-    break;
+    return 0;
   }
+  return -1;
+}
+
+static void add_point_motion(const rr_system *sys, int body, const double *pt, int dir, double sign,
+                             double *J)
+{
+  if (body != RR_GROUND) rr_point_motion(&sys->bodies[body], pt, dir, sign, J);
 }
 
 int rr_system_element_row(const rr_system *sys, const rr_element_spec *e, double *J, rr_error *err)

@@ -15,6 +15,11 @@ typedef struct rr_body {
   int dof_y, dof_psi, dof_phi;
 } rr_body;
 
+/* The one home of point kinematics: adds sign x the motion of body b's point
+   pt along dir (enum rr_direction) to the row J (length ndof); -1 for an
+   unknown direction. u_x = -dy psi; u_y = y + dx psi - dz phi; u_z = dy phi. */
+int rr_point_motion(const rr_body *b, const double *pt, int dir, double sign, double *J);
+
 typedef struct rr_elem {
   char name[48];
   int law;
