@@ -214,6 +214,95 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
   return 0;
 }
 
+/* The results of ride: per conicity k and point q, pts[k * np + q] and the PSD
+   psd[(k * nf + i) * np + q] on freqs[i]. */
+typedef struct ride_results {
+  ride_point *pts;
+  double *psd, *freqs;
+} ride_results;
+
+static void ride_write_psd(FILE *fp, const ride_args *a, const ride_results *rr)
+{
+  int np = a->rs.npoints, nf = a->rs.nfreq;
+  fprintf(fp, "f_hz");
+  for (int k = 0; k < a->ncon; k++)
+    for (int q = 0; q < np; q++)
+      fprintf(fp, ",psd_c%g_x%gm_m2s-4_per_hz", a->conicities[k], a->rs.x[q]);
+  fprintf(fp, ",sperling_weight\n");
+  for (int i = 0; i < nf; i++) {
+    fprintf(fp, "%.10g", rr->freqs[i]);
+    for (int k = 0; k < a->ncon; k++)
+      for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", rr->psd[((size_t)k * nf + i) * np + q]);
+    double b = rr_sperling_filter(rr->freqs[i], RR_AXIS_LATERAL);
+    fprintf(fp, ",%.10g\n", b * b);
+  }
+}
+
+static void ride_json(const cli_common *c, const ride_args *a, const ride_results *rr)
+{
+  int np = a->rs.npoints;
+  cJSON *root = cJSON_CreateObject();
+  cJSON_AddStringToObject(root, "spectrum", a->rs.spectrum);
+  cJSON_AddStringToObject(root, "vehicle", c->veh.name);
+  cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
+  double band[2] = {a->rs.f_lo, a->rs.f_hi};
+  cJSON_AddItemToObject(root, "band_hz", cJSON_CreateDoubleArray(band, 2));
+  cJSON_AddNumberToObject(root, "nfreq", a->rs.nfreq);
+  cJSON_AddNumberToObject(root, "floor_height", a->rs.h_p);
+  cJSON_AddItemToObject(root, "methods", ride_methods_json());
+  cJSON *res = cJSON_AddArrayToObject(root, "results");
+  for (int k = 0; k < a->ncon; k++) {
+    cJSON *o = cJSON_CreateObject(), *pa = cJSON_AddArrayToObject(o, "points");
+    cJSON_AddNumberToObject(o, "conicity", a->conicities[k]);
+    for (int q = 0; q < np; q++) {
+      const ride_point *p = &rr->pts[k * np + q];
+      cJSON *po = cJSON_CreateObject();
+      cJSON_AddNumberToObject(po, "x", p->x);
+      cJSON_AddNumberToObject(po, "rms", p->rms);
+      cJSON_AddNumberToObject(po, "sperling", p->sperling);
+      cJSON_AddNumberToObject(po, "sperling_gb", p->sperling_gb);
+      cJSON_AddNumberToObject(po, "wd_rms", p->wd_rms);
+      cJSON_AddNumberToObject(po, "en12299_nmv", p->nmv);
+      cJSON_AddItemToArray(pa, po);
+    }
+    cJSON_AddItemToArray(res, o);
+  }
+  cli_json_print(root);
+}
+
+static void ride_text(const cli_common *c, const ride_args *a, const ride_results *rr)
+{
+  int np = a->rs.npoints;
+  printf("%s at %g km/h, spectrum %s, band %g-%g Hz (%d points), floor height %g m\n", c->veh.name,
+         c->speed_kmh, a->rs.spectrum, a->rs.f_lo, a->rs.f_hi, a->rs.nfreq, a->rs.h_p);
+  printf("Sperling: weighting-filter method (W) and GB/T 5599 line method (W_gb); wd_rms: ISO "
+         "2631-1 Wd\n");
+  printf("%9s %9s %12s %9s %9s %12s\n", "conicity", "x_m", "rms_m/s2", "W", "W_gb", "wd_rms_m/s2");
+  for (int k = 0; k < a->ncon; k++)
+    for (int q = 0; q < np; q++) {
+      const ride_point *p = &rr->pts[k * np + q];
+      printf("%9.4g %9.4g %12.5g %9.4f %9.4f %12.5g\n", a->conicities[k], p->x, p->rms, p->sperling,
+             p->sperling_gb, p->wd_rms);
+    }
+}
+
+/* Every conicity's ride evaluation into rr. */
+static int ride_all(const cli_common *c, const ride_args *a, ride_results *rr)
+{
+  int np = a->rs.npoints, nf = a->rs.nfreq;
+  rr->pts = malloc(sizeof(ride_point) * (size_t)(np * a->ncon));
+  rr->psd = malloc(sizeof(double) * (size_t)nf * (size_t)np * (size_t)a->ncon);
+  rr->freqs = malloc(sizeof(double) * (size_t)nf);
+  if (!rr->pts || !rr->psd || !rr->freqs) return cli_bad("out of memory");
+  rr_error e;
+  for (int k = 0; k < a->ncon; k++) {
+    int st = ride_eval(&c->veh, c->speed_kmh, a->conicities[k], &a->rs, rr->pts + k * np,
+                       rr->psd + (size_t)k * nf * np, rr->freqs, &e);
+    if (st) return cli_fail(&e, st);
+  }
+  return 0;
+}
+
 int cmd_ride(int argc, char **argv)
 {
   static const char help[] =
@@ -236,95 +325,21 @@ int cmd_ride(int argc, char **argv)
   if (!c.have_speed) return cli_bad("--speed is required");
   if (!c.ncon) return cli_bad("--conicity is required (one value or a comma list)");
   a.ncon = c.ncon;
-  memcpy(a.conicities, c.conicities, sizeof(double) * c.ncon);
-  int np = a.rs.npoints, nf = a.rs.nfreq;
-  ride_point *pts = malloc(sizeof(ride_point) * np * a.ncon);
-  double *psd = malloc(sizeof(double) * nf * np * a.ncon), *freqs = malloc(sizeof(double) * nf);
-  if (!pts || !psd || !freqs) {
-    free(pts);
-    free(psd);
-    free(freqs);
-    return cli_bad("out of memory");
-  }
-  rr_error e;
-  for (int k = 0; k < a.ncon; k++) {
-    int st = ride_eval(&c.veh, c.speed_kmh, a.conicities[k], &a.rs, pts + k * np,
-                       psd + (size_t)k * nf * np, freqs, &e);
-    if (st) {
-      free(pts);
-      free(psd);
-      free(freqs);
-      return cli_fail(&e, st);
-    }
-  }
-  if (a.psd_path) {
-    FILE *fp = fopen(a.psd_path, "w");
-    if (!fp) {
-      free(pts);
-      free(psd);
-      free(freqs);
-      return cli_bad("--psd: cannot write %s", a.psd_path);
-    }
-    fprintf(fp, "f_hz");
-    for (int k = 0; k < a.ncon; k++)
-      for (int q = 0; q < np; q++)
-        fprintf(fp, ",psd_c%g_x%gm_m2s-4_per_hz", a.conicities[k], a.rs.x[q]);
-    fprintf(fp, ",sperling_weight\n");
-    for (int i = 0; i < nf; i++) {
-      fprintf(fp, "%.10g", freqs[i]);
-      for (int k = 0; k < a.ncon; k++)
-        for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", psd[((size_t)k * nf + i) * np + q]);
-      double b = rr_sperling_filter(freqs[i], RR_AXIS_LATERAL);
-      fprintf(fp, ",%.10g\n", b * b);
-    }
-    fclose(fp);
-  }
-  if (c.json) {
-    cJSON *root = cJSON_CreateObject();
-    cJSON_AddStringToObject(root, "spectrum", a.rs.spectrum);
-    cJSON_AddStringToObject(root, "vehicle", c.veh.name);
-    cJSON_AddNumberToObject(root, "speed_kmh", c.speed_kmh);
-    double band[2] = {a.rs.f_lo, a.rs.f_hi};
-    cJSON_AddItemToObject(root, "band_hz", cJSON_CreateDoubleArray(band, 2));
-    cJSON_AddNumberToObject(root, "nfreq", nf);
-    cJSON_AddNumberToObject(root, "floor_height", a.rs.h_p);
-    cJSON_AddItemToObject(root, "methods", ride_methods_json());
-    cJSON *res = cJSON_AddArrayToObject(root, "results");
-    for (int k = 0; k < a.ncon; k++) {
-      cJSON *o = cJSON_CreateObject(), *pa = cJSON_AddArrayToObject(o, "points");
-      cJSON_AddNumberToObject(o, "conicity", a.conicities[k]);
-      for (int q = 0; q < np; q++) {
-        const ride_point *p = &pts[k * np + q];
-        cJSON *po = cJSON_CreateObject();
-        cJSON_AddNumberToObject(po, "x", p->x);
-        cJSON_AddNumberToObject(po, "rms", p->rms);
-        cJSON_AddNumberToObject(po, "sperling", p->sperling);
-        cJSON_AddNumberToObject(po, "sperling_gb", p->sperling_gb);
-        cJSON_AddNumberToObject(po, "wd_rms", p->wd_rms);
-        cJSON_AddNumberToObject(po, "en12299_nmv", p->nmv);
-        cJSON_AddItemToArray(pa, po);
-      }
-      cJSON_AddItemToArray(res, o);
-    }
-    cli_json_print(root);
-  } else {
-    printf("%s at %g km/h, spectrum %s, band %g-%g Hz (%d points), floor height %g m\n", c.veh.name,
-           c.speed_kmh, a.rs.spectrum, a.rs.f_lo, a.rs.f_hi, nf, a.rs.h_p);
-    printf("Sperling: weighting-filter method (W) and GB/T 5599 line method (W_gb); wd_rms: ISO "
-           "2631-1 Wd\n");
-    printf("%9s %9s %12s %9s %9s %12s\n", "conicity", "x_m", "rms_m/s2", "W", "W_gb",
-           "wd_rms_m/s2");
-    for (int k = 0; k < a.ncon; k++)
-      for (int q = 0; q < np; q++) {
-        const ride_point *p = &pts[k * np + q];
-        printf("%9.4g %9.4g %12.5g %9.4f %9.4f %12.5g\n", a.conicities[k], p->x, p->rms,
-               p->sperling, p->sperling_gb, p->wd_rms);
-      }
-  }
-  free(pts);
-  free(psd);
-  free(freqs);
-  return 0;
+  memcpy(a.conicities, c.conicities, sizeof(double) * (size_t)c.ncon);
+  FILE *fp = a.psd_path ? fopen(a.psd_path, "w") : NULL; /* checked before the run */
+  if (a.psd_path && !fp) return cli_bad("--psd: cannot write %s", a.psd_path);
+  ride_results rr = {0};
+  r = ride_all(&c, &a, &rr);
+  if (!r && fp) ride_write_psd(fp, &a, &rr);
+  if (fp) fclose(fp);
+  if (!r && c.json)
+    ride_json(&c, &a, &rr);
+  else if (!r)
+    ride_text(&c, &a, &rr);
+  free(rr.pts);
+  free(rr.psd);
+  free(rr.freqs);
+  return r;
 }
 
 int cmd_frf(int argc, char **argv)
