@@ -9,9 +9,12 @@
 #ifndef RR_EIGDEC_H
 #define RR_EIGDEC_H
 
+/* Shifts per inverse-iteration pass (one AVX2 vector of doubles). */
+#define RR_EIGDEC_LANES 4
 /* Workspace sizes, in doubles and ints. */
-#define RR_EIGDEC_LWORK(n) (3 * (n) * (n) + 7 * (n)) /* n <= 64 */
-#define RR_EIGDEC_LIWORK(n) (2 * (n))
+#define RR_EIGDEC_LWORK(n)                                                                         \
+  ((1 + 2 * RR_EIGDEC_LANES) * (n) * (n) + (1 + 6 * RR_EIGDEC_LANES) * (n)) /* n <= 64 */
+#define RR_EIGDEC_LIWORK(n) ((2 + RR_EIGDEC_LANES) * (n))
 
 /* a: n x n row-major, destroyed. On return wr, wi hold the eigenvalues,
  * complex pairs adjacent with the positive imaginary part first, and vr

@@ -13,10 +13,10 @@
 #include "internal.h"
 
 #define MAXU 8
-#define FCHUNK 64 /* frequencies per GEMM: the weights and sums stay in cache */
+#define FCHUNK 200 /* frequencies per GEMM: the weights and sums stay in cache */
 
 struct rr_frf_plan {
-  int n, ni, np, nf, Nmax, method, has0, use_dgeev;
+  int n, ni, np, nf, Nmax, method, use_dgeev;
   int route;            /* enum rr_frf_method the last execute took */
   double *f;            /* nf */
   double *rows, *rows0; /* np x n */
@@ -103,7 +103,6 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->nf = nf;
   p->method = o->method == RR_FRF_DIRECT ? RR_FRF_DIRECT : RR_FRF_MODAL;
   p->use_dgeev = o->method == RR_FRF_MODAL_LAPACK;
-  p->has0 = o->rows0 != NULL;
   int N = p->Nmax = 2 * n + m->nmx + m->nsdf + 2;
   for (int i = 0; i < m->nmx; i++) N += m->mx[i].sdf; /* room for physical mode */
   p->Nmax = N;
@@ -125,7 +124,7 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->u = malloc(sizeof(double complex) * N * MAXU);
   p->c = malloc(sizeof(double complex) * N * MAXU);
   p->D = malloc(sizeof(double complex) * n * n);
-  size_t E = (size_t)2 * np * ni + (size_t)MAXU * ni + (size_t)2 * np * MAXU + (size_t)MAXU * MAXU;
+  size_t E = (size_t)np * ni + (size_t)MAXU * ni + (size_t)np * MAXU + (size_t)MAXU * MAXU;
   p->T = malloc(sizeof(double) * 2 * N * E);
   p->Wt = malloc(sizeof(double) * 2 * FCHUNK * 2 * N);
   p->acc = malloc(sizeof(double) * 2 * FCHUNK * E);
@@ -389,7 +388,9 @@ static void smw_solve(const double complex *W, int nu, const int *piv, double co
 typedef struct smw_set {
   int nu, uel[MAXU];
   double umult[MAXU], k_lo;
-  int oHq, oHu, oGq, oZ, oH0, oG0;
+  int oHq, oHu, oGq, oZ;
+  /* the outputs' feedthrough rows M^-1 B and rows M^-1 U (np x ni, np x nu) */
+  double dB[16 * 16], dU[16 * MAXU];
 } smw_set;
 
 /* M2 = (I + dK Z)^-1 diag(dK), nu x nu: the SMW correction is then
@@ -425,18 +426,18 @@ RR_INLINE void smw_matrix(const double complex *dK, const double complex *Z, int
   }
 }
 
-/* H -= (G M2) Hu for one output block (G: np x nu entries at og of the
-   modal sums; Hu at ou; H in real and imaginary parts apart, so that the
-   loop over the inputs vectorises). */
-RR_INLINE void smw_correct(const double *are, const double *aim, int og, int ou, int np, int ni,
-                           int nu, const double complex *M2, double *Hr, double *Hi)
+/* H -= (G M2) Hu for the outputs (G: np x nu entries at og of the modal
+   sums plus the feedthrough dU; Hu at ou; H in real and imaginary parts
+   apart, so that the loop over the inputs vectorises). */
+RR_INLINE void smw_correct(const double *are, const double *aim, const double *dU, int og, int ou,
+                           int np, int ni, int nu, const double complex *M2, double *Hr, double *Hi)
 {
   const double *ur = are + ou, *ui = aim + ou;
   for (int q = 0; q < np; q++) {
     for (int e = 0; e < nu; e++) {
       double complex g = 0;
       for (int h = 0; h < nu; h++)
-        g += (are[og + q * nu + h] + I * aim[og + q * nu + h]) * M2[h * nu + e];
+        g += (are[og + q * nu + h] + dU[q * nu + h] + I * aim[og + q * nu + h]) * M2[h * nu + e];
       double gr = creal(g), gi = cimag(g);
       double *hr = Hr + q * ni, *hi = Hi + q * ni;
       const double *xr = ur + e * ni, *xi = ui + e * ni;
@@ -450,20 +451,17 @@ RR_INLINE void smw_correct(const double *are, const double *aim, int og, int ou,
 }
 
 /* Frequency k's FRFs from its modal sums (are, aim: the real and imaginary
-   parts of the residue entries): the SMW correction for the SDF elements,
-   then the acceleration -w^2 Hq (+ the roll-gravity H0). */
+   parts of the residue entries, already the outputs' acceleration plus
+   roll-gravity): the feedthrough, then the SMW correction for the SDF
+   elements. */
 RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k,
                                        const double *are, const double *aim)
 {
   int ni = p->ni, np = p->np, nu = u->nu, nH = np * ni;
   double w = 2 * RR_PI * p->f[k];
-  double Hr[16 * 16], Hi[16 * 16], Zr[16 * 16], Zi[16 * 16];
-  memcpy(Hr, are + u->oHq, sizeof(double) * nH);
+  double Hr[16 * 16], Hi[16 * 16];
+  for (int t = 0; t < nH; t++) Hr[t] = are[u->oHq + t] + u->dB[t];
   memcpy(Hi, aim + u->oHq, sizeof(double) * nH);
-  if (p->has0) {
-    memcpy(Zr, are + u->oH0, sizeof(double) * nH);
-    memcpy(Zi, aim + u->oH0, sizeof(double) * nH);
-  }
   if (nu) {
     double complex s = I * w, dK[MAXU], Z[MAXU * MAXU], M2[MAXU * MAXU];
     double complex kf =
@@ -476,14 +474,56 @@ RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const 
     }
     for (int e = 0; e < nu * nu; e++) Z[e] = are[u->oZ + e] + I * aim[u->oZ + e];
     smw_matrix(dK, Z, nu, M2);
-    smw_correct(are, aim, u->oGq, u->oHu, np, ni, nu, M2, Hr, Hi);
-    if (p->has0) smw_correct(are, aim, u->oG0, u->oHu, np, ni, nu, M2, Zr, Zi);
+    smw_correct(are, aim, u->dU, u->oGq, u->oHu, np, ni, nu, M2, Hr, Hi);
   }
   double complex *Hk = p->H + (size_t)k * nH;
-  double w2 = w * w;
-  for (int t = 0; t < nH; t++) Hk[t] = -w2 * Hr[t] - I * (w2 * Hi[t]);
-  if (p->has0)
-    for (int t = 0; t < nH; t++) Hk[t] += Zr[t] + I * Zi[t];
+  for (int t = 0; t < nH; t++) Hk[t] = Hr[t] + I * Hi[t];
+}
+
+/* The feedthrough of the acceleration outputs: rows M^-1 B (inputs) and
+   rows M^-1 U (SMW elements), the forces' direct effect on the points. */
+static void feedthrough(const rr_frf_plan *p, const rr_model *m, smw_set *u)
+{
+  int n = p->n, ni = p->ni, np = p->np;
+  for (int q = 0; q < np; q++) {
+    for (int i = 0; i < ni; i++) {
+      double a = 0;
+      for (int r = 0; r < n; r++) a += p->rows[q * n + r] * m->B[r * ni + i] / m->mdiag[r];
+      u->dB[q * ni + i] = a;
+    }
+    for (int e = 0; e < u->nu; e++) {
+      const rr_mx *mx = &m->mx[u->uel[e]];
+      double a = 0;
+      for (int t = 0; t < mx->nz; t++)
+        a += p->rows[q * n + mx->idx[t]] * mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]];
+      u->dU[q * u->nu + e] = a;
+    }
+  }
+}
+
+/* One frequency's weights (real and imaginary parts) of the terms with
+   eigenvalues la + j lb: the pairs first, then the real modes. */
+RR_CLONES static void modal_weights(const double *la, const double *lb, int npair, int nt, double w,
+                                    double *wre, double *wim)
+{
+#pragma omp simd
+  for (int t = 0; t < npair; t++) {
+    /* (s - l)(s - conj l) at s = jw: (b - w)(b + w) + a^2 - 2 j a w;
+       d1 + d2 = 2 (jw - a) / den, j (d1 - d2) = -2 b / den */
+    double a = la[t], b = lb[t];
+    double dr = (b - w) * (b + w) + a * a, di = -2 * a * w, inv = 2 / (dr * dr + di * di);
+    double rr = dr * inv, ri = -di * inv;
+    wre[t] = -a * rr - w * ri;
+    wim[t] = w * rr - a * ri;
+    wre[nt + t] = -b * rr;
+    wim[nt + t] = -b * ri;
+  }
+#pragma omp simd
+  for (int t = npair; t < nt; t++) { /* d1 = 1 / (jw - a), R real */
+    double a = la[t], inv = 1 / (a * a + w * w);
+    wre[t] = -a * inv;
+    wim[t] = -w * inv;
+  }
 }
 
 static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
@@ -517,25 +557,25 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
     p->route = RR_FRF_DIRECT;
     return execute_direct(p, m);
   }
-  /* Residue entries per term: Hq (np x ni), H0 (np x ni), Hu (nu x ni),
-     Gq (np x nu), G0 (np x nu), Z (nu x nu), each the product of a left and
-     a right projection. A conjugate pair contributes
-     R d1 + conj(R) d2 = Re(R) (d1 + d2) + Im(R) j (d1 - d2), so it is stored
-     once (the eigenvalue with Im > 0) and costs real-times-complex products.
-     All frequencies' sums are then one real matrix product: weights
-     (2 nf x K: rows Re, Im of each frequency; columns d1 + d2 of each
-     term, then j (d1 - d2) of each pair) times entries (K x E: Re R rows,
-     then the pairs' Im R rows). */
+  /* Residue entries per term: Hq (np x ni), Hu (nu x ni), Gq (np x nu),
+     Z (nu x nu), each the product of a left and a right projection. The
+     outputs are accelerations (plus roll-gravity): s^2 O (sI - A)^-1 B~ =
+     O A^2 (sI - A)^-1 B~ + O A B~ (O B~ = 0: the inputs act on velocities),
+     so the output projection of term j is lambda_j^2 o_j + o0_j and the
+     feedthrough O A B~ = rows M^-1 B is added once (feedthrough()). A
+     conjugate pair contributes R d1 + conj(R) d2 = Re(R) (d1 + d2) + Im(R)
+     j (d1 - d2), so it is stored once (the eigenvalue with Im > 0) and costs
+     real-times-complex products. All frequencies' sums are then one real
+     matrix product: weights (2 nf x K: rows Re, Im of each frequency;
+     columns d1 + d2 of each term, then j (d1 - d2) of each pair) times
+     entries (K x E: Re R rows, then the pairs' Im R rows). */
   int nHq = np * ni, nHu = nu * ni, nGq = np * nu, nZ = nu * nu; /* entry counts */
-  /* the roll-gravity blocks H0, G0 last, and only when asked for */
-  int oHq = 0, oHu = nHq, oGq = oHu + nHu, oZ = oGq + nGq, oH0 = oZ + nZ, oG0 = oH0 + nHq;
-  int E = p->has0 ? oG0 + nGq : oH0;
+  int oHq = 0, oHu = nHq, oGq = oHu + nHu, oZ = oGq + nGq, E = oZ + nZ;
   su.oHq = oHq;
   su.oHu = oHu;
   su.oGq = oGq;
   su.oZ = oZ;
-  su.oH0 = oH0;
-  su.oG0 = oG0;
+  feedthrough(p, m, &su);
   int nt = 0, npair = 0;
   for (int j = 0; j < N; j++) {
     nt += p->wi[j] >= 0;
@@ -551,7 +591,7 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
     int t = p->wi[j] > 0 ? tp++ : tr_++;
     double *tr = p->T + (size_t)t * E, *ti = p->T + (size_t)(nt + t) * E;
     const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni,
-                         *uu = p->u + j * MAXU, *cc = p->c + j * MAXU;
+                         *uu = p->u + j * MAXU, *cc = p->c + j * MAXU, l2 = p->lam[j] * p->lam[j];
 #define PUT(off, val)                                                                              \
   do {                                                                                             \
     double complex v_ = (val);                                                                     \
@@ -559,12 +599,9 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
     ti[off] = cimag(v_);                                                                           \
   } while (0)
     for (int q = 0; q < np; q++) {
-      for (int i = 0; i < ni; i++) PUT(oHq + q * ni + i, o[q] * bb[i]);
-      for (int e = 0; e < nu; e++) PUT(oGq + q * nu + e, o[q] * cc[e]);
-      if (p->has0) {
-        for (int i = 0; i < ni; i++) PUT(oH0 + q * ni + i, o0[q] * bb[i]);
-        for (int e = 0; e < nu; e++) PUT(oG0 + q * nu + e, o0[q] * cc[e]);
-      }
+      double complex oa = l2 * o[q] + o0[q];
+      for (int i = 0; i < ni; i++) PUT(oHq + q * ni + i, oa * bb[i]);
+      for (int e = 0; e < nu; e++) PUT(oGq + q * nu + e, oa * cc[e]);
     }
     for (int e = 0; e < nu; e++) {
       for (int i = 0; i < ni; i++) PUT(oHu + e * ni + i, uu[e] * bb[i]);
@@ -573,28 +610,17 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
 #undef PUT
     tlam[t] = p->lam[j];
   }
+  double la[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES],
+      lb[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
+  for (int t = 0; t < nt; t++) {
+    la[t] = creal(tlam[t]);
+    lb[t] = cimag(tlam[t]);
+  }
   for (int k0 = 0; k0 < p->nf; k0 += FCHUNK) {
     int nk = p->nf - k0 < FCHUNK ? p->nf - k0 : FCHUNK;
     for (int kk = 0; kk < nk; kk++) {
-      double w = 2 * RR_PI * p->f[k0 + kk];
-      double *wre = p->Wt + (size_t)2 * kk * K, *wim = wre + K;
-      for (int t = 0; t < npair; t++) {
-        /* (s - l)(s - conj l) at s = jw: (b - w)(b + w) + a^2 - 2 j a w;
-           d1 + d2 = 2 (jw - a) / den, j (d1 - d2) = -2 b / den */
-        double a = creal(tlam[t]), b = cimag(tlam[t]);
-        double dr = (b - w) * (b + w) + a * a, di = -2 * a * w, inv = 2 / (dr * dr + di * di);
-        double rr = dr * inv, ri = -di * inv;
-        wre[t] = -a * rr - w * ri;
-        wim[t] = w * rr - a * ri;
-        wre[nt + t] = -b * rr;
-        wim[nt + t] = -b * ri;
-      }
-      for (int t = npair; t < nt; t++) {
-        /* d1 = 1 / (jw - a), R real */
-        double a = creal(tlam[t]), inv = 1 / (a * a + w * w);
-        wre[t] = -a * inv;
-        wim[t] = -w * inv;
-      }
+      double *wre = p->Wt + (size_t)2 * kk * K;
+      modal_weights(la, lb, npair, nt, 2 * RR_PI * p->f[k0 + kk], wre, wre + K);
     }
     cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * nk, E, K, 1.0, p->Wt, K, p->T, E,
                 0.0, p->acc, E);
