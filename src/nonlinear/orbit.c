@@ -7,6 +7,7 @@
 #include <string.h>
 #include <arkode/arkode_erkstep.h>
 #include "orbit.h"
+#include "nvector_fast.h"
 #include "internal.h"
 
 #define NEWTON_MAXIT 12
@@ -208,8 +209,7 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   P.yprev = N_VNew_Serial(ny, ctx);
   P.ytmp = N_VNew_Serial(ny, ctx);
   tol = N_VNew_Serial(ny, ctx);
-  if (P.y)
-    N_VEnableFusedOps_Serial(P.y, SUNTRUE); /* one pass per stage combination, not one per term */
+  if (P.y) rr_nvector_fast(P.y); /* one pass per stage combination, not one per term */
   c.J = malloc(sizeof(double) * ((size_t)n * n + 2 * (size_t)n));
   if (!P.y || !P.yprev || !P.ytmp || !tol || !c.J) {
     st = rr_seterr(err, RR_ENOMEM, "out of memory");
