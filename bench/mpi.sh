@@ -83,3 +83,14 @@ for name, a_, bw_ in (("this machine (shared memory)", lat, bw), ("a cluster, In
         print(f"  population {n}: {cells}")
         print(f"    efficiency >= 0.5 up to P = {stop} ranks, below it at {2 * stop}" if stop else "    efficiency stays above 0.5 to 1024 ranks")
 PY
+# bifurcation by continuation: the monodromy matrix's column groups over the
+# ranks (the Newton iterations between them run on every rank alike)
+for r in 1 2; do
+  a=$(now)
+  "$B/railride" bifurcation examples/type2.ini --profile worn --csv > "$tmp/bs.csv" 2> /dev/null
+  b=$(now)
+  mpirun -np 2 --oversubscribe "$B/railride" bifurcation examples/type2.ini --profile worn --csv > "$tmp/bm.csv" 2> "$tmp/bm.err"
+  c=$(now)
+  echo "bifurcation type2 worn, run $r: 1 process x 1 thread $(sub "$b" "$a") s, 2 ranks x 1 thread $(sub "$c" "$b") s ($(grep "MPI ranks" "$tmp/bm.err"))"
+done
+cmp -s "$tmp/bs.csv" "$tmp/bm.csv" && echo "bifurcation branches: bit-identical" || echo "bifurcation branches: DIFFER"

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
+#include "parallel.h"
 
 #define SIM_DISTURBANCE_DEFAULT 5e-3 /* m, on every wheelset, when no track is given */
 #define SIM_FS_DEFAULT 256.0         /* Hz: the validation's sample rate, hence its realisations */
@@ -124,6 +125,7 @@ static cJSON *assumptions_json(const rr_vehicle *veh, const rr_profile *p)
    with a plain CSV reader. */
 static void assumptions_note(const char *cmd, const rr_vehicle *veh, const rr_profile *p)
 {
+  if (cli_par_rank() != 0) return; /* once per job */
   char d[512];
   rr_profile_describe(p, d, sizeof d);
   fprintf(
@@ -388,6 +390,8 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
   rr_orbit_opts o = rr_orbit_opts_default();
   o.v_min_ms = a->v_lo / RR_KMH;
   o.v_max_ms = a->v_hi / RR_KMH;
+  if (cli_par_size() > 1) /* the monodromy matrix's column groups over the ranks */
+    o.runner = (rr_runner_opts){.fn = cli_par_runner};
   rr_cycle *pts = malloc(sizeof *pts * (size_t)o.max_points);
   if (!pts) return cli_bad("out of memory");
   rr_bifurcation b;
@@ -396,7 +400,7 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
   int st = rr_bifurcation_continue(&c->veh, p, NULL, &o, pts, NULL, o.max_points, &b, &e);
   if (st) {
     free(pts);
-    return cli_fail(&e, st);
+    return cli_par_rank() == 0 ? cli_fail(&e, st) : st; /* every rank failed alike: one message */
   }
   bif_print_cont(c, p, a, &b, pts, cli_now_s() - t0);
   free(pts);
@@ -539,5 +543,10 @@ int cmd_bifurcation(int argc, char **argv)
   if (a.csv && c.json) return cli_bad("bifurcation: --json or --csv, not both");
   rr_profile p;
   if ((r = nl_profile(&a, &c.veh, &p))) return r;
+  if (!strcmp(a.method, "scan") && cli_par_size() > 1) { /* a chain: one rank runs it */
+    if (cli_par_rank() != 0) return 0;
+    fprintf(stderr, "railride bifurcation: the scan is a chain of runs (each from the last one's "
+                    "end state), not distributed; rank 0 runs it alone\n");
+  }
   return strcmp(a.method, "scan") ? bif_continue(&c, &p, &a) : bif_scan(&c, &p, &a);
 }

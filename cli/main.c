@@ -38,8 +38,8 @@ static const struct {
 /* The commands whose loops split over MPI ranks (cli_par_for). */
 static int distributed(const char *name)
 {
-  static const char *const names[] = {"optimise", "optimize",       "sweep",
-                                      "map",      "critical-speed", "locus"};
+  static const char *const names[] = {"optimise",       "optimize", "sweep",      "map",
+                                      "critical-speed", "locus",    "bifurcation"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
     if (!strcmp(name, names[i])) return 1;
   return 0;

@@ -84,6 +84,12 @@ int cli_par_finalize(int status)
   return status;
 }
 
+int cli_par_runner(void *ctx, long n, size_t item_bytes, rr_items_fn items, void *arg, void *out)
+{
+  (void)ctx;
+  return cli_par_for(n, 1, item_bytes, items, arg, out, NULL, NULL);
+}
+
 int cli_par_all(int status)
 {
   int any = status;

@@ -34,6 +34,10 @@ typedef int (*cli_par_fn)(void *user, long lo, long hi, void *out);
 int cli_par_for(long n, long chunk, size_t item_bytes, cli_par_fn fn, void *user, void *results,
                 unsigned char *done, cli_progress *pr);
 
+/* cli_par_for as a library runner (rr_runner_opts.fn): jobs one at a time,
+   results on every rank. */
+int cli_par_runner(void *ctx, long n, size_t item_bytes, rr_items_fn items, void *arg, void *out);
+
 /* The largest of every rank's status (a collective): a check that only
    rank 0 makes (its output files) ends the job on every rank. */
 int cli_par_all(int status);

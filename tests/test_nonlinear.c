@@ -292,6 +292,7 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   rr_bifurcation b;
   st = rr_bifurcation_continue(&veh, &p, NULL, &o, pts, Z, cap, &b, &e);
   CHECK_OK(st, e);
+  fprintf(stderr, "DBG npoints %d end %d\n", b.npoints, b.end);
   CHECK(b.type == want_type && b.npoints >= 5, "branch type %d (want %d), %d points", b.type,
         want_type, b.npoints);
   /* the Hopf point: an independent critical-speed call, and the branch's own extrapolation */

@@ -4,6 +4,8 @@
 #ifndef RAILRIDE_COMMON_H
 #define RAILRIDE_COMMON_H
 
+#include <stddef.h>
+
 #ifdef __cplusplus
 #include <complex>
 typedef std::complex<double> rr_complex;
@@ -27,5 +29,18 @@ typedef struct rr_progress {
   rr_progress_fn fn;
   void *user;
 } rr_progress;
+
+/* Independent jobs a call may hand to the caller, who runs them where it
+ * likes (over MPI ranks, say: railride's CLI does). items(arg, lo, hi, out)
+ * computes jobs lo .. hi - 1 into out (their results, item_bytes each, from
+ * job lo) and returns 0 or a status. fn(ctx, n, item_bytes, items, arg, out)
+ * must leave all n results in out (n x item_bytes) and return 0, or a nonzero
+ * status of items. The call's numbers do not depend on the runner: the jobs
+ * are the same with or without one. fn NULL: the call runs them itself. */
+typedef int (*rr_items_fn)(void *arg, long lo, long hi, void *out);
+typedef struct rr_runner_opts {
+  int (*fn)(void *ctx, long n, size_t item_bytes, rr_items_fn items, void *arg, void *out);
+  void *ctx;
+} rr_runner_opts;
 
 #endif

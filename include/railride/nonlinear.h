@@ -95,6 +95,7 @@ typedef struct rr_orbit_opts {
   double ds;                 /* first arclength step, in (mm, 10 km/h) units (0.2) */
   int max_points;            /* (400) */
   double rtol;               /* shooting's integration tolerance (1e-10) */
+  rr_runner_opts runner;     /* where the monodromy matrix's column groups run (none: here) */
 } rr_orbit_opts;
 RR_API rr_orbit_opts rr_orbit_opts_default(void);
 

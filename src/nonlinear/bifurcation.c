@@ -271,7 +271,8 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
                          .ds = o->ds,
                          .ds_max = 15 * o->ds,
                          .rtol = o->rtol,
-                         .cap = cap < o->max_points ? cap : o->max_points};
+                         .cap = cap < o->max_points ? cap : o->max_points,
+                         .runner = o->runner};
     int n = 0;
     if (!st) st = rr_orbit_branch(&s, vh, &bo, pts, z_out, &n, &res->end, err);
     for (int i = 0; i < n; i++) out[i] = cycle_of(&pts[i]);

@@ -10,7 +10,7 @@
 #include "nvector_fast.h"
 #include "internal.h"
 
-#define BLOCK 256   /* elements per block: the partial results stay in L1 */
+#define BLOCK 256    /* elements per block: the partial results stay in L1 */
 #define MAX_TERMS 32 /* more terms go to the library's kernel */
 
 /* z = sum_j c_j X_j; z may be one of the X_j (each block is read whole

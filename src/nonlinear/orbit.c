@@ -25,14 +25,15 @@ typedef struct flow {
   double *zT, *Phi, *phip, amp;
 } flow;
 
-/* The orbit with its variational equations: Y = [z; Phi by columns; phi_p],
-   n (n + 2). The system is not stiff at the speeds of hunting (spectral radius
-   ~ 600 1/s against a period of ~0.1 s), so an explicit 8th-order pair beats
-   BDF with sensitivities by an order of magnitude. */
+/* The orbit with a group of its variational equations: Y = [z; columns
+   c0 .. c0 + nc - 1 of [Phi, phi_p]], n (1 + nc). The system is not stiff at the speeds of hunting
+   (spectral radius ~ 600 1/s against a period of ~0.1 s), so an explicit 8th-order pair beats BDF
+   with sensitivities by an order of magnitude. */
 typedef struct var_ctx {
   const rr_orbit_sys *s;
   double p;
-  int sens;
+  int sens;          /* variational columns integrated with the orbit (0: the orbit alone) */
+  int c0;            /* the first one's index: 0 .. n - 1 Phi's columns, n the parameter's */
   double *J, *a, *b; /* dense fallback: n x n, n, n */
   char msg[160];     /* ARKODE's last complaint (the library never prints) */
 } var_ctx;
@@ -51,16 +52,17 @@ static void var_dense(const var_ctx *c, const double *z, const double *X, double
   const rr_orbit_sys *s = c->s;
   int n = s->ode.n;
   s->ode.jac(s->ode.user, 0, c->p, z, c->J);
-  for (int k = 0; k <= n; k++)
+  for (int k = 0; k < c->sens; k++)
     for (int i = 0; i < n; i++) {
       double acc = 0;
       for (int j = 0; j < n; j++) acc += c->J[(size_t)i * n + j] * X[(size_t)k * n + j];
       out[(size_t)k * n + i] = acc;
     }
-  double h = 1e-6 * fmax(fabs(c->p), 1e-3);
+  if (c->c0 + c->sens <= n) return; /* no parameter column */
+  double h = 1e-6 * fmax(fabs(c->p), 1e-3), *last = out + (size_t)(c->sens - 1) * n;
   s->ode.rhs(s->ode.user, 0, c->p + h, z, c->a);
   s->ode.rhs(s->ode.user, 0, c->p - h, z, c->b);
-  for (int i = 0; i < n; i++) out[(size_t)n * n + i] += (c->a[i] - c->b[i]) / (2 * h);
+  for (int i = 0; i < n; i++) last[i] += (c->a[i] - c->b[i]) / (2 * h);
 }
 
 static int var_rhs(double t, N_Vector y, N_Vector ydot, void *user)
@@ -74,7 +76,7 @@ static int var_rhs(double t, N_Vector y, N_Vector ydot, void *user)
   s->ode.rhs(s->ode.user, 0, c->p, Y, D);
   if (!c->sens) return 0;
   if (s->jvp)
-    s->jvp(s->ode.user, c->p, Y, Y + n, n + 1, 1, D + n);
+    s->jvp(s->ode.user, c->p, Y, Y + n, c->sens, c->c0 + c->sens > n, D + n);
   else
     var_dense(c, Y, Y + n, D + n);
   return 0;
@@ -83,13 +85,16 @@ static int var_rhs(double t, N_Vector y, N_Vector ydot, void *user)
 /* Per-component absolute tolerances, rtol times a typical magnitude: the
    states' own (s->atol, per amplitude unit) times the orbit's amplitude in
    those units; Phi's column j: atol_i / atol_j; phi_p: atol_i / p_unit. */
-static void var_tolerances(const rr_orbit_sys *s, double rtol, double scale, int sens, double *tol)
+static void var_tolerances(const rr_orbit_sys *s, double rtol, double scale, int c0, int nc,
+                           double *tol)
 {
   int n = s->ode.n;
   for (int i = 0; i < n; i++) tol[i] = rtol * s->atol[i] * scale;
-  for (int k = 0; k <= n && sens; k++)
+  for (int c = 0; c < nc; c++) {
+    int k = c0 + c;
     for (int i = 0; i < n; i++)
-      tol[(size_t)(k + 1) * n + i] = rtol * s->atol[i] / (k < n ? s->atol[k] : s->p_unit);
+      tol[(size_t)(c + 1) * n + i] = rtol * s->atol[i] / (k < n ? s->atol[k] : s->p_unit);
+  }
 }
 
 /* Integration of one period that never steps across a kink of f (the
@@ -195,13 +200,16 @@ static int period_run(period *P, double T)
   return 0;
 }
 
+/* One period from z0 with columns c0 .. c0 + nc - 1 of the variational
+   equations (nc = 0: the orbit alone): z(T) to zT, the amplitude to *amp,
+   and the columns at T to cols (n each; may be NULL when nc = 0). */
 static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double T, double rtol,
-                       int sens, flow *f, rr_error *err)
+                       int c0, int nc, double *zT, double *amp, double *cols, rr_error *err)
 {
   int n = s->ode.n, st = RR_OK;
-  sunindextype ny = sens ? (sunindextype)n * (n + 2) : n;
-  var_ctx c = {.s = s, .p = p, .sens = sens};
-  period P = {.s = s, .p = p, .sens = sens};
+  sunindextype ny = (sunindextype)n * (1 + nc);
+  var_ctx c = {.s = s, .p = p, .sens = nc, .c0 = c0};
+  period P = {.s = s, .p = p, .sens = nc > 0};
   SUNContext ctx = NULL;
   N_Vector tol = NULL;
   if (SUNContext_Create(NULL, &ctx)) return rr_seterr(err, RR_ENOMEM, "SUNDIALS context");
@@ -220,11 +228,12 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   double *Y = N_VGetArrayPointer(P.y), scale = fmax(fabs(z0[s->k_amp]) / s->amp_unit, 1e-3);
   memset(Y, 0, sizeof(double) * (size_t)ny);
   memcpy(Y, z0, sizeof(double) * (size_t)n);
-  for (int j = 0; j < n && sens; j++) Y[(size_t)(j + 1) * n + j] = 1;
-  var_tolerances(s, rtol, scale, sens, N_VGetArrayPointer(tol));
+  for (int k = 0; k < nc; k++) /* Phi(0) = I, phi_p(0) = 0 */
+    if (c0 + k < n) Y[(size_t)(k + 1) * n + c0 + k] = 1;
+  var_tolerances(s, rtol, scale, c0, nc, N_VGetArrayPointer(tol));
   P.mem = ERKStepCreate(var_rhs, 0, P.y, ctx);
   if (!P.mem ||
-      ERKStepSetTableNum(P.mem, sens ? ARKODE_DORMAND_PRINCE_7_4_5 : ARKODE_FEHLBERG_13_7_8) ||
+      ERKStepSetTableNum(P.mem, nc ? ARKODE_DORMAND_PRINCE_7_4_5 : ARKODE_FEHLBERG_13_7_8) ||
       ERKStepSVtolerances(P.mem, rtol, tol) || ERKStepSetUserData(P.mem, &c) ||
       ERKStepSetErrHandlerFn(P.mem, var_errors, &c) || ERKStepSetStopTime(P.mem, T) ||
       ERKStepSetMaxNumSteps(P.mem, 200000) || ERKStepSetMaxStep(P.mem, T / 32) ||
@@ -237,13 +246,11 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
     st = rr_seterr(err, RR_ENOCONV, "orbit: ARKODE: %s", c.msg);
     goto done;
   }
-  f->amp = P.amp;
-  memcpy(f->zT, Y, sizeof(double) * (size_t)n);
-  for (int j = 0; j < n && sens; j++)
-    for (int i = 0; i < n; i++) f->Phi[(size_t)i * n + j] = Y[(size_t)(j + 1) * n + i];
-  if (sens) memcpy(f->phip, Y + (size_t)(n + 1) * n, sizeof(double) * (size_t)n);
   for (int i = 0; i < (int)ny && !st; i++)
     if (!isfinite(Y[i])) st = rr_seterr(err, RR_ENOCONV, "orbit: the flow is not finite");
+  *amp = P.amp;
+  memcpy(zT, Y, sizeof(double) * (size_t)n);
+  if (nc) memcpy(cols, Y + n, sizeof(double) * (size_t)n * nc);
 done:
   if (P.mem) ERKStepFree(&P.mem);
   N_Vector v[4] = {P.y, P.yprev, P.ytmp, tol};
@@ -252,6 +259,86 @@ done:
   free(c.J);
   SUNContext_Free(&ctx);
   return st;
+}
+
+/* The variational equations in RR_ORBIT_GROUPS groups of columns, each
+   integrated with its own copy of the orbit: the groups are independent
+   jobs that a runner may spread over processes, and one process computes the
+   same groups, so that the numbers do not depend on how many there are. A
+   job's result: z(T) (n), the amplitude (1), its columns (n x ncols). */
+typedef struct sens_job {
+  const rr_orbit_sys *s;
+  double p, T, rtol;
+  const double *z0;
+  int ncols;                     /* columns a group: the last group may have fewer */
+  rr_error err[RR_ORBIT_GROUPS]; /* each group's failure, where it ran here */
+} sens_job;
+
+static size_t sens_item(int n, int ncols) { return (size_t)n * (1 + ncols) + 1; }
+
+static int sens_ncols(int n) { return (n + 1 + RR_ORBIT_GROUPS - 1) / RR_ORBIT_GROUPS; }
+
+/* flow_sens' buffer, doubles. */
+static size_t sens_buf_size(int n) { return RR_ORBIT_GROUPS * sens_item(n, sens_ncols(n)); }
+
+static int sens_run(void *arg, long lo, long hi, void *out)
+{
+  sens_job *j = arg;
+  int n = j->s->ode.n, total = n + 1;
+  double *o = out;
+  for (long g = lo; g < hi; g++, o += sens_item(n, j->ncols)) {
+    int c0 = (int)g * j->ncols, nc = total - c0 < j->ncols ? total - c0 : j->ncols;
+    int st = nc > 0 ? flow_period(j->s, j->p, j->z0, j->T, j->rtol, c0, nc, o, o + n, o + n + 1,
+                                  &j->err[g])
+                    : RR_OK;
+    if (st) return st;
+  }
+  return RR_OK;
+}
+
+/* The groups here, over OpenMP threads where there are several. */
+static int local_runner(sens_job *j, double *out)
+{
+  int st = RR_OK;
+  size_t item = sens_item(j->s->ode.n, j->ncols);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static, 1) reduction(max : st)
+#endif
+  for (int g = 0; g < RR_ORBIT_GROUPS; g++) {
+    int sg = sens_run(j, g, g + 1, out + (size_t)g * item);
+    st = sg > st ? sg : st;
+  }
+  return st;
+}
+
+/* The monodromy matrix Phi and phi_p = dz(T)/dp at (z0, T, p), with z(T)
+   from the first group; buf: sens_buf_size doubles. */
+static int flow_sens(const rr_orbit_sys *s, const rr_runner_opts *run, double p, const double *z0,
+                     double T, flow *f, double *buf, rr_error *err)
+{
+  int n = s->ode.n, ncols = sens_ncols(n);
+  sens_job j = {.s = s, .p = p, .T = T, .rtol = RTOL_VAR, .z0 = z0, .ncols = ncols};
+  for (int g = 0; g < RR_ORBIT_GROUPS; g++) j.err[g].msg[0] = 0;
+  size_t item = sens_item(n, ncols);
+  int st = run && run->fn
+               ? run->fn(run->ctx, RR_ORBIT_GROUPS, item * sizeof(double), sens_run, &j, buf)
+               : local_runner(&j, buf);
+  if (st) {
+    for (int g = 0; g < RR_ORBIT_GROUPS; g++)
+      if (j.err[g].msg[0]) return rr_seterr(err, st, "%s", j.err[g].msg);
+    return rr_seterr(err, st, "orbit: the variational equations failed in another process (%s)",
+                     rr_strerror(st));
+  }
+  memcpy(f->zT, buf, sizeof(double) * (size_t)n);
+  f->amp = buf[n];
+  for (int k = 0; k <= n; k++) {
+    const double *col = buf + (size_t)(k / ncols) * item + n + 1 + (size_t)(k % ncols) * n;
+    if (k == n)
+      memcpy(f->phip, col, sizeof(double) * (size_t)n);
+    else
+      for (int i = 0; i < n; i++) f->Phi[(size_t)i * n + k] = col[i];
+  }
+  return RR_OK;
 }
 
 /* The constraint closing the Newton system: p fixed, amplitude fixed, or
@@ -274,6 +361,8 @@ typedef struct work {
       *zt; /* z_T - z0 now and after the step (n), the step (n + 2), a trial z0 (n) */
   int *piv;
   flow f;
+  const rr_runner_opts *run; /* where the variational groups run (NULL: here) */
+  double *sbuf;              /* their results */
 } work;
 
 static int work_new(work *w, int n)
@@ -291,7 +380,8 @@ static int work_new(work *w, int n)
   w->f.zT = malloc(sizeof(double) * nn);
   w->f.Phi = malloc(sizeof(double) * nn * nn);
   w->f.phip = malloc(sizeof(double) * nn);
-  return w->B && w->Jn && w->R && w->F && w->Fn && w->dX && w->zt && w->piv && w->f.zT &&
+  w->sbuf = malloc(sizeof(double) * sens_buf_size(n));
+  return w->sbuf && w->B && w->Jn && w->R && w->F && w->Fn && w->dX && w->zt && w->piv && w->f.zT &&
                  w->f.Phi && w->f.phip
              ? 0
              : -1;
@@ -310,6 +400,7 @@ static void work_free(work *w)
   free(w->f.zT);
   free(w->f.Phi);
   free(w->f.phip);
+  free(w->sbuf);
 }
 
 static double norm2(const double *x, int n)
@@ -406,7 +497,7 @@ static double floquet_max(const double *Phi, int n, rr_error *err, int *st)
 static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, double p,
                     double rtol, double *F, double *amp, rr_error *err)
 {
-  int st = flow_period(s, p, z0, T, rtol, 0, &w->f, err);
+  int st = flow_period(s, p, z0, T, rtol, 0, 0, w->f.zT, &w->f.amp, NULL, err);
   for (int i = 0; i < w->n && !st; i++) F[i] = w->f.zT[i] - z0[i];
   *amp = w->f.amp;
   return st;
@@ -416,7 +507,7 @@ static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, 
 static int refresh(const rr_orbit_sys *s, work *w, const double *z0, double T, double p,
                    rr_error *err)
 {
-  int st = flow_period(s, p, z0, T, RTOL_VAR, 1, &w->f, err);
+  int st = flow_sens(s, w->run, p, z0, T, &w->f, w->sbuf, err);
   if (!st) flow_rows(s, w, p);
   return st;
 }
@@ -535,13 +626,13 @@ int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, d
 {
   int n = s->ode.n, st;
   flow f;
-  double *buf = malloc(sizeof(double) * ((size_t)n * n * 2 + 4 * (size_t)n));
+  double *buf = malloc(sizeof(double) * ((size_t)n * n * 2 + 4 * (size_t)n + sens_buf_size(n)));
   if (!buf) return rr_seterr(err, RR_ENOMEM, "out of memory");
   f.Phi = buf;
   double *V = buf + (size_t)n * n, *wr = V + (size_t)n * n, *wi = wr + n;
   f.zT = wi + n;
   f.phip = f.zT + n;
-  st = flow_period(s, p, z0, T, RTOL_VAR, 1, &f, err);
+  st = flow_sens(s, NULL, p, z0, T, &f, f.phip + n, err);
   if (!st && LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', n, f.Phi, n, wr, wi, NULL, 1, V, n))
     st = rr_seterr(err, RR_ELAPACK, "orbit: Floquet vectors: dgeev failed");
   int trivial = 0, best = -1;
@@ -655,6 +746,7 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
     st = rr_seterr(err, RR_ENOMEM, "out of memory");
     goto done;
   }
+  w.run = &o->runner;
   double ds = o->ds;
   rr_orbit r;
   /* two points at fixed amplitudes leave the Hopf point; then arclength */

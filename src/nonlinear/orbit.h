@@ -9,8 +9,12 @@
 #define RR_ORBIT_H
 
 #include "ode_cvodes.h"
+#include "railride/common.h"
 
 #define RR_ORBIT_MAX_KINKS 64
+/* The variational equations run in this many groups of columns, each with
+   its own copy of the orbit: jobs for a runner (rr_runner_opts). */
+#define RR_ORBIT_GROUPS 4
 
 typedef struct rr_orbit_sys {
   rr_ode ode; /* autonomous (t unused); p the continuation parameter */
@@ -53,6 +57,7 @@ int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, d
 typedef struct rr_branch_opts {
   double p_min, p_max, amp_max, amp_start, ds, ds_max, rtol;
   int cap;
+  rr_runner_opts runner;
 } rr_branch_opts;
 /* *end: 0 left [p_min, p_max], 1 beyond amp_max, 2 cap reached, 3 stalled. */
 int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
