@@ -13,6 +13,7 @@
 #include "dynamic_stiffness.h"
 #include "hessenberg_qr.h"
 #include "internal.h"
+#include "block.h"
 
 rr_modal_opts rr_modal_opts_default(void)
 {
@@ -60,59 +61,42 @@ void rr_modal_result_free(rr_modal_result *res)
 void rr_modal_ws_free(rr_modal_ws *ws)
 {
   if (!ws) return;
-  free(ws->A);
-  free(ws->At);
-  free(ws->wr);
-  free(ws->wi);
-  free(ws->vr);
-  free(ws->work);
-  free(ws->D);
-  free(ws->Dp);
-  free(ws->x);
-  free(ws->piv);
-  free(ws->cand);
-  free(ws->candz);
-  free(ws->branch);
-  free(ws->Ab);
-  free(ws->wrb);
-  free(ws->wib);
-  free(ws->qrw);
-  free(ws->tv);
-  free(ws->dsi);
-  free(ws->dsz);
-  for (int i = 0; i < 4; i++) rr_modal_result_free(&ws->trk[i]);
-  free(ws->ds);
+  free(ws->block);
   free(ws);
 }
 
-static int ws_alloc(rr_modal_ws *ws)
+/* The workspace's arrays (block.h: called to size, then to carve). */
+static void ws_layout(rr_modal_ws *ws, rr_block *b)
 {
-  size_t N = (size_t)ws->N, n = (size_t)ws->n, NN = N * N;
-  ws->A = malloc(NN * sizeof(double));
-  ws->At = malloc(NN * sizeof(double));
-  ws->vr = malloc(NN * sizeof(double));
-  ws->wr = malloc(N * sizeof(double));
-  ws->wi = malloc(N * sizeof(double));
-  ws->D = malloc(n * n * sizeof(double complex));
-  ws->Dp = malloc(n * n * sizeof(double complex));
-  ws->x = malloc(2 * n * sizeof(double complex));
-  ws->tv = malloc(12 * n * sizeof(double complex));
-  ws->ds = calloc(1, sizeof *ws->ds); /* n = 0: no cached factors yet */
-  ws->dsi = malloc(RR_DSOLVER_IWORK(n) * sizeof(int));
-  ws->dsz = malloc(RR_DSOLVER_ZWORK(n) * sizeof(double complex));
-  ws->piv = malloc(n * sizeof(int));
-  ws->cand = malloc(N * sizeof(int));
-  ws->candz = malloc(N * sizeof(double));
-  ws->branch = malloc(N * n * sizeof(double complex));
-  ws->Ab = malloc(RR_QR_LANES_MAX * NN * sizeof(double));
-  ws->wrb = malloc(RR_QR_LANES_MAX * N * sizeof(double));
-  ws->wib = malloc(RR_QR_LANES_MAX * N * sizeof(double));
-  ws->qrw = malloc(rr_eig_batch_work(ws->N) * sizeof(double));
-  int ok = ws->A && ws->At && ws->vr && ws->wr && ws->wi && ws->D && ws->Dp && ws->x && ws->tv &&
-           ws->ds && ws->dsi && ws->dsz && ws->piv && ws->cand && ws->candz && ws->branch &&
-           ws->Ab && ws->wrb && ws->wib && ws->qrw;
-  for (int i = 0; i < 4 && ok; i++) ok = result_init(&ws->trk[i], ws->N, ws->n) == RR_OK;
-  return ok ? RR_OK : RR_ENOMEM;
+  size_t N = (size_t)ws->N, n = (size_t)ws->n, NN = N * N, L = RR_QR_LANES_MAX;
+  const size_t d = sizeof(double), z = sizeof(double complex), i = sizeof(int);
+  ws->A = rr_block_take(b, NN, d);
+  ws->At = rr_block_take(b, NN, d);
+  ws->vr = rr_block_take(b, NN, d);
+  ws->wr = rr_block_take(b, N, d);
+  ws->wi = rr_block_take(b, N, d);
+  ws->work = rr_block_take(b, (size_t)ws->lwork, d);
+  ws->D = rr_block_take(b, n * n, z);
+  ws->Dp = rr_block_take(b, n * n, z);
+  ws->x = rr_block_take(b, 2 * n, z);
+  ws->tv = rr_block_take(b, 12 * n, z);
+  ws->ds = rr_block_take(b, 1, sizeof *ws->ds); /* zeroed: no cached factors yet */
+  ws->dsi = rr_block_take(b, RR_DSOLVER_IWORK(n), i);
+  ws->dsz = rr_block_take(b, RR_DSOLVER_ZWORK(n), z);
+  ws->piv = rr_block_take(b, n, i);
+  ws->cand = rr_block_take(b, N, i);
+  ws->candz = rr_block_take(b, N, d);
+  ws->branch = rr_block_take(b, N * n, z);
+  ws->Ab = rr_block_take(b, L * NN, d);
+  ws->wrb = rr_block_take(b, L * N, d);
+  ws->wib = rr_block_take(b, L * N, d);
+  ws->qrw = rr_block_take(b, rr_eig_batch_work(ws->N), d);
+  for (int k = 0; k < 4; k++) { /* the tracking results: owned by the block, not freed apart */
+    rr_modal_result *r = &ws->trk[k];
+    *r = (rr_modal_result){.cap = ws->N, .ndof = ws->n};
+    r->modes = rr_block_take(b, N, sizeof *r->modes);
+    r->shapes = rr_block_take(b, N * n, sizeof *r->shapes);
+  }
 }
 
 int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err)
@@ -122,30 +106,24 @@ int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err)
   if (!ws) return rr_seterr(err, RR_ENOMEM, "out of memory");
   ws->N = rr_modal_state_cap(m);
   ws->n = m->n;
-  int st = RR_OK;
-  if (ws_alloc(ws)) {
-    st = rr_seterr(err, RR_ENOMEM, "out of memory");
-    goto fail;
-  }
   double q;
-  int N = ws->N;
-  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'N', 'V', N, ws->At, N, ws->wr, ws->wi, NULL, 1,
-                                ws->vr, N, &q, -1);
+  int N = ws->N, info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'N', 'V', N, NULL, N, NULL, NULL, NULL,
+                                           1, NULL, N, &q, -1);
   if (info) {
-    st = rr_seterr(err, RR_ELAPACK, "dgeev workspace query failed (%d)", info);
-    goto fail;
+    free(ws);
+    return rr_seterr(err, RR_ELAPACK, "dgeev workspace query failed (%d)", info);
   }
   ws->lwork = (int)q + 1;
-  ws->work = malloc((size_t)ws->lwork * sizeof(double));
-  if (!ws->work) {
-    st = rr_seterr(err, RR_ENOMEM, "out of memory");
-    goto fail;
+  rr_block b = {0};
+  ws_layout(ws, &b);
+  if (rr_block_alloc(&b)) {
+    free(ws);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
+  ws->block = b.base;
+  ws_layout(ws, &b);
   *out = ws;
   return RR_OK;
-fail:
-  rr_modal_ws_free(ws);
-  return st;
 }
 
 double rr_mac(const double complex *a, const double complex *b, int n)

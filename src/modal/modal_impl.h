@@ -23,6 +23,7 @@ struct rr_modal_ws {
   struct rr_dsolver *ds;        /* fast tracking: sparse D(s) solves */
   int *dsi;
   double complex *dsz;
+  char *block; /* every array above, one allocation (block.h) */
 };
 
 /* Room for the largest state of any SDF mode the model may switch to: the

@@ -11,6 +11,7 @@
 #include "complex_lu.h"
 #include "eigen_decomposition.h"
 #include "internal.h"
+#include "block.h"
 
 #define MAXU 8
 #define FCHUNK 200 /* frequencies per GEMM: the weights and sums stay in cache */
@@ -35,40 +36,13 @@ struct rr_frf_plan {
   /* direct workspace */
   double complex *D, *X;
   int *piv;
+  char *block; /* every array above, one allocation (block.h) */
 };
 
 void rr_frf_plan_free(rr_frf_plan *p)
 {
   if (!p) return;
-  free(p->f);
-  free(p->rows);
-  free(p->rows0);
-  free(p->H);
-  free(p->A);
-  free(p->At);
-  free(p->vl);
-  free(p->vr);
-  free(p->wr);
-  free(p->wi);
-  free(p->work);
-  free(p->lam);
-  free(p->o);
-  free(p->o0);
-  free(p->b);
-  free(p->u);
-  free(p->c);
-  free(p->T);
-  free(p->Wt);
-  free(p->acc);
-  free(p->ework);
-  free(p->V);
-  free(p->rhs);
-  free(p->iwork);
-  free(p->vpiv);
-  free(p->lag);
-  free(p->D);
-  free(p->X);
-  free(p->piv);
+  free(p->block);
   free(p);
 }
 
@@ -82,6 +56,59 @@ rr_frf_opts rr_frf_opts_default(void)
                        .rows = NULL,
                        .rows0 = NULL,
                        .method = RR_FRF_MODAL};
+}
+
+/* The plan's arrays for nf frequencies, np points, n DOFs and N states at
+   most (block.h: called to size, then to carve). */
+static void plan_layout(rr_frf_plan *p, int N, int lwork, rr_block *b)
+{
+  size_t n = (size_t)p->n, np = (size_t)p->np, ni = (size_t)p->ni, nf = (size_t)p->nf,
+         NN = (size_t)N * (size_t)N, Nz = (size_t)N;
+  size_t E = np * ni + MAXU * ni + np * MAXU + MAXU * MAXU; /* residue entries a term, at most */
+  const size_t d = sizeof(double), z = sizeof(double complex), i = sizeof(int);
+  p->f = rr_block_take(b, nf, d);
+  p->rows = rr_block_take(b, np * n, d);
+  p->rows0 = rr_block_take(b, np * n, d);
+  p->H = rr_block_take(b, nf * np * ni, z);
+  p->A = rr_block_take(b, NN, d);
+  p->At = rr_block_take(b, NN, d);
+  p->vl = rr_block_take(b, NN, d);
+  p->vr = rr_block_take(b, NN, d);
+  p->wr = rr_block_take(b, Nz, d);
+  p->wi = rr_block_take(b, Nz, d);
+  p->work = rr_block_take(b, (size_t)lwork, d);
+  p->lam = rr_block_take(b, Nz, z);
+  p->o = rr_block_take(b, Nz * np, z);
+  p->o0 = rr_block_take(b, Nz * np, z);
+  p->b = rr_block_take(b, Nz * ni, z);
+  p->u = rr_block_take(b, Nz * MAXU, z);
+  p->c = rr_block_take(b, Nz * MAXU, z);
+  p->T = rr_block_take(b, 2 * Nz * E, d);
+  p->Wt = rr_block_take(b, 2 * FCHUNK * 2 * Nz, d);
+  p->acc = rr_block_take(b, 2 * FCHUNK * E, d);
+  p->ework = rr_block_take(b, RR_EIGDEC_LWORK(Nz), d);
+  p->V = rr_block_take(b, NN, d);
+  p->rhs = rr_block_take(b, Nz * (ni + MAXU + 4 * Nz), d); /* also dgecon's 4N */
+  p->iwork = rr_block_take(b, RR_EIGDEC_LIWORK(Nz) + Nz, i);
+  p->vpiv = rr_block_take(b, Nz, i);
+  p->lag = rr_block_take(b, nf * ni, z);
+  p->D = rr_block_take(b, n * n, z);
+  p->X = rr_block_take(b, n * (ni + MAXU), z);
+  p->piv = rr_block_take(b, n, i);
+}
+
+/* The frequency grid: the one given, else log-spaced from f_lo to f_hi. */
+static int plan_freqs(rr_frf_plan *p, const rr_frf_opts *o, rr_error *err)
+{
+  int nf = p->nf;
+  double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT,
+         hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
+  for (int i = 0; i < nf; i++) {
+    p->f[i] = o->freqs_hz ? o->freqs_hz[i] : nf == 1 ? lo : lo * pow(hi / lo, (double)i / (nf - 1));
+    if (!(isfinite(p->f[i]) && p->f[i] > 0))
+      return rr_seterr(err, RR_EINVAL, "frf: frequencies must be > 0");
+  }
+  return RR_OK;
 }
 
 int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, rr_error *err)
@@ -99,78 +126,37 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
     return rr_seterr(err, RR_EINVAL, "frf: unknown method");
   rr_frf_plan *p = calloc(1, sizeof *p);
   if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
-  int n = p->n = m->n, np = p->np = o->npoints, ni = p->ni = m->ni;
+  p->n = m->n;
+  p->np = o->npoints;
+  p->ni = m->ni;
   p->nf = nf;
   p->method = o->method == RR_FRF_DIRECT ? RR_FRF_DIRECT : RR_FRF_MODAL;
   p->use_dgeev = o->method == RR_FRF_MODAL_LAPACK;
-  int N = p->Nmax = 2 * n + m->nmx + m->nsdf + 2;
+  int N = 2 * m->n + m->nmx + m->nsdf + 2;
   for (int i = 0; i < m->nmx; i++) N += m->mx[i].sdf; /* room for physical mode */
   p->Nmax = N;
-  size_t NN = (size_t)N * N;
-  p->f = malloc(sizeof(double) * nf);
-  p->rows = malloc(sizeof(double) * np * n);
-  p->rows0 = calloc((size_t)np * n, sizeof(double));
-  p->H = malloc(sizeof(double complex) * (size_t)nf * np * ni);
-  p->A = malloc(sizeof(double) * NN);
-  p->At = malloc(sizeof(double) * NN);
-  p->vl = malloc(sizeof(double) * NN);
-  p->vr = malloc(sizeof(double) * NN);
-  p->wr = malloc(sizeof(double) * N);
-  p->wi = malloc(sizeof(double) * N);
-  p->lam = malloc(sizeof(double complex) * N);
-  p->o = malloc(sizeof(double complex) * N * np);
-  p->o0 = malloc(sizeof(double complex) * N * np);
-  p->b = malloc(sizeof(double complex) * N * ni);
-  p->u = malloc(sizeof(double complex) * N * MAXU);
-  p->c = malloc(sizeof(double complex) * N * MAXU);
-  p->D = malloc(sizeof(double complex) * n * n);
-  size_t E = (size_t)np * ni + (size_t)MAXU * ni + (size_t)np * MAXU + (size_t)MAXU * MAXU;
-  p->T = malloc(sizeof(double) * 2 * N * E);
-  p->Wt = malloc(sizeof(double) * 2 * FCHUNK * 2 * N);
-  p->acc = malloc(sizeof(double) * 2 * FCHUNK * E);
-  p->ework = malloc(sizeof(double) * RR_EIGDEC_LWORK(N));
-  p->V = malloc(sizeof(double) * NN);
-  p->rhs = malloc(sizeof(double) * N * (ni + MAXU + 4 * N)); /* also dgecon's 4N */
-  p->iwork = malloc(sizeof(int) * (RR_EIGDEC_LIWORK(N) + N));
-  p->vpiv = malloc(sizeof(int) * N);
-  p->lag = malloc(sizeof(double complex) * nf * ni);
-  p->lag_speed = -1;
-  p->X = malloc(sizeof(double complex) * n * (ni + MAXU));
-  p->piv = malloc(sizeof(int) * n);
-  if (!p->f || !p->rows || !p->rows0 || !p->H || !p->A || !p->At || !p->vl || !p->vr || !p->wr ||
-      !p->wi || !p->lam || !p->o || !p->o0 || !p->b || !p->u || !p->c || !p->D || !p->X ||
-      !p->piv || !p->T || !p->Wt || !p->acc || !p->ework || !p->V || !p->rhs || !p->iwork ||
-      !p->vpiv || !p->lag) {
-    rr_frf_plan_free(p);
-    return rr_seterr(err, RR_ENOMEM, "out of memory");
-  }
-  for (int i = 0; i < nf; i++) {
-    if (o->freqs_hz)
-      p->f[i] = o->freqs_hz[i];
-    else {
-      double lo = o->f_lo_hz > 0 ? o->f_lo_hz : RR_FRF_F_LO_DEFAULT,
-             hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
-      p->f[i] = nf == 1 ? lo : lo * pow(hi / lo, (double)i / (nf - 1));
-    }
-    if (!(isfinite(p->f[i]) && p->f[i] > 0)) {
-      rr_frf_plan_free(p);
-      return rr_seterr(err, RR_EINVAL, "frf: frequencies must be > 0");
-    }
-  }
-  memcpy(p->rows, o->rows, sizeof(double) * np * n);
-  if (o->rows0) memcpy(p->rows0, o->rows0, sizeof(double) * np * n);
   double q;
-  int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, p->At, N, p->wr, p->wi, p->vl, N,
-                                p->vr, N, &q, -1);
-  if (info) {
+  if (LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'V', 'V', N, NULL, N, NULL, NULL, NULL, N, NULL, N, &q,
+                         -1)) {
     rr_frf_plan_free(p);
     return rr_seterr(err, RR_ELAPACK, "dgeev workspace query failed");
   }
   p->lwork = (int)q + 1;
-  p->work = malloc(sizeof(double) * p->lwork);
-  if (!p->work) {
+  rr_block b = {0};
+  plan_layout(p, N, p->lwork, &b);
+  if (rr_block_alloc(&b)) {
     rr_frf_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
+  p->block = b.base;
+  plan_layout(p, N, p->lwork, &b);
+  p->lag_speed = -1;
+  memcpy(p->rows, o->rows, sizeof(double) * (size_t)p->np * (size_t)p->n);
+  if (o->rows0) memcpy(p->rows0, o->rows0, sizeof(double) * (size_t)p->np * (size_t)p->n);
+  int st = plan_freqs(p, o, err);
+  if (st) {
+    rr_frf_plan_free(p);
+    return st;
   }
   *out = p;
   return RR_OK;
@@ -526,70 +512,52 @@ RR_CLONES static void modal_weights(const double *la, const double *lb, int npai
   }
 }
 
-static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
+/* The state matrix with the SMW elements held at the reference stiffness
+   k_lo (the state-space part of the expansion), into p->A. */
+static int modal_state_matrix(rr_frf_plan *p, const rr_model *m, int nu, double k_lo, int *N,
+                              rr_error *err)
 {
-  int ni = p->ni, np = p->np;
-  smw_set su = {.nu = 0};
-  int nu = su.nu = smw_elements(m, su.uel, su.umult);
-  int *uel = su.uel;
-  if (nu < 0)
-    return rr_seterr(err, RR_EINVAL, "frf: more than %d SDF dampers (use the direct method)", MAXU);
-  double k_lo = 0, k_hi = 0;
-  if (nu) rr_sdf_range(&m->curve, &k_lo, &k_hi);
-  su.k_lo = k_lo;
-  /* State-space part: SMW elements held at the reference stiffness k_lo. */
-  rr_model *mm = (rr_model *)m;
+  rr_model *mm = (rr_model *)m; /* the SDF mode switched for this call, then restored */
   int mode_saved = mm->sdf_mode;
   if (nu) mm->sdf_mode = RR_SDF_PAPER;
-  int N, st = rr_state_matrix_merged(m, k_lo, p->A, &N, err);
-  if (st) {
-    mm->sdf_mode = mode_saved;
-    return st;
-  }
-  if (N > p->Nmax) {
-    mm->sdf_mode = mode_saved;
-    return rr_seterr(err, RR_EINVAL, "frf plan too small for this model");
-  }
+  int st = rr_state_matrix_merged(m, k_lo, p->A, N, err);
   mm->sdf_mode = mode_saved;
-  if (p->use_dgeev) {
-    if ((st = residues_dgeev(p, m, N, nu, uel, err))) return st;
-  } else if (residues_fast(p, m, N, nu, uel)) {
-    p->route = RR_FRF_DIRECT;
-    return execute_direct(p, m);
-  }
-  /* Residue entries per term: Hq (np x ni), Hu (nu x ni), Gq (np x nu),
-     Z (nu x nu), each the product of a left and a right projection. The
-     outputs are accelerations (plus roll-gravity): s^2 O (sI - A)^-1 B~ =
-     O A^2 (sI - A)^-1 B~ + O A B~ (O B~ = 0: the inputs act on velocities),
-     so the output projection of term j is lambda_j^2 o_j + o0_j and the
-     feedthrough O A B~ = rows M^-1 B is added once (feedthrough()). A
-     conjugate pair contributes R d1 + conj(R) d2 = Re(R) (d1 + d2) + Im(R)
-     j (d1 - d2), so it is stored once (the eigenvalue with Im > 0) and costs
-     real-times-complex products. All frequencies' sums are then one real
-     matrix product: weights (2 nf x K: rows Re, Im of each frequency;
-     columns d1 + d2 of each term, then j (d1 - d2) of each pair) times
-     entries (K x E: Re R rows, then the pairs' Im R rows). */
-  int nHq = np * ni, nHu = nu * ni, nGq = np * nu, nZ = nu * nu; /* entry counts */
-  int oHq = 0, oHu = nHq, oGq = oHu + nHu, oZ = oGq + nGq, E = oZ + nZ;
-  su.oHq = oHq;
-  su.oHu = oHu;
-  su.oGq = oGq;
-  su.oZ = oZ;
-  feedthrough(p, m, &su);
-  int nt = 0, npair = 0;
+  if (!st && *N > p->Nmax) st = rr_seterr(err, RR_EINVAL, "frf plan too small for this model");
+  return st;
+}
+
+/* Residue entries per term: Hq (np x ni), Hu (nu x ni), Gq (np x nu), Z (nu
+   x nu), each the product of a left and a right projection. The outputs are
+   accelerations (plus roll-gravity): s^2 O (sI - A)^-1 B~ = O A^2 (sI -
+   A)^-1 B~ + O A B~ (O B~ = 0: the inputs act on velocities), so the output
+   projection of term j is lambda_j^2 o_j + o0_j and the feedthrough O A B~ =
+   rows M^-1 B is added once (feedthrough()). A conjugate pair contributes R
+   d1 + conj(R) d2 = Re(R) (d1 + d2) + Im(R) j (d1 - d2), so it is stored once
+   (the eigenvalue with Im > 0) and costs real-times-complex products. All
+   frequencies' sums are then one real matrix product: weights (2 nf x K: rows
+   Re, Im of each frequency; columns d1 + d2 of each term, then j (d1 - d2) of
+   each pair) times entries (K x E: Re R rows, then the pairs' Im R rows).
+   Pairs come first, then real modes (branch-free weight loops); a real
+   mode's residues are real, so its Im row is left out of the product. The
+   terms' eigenvalues go to (la, lb); returns E and sets *nt, *npair. */
+static int residue_table(rr_frf_plan *p, smw_set *u, int N, int *nt, int *npair, double *la,
+                         double *lb)
+{
+  int ni = p->ni, np = p->np, nu = u->nu;
+  u->oHq = 0;
+  u->oHu = np * ni;
+  u->oGq = u->oHu + nu * ni;
+  u->oZ = u->oGq + np * nu;
+  int E = u->oZ + nu * nu;
+  *nt = *npair = 0;
   for (int j = 0; j < N; j++) {
-    nt += p->wi[j] >= 0;
-    npair += p->wi[j] > 0;
+    *nt += p->wi[j] >= 0;
+    *npair += p->wi[j] > 0;
   }
-  /* a real mode's residues are real (real vectors): its Im row, written
-     after the pairs' Im rows, is left out of the product */
-  int K = nt + npair;
-  double complex tlam[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
-  /* pairs first, then real modes: branch-free weight loops */
-  for (int j = 0, tp = 0, tr_ = npair; j < N; j++) {
+  for (int j = 0, tp = 0, tq = *npair; j < N; j++) {
     if (p->wi[j] < 0) continue; /* the conjugate of a stored pair */
-    int t = p->wi[j] > 0 ? tp++ : tr_++;
-    double *tr = p->T + (size_t)t * E, *ti = p->T + (size_t)(nt + t) * E;
+    int t = p->wi[j] > 0 ? tp++ : tq++;
+    double *tr = p->T + (size_t)t * E, *ti = p->T + (size_t)(*nt + t) * E;
     const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni,
                          *uu = p->u + j * MAXU, *cc = p->c + j * MAXU, l2 = p->lam[j] * p->lam[j];
 #define PUT(off, val)                                                                              \
@@ -600,22 +568,41 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   } while (0)
     for (int q = 0; q < np; q++) {
       double complex oa = l2 * o[q] + o0[q];
-      for (int i = 0; i < ni; i++) PUT(oHq + q * ni + i, oa * bb[i]);
-      for (int e = 0; e < nu; e++) PUT(oGq + q * nu + e, oa * cc[e]);
+      for (int i = 0; i < ni; i++) PUT(u->oHq + q * ni + i, oa * bb[i]);
+      for (int e = 0; e < nu; e++) PUT(u->oGq + q * nu + e, oa * cc[e]);
     }
     for (int e = 0; e < nu; e++) {
-      for (int i = 0; i < ni; i++) PUT(oHu + e * ni + i, uu[e] * bb[i]);
-      for (int g = 0; g < nu; g++) PUT(oZ + e * nu + g, uu[e] * cc[g]);
+      for (int i = 0; i < ni; i++) PUT(u->oHu + e * ni + i, uu[e] * bb[i]);
+      for (int g = 0; g < nu; g++) PUT(u->oZ + e * nu + g, uu[e] * cc[g]);
     }
 #undef PUT
-    tlam[t] = p->lam[j];
+    la[t] = creal(p->lam[j]);
+    lb[t] = cimag(p->lam[j]);
   }
+  return E;
+}
+
+static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
+{
+  smw_set su = {.nu = 0};
+  int nu = su.nu = smw_elements(m, su.uel, su.umult);
+  if (nu < 0)
+    return rr_seterr(err, RR_EINVAL, "frf: more than %d SDF dampers (use the direct method)", MAXU);
+  double k_hi = 0;
+  if (nu) rr_sdf_range(&m->curve, &su.k_lo, &k_hi);
+  int N, st = modal_state_matrix(p, m, nu, su.k_lo, &N, err);
+  if (st) return st;
+  if (p->use_dgeev) {
+    if ((st = residues_dgeev(p, m, N, nu, su.uel, err))) return st;
+  } else if (residues_fast(p, m, N, nu, su.uel)) {
+    p->route = RR_FRF_DIRECT;
+    return execute_direct(p, m);
+  }
+  feedthrough(p, m, &su);
+  int nt, npair;
   double la[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES],
       lb[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
-  for (int t = 0; t < nt; t++) {
-    la[t] = creal(tlam[t]);
-    lb[t] = cimag(tlam[t]);
-  }
+  int E = residue_table(p, &su, N, &nt, &npair, la, lb), K = nt + npair;
   for (int k0 = 0; k0 < p->nf; k0 += FCHUNK) {
     int nk = p->nf - k0 < FCHUNK ? p->nf - k0 : FCHUNK;
     for (int kk = 0; kk < nk; kk++) {
