@@ -55,7 +55,7 @@ same "locus over conicity (JSON)" "$tmp/s8.json" "$tmp/m8.json"
 "$RR" bifurcation --profile new --csv > "$tmp/s9.csv" 2> /dev/null && mpi bifurcation --profile new --csv > "$tmp/m9.csv" 2> "$tmp/m9.err" || bad "bifurcation runs"
 same "bifurcation by continuation (the monodromy matrix's column groups over the ranks)" "$tmp/s9.csv" "$tmp/m9.csv"
 [ "$(grep -c "nonlinear model" "$tmp/m9.err")" -eq 1 ] && ok || bad "bifurcation's assumptions once per job"
-mpi bifurcation --profile worn --method scan --speeds 500:560 --step 20 --settle 2 > "$tmp/m10.txt" 2> "$tmp/m10.err" && "$RR" bifurcation --profile worn --method scan --speeds 500:560 --step 20 --settle 2 > "$tmp/s10.txt" 2> /dev/null || bad "bifurcation scan runs"
+mpi bifurcation --profile worn --method scan --speeds 500:560 --step 20 --settle 2 --csv > "$tmp/m10.txt" 2> "$tmp/m10.err" && "$RR" bifurcation --profile worn --method scan --speeds 500:560 --step 20 --settle 2 --csv > "$tmp/s10.txt" 2> /dev/null || bad "bifurcation scan runs"
 same "bifurcation scan (rank 0 alone)" "$tmp/s10.txt" "$tmp/m10.txt"
 grep -q "rank 0 runs it alone" "$tmp/m10.err" && ok || bad "the note for the scan"
 # a command that is not distributed: rank 0 alone, one output

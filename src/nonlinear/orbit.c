@@ -9,6 +9,7 @@
 #include "orbit.h"
 #include "nvector_fast.h"
 #include "internal.h"
+#include "block.h"
 
 #define NEWTON_MAXIT 12
 #define NEWTON_TOL 5e-9 /* |phi_T(z0) - z0| relative to |z0| */
@@ -363,45 +364,40 @@ typedef struct work {
   flow f;
   const rr_runner_opts *run; /* where the variational groups run (NULL: here) */
   double *sbuf;              /* their results */
+  char *block;               /* the arrays, one allocation (block.h) */
 } work;
+
+/* Newton's arrays (block.h: called to size, then to carve). */
+static void work_layout(work *w, rr_block *b)
+{
+  size_t m = (size_t)w->n + 2, n = (size_t)w->n;
+  const size_t d = sizeof(double);
+  w->B = rr_block_take(b, n * m, d);
+  w->Jn = rr_block_take(b, m * m, d);
+  w->R = rr_block_take(b, m, d);
+  w->F = rr_block_take(b, n, d);
+  w->Fn = rr_block_take(b, n, d);
+  w->dX = rr_block_take(b, m, d);
+  w->zt = rr_block_take(b, n, d);
+  w->piv = rr_block_take(b, m, sizeof(int));
+  w->f.zT = rr_block_take(b, n, d);
+  w->f.Phi = rr_block_take(b, n * n, d);
+  w->f.phip = rr_block_take(b, n, d);
+  w->sbuf = rr_block_take(b, sens_buf_size(w->n), d);
+}
 
 static int work_new(work *w, int n)
 {
-  size_t m = (size_t)n + 2, nn = (size_t)n;
   *w = (work){.n = n, .T_max = INFINITY};
-  w->B = malloc(sizeof(double) * nn * m);
-  w->Jn = malloc(sizeof(double) * m * m);
-  w->R = malloc(sizeof(double) * m);
-  w->F = malloc(sizeof(double) * nn);
-  w->Fn = malloc(sizeof(double) * nn);
-  w->dX = malloc(sizeof(double) * m);
-  w->zt = malloc(sizeof(double) * nn);
-  w->piv = malloc(sizeof(int) * m);
-  w->f.zT = malloc(sizeof(double) * nn);
-  w->f.Phi = malloc(sizeof(double) * nn * nn);
-  w->f.phip = malloc(sizeof(double) * nn);
-  w->sbuf = malloc(sizeof(double) * sens_buf_size(n));
-  return w->sbuf && w->B && w->Jn && w->R && w->F && w->Fn && w->dX && w->zt && w->piv && w->f.zT &&
-                 w->f.Phi && w->f.phip
-             ? 0
-             : -1;
+  rr_block b = {0};
+  work_layout(w, &b);
+  if (rr_block_alloc(&b)) return -1;
+  w->block = b.base;
+  work_layout(w, &b);
+  return 0;
 }
 
-static void work_free(work *w)
-{
-  free(w->B);
-  free(w->Jn);
-  free(w->R);
-  free(w->F);
-  free(w->Fn);
-  free(w->dX);
-  free(w->zt);
-  free(w->piv);
-  free(w->f.zT);
-  free(w->f.Phi);
-  free(w->f.phip);
-  free(w->sbuf);
-}
+static void work_free(work *w) { free(w->block); }
 
 static double norm2(const double *x, int n)
 {

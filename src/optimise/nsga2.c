@@ -9,6 +9,7 @@
 #include "railride/nsga2.h"
 #include "rng.h"
 #include "internal.h"
+#include "block.h"
 
 rr_nsga2_opts rr_nsga2_opts_default(void)
 {
@@ -554,44 +555,48 @@ typedef struct nsga_work {
   int d, m, nc, N, R;
   double *X, *F, *cd, *X2, *F2, *ref, *col, *E, *CV, *fc;
   int *rank, *mem, *tmp, *sel, *tmp2, *start, *idx, *r2;
+  char *block; /* every array above, one allocation (block.h) */
 } nsga_work;
 
-static void work_free(nsga_work *w)
+static void work_free(nsga_work *w) { free(w->block); }
+
+/* The arrays (block.h: called to size, then to carve); the constrained
+   domination's (CV, fc, idx, r2) only with constraints. */
+static void work_layout(nsga_work *w, rr_block *b)
 {
-  double *dbl[] = {w->X, w->F, w->cd, w->X2, w->F2, w->ref, w->col, w->E, w->CV, w->fc};
-  int *ints[] = {w->rank, w->mem, w->tmp, w->sel, w->tmp2, w->start, w->idx, w->r2};
-  for (size_t i = 0; i < sizeof dbl / sizeof dbl[0]; i++) free(dbl[i]);
-  for (size_t i = 0; i < sizeof ints / sizeof ints[0]; i++) free(ints[i]);
+  size_t R = (size_t)w->R, n = (size_t)w->N, d = (size_t)w->d, m = (size_t)w->m;
+  const size_t db = sizeof(double), ib = sizeof(int);
+  w->X = rr_block_take(b, R * d, db);
+  w->F = rr_block_take(b, R * m, db);
+  w->cd = rr_block_take(b, R, db);
+  w->X2 = rr_block_take(b, n * d, db);
+  w->F2 = rr_block_take(b, n * m, db);
+  w->ref = rr_block_take(b, m, db);
+  w->col = rr_block_take(b, R, db);
+  w->E = rr_block_take(b, n * (m + (size_t)w->nc), db);
+  w->rank = rr_block_take(b, R, ib);
+  w->mem = rr_block_take(b, R, ib);
+  w->tmp = rr_block_take(b, R + 1, ib);
+  w->sel = rr_block_take(b, n, ib);
+  w->tmp2 = rr_block_take(b, R, ib);
+  w->start = rr_block_take(b, R + 1, ib);
+  if (w->nc) { /* Deb's constrained domination */
+    w->CV = rr_block_take(b, R, db);
+    w->fc = rr_block_take(b, R * m, db);
+    w->idx = rr_block_take(b, R, ib);
+    w->r2 = rr_block_take(b, R, ib);
+  }
 }
 
 static int work_alloc(nsga_work *w, int d, int m, int nc, int N, rr_error *err)
 {
-  size_t R = 2 * (size_t)N, n = (size_t)N;
-  *w = (nsga_work){.d = d, .m = m, .nc = nc, .N = N, .R = (int)R};
-  w->X = malloc(sizeof(double) * R * (size_t)d);
-  w->F = malloc(sizeof(double) * R * (size_t)m);
-  w->cd = malloc(sizeof(double) * R);
-  w->X2 = malloc(sizeof(double) * n * (size_t)d);
-  w->F2 = malloc(sizeof(double) * n * (size_t)m);
-  w->ref = malloc(sizeof(double) * (size_t)m);
-  w->col = malloc(sizeof(double) * R);
-  w->E = malloc(sizeof(double) * n * (size_t)(m + nc));
-  w->rank = malloc(sizeof(int) * R);
-  w->mem = malloc(sizeof(int) * R);
-  w->tmp = malloc(sizeof(int) * (R + 1));
-  w->sel = malloc(sizeof(int) * n);
-  w->tmp2 = malloc(sizeof(int) * R);
-  w->start = malloc(sizeof(int) * (R + 1));
-  int ok = w->X && w->F && w->cd && w->X2 && w->F2 && w->ref && w->col && w->E && w->rank &&
-           w->mem && w->tmp && w->sel && w->tmp2 && w->start;
-  if (nc) { /* Deb's constrained domination */
-    w->CV = calloc(R, sizeof(double));
-    w->fc = malloc(sizeof(double) * R * (size_t)m);
-    w->idx = malloc(sizeof(int) * R);
-    w->r2 = malloc(sizeof(int) * R);
-    ok = ok && w->CV && w->fc && w->idx && w->r2;
-  }
-  return ok ? RR_OK : rr_seterr(err, RR_ENOMEM, "out of memory");
+  *w = (nsga_work){.d = d, .m = m, .nc = nc, .N = N, .R = 2 * N};
+  rr_block b = {0};
+  work_layout(w, &b);
+  if (rr_block_alloc(&b)) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  w->block = b.base;
+  work_layout(w, &b);
+  return RR_OK;
 }
 
 static int rank_all(nsga_work *w, int n, rr_error *err)

@@ -10,6 +10,7 @@
 #include "model_impl.h"
 #include "hessenberg_qr.h"
 #include "internal.h"
+#include "block.h"
 
 rr_validate_opts rr_validate_opts_default(void)
 {
@@ -102,6 +103,7 @@ typedef struct vwork {
   double *y, *aw;      /* outputs (accelerations, then their rates; ny x ns); a weighted one */
   double *C, *D, *E;   /* y = C z + D u + E u' */
   double *Gp, *fp;     /* PEM PSDs on the standard grid (nfreq x np), the grid */
+  char *block;         /* the arrays above, one allocation (block.h) */
   rr_lti_disc dv, dfl; /* the vehicle and the Sperling filter, discretised */
   double fA[9], fB[3], fC[3];
   int kb0, kb1;      /* the Welch bins inside the band */
@@ -131,11 +133,29 @@ static int check_opts(const rr_model *m, const rr_validate_opts *o, int *ns, rr_
 
 static void work_free(vwork *w)
 {
-  double *arrays[] = {w->A,  w->A2, w->Bs, w->ABs, w->u,  w->du, w->y,
-                      w->aw, w->C,  w->D,  w->E,   w->Gp, w->fp};
-  for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) free(arrays[i]);
+  free(w->block);
   rr_lti_disc_free(&w->dv);
   rr_lti_disc_free(&w->dfl);
+}
+
+/* The run's arrays (block.h: called to size, then to carve). */
+static void work_layout(vwork *w, size_t nfreq, rr_block *b)
+{
+  size_t N = (size_t)w->N, ni = (size_t)w->ni, ny = (size_t)w->ny, nsz = (size_t)w->ns;
+  const size_t d = sizeof(double);
+  w->A = rr_block_take(b, N * N, d);
+  w->A2 = rr_block_take(b, N * N, d);
+  w->Bs = rr_block_take(b, N * ni, d);
+  w->ABs = rr_block_take(b, N * ni, d);
+  w->u = rr_block_take(b, ni * nsz, d);
+  w->du = rr_block_take(b, ni * nsz, d);
+  w->y = rr_block_take(b, ny * nsz, d);
+  w->aw = rr_block_take(b, nsz, d);
+  w->C = rr_block_take(b, ny * N, d);
+  w->D = rr_block_take(b, ny * ni, d);
+  w->E = rr_block_take(b, ny * ni, d);
+  w->Gp = rr_block_take(b, nfreq * (size_t)w->np, d);
+  w->fp = rr_block_take(b, nfreq, d);
 }
 
 static int work_alloc(vwork *w, const rr_model *m, const rr_validate_opts *o, int ns,
@@ -152,30 +172,19 @@ static int work_alloc(vwork *w, const rr_model *m, const rr_validate_opts *o, in
                .kb0 = -1,
                .kb1 = -1,
                .nsteps = 3 + o->npoints};
-  size_t N = (size_t)w->N, ni = (size_t)w->ni, ny = (size_t)w->ny, nsz = (size_t)ns;
-  w->A = malloc(sizeof(double) * N * N);
-  w->A2 = malloc(sizeof(double) * N * N);
-  w->Bs = malloc(sizeof(double) * N * ni);
-  w->ABs = malloc(sizeof(double) * N * ni);
-  w->u = malloc(sizeof(double) * ni * nsz);
-  w->du = malloc(sizeof(double) * ni * nsz);
-  w->y = malloc(sizeof(double) * ny * nsz);
-  w->aw = malloc(sizeof(double) * nsz);
-  w->C = calloc(ny * N, sizeof(double));
-  w->D = calloc(ny * ni, sizeof(double));
-  w->E = calloc(ny * ni, sizeof(double));
-  w->Gp = malloc(sizeof(double) * (size_t)o->nfreq * (size_t)w->np);
-  w->fp = malloc(sizeof(double) * (size_t)o->nfreq);
-  r->npoints = w->np;
+  rr_block b = {0};
+  work_layout(w, (size_t)o->nfreq, &b);
+  if (rr_block_alloc(&b)) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  w->block = b.base;
+  work_layout(w, (size_t)o->nfreq, &b);
+  r->npoints = w->np; /* the result's arrays are the caller's (rr_validate_result_free) */
   r->nwelch = w->nh;
   r->welch_f = malloc(sizeof(double) * (size_t)w->nh);
   r->welch_P = malloc(sizeof(double) * (size_t)w->nh * (size_t)w->np);
   r->pem_P = calloc((size_t)w->nh * (size_t)w->np, sizeof(double));
   r->points = calloc((size_t)w->np, sizeof(rr_validate_point));
-  void *all[] = {w->A, w->A2, w->Bs, w->ABs, w->u,       w->du,      w->y,     w->aw,    w->C,
-                 w->D, w->E,  w->Gp, w->fp,  r->welch_f, r->welch_P, r->pem_P, r->points};
-  for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
-    if (!all[i]) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  if (!r->welch_f || !r->welch_P || !r->pem_P || !r->points)
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
   return RR_OK;
 }
 
