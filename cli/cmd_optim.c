@@ -461,42 +461,20 @@ static int parse_axis(const char *opt, const char *arg, sweep_args *a, int ax)
   return 0;
 }
 
-/* The objective at an operating point given by the axes: NAME@KMH,L[,X]
-   with KMH and L taken from the axes that set them (the rest from the
-   objective as written, which may leave them out: "index"). */
+/* The objective at the operating point the axes give (speed, conicity; the
+   rest as the objective has it). */
 static int objective_at(const char *obj, const double *v, const int *kind, int nax, char *out,
                         size_t n)
 {
-  static const char *const ops[] = {"index", "sperling", "sperling_gb", "wd_rms", "rms"};
-  char name[64];
-  snprintf(name, sizeof name, "%.*s", (int)strcspn(obj, "@;"), obj);
-  int known = 0;
-  for (size_t i = 0; i < sizeof ops / sizeof ops[0]; i++) known |= !strcmp(name, ops[i]);
-  if (!known)
-    return cli_bad("sweep: a speed or conicity axis needs an objective at an operating point "
-                   "(index, sperling, "
-                   "sperling_gb, wd_rms, rms), not '%s'",
-                   obj);
   double kmh = NAN, lam = NAN;
-  char rest[128] = "", mods[128] = "";
-  const char *at = strchr(obj, '@'), *semi = strchr(obj, ';');
-  if (semi) snprintf(mods, sizeof mods, "%s", semi);
-  if (at) {
-    char args[128];
-    snprintf(args, sizeof args, "%.*s", (int)(semi ? semi - at - 1 : (long)strlen(at + 1)), at + 1);
-    char *c1 = strchr(args, ','), *c2 = c1 ? strchr(c1 + 1, ',') : NULL;
-    kmh = atof(args);
-    if (c1) lam = atof(c1 + 1);
-    if (c2) snprintf(rest, sizeof rest, "%s", c2);
-  }
   for (int ax = 0; ax < nax; ax++) {
     if (kind[ax] == AXIS_SPEED) kmh = v[ax];
     if (kind[ax] == AXIS_CONICITY) lam = v[ax];
   }
-  if (isnan(kmh) || isnan(lam))
-    return cli_bad("sweep: '%s' needs its %s from the objective (NAME@KMH,L) or an axis", obj,
-                   isnan(kmh) ? "speed" : "conicity");
-  snprintf(out, n, "%s@%.10g,%.10g%s%s", name, kmh, lam, rest, mods);
+  rr_error e;
+  if (rr_objective_at(obj, kmh, lam, out, n, &e))
+    return cli_bad("sweep: a speed or conicity axis needs an objective at an operating point: %s",
+                   e.msg);
   return 0;
 }
 

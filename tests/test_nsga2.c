@@ -290,6 +290,42 @@ static void test_design(void)
   rr_design_free(d);
 }
 
+/* rr_objective_at: the operating point replaced, the point x and the
+   modifiers kept, the text checked. */
+static void test_objective_at(void)
+{
+  char out[128];
+  rr_error e;
+  static const struct {
+    const char *in;
+    double kmh, lam;
+    const char *want;
+  } ok[] = {
+      {"index", 300, 0.2, "index@300,0.2"},
+      {"index@350,0.17", NAN, 0.4, "index@350,0.4"},
+      {"index@350,0.17;fmax=20;wmin=0", 250, NAN, "index@250,0.17;fmax=20;wmin=0"},
+      {"sperling@350,0.17,9.5;spectrum=wuhan-guangzhou", 300, 0.1,
+       "sperling@300,0.1,9.5;spectrum=wuhan-guangzhou"},
+      {"rms@350,0.17,-8.6875", NAN, NAN, "rms@350,0.17,-8.6875"},
+  };
+  for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
+    int st = rr_objective_at(ok[i].in, ok[i].kmh, ok[i].lam, out, sizeof out, &e);
+    CHECK(st == RR_OK && !strcmp(out, ok[i].want), "objective_at '%s': status %d, '%s' (want '%s')",
+          ok[i].in, st, st ? e.msg : out, ok[i].want);
+  }
+  static const struct {
+    const char *in;
+    double kmh, lam;
+  } bad[] = {{"zeta_low", 300, 0.2},        {"critical_speed@0.2", 300, 0.2},
+             {"index", 300, NAN},           {"index@350,0.17,3", 300, 0.2},
+             {"index@350,0.17", 3000, NAN}, {"sperling@350,0.17;fmax=20", 300, 0.2}};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+    CHECK(rr_objective_at(bad[i].in, bad[i].kmh, bad[i].lam, out, sizeof out, &e) == RR_EINVAL,
+          "objective_at '%s' refused", bad[i].in);
+  CHECK(rr_objective_at("index@350,0.17;fmax=20", 300, 0.2, out, 10, &e) == RR_EINVAL,
+        "objective_at: a short buffer refused");
+}
+
 int main(void)
 {
   check_spectra_env();
@@ -306,5 +342,6 @@ int main(void)
   test_resume();
   check_cleanup();
   test_design();
+  test_objective_at();
   return check_done("nsga2");
 }

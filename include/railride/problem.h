@@ -43,6 +43,14 @@ RR_API int rr_problem_load(const char *path, rr_problem *p, rr_error *err);
 
 /* Checks an objective's text (names, arguments, modifiers) without a vehicle. */
 RR_API int rr_objective_check(const char *text, rr_error *err);
+/* The objective `text` at another operating point: speed_kmh and conicity
+ * replace its own where finite (NaN keeps the objective's, which it may then
+ * not leave out); its point x and modifiers stay. Only the objectives at an
+ * operating point (index, sperling, sperling_gb, wd_rms, rms). The checked,
+ * canonical text goes to out (n bytes), e.g. "index;fmax=20" at (300, 0.2):
+ * "index@300,0.2;fmax=20". */
+RR_API int rr_objective_at(const char *text, double speed_kmh, double conicity, char *out, size_t n,
+                           rr_error *err);
 
 #ifdef __cplusplus
 }

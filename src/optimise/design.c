@@ -117,16 +117,24 @@ static int number(const char *t, double *v)
   return end != t && !*end && isfinite(*v) ? 0 : -1;
 }
 
+/* The numbers after '@' (a comma list, at most 3) into a, their count to *na. */
+static int read_args(char *at, const char *text, double *a, int *na, rr_error *err)
+{
+  char *sv;
+  *na = 0;
+  for (char *t = at ? strtok_r(at, ",", &sv) : NULL; t; t = strtok_r(NULL, ",", &sv)) {
+    if (*na >= 3) return rr_seterr(err, RR_EINVAL, "objective '%s': too many arguments", text);
+    if (number(t, &a[(*na)++]))
+      return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' is not a number", text, t);
+  }
+  return RR_OK;
+}
+
 static int parse_args(char *at, const struct objective_name *nm, objective *o, rr_error *err)
 {
   double a[3] = {0, 0, 0};
-  int na = 0;
-  char *sv;
-  for (char *t = at ? strtok_r(at, ",", &sv) : NULL; t; t = strtok_r(NULL, ",", &sv)) {
-    if (na >= 3) return rr_seterr(err, RR_EINVAL, "objective '%s': too many arguments", o->text);
-    if (number(t, &a[na++]))
-      return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' is not a number", o->text, t);
-  }
+  int na, st = read_args(at, o->text, a, &na, err);
+  if (st) return st;
   if (na < nm->nargs_min || na > nm->nargs_max)
     return rr_seterr(err, RR_EINVAL, "objective '%s': %d to %d arguments expected after '@'",
                      o->text, nm->nargs_min, nm->nargs_max);
@@ -198,6 +206,21 @@ static int parse_option(const char *t, objective *o, rr_error *err)
                    o->text, t);
 }
 
+/* text split in place: buf gets the name, *at the arguments after '@' and
+ *opts the modifiers after ';' (NULL when absent); the name's entry. */
+static const struct objective_name *split_objective(const char *text, char *buf, size_t n,
+                                                    char **at, char **opts)
+{
+  snprintf(buf, n, "%s", text);
+  *opts = strchr(buf, ';');
+  if (*opts) *(*opts)++ = 0;
+  *at = strchr(buf, '@');
+  if (*at) *(*at)++ = 0;
+  for (int i = 0; i < NOBJ_NAMES; i++)
+    if (!strcmp(buf, objective_names[i].name)) return &objective_names[i];
+  return NULL;
+}
+
 static int parse_objective(const char *text, objective *o, rr_error *err)
 {
   *o = (objective){.sdf = -1, .mo = rr_modal_opts_default(), .freq_hz = NAN};
@@ -205,15 +228,8 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
   snprintf(o->spectrum, sizeof o->spectrum, "wuhan-guangzhou");
   if (strlen(text) >= sizeof o->text)
     return rr_seterr(err, RR_EINVAL, "objective '%.40s...': too long", text);
-  char buf[128];
-  snprintf(buf, sizeof buf, "%s", text);
-  char *opts = strchr(buf, ';');
-  if (opts) *opts++ = 0;
-  char *at = strchr(buf, '@');
-  if (at) *at++ = 0;
-  const struct objective_name *nm = NULL;
-  for (int i = 0; i < NOBJ_NAMES; i++)
-    if (!strcmp(buf, objective_names[i].name)) nm = &objective_names[i];
+  char buf[128], *at, *opts;
+  const struct objective_name *nm = split_objective(text, buf, sizeof buf, &at, &opts);
   if (!nm)
     return rr_seterr(err, RR_EINVAL,
                      "objective '%s': unknown name (railride objectives lists them)", text);
@@ -224,6 +240,36 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
        t = strtok_r(NULL, ";", &sv))
     st = parse_option(t, o, err);
   return st;
+}
+
+int rr_objective_at(const char *text, double speed_kmh, double conicity, char *out, size_t n,
+                    rr_error *err)
+{
+  char buf[128], *at, *opts;
+  if (strlen(text) >= sizeof buf)
+    return rr_seterr(err, RR_EINVAL, "objective '%.40s...': too long", text);
+  const struct objective_name *nm = split_objective(text, buf, sizeof buf, &at, &opts);
+  if (!nm || nm->nargs_min != 2)
+    return rr_seterr(err, RR_EINVAL,
+                     "objective '%s': not one at an operating point (index, sperling, "
+                     "sperling_gb, wd_rms, rms)",
+                     text);
+  double a[3] = {NAN, NAN, 0};
+  int na, st = read_args(at, text, a, &na, err);
+  if (st) return st;
+  if (isfinite(speed_kmh)) a[0] = speed_kmh;
+  if (isfinite(conicity)) a[1] = conicity;
+  if (isnan(a[0]) || isnan(a[1]))
+    return rr_seterr(err, RR_EINVAL, "objective '%s': no %s given (NAME@KMH,L)", text,
+                     isnan(a[0]) ? "speed" : "conicity");
+  int len = na == 3 ? snprintf(out, n, "%s@%.10g,%.10g,%.17g%s%s", buf, a[0], a[1], a[2],
+                               opts ? ";" : "", opts ? opts : "")
+                    : snprintf(out, n, "%s@%.10g,%.10g%s%s", buf, a[0], a[1], opts ? ";" : "",
+                               opts ? opts : "");
+  if (len < 0 || (size_t)len >= n)
+    return rr_seterr(err, RR_EINVAL, "objective '%s': too long at this point", text);
+  objective o;
+  return parse_objective(out, &o, err);
 }
 
 int rr_objective_check(const char *text, rr_error *err)
