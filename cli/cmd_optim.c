@@ -423,11 +423,12 @@ int cmd_optimise(int argc, char **argv)
 
 /* An axis: a vehicle-file key, or the operating point's speed (km/h) or
    conicity, which then fill the objective's own arguments. */
-enum { AXIS_KEY = 0, AXIS_SPEED = 1, AXIS_CONICITY = 2 };
+enum sweep_axis { AXIS_KEY = 0, AXIS_SPEED = 1, AXIS_CONICITY = 2 };
 typedef struct sweep_args {
   char key[2][64];
   double from[2], to[2];
-  int n[2], have[2], kind[2];
+  int n[2], have[2];
+  enum sweep_axis kind[2];
   const char *objective;
   double limit;
 } sweep_args;
@@ -463,8 +464,8 @@ static int parse_axis(const char *opt, const char *arg, sweep_args *a, int ax)
 
 /* The objective at the operating point the axes give (speed, conicity; the
    rest as the objective has it). */
-static int objective_at(const char *obj, const double *v, const int *kind, int nax, char *out,
-                        size_t n)
+static int objective_at(const char *obj, const double *v, const enum sweep_axis *kind, int nax,
+                        char *out, size_t n)
 {
   double kmh = NAN, lam = NAN;
   for (int ax = 0; ax < nax; ax++) {

@@ -430,7 +430,7 @@ int cmd_critical(int argc, char **argv)
 }
 
 typedef struct grid_args {
-  int param; /* locus: 0 speed, 1 conicity */
+  rr_locus_param param; /* locus: speed or conicity */
   double from, to;
   int n, have_range;
   double s_from, s_to, c_from, c_to;
@@ -445,15 +445,18 @@ static int grid_cb(int opt, const char *arg, void *u)
   switch (opt) {
   case OPT_PARAM:
     if (!strcmp(arg, "speed"))
-      a->param = 0;
+      a->param = RR_LOCUS_SPEED;
     else if (!strcmp(arg, "conicity"))
-      a->param = 1;
+      a->param = RR_LOCUS_CONICITY;
     else
       return cli_bad("--over: 'speed' or 'conicity' expected, got '%s'", arg);
     return 0;
   case OPT_RANGE:
     a->have_range = 1;
-    return cli_range("range", arg, a->param == 0 ? "km/h" : "1", &a->from, &a->to, &a->n) ? 1 : 0;
+    return cli_range("range", arg, a->param == RR_LOCUS_SPEED ? "km/h" : "1", &a->from, &a->to,
+                     &a->n)
+               ? 1
+               : 0;
   case OPT_SPEEDS: return cli_range("speeds", arg, "km/h", &a->s_from, &a->s_to, &a->s_n) ? 1 : 0;
   case OPT_CONICITIES:
     return cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n) ? 1 : 0;
@@ -543,14 +546,15 @@ static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, con
 static int locus_range(grid_args *a)
 {
   if (!a->have_range) { /* 20:500:25 km/h, or conicity 0.02:0.5:25 */
-    a->from = a->param == 0 ? 20 : 0.02;
-    a->to = a->param == 0 ? 500 : 0.5;
+    a->from = a->param == RR_LOCUS_SPEED ? 20 : 0.02;
+    a->to = a->param == RR_LOCUS_SPEED ? 500 : 0.5;
     a->n = 25;
   }
-  if (a->param == 0 &&
+  if (a->param == RR_LOCUS_SPEED &&
       !(a->from > 0 && a->to > 0 && fmax(a->from, a->to) <= RR_SPEED_MAX_MS * RR_KMH))
     return cli_bad("--range: speeds must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
-  if (a->param == 1 && !(a->from >= 0 && a->to >= 0 && fmax(a->from, a->to) <= RR_CONICITY_MAX))
+  if (a->param == RR_LOCUS_CONICITY &&
+      !(a->from >= 0 && a->to >= 0 && fmax(a->from, a->to) <= RR_CONICITY_MAX))
     return cli_bad("--range: conicities must be within [0, %g]", RR_CONICITY_MAX);
   return 0;
 }
@@ -570,7 +574,8 @@ static void locus_print(const cli_common *c, const grid_args *a, const rr_locus_
     for (int p = 0; p < a->n; p++) {
       const rr_locus_point *lp = &pts[(size_t)p * nb + b];
       if (!isfinite(lp->re)) continue;
-      double sp = a->param == 0 ? lp->param * RR_KMH : v0, co = a->param == 1 ? lp->param : l0;
+      double sp = a->param == RR_LOCUS_SPEED ? lp->param * RR_KMH : v0,
+             co = a->param == RR_LOCUS_CONICITY ? lp->param : l0;
       if (!c->json) {
         printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", b, sp, co,
                lp->freq_hz, lp->re, lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1],
@@ -605,12 +610,12 @@ static int locus_compute(rr_model *m, const cli_common *c, const grid_args *a, c
   int r = 0;
   if (cli_par_size() > 1) {
     long ndone = a->n;
-    r = locus_mpi(m, c, (rr_locus_param)a->param, vals, a->n, pts, nb, &ndone, &pr);
+    r = locus_mpi(m, c, a->param, vals, a->n, pts, nb, &ndone, &pr);
     if (!r && ndone < a->n) r = CLI_EXIT_STOPPED;
   } else {
     rr_progress hook = cli_progress_hook(&pr);
     rr_error e;
-    int st = rr_locus(m, (rr_locus_param)a->param, vals, a->n, &c->mo, &hook, pts, nb, &e);
+    int st = rr_locus(m, a->param, vals, a->n, &c->mo, &hook, pts, nb, &e);
     r = st == RR_ESTOPPED ? CLI_EXIT_STOPPED : st ? cli_fail(&e, st) : 0;
   }
   cli_progress_end(&pr);
@@ -639,9 +644,9 @@ int cmd_locus(int argc, char **argv)
   grid_args a = {.limit = CLI_LIMIT_LOCUS};
   RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb,
             &a, help);
-  if (a.param == 0 && c.have_speed)
+  if (a.param == RR_LOCUS_SPEED && c.have_speed)
     return cli_bad("locus: --over speed sweeps the speed (--range); --speed is not read");
-  if (a.param == 1 && c.have_conicity)
+  if (a.param == RR_LOCUS_CONICITY && c.have_conicity)
     return cli_bad("locus: --over conicity sweeps the conicity (--range); --conicity is not read");
   if (cli_over_limit("locus", a.n, a.limit, "points")) return EXIT_BADINPUT;
   int r = locus_range(&a);
@@ -653,7 +658,7 @@ int cmd_locus(int argc, char **argv)
   int nb = 0;
   if (!vals || !pts) r = cli_bad("out of memory");
   for (int i = 0; i < a.n && !r; i++)
-    vals[i] = lin(a.from, a.to, i, a.n) / (a.param == 0 ? RR_KMH : 1.0);
+    vals[i] = lin(a.from, a.to, i, a.n) / (a.param == RR_LOCUS_SPEED ? RR_KMH : 1.0);
   if (!r) r = locus_compute(m, &c, &a, vals, pts, &nb);
   if (!r || r == CLI_EXIT_STOPPED) /* stopped: the points done */
     locus_print(&c, &a, pts, nb, rr_model_speed(m) * RR_KMH, rr_model_conicity(m));
