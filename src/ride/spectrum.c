@@ -109,6 +109,122 @@ static int parse_psd_unit(sp_ctx *c, const char *val)
   return 1;
 }
 
+/* The index of val in the NULL-ended list, or -1. */
+static int word_index(const char *val, const char *const *words)
+{
+  for (int i = 0; words[i]; i++)
+    if (!strcmp(val, words[i])) return i;
+  return -1;
+}
+
+/* A key whose value is one word of a list: direction, form, freq_unit, sided,
+   outside, shape. Returns 1 (read), 0 (refused: status set) or -1 (another
+   key). */
+static int sp_word_key(sp_ctx *c, const char *name, const char *val)
+{
+  static const char *const dirs[] = {"lateral", "vertical", "crosslevel", "gauge", NULL};
+  static const char *const forms[] = {"powerlaw", "german", "fra", "rational7", "table", NULL};
+  static const char *const units[] = {"1/m", "cycle/m", "rad/m", NULL};
+  static const char *const sides[] = {"one", "two", NULL}, *const outs[] = {"extend", "zero", NULL};
+  static const char *const shapes[] = {"alignment", "vertical", "crosslevel", "gauge", NULL};
+  static const int form_of[] = {RR_FORM_POWERLAW, RR_FORM_GERMAN, RR_FORM_FRA, RR_FORM_RATIONAL7,
+                                RR_FORM_TABLE},
+                   shape_of[] = {RR_GERMAN_ALIGNMENT, RR_GERMAN_VERTICAL, RR_GERMAN_CROSSLEVEL,
+                                 RR_GERMAN_GAUGE};
+  rr_spectrum *s = c->sp;
+  int i;
+  if (!strcmp(name, "direction")) {
+    if ((i = word_index(val, dirs)) < 0)
+      return sp_fail(c, RR_EINVAL, name, "lateral, vertical, crosslevel or gauge expected");
+    snprintf(s->direction, sizeof s->direction, "%s", val);
+  } else if (!strcmp(name, "form")) {
+    if ((i = word_index(val, forms)) < 0)
+      return sp_fail(c, RR_EINVAL, name, "powerlaw, german, fra, rational7 or table expected");
+    c->have_form = 1;
+    s->form = form_of[i];
+  } else if (!strcmp(name, "freq_unit")) {
+    if ((i = word_index(val, units)) < 0)
+      return sp_fail(c, RR_EUNIT, name, "1/m or rad/m expected");
+    c->have_freq = 1;
+    s->rad_per_m = i == 2;
+  } else if (!strcmp(name, "sided")) {
+    if ((i = word_index(val, sides)) < 0) return sp_fail(c, RR_EINVAL, name, "one or two expected");
+    c->have_sided = 1;
+    c->two_sided = i;
+  } else if (!strcmp(name, "outside")) {
+    if ((i = word_index(val, outs)) < 0)
+      return sp_fail(c, RR_EINVAL, name, "extend or zero expected");
+    s->clip = i;
+  } else if (!strcmp(name, "shape")) {
+    if ((i = word_index(val, shapes)) < 0)
+      return sp_fail(c, RR_EINVAL, name, "alignment, vertical, crosslevel or gauge expected");
+    s->shape = shape_of[i];
+  } else
+    return -1;
+  return 1;
+}
+
+/* segment = n_lo n_hi A k: one piece of a piecewise power law. */
+static int sp_segment(sp_ctx *c, const char *name, const char *val)
+{
+  rr_spectrum *s = c->sp;
+  double v[4];
+  if (numbers(val, v, 4) || !(v[0] > 0 && v[1] > v[0] && v[2] > 0))
+    return sp_fail(c, RR_EINVAL, name, "n_lo n_hi A k expected, 0 < n_lo < n_hi, A > 0");
+  if (s->nseg >= RR_SPECTRUM_MAX_TERMS) return sp_fail(c, RR_EINVAL, name, "too many segments");
+  if (s->nseg && fabs(v[0] - s->seg_hi[s->nseg - 1]) > 1e-12 * v[0])
+    return sp_fail(c, RR_EINVAL, name, "segments must be contiguous and increasing");
+  s->seg_lo[s->nseg] = v[0];
+  s->seg_hi[s->nseg] = v[1];
+  s->seg_A[s->nseg] = v[2];
+  s->seg_k[s->nseg] = v[3];
+  s->nseg++;
+  return 1;
+}
+
+/* point = n S: one row of a table. */
+static int sp_point(sp_ctx *c, const char *name, const char *val)
+{
+  rr_spectrum *s = c->sp;
+  double v[2];
+  if (numbers(val, v, 2) || !(v[0] > 0 && v[1] > 0))
+    return sp_fail(c, RR_EINVAL, name, "n S expected, both > 0");
+  if (s->npts >= RR_SPECTRUM_MAX_TERMS * 4) return sp_fail(c, RR_EINVAL, name, "too many points");
+  if (s->npts && !(v[0] > s->tab_n[s->npts - 1]))
+    return sp_fail(c, RR_EINVAL, name, "frequencies must increase");
+  s->tab_n[s->npts] = v[0];
+  s->tab_S[s->npts] = v[1];
+  s->npts++;
+  return 1;
+}
+
+/* The numeric keys: valid, params and the forms' single coefficients. */
+static int sp_number_key(sp_ctx *c, const char *name, const char *val)
+{
+  rr_spectrum *s = c->sp;
+  if (!strcmp(name, "valid")) {
+    if (numbers(val, c->valid, 2) || !(c->valid[0] > 0 && c->valid[1] > c->valid[0]))
+      return sp_fail(c, RR_EINVAL, name, "two numbers 0 < lo < hi expected");
+    c->have_valid = 1;
+    return 1;
+  }
+  if (!strcmp(name, "params"))
+    return numbers(val, s->p, 7)
+               ? sp_fail(c, RR_EINVAL, name, "seven numbers A B C D E F G expected")
+               : 1;
+  double *dst = !strcmp(name, "A")    ? &s->A
+                : !strcmp(name, "Oc") ? &s->Oc
+                : !strcmp(name, "Or") ? &s->Or
+                : !strcmp(name, "Os") ? &s->Os
+                : !strcmp(name, "b")  ? &s->b
+                : !strcmp(name, "k")  ? &s->k
+                                      : NULL;
+  if (!dst) return sp_fail(c, RR_EPARSE, name, "unknown key");
+  if (numbers(val, dst, 1) || !(*dst > 0))
+    return sp_fail(c, RR_EINVAL, name, "a number > 0 expected");
+  return 1;
+}
+
 static int sp_handler(void *user, const char *section, const char *name, const char *value)
 {
   sp_ctx *c = user;
@@ -122,103 +238,18 @@ static int sp_handler(void *user, const char *section, const char *name, const c
     snprintf(s->name, sizeof s->name, "%s", val);
   else if (!strcmp(name, "title"))
     snprintf(s->title, sizeof s->title, "%s", val);
-  else if (!strcmp(name, "source") || !strcmp(name, "note")) {
-  } else if (!strcmp(name, "direction")) {
-    if (strcmp(val, "lateral") && strcmp(val, "vertical") && strcmp(val, "crosslevel") &&
-        strcmp(val, "gauge"))
-      return sp_fail(c, RR_EINVAL, name, "lateral, vertical, crosslevel or gauge expected");
-    snprintf(s->direction, sizeof s->direction, "%s", val);
-  } else if (!strcmp(name, "form")) {
-    c->have_form = 1;
-    if (!strcmp(val, "powerlaw"))
-      s->form = RR_FORM_POWERLAW;
-    else if (!strcmp(val, "german"))
-      s->form = RR_FORM_GERMAN;
-    else if (!strcmp(val, "fra"))
-      s->form = RR_FORM_FRA;
-    else if (!strcmp(val, "rational7"))
-      s->form = RR_FORM_RATIONAL7;
-    else if (!strcmp(val, "table"))
-      s->form = RR_FORM_TABLE;
-    else
-      return sp_fail(c, RR_EINVAL, name, "powerlaw, german, fra, rational7 or table expected");
-  } else if (!strcmp(name, "freq_unit")) {
-    c->have_freq = 1;
-    if (!strcmp(val, "1/m") || !strcmp(val, "cycle/m"))
-      s->rad_per_m = 0;
-    else if (!strcmp(val, "rad/m"))
-      s->rad_per_m = 1;
-    else
-      return sp_fail(c, RR_EUNIT, name, "1/m or rad/m expected");
-  } else if (!strcmp(name, "psd_unit")) {
+  else if (!strcmp(name, "source") || !strcmp(name, "note"))
+    ; /* for the reader */
+  else if (!strcmp(name, "psd_unit")) {
     c->have_psd = 1;
     return parse_psd_unit(c, val);
-  } else if (!strcmp(name, "sided")) {
-    c->have_sided = 1;
-    if (!strcmp(val, "one"))
-      c->two_sided = 0;
-    else if (!strcmp(val, "two"))
-      c->two_sided = 1;
-    else
-      return sp_fail(c, RR_EINVAL, name, "one or two expected");
-  } else if (!strcmp(name, "valid")) {
-    if (numbers(val, c->valid, 2) || !(c->valid[0] > 0 && c->valid[1] > c->valid[0]))
-      return sp_fail(c, RR_EINVAL, name, "two numbers 0 < lo < hi expected");
-    c->have_valid = 1;
-  } else if (!strcmp(name, "outside")) {
-    if (!strcmp(val, "extend"))
-      s->clip = 0;
-    else if (!strcmp(val, "zero"))
-      s->clip = 1;
-    else
-      return sp_fail(c, RR_EINVAL, name, "extend or zero expected");
-  } else if (!strcmp(name, "segment")) {
-    double v[4];
-    if (numbers(val, v, 4) || !(v[0] > 0 && v[1] > v[0] && v[2] > 0))
-      return sp_fail(c, RR_EINVAL, name, "n_lo n_hi A k expected, 0 < n_lo < n_hi, A > 0");
-    if (s->nseg >= RR_SPECTRUM_MAX_TERMS) return sp_fail(c, RR_EINVAL, name, "too many segments");
-    if (s->nseg && fabs(v[0] - s->seg_hi[s->nseg - 1]) > 1e-12 * v[0])
-      return sp_fail(c, RR_EINVAL, name, "segments must be contiguous and increasing");
-    s->seg_lo[s->nseg] = v[0];
-    s->seg_hi[s->nseg] = v[1];
-    s->seg_A[s->nseg] = v[2];
-    s->seg_k[s->nseg] = v[3];
-    s->nseg++;
-  } else if (!strcmp(name, "point")) {
-    double v[2];
-    if (numbers(val, v, 2) || !(v[0] > 0 && v[1] > 0))
-      return sp_fail(c, RR_EINVAL, name, "n S expected, both > 0");
-    if (s->npts >= RR_SPECTRUM_MAX_TERMS * 4) return sp_fail(c, RR_EINVAL, name, "too many points");
-    if (s->npts && !(v[0] > s->tab_n[s->npts - 1]))
-      return sp_fail(c, RR_EINVAL, name, "frequencies must increase");
-    s->tab_n[s->npts] = v[0];
-    s->tab_S[s->npts] = v[1];
-    s->npts++;
-  } else if (!strcmp(name, "shape")) {
-    if (!strcmp(val, "alignment"))
-      s->shape = RR_GERMAN_ALIGNMENT;
-    else if (!strcmp(val, "vertical"))
-      s->shape = RR_GERMAN_VERTICAL;
-    else if (!strcmp(val, "crosslevel"))
-      s->shape = RR_GERMAN_CROSSLEVEL;
-    else if (!strcmp(val, "gauge"))
-      s->shape = RR_GERMAN_GAUGE;
-    else
-      return sp_fail(c, RR_EINVAL, name, "alignment, vertical, crosslevel or gauge expected");
-  } else if (!strcmp(name, "params")) {
-    if (numbers(val, s->p, 7))
-      return sp_fail(c, RR_EINVAL, name, "seven numbers A B C D E F G expected");
-  } else {
-    double *dst = !strcmp(name, "A")    ? &s->A
-                  : !strcmp(name, "Oc") ? &s->Oc
-                  : !strcmp(name, "Or") ? &s->Or
-                  : !strcmp(name, "Os") ? &s->Os
-                  : !strcmp(name, "b")  ? &s->b
-                  : !strcmp(name, "k")  ? &s->k
-                                        : NULL;
-    if (!dst) return sp_fail(c, RR_EPARSE, name, "unknown key");
-    if (numbers(val, dst, 1) || !(*dst > 0))
-      return sp_fail(c, RR_EINVAL, name, "a number > 0 expected");
+  } else if (!strcmp(name, "segment"))
+    return sp_segment(c, name, val);
+  else if (!strcmp(name, "point"))
+    return sp_point(c, name, val);
+  else {
+    int r = sp_word_key(c, name, val);
+    return r >= 0 ? r : sp_number_key(c, name, val);
   }
   return 1;
 }
