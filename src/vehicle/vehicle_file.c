@@ -91,92 +91,104 @@ static void resolve_path(const parse_ctx *c, const char *rel, char *out, size_t 
     snprintf(out, n, "%s/%s", c->dir, rel);
 }
 
-static int handler(void *user, const char *section, const char *name, const char *value)
+/* Pass 1: the [vehicle] keys that decide how the rest is read. */
+static int pass1_key(parse_ctx *c, const char *section, const char *name, const char *value)
 {
-  parse_ctx *c = user;
-  if (c->status) return 1; /* first error only */
-  if (c->pass == 1) {
-    if (!strcmp(section, "vehicle") && !strcmp(name, "base")) {
-      trim_copy(c->base, sizeof c->base, value);
-      c->base_line = c->rs.line;
-    }
-    if (!strcmp(section, "vehicle") && !strcmp(name, "name"))
-      trim_copy(c->name, sizeof c->name, value);
-    return 1;
+  if (!strcmp(section, "vehicle") && !strcmp(name, "base")) {
+    trim_copy(c->base, sizeof c->base, value);
+    c->base_line = c->rs.line;
   }
-  int nk;
+  if (!strcmp(section, "vehicle") && !strcmp(name, "name"))
+    trim_copy(c->name, sizeof c->name, value);
+  return 1;
+}
+
+/* The key table's entry of [section] name, refused when unknown or given
+   twice; NULL then (status set). */
+static const rr_vehicle_key *known_key(parse_ctx *c, const char *section, const char *name)
+{
+  int nk, idx = -1, section_known = 0;
   const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
-  int idx = -1, section_known = 0;
-  for (int i = 0; i < nk; i++) {
+  for (int i = 0; i < nk && idx < 0; i++) {
     if (strcmp(keys[i].section, section)) continue;
     section_known = 1;
-    if (!strcmp(keys[i].key, name)) {
-      idx = i;
-      break;
-    }
+    if (!strcmp(keys[i].key, name)) idx = i;
   }
-  if (!section_known) return fail(c, RR_EPARSE, "[%s] %s: unknown section%s", section, name, "");
-  if (idx < 0) return fail(c, RR_EPARSE, "[%s] %s: unknown key%s", section, name, "");
+  char msg[64] = "";
+  if (!section_known || idx < 0) {
+    fail(c, RR_EPARSE, section_known ? "[%s] %s: unknown key%s" : "[%s] %s: unknown section%s",
+         section, name, msg);
+    return NULL;
+  }
   if (c->seen[idx]) {
-    char msg[64];
     snprintf(msg, sizeof msg, " (first set on line %d)", c->seen[idx]);
-    return fail(c, RR_EPARSE, "[%s] %s: key given twice%s", section, name, msg);
+    fail(c, RR_EPARSE, "[%s] %s: key given twice%s", section, name, msg);
+    return NULL;
   }
   c->seen[idx] = c->rs.line;
-  const rr_vehicle_key *k = &keys[idx];
-  char val[PATH_MAX];
-  trim_copy(val, sizeof val, value);
-  if (k->flags & RR_KEY_SPECIAL) {
-    if (!strcmp(k->section, "vehicle")) return 1; /* handled in pass 1 */
-    if (!strcmp(k->key, "sdf")) {
-      if (!strcmp(val, "none"))
-        c->veh->sdf_mode = RR_SDF_NONE;
-      else if (!strcmp(val, "paper"))
-        c->veh->sdf_mode = RR_SDF_PAPER;
-      else if (!strcmp(val, "physical"))
-        c->veh->sdf_mode = RR_SDF_PHYSICAL;
-      else
-        return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none, paper or physical", section, name,
-                    val);
-      return 1;
-    }
-    if (!strcmp(k->key, "gravity_stiffness")) {
-      if (!strcmp(val, "yes") || !strcmp(val, "true") || !strcmp(val, "on") || !strcmp(val, "1"))
-        c->veh->gravity_stiffness = 1;
-      else if (!strcmp(val, "no") || !strcmp(val, "false") || !strcmp(val, "off") ||
-               !strcmp(val, "0"))
-        c->veh->gravity_stiffness = 0;
-      else
-        return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", section, name, val);
-      return 1;
-    }
-    if (!strcmp(k->key, "conicity_poly")) return poly_value(c, section, name, val);
-    if (!strcmp(k->key, "conicity_table")) {
-      char full[PATH_MAX + 8];
-      resolve_path(c, val, full, sizeof full);
-      rr_error e2;
-      if (rr_profile_load(full, &c->veh->profile, &e2))
-        return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
-      c->profile_line = c->rs.line;
-      c->profile_keys |= 2;
-      return 1;
-    }
-    if (!strcmp(k->key, "sdf_table")) {
-      char full[PATH_MAX + 8];
-      resolve_path(c, val, full, sizeof full);
-      rr_sdf_curve cur;
-      rr_error e2;
-      memset(&cur, 0, sizeof cur);
-      if (rr_sdf_table_load(full, &cur, &e2))
-        return fail(c, e2.code, "[%s] %s: %s", section, name, e2.msg);
-      c->veh->sdf = cur;
-      c->table_line = c->rs.line;
-      return 1;
-    }
+  return &keys[idx];
+}
+
+/* A file a key names (a tread table, an SDF table), read relative to the
+   vehicle file. */
+static int table_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
+{
+  char full[PATH_MAX + 8];
+  resolve_path(c, val, full, sizeof full);
+  rr_error e2;
+  if (!strcmp(k->key, "conicity_table")) {
+    if (rr_profile_load(full, &c->veh->profile, &e2))
+      return fail(c, e2.code, "[%s] %s: %s", k->section, k->key, e2.msg);
+    c->profile_line = c->rs.line;
+    c->profile_keys |= 2;
     return 1;
   }
+  rr_sdf_curve cur;
+  memset(&cur, 0, sizeof cur);
+  if (rr_sdf_table_load(full, &cur, &e2))
+    return fail(c, e2.code, "[%s] %s: %s", k->section, k->key, e2.msg);
+  c->veh->sdf = cur;
+  c->table_line = c->rs.line;
+  return 1;
+}
+
+/* The keys that are not numbers: sdf, gravity_stiffness, the tread and the
+   tables ([vehicle] ones were read in pass 1). */
+static int special_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
+{
+  static const char *const modes[] = {"none", "paper", "physical"};
+  static const int mode_of[] = {RR_SDF_NONE, RR_SDF_PAPER, RR_SDF_PHYSICAL};
+  static const char *const yes[] = {"yes", "true", "on", "1"}, *const no[] = {"no", "false", "off",
+                                                                              "0"};
+  if (!strcmp(k->section, "vehicle")) return 1;
+  if (!strcmp(k->key, "sdf")) {
+    for (int i = 0; i < 3; i++)
+      if (!strcmp(val, modes[i])) {
+        c->veh->sdf_mode = mode_of[i];
+        return 1;
+      }
+    return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none, paper or physical", k->section, k->key,
+                val);
+  }
+  if (!strcmp(k->key, "gravity_stiffness")) {
+    for (int i = 0; i < 4; i++)
+      if (!strcmp(val, yes[i]) || !strcmp(val, no[i])) {
+        c->veh->gravity_stiffness = !strcmp(val, yes[i]);
+        return 1;
+      }
+    return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", k->section, k->key, val);
+  }
+  if (!strcmp(k->key, "conicity_poly")) return poly_value(c, k->section, k->key, val);
+  if (!strcmp(k->key, "conicity_table") || !strcmp(k->key, "sdf_table"))
+    return table_key(c, k, val);
+  return 1;
+}
+
+/* A number with a unit of the key's dimension, within the key's range. */
+static int number_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
+{
   char what[RR_ERROR_MSG_MAX];
-  snprintf(what, sizeof what, "%s:%d: [%s] %s", c->path, c->rs.line, section, name);
+  snprintf(what, sizeof what, "%s:%d: [%s] %s", c->path, c->rs.line, k->section, k->key);
   double x;
   int st =
       rr_units_parse(c->units, val, k->si_unit, (k->flags & RR_KEY_INF_OK) != 0, &x, what, c->err);
@@ -194,6 +206,18 @@ static int handler(void *user, const char *section, const char *name, const char
   if (!strcmp(k->key, "sdf_k2")) c->curve_keys |= 2;
   if (!strcmp(k->key, "sdf_k3")) c->curve_keys |= 4;
   return 1;
+}
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+  parse_ctx *c = user;
+  if (c->status) return 1; /* first error only */
+  if (c->pass == 1) return pass1_key(c, section, name, value);
+  const rr_vehicle_key *k = known_key(c, section, name);
+  if (!k) return 0;
+  char val[PATH_MAX];
+  trim_copy(val, sizeof val, value);
+  return k->flags & RR_KEY_SPECIAL ? special_key(c, k, val) : number_key(c, k, val);
 }
 
 static int run_pass(parse_ctx *c, int pass)
