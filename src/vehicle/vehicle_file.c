@@ -255,6 +255,83 @@ static int load_base(parse_ctx *c, rr_vehicle *veh, rr_error *err, int depth)
   return load_depth(bpath, veh, err, depth + 1);
 }
 
+/* Without a base, every required key must be in the file. */
+static int check_required(parse_ctx *c)
+{
+  int nk;
+  const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
+  for (int i = 0; i < nk; i++)
+    if (!(keys[i].flags & RR_KEY_OPTIONAL) && !c->seen[i])
+      return rr_seterr(c->err, RR_EPARSE, "%s:%d: [%s] %s: missing required key (no base given)",
+                       c->path, c->rs.line, keys[i].section, keys[i].key);
+  return RR_OK;
+}
+
+/* The tread: one of the two keys, then checked. */
+static int check_tread(parse_ctx *c, rr_vehicle *veh)
+{
+  if (c->profile_keys == 3)
+    return rr_seterr(c->err, RR_EPARSE,
+                     "%s:%d: [contact] conicity_table: give either conicity_poly or conicity_table",
+                     c->path, c->profile_line);
+  if (veh->profile.kind == RR_PROFILE_POLY) veh->profile.hold_mm = veh->conicity_hold * 1e3;
+  rr_error e2;
+  int st = c->profile_keys ? rr_profile_check(&veh->profile, &e2) : RR_OK;
+  if (st)
+    rr_seterr(c->err, st, "%s:%d: [contact] %s: %s", c->path, c->profile_line,
+              c->profile_keys == 1 ? "conicity_poly" : "conicity_table", e2.msg);
+  return st;
+}
+
+/* The SDF curve: a table or the three sdf_k keys, and one whenever the SDF
+   is on. */
+static int check_curve(parse_ctx *c, rr_vehicle *veh)
+{
+  if (c->table_line && c->curve_keys)
+    return rr_seterr(c->err, RR_EPARSE,
+                     "%s:%d: [yaw_damper] sdf_table: give either sdf_table or sdf_k1/sdf_k2/sdf_k3",
+                     c->path, c->table_line);
+  if (c->curve_keys && c->curve_keys != 7) {
+    const char *miss = !(c->curve_keys & 1) ? "sdf_k1" : !(c->curve_keys & 2) ? "sdf_k2" : "sdf_k3";
+    return rr_seterr(c->err, RR_EPARSE,
+                     "%s:%d: [yaw_damper] %s: sdf_k1, sdf_k2 and sdf_k3 go together", c->path,
+                     c->rs.line, miss);
+  }
+  if (c->curve_keys) { /* the file's curve replaces the inherited one as a whole */
+    veh->sdf.kind = RR_CURVE_SLS;
+    veh->sdf.n = 0;
+  }
+  if (veh->sdf_mode != RR_SDF_NONE && veh->sdf.kind == RR_CURVE_UNSET)
+    return rr_seterr(
+        c->err, RR_EPARSE,
+        "%s:%d: [yaw_damper] sdf: a curve is required (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", c->path,
+        c->rs.line);
+  return RR_OK;
+}
+
+/* Pass 2 over a file whose pass 1 is done: its base (or empty defaults),
+   then its keys, then the checks of the whole. */
+static int read_keys(parse_ctx *c, rr_vehicle *veh, int depth)
+{
+  int has_base = c->base[0] != 0, st = RR_OK;
+  if (has_base) {
+    if ((st = load_base(c, veh, c->err, depth))) return st;
+  } else {
+    memset(veh, 0, sizeof *veh);
+    rr_vehicle_contact_defaults(veh); /* the optional nonlinear-model keys */
+  }
+  const char *slash = strrchr(c->path, '/');
+  snprintf(veh->name, sizeof veh->name, "%s", c->name[0] ? c->name : slash ? slash + 1 : c->path);
+  c->veh = veh;
+  if ((st = rr_units_new(&c->units, c->err)) || (st = run_pass(c, 2))) return st;
+  if ((!has_base && (st = check_required(c))) || (st = check_tread(c, veh)) ||
+      (st = check_curve(c, veh)))
+    return st;
+  rr_error e2;
+  if ((st = rr_vehicle_check(veh, &e2))) rr_seterr(c->err, st, "%s: %s", c->path, e2.msg);
+  return st;
+}
+
 static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int depth)
 {
   if (depth > MAX_BASE_DEPTH)
@@ -268,74 +345,7 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
   if (slash) snprintf(c->dir, sizeof c->dir, "%.*s", (int)(slash - path), path);
   if (slash == path) snprintf(c->dir, sizeof c->dir, "/");
   int st = run_pass(c, 1);
-  if (st) goto done;
-  int has_base = c->base[0] != 0;
-  if (has_base) {
-    if ((st = load_base(c, veh, err, depth))) goto done;
-  } else {
-    memset(veh, 0, sizeof *veh);
-    rr_vehicle_contact_defaults(veh); /* the optional nonlinear-model keys */
-  }
-  const char *stem = slash ? slash + 1 : path;
-  snprintf(veh->name, sizeof veh->name, "%s", c->name[0] ? c->name : stem);
-  c->veh = veh;
-  st = rr_units_new(&c->units, err);
-  if (st) goto done;
-  st = run_pass(c, 2);
-  if (st) goto done;
-  int nk;
-  const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
-  if (!has_base) {
-    for (int i = 0; i < nk; i++)
-      if (!(keys[i].flags & RR_KEY_OPTIONAL) && !c->seen[i]) {
-        st = rr_seterr(err, RR_EPARSE, "%s:%d: [%s] %s: missing required key (no base given)", path,
-                       c->rs.line, keys[i].section, keys[i].key);
-        goto done;
-      }
-  }
-  if (c->profile_keys == 3) {
-    st = rr_seterr(err, RR_EPARSE,
-                   "%s:%d: [contact] conicity_table: give either conicity_poly or conicity_table",
-                   path, c->profile_line);
-    goto done;
-  }
-  if (veh->profile.kind == RR_PROFILE_POLY) veh->profile.hold_mm = veh->conicity_hold * 1e3;
-  if (c->profile_keys) {
-    rr_error e2;
-    if ((st = rr_profile_check(&veh->profile, &e2))) {
-      rr_seterr(err, st, "%s:%d: [contact] %s: %s", path, c->profile_line,
-                c->profile_keys == 1 ? "conicity_poly" : "conicity_table", e2.msg);
-      goto done;
-    }
-  }
-  if (c->table_line && c->curve_keys) {
-    st = rr_seterr(err, RR_EPARSE,
-                   "%s:%d: [yaw_damper] sdf_table: give either sdf_table or sdf_k1/sdf_k2/sdf_k3",
-                   path, c->table_line);
-    goto done;
-  }
-  if (c->curve_keys && c->curve_keys != 7) {
-    const char *miss = !(c->curve_keys & 1) ? "sdf_k1" : !(c->curve_keys & 2) ? "sdf_k2" : "sdf_k3";
-    st = rr_seterr(err, RR_EPARSE, "%s:%d: [yaw_damper] %s: sdf_k1, sdf_k2 and sdf_k3 go together",
-                   path, c->rs.line, miss);
-    goto done;
-  }
-  if (c->curve_keys) { /* the file's curve replaces the inherited one as a whole */
-    veh->sdf.kind = RR_CURVE_SLS;
-    veh->sdf.n = 0;
-  }
-  if (veh->sdf_mode != RR_SDF_NONE && veh->sdf.kind == RR_CURVE_UNSET) {
-    st = rr_seterr(
-        err, RR_EPARSE,
-        "%s:%d: [yaw_damper] sdf: a curve is required (sdf_k1/sdf_k2/sdf_k3 or sdf_table)", path,
-        c->rs.line);
-    goto done;
-  }
-  {
-    rr_error e2;
-    if ((st = rr_vehicle_check(veh, &e2))) rr_seterr(err, st, "%s: %s", path, e2.msg);
-  }
-done:
+  if (!st) st = read_keys(c, veh, depth);
   rr_units_free(c->units);
   free(c);
   return st;
