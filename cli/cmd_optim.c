@@ -568,6 +568,49 @@ static int sweep_points(void *user, long lo, long hi, void *out)
   return 0;
 }
 
+/* The CSV header: the axes (with units), the objective, the mode's frequency
+   and k_opt when they are added. */
+static void sweep_header(const sweep_run *run)
+{
+  const sweep_args *a = run->a;
+  for (int ax = 0; ax < run->nax; ax++) {
+    if (a->kind[ax] == AXIS_KEY)
+      cli_csv_key_field(stdout, a->key[ax], ',');
+    else
+      cli_csv_field(stdout, a->kind[ax] == AXIS_SPEED ? "speed_kmh" : a->key[ax], ',');
+  }
+  cli_csv_field(stdout, a->objective, run->has_freq ? ',' : '\n');
+  if (run->has_freq) printf("mode_freq_hz%s\n", run->damp_axis >= 0 ? ",k_opt_n_per_m" : "");
+}
+
+/* The grid's points (over MPI ranks under mpirun), then its rows: those done
+   when the run was stopped. */
+static int sweep_grid(sweep_run *run)
+{
+  const sweep_args *a = run->a;
+  long npts = (long)a->n[0] * a->n[1];
+  sweep_val *vals = malloc(sizeof *vals * (size_t)npts);
+  unsigned char *done = calloc((size_t)npts, 1);
+  if (!vals || !done) {
+    free(vals);
+    free(done);
+    return cli_bad("out of memory");
+  }
+  cli_progress pr;
+  cli_progress_start(&pr, "sweep", npts, run->c->progress);
+  cli_catch_stops();
+  int r = cli_par_for(npts, 1, sizeof *vals, sweep_points, run, vals, done, &pr);
+  cli_progress_end(&pr);
+  rr_design_free(run->d);
+  for (long k = 0; k < npts && !r; k++) {
+    double v[2] = {axis_value(a, 0, (int)(k / a->n[1])), axis_value(a, 1, (int)(k % a->n[1]))};
+    if (done[k]) sweep_row(run, v, &vals[k]);
+  }
+  free(vals);
+  free(done);
+  return r ? r : cli_stopped() ? CLI_EXIT_STOPPED : 0;
+}
+
 int cmd_sweep(int argc, char **argv)
 {
   static const char help[] =
@@ -616,34 +659,6 @@ int cmd_sweep(int argc, char **argv)
     double v0[2] = {a.from[0], a.from[1]};
     if ((r = objective_at(a.objective, v0, a.kind, run.nax, probe, sizeof probe))) return r;
   }
-  for (int ax = 0; ax < run.nax; ax++) {
-    if (a.kind[ax] == AXIS_KEY)
-      cli_csv_key_field(stdout, a.key[ax], ',');
-    else
-      cli_csv_field(stdout, a.kind[ax] == AXIS_SPEED ? "speed_kmh" : a.key[ax], ',');
-  }
-  cli_csv_field(stdout, a.objective, run.has_freq ? ',' : '\n');
-  if (run.has_freq) printf("mode_freq_hz%s\n", run.damp_axis >= 0 ? ",k_opt_n_per_m" : "");
-  cli_progress pr;
-  long npts = (long)a.n[0] * a.n[1];
-  sweep_val *vals = malloc(sizeof *vals * (size_t)npts);
-  unsigned char *done = calloc((size_t)npts, 1);
-  if (!vals || !done) {
-    free(vals);
-    free(done);
-    return cli_bad("out of memory");
-  }
-  cli_progress_start(&pr, "sweep", npts, c.progress);
-  cli_catch_stops();
-  r = cli_par_for(npts, 1, sizeof *vals, sweep_points, &run, vals, done,
-                  &pr); /* over MPI ranks under mpirun */
-  cli_progress_end(&pr);
-  rr_design_free(run.d);
-  for (long k = 0; k < npts && !r; k++) { /* a stopped run: the points done */
-    double v[2] = {axis_value(&a, 0, (int)(k / a.n[1])), axis_value(&a, 1, (int)(k % a.n[1]))};
-    if (done[k]) sweep_row(&run, v, &vals[k]);
-  }
-  free(vals);
-  free(done);
-  return r ? r : cli_stopped() ? CLI_EXIT_STOPPED : 0;
+  sweep_header(&run);
+  return sweep_grid(&run);
 }
