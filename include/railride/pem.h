@@ -52,7 +52,9 @@ typedef struct rr_frf_plan rr_frf_plan;
 RR_API int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out,
                            rr_error *err);
 RR_API void rr_frf_plan_free(rr_frf_plan *p);
-/* Computes the FRFs for the model as it is now. Allocation-free. */
+/* Computes the FRFs for the model as it is now. Allocation-free with a
+ * single-threaded BLAS (OpenBLAS's threaded GEMM allocates its jobs; at these
+ * sizes threads only cost: OPENBLAS_NUM_THREADS=1, as railride's CLI sets). */
 RR_API int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err);
 RR_API int rr_frf_nfreq(const rr_frf_plan *p);
 /* The method the last execute took (RR_FRF_DIRECT when a modal plan fell back). */

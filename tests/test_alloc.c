@@ -1,0 +1,211 @@
+/* The calls the headers call allocation-free make no heap allocation once
+ * warmed up: malloc and its kin are replaced in this program (glibc lets a
+ * program define them; every library's calls then come here), counting while
+ * a call runs. Under a sanitizer, which replaces them itself, it is skipped. */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "railride/railride.h"
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define RR_NO_COUNT 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define RR_NO_COUNT 1
+#endif
+#endif
+
+#ifndef RR_NO_COUNT
+extern void *__libc_malloc(size_t);
+extern void *__libc_calloc(size_t, size_t);
+extern void *__libc_realloc(void *, size_t);
+extern void *__libc_memalign(size_t, size_t);
+
+static volatile int counting; /* volatile: the compiler takes malloc for the builtin */
+static volatile long nalloc;
+
+/* A breakpoint for finding an allocation: gdb -ex 'break alloc_seen'. */
+__attribute__((noinline)) static void alloc_seen(void) { __asm__ volatile(""); }
+#define COUNT()                                                                                    \
+  do {                                                                                             \
+    if (counting) {                                                                                \
+      nalloc++;                                                                                    \
+      alloc_seen();                                                                                \
+    }                                                                                              \
+  } while (0)
+
+void *malloc(size_t n)
+{
+  COUNT();
+  return __libc_malloc(n);
+}
+
+void *calloc(size_t a, size_t b)
+{
+  COUNT();
+  return __libc_calloc(a, b);
+}
+
+void *realloc(void *p, size_t n)
+{
+  COUNT();
+  return __libc_realloc(p, n);
+}
+
+void *aligned_alloc(size_t al, size_t n)
+{
+  COUNT();
+  return __libc_memalign(al, n);
+}
+
+void *memalign(size_t al, size_t n)
+{
+  COUNT();
+  return __libc_memalign(al, n);
+}
+
+int posix_memalign(void **p, size_t al, size_t n)
+{
+  COUNT();
+  *p = __libc_memalign(al, n);
+  return *p ? 0 : ENOMEM;
+}
+
+/* Allocations made by the statement, after one warm-up run of it. */
+#define ALLOCS(stmt, out)                                                                          \
+  do {                                                                                             \
+    stmt;                                                                                          \
+    nalloc = 0;                                                                                    \
+    counting = 1;                                                                                  \
+    stmt;                                                                                          \
+    counting = 0;                                                                                  \
+    (out) = nalloc;                                                                                \
+  } while (0)
+
+static void frf_and_comfort(rr_sdf_mode sdf)
+{
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  v.sdf_mode = sdf;
+  rr_model *m;
+  rr_error e;
+  rr_spectrum sp;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_spectrum_open("wuhan-guangzhou", &sp, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
+  double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 17], rows0[3 * 17];
+  CHECK_OK(rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 1, rows, rows0, &e), e);
+  rr_frf_opts o = rr_frf_opts_default();
+  o.npoints = 3;
+  o.rows = rows;
+  o.rows0 = rows0;
+  rr_frf_plan *p;
+  rr_comfort_plan *cp;
+  CHECK_OK(rr_frf_plan_new(m, &o, &p, &e), e);
+  CHECK_OK(rr_comfort_plan_new(rr_frf_freqs(p), rr_frf_nfreq(p), RR_AXIS_LATERAL, &cp, &e), e);
+  double G[3 * RR_FRF_NFREQ_DEFAULT];
+  rr_comfort c;
+  long n;
+  int st = 0;
+  ALLOCS(st |= rr_model_set_operating(m, 300 / RR_KMH, 0.2, &e), n);
+  CHECK(n == 0 && !st, "set_operating: %ld allocations", n);
+  ALLOCS(st |= rr_frf_plan_execute(p, m, &e), n);
+  CHECK(n == 0 && !st, "frf_plan_execute (sdf %d): %ld allocations", sdf, n);
+  ALLOCS(st |= rr_pem_psd(p, m, &sp, G, &e), n);
+  CHECK(n == 0 && !st, "pem_psd: %ld allocations", n);
+  ALLOCS(st |= rr_comfort_execute(cp, G, 3, &c, &e), n);
+  CHECK(n == 0 && !st && isfinite(c.sperling), "comfort_execute: %ld allocations", n);
+  rr_frf_plan_free(p);
+  rr_comfort_plan_free(cp);
+  rr_model_free(m);
+}
+
+static void stability(const char *vehicle)
+{
+  rr_vehicle v;
+  rr_error e;
+  CHECK_OK(rr_vehicle_open(vehicle, &v, &e), e);
+  rr_model *m;
+  rr_modal_ws *ws;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
+  CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  rr_stability s[4];
+  double sp[4] = {250 / RR_KMH, 300 / RR_KMH, 350 / RR_KMH, 400 / RR_KMH},
+         lam[4] = {0.05, 0.1, 0.2, 0.4};
+  long n;
+  int st = 0;
+  ALLOCS(st |= rr_modal_stability(m, NULL, ws, &s[0], &e), n);
+  CHECK(n == 0 && !st, "modal_stability (%s): %ld allocations", vehicle, n);
+  ALLOCS(st |= rr_modal_stability_batch(m, NULL, ws, 4, sp, lam, s, &e), n);
+  CHECK(n == 0 && !st, "modal_stability_batch (%s): %ld allocations", vehicle, n);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+}
+
+static void design(void)
+{
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  rr_error e;
+  const char *keys[2] = {"yaw_damper.damping", "primary.longitudinal_stiffness"};
+  const char *objs[5] = {"zeta_low", "zeta_high", "std_zeta", "index@350,0.17;fmax=20",
+                         "sperling@350,0.17"};
+  rr_design *d;
+  CHECK_OK(rr_design_new(&v, 2, keys, 5, objs, &d, &e), e);
+  double x[2] = {4e5, 2e7}, f[5];
+  long n;
+  int st = 0;
+  ALLOCS(st |= rr_design_evaluate(d, x, f, &e), n);
+  CHECK(n == 0 && !st, "design_evaluate: %ld allocations", n);
+  x[0] = 6e5;
+  ALLOCS(st |= rr_design_evaluate(d, x, f, &e), n);
+  CHECK(n == 0 && !st, "design_evaluate at another design: %ld allocations", n);
+  rr_design_free(d);
+}
+
+static void nonlinear(void)
+{
+  rr_vehicle v;
+  rr_profile p;
+  rr_error e;
+  CHECK_OK(rr_vehicle_open("type1", &v, &e), e);
+  CHECK_OK(rr_profile_open("worn", &p, &e), e);
+  rr_nonlinear *nl;
+  CHECK_OK(rr_nonlinear_from_vehicle(&v, &p, NULL, 350 / RR_KMH, &nl, &e), e);
+  int N = rr_nonlinear_size(nl);
+  double z[128] = {0}, dz[128], yt[8] = {1e-3, 0, 0, 0};
+  z[rr_nonlinear_index_y(nl, 0)] = 5e-3;
+  long n;
+  CHECK(N <= 128, "state size %d", N);
+  ALLOCS(rr_nonlinear_rhs(nl, z, yt, dz), n);
+  CHECK(n == 0, "nonlinear_rhs: %ld allocations", n);
+  rr_nonlinear_free(nl);
+}
+#endif
+
+int main(void)
+{
+  check_spectra_env();
+#ifdef RR_NO_COUNT
+  printf("alloc: skipped under a sanitizer (it replaces malloc itself)\n");
+  return 0;
+#else
+  long n; /* the counter counts: a call that allocates is seen */
+  void *volatile q = NULL;
+  ALLOCS(free(q); q = malloc(16), n);
+  free(q);
+  CHECK(n == 1, "the counter: %ld allocations for one malloc", n);
+  frf_and_comfort(RR_SDF_NONE);
+  frf_and_comfort(RR_SDF_PAPER);
+  stability("type1");
+  stability("type2");
+  stability("../examples/type1-sdf-paper.ini");
+  design();
+  nonlinear();
+  return check_done("alloc");
+#endif
+}
