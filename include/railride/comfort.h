@@ -49,9 +49,11 @@ typedef struct rr_comfort {
   double sperling_gb; /* GB/T 5599 line method */
   double wd_rms;      /* ISO 2631-1 Wd (lateral) or Wb (vertical) weighted RMS, m/s^2 */
 } rr_comfort;
+/* A plan for the n frequencies f (Hz, increasing) of one axis. */
 RR_API int rr_comfort_plan_new(const double *f, int n, enum rr_axis axis, rr_comfort_plan **out,
                                rr_error *err);
 RR_API void rr_comfort_plan_free(rr_comfort_plan *p);
+/* Every index of one PSD column G (G[k * stride], (m/s^2)^2/Hz at f[k]). */
 RR_API int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride,
                               rr_comfort *out, rr_error *err);
 

@@ -24,6 +24,7 @@ typedef struct rr_modal_opts {
   double r_max;             /* roll kinetic-energy share a hunting mode stays below (0.5) */
   rr_sdf_tracking tracking; /* paper-mode SDF method (RR_TRACK_FAST) */
 } rr_modal_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_modal_opts rr_modal_opts_default(void);
 
 #define RR_MODE_NAME_MAX 48

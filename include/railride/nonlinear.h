@@ -27,6 +27,7 @@ typedef struct rr_contact_law {
   double flange_stiffness; /* N/m (500 kN/mm, Table A1); 0: no flange */
   int saturation;          /* 1: Shen-Hedrick-Elkins (default); 0: linear Kalker forces */
 } rr_contact_law;
+/* The defaults given in the fields' comments. */
 RR_API rr_contact_law rr_contact_law_default(void);
 
 /* ---- the nonlinear right-hand side ---- */
@@ -71,6 +72,7 @@ typedef struct rr_sim_opts {
       *dyt; /* track: ninputs x nsamples at fs_hz (alignment m, its rate m/s), or NULL */
   int nsamples_track;
 } rr_sim_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_sim_opts rr_sim_opts_default(void);
 /* Integrates from z0 (N); out: nsamples x N states at t = k / fs,
  * k = 0 .. nsamples - 1 (nsamples = floor(duration fs) + 1). */
@@ -97,6 +99,7 @@ typedef struct rr_orbit_opts {
   double rtol;               /* shooting's integration tolerance (1e-10) */
   rr_runner_opts runner;     /* where the monodromy matrix's column groups run (none: here) */
 } rr_orbit_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_orbit_opts rr_orbit_opts_default(void);
 
 typedef enum rr_bif_type {
@@ -153,6 +156,7 @@ typedef struct rr_scan_point {
 typedef struct rr_scan_opts {
   double settle_s, measure_s, y0_m;
 } rr_scan_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_scan_opts rr_scan_opts_default(void); /* 20 s, 2 s, 10 mm */
 RR_API int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p,
                                const rr_contact_law *law, const double *vs, int nv,

@@ -45,6 +45,7 @@ typedef struct rr_nsga2_opts {
   const char *resume;     /* if not NULL: a checkpoint to go on from (same problem, population and
                              seed); the result is the one an uninterrupted run gives */
 } rr_nsga2_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_nsga2_opts rr_nsga2_opts_default(void);
 
 /* Runs the optimiser; x_out (pop x d), f_out (pop x m), rank_out (pop; 0 =

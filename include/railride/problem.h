@@ -39,6 +39,9 @@ typedef struct rr_problem {
   double con_bound[RR_DESIGN_MAX_OBJS];
 } rr_problem;
 
+/* Reads and checks a problem file (docs/cli.md, optimise): keys once, each
+ * variable once and inside its key's range, objectives and constraints
+ * checked; messages name file, line and key. */
 RR_API int rr_problem_load(const char *path, rr_problem *p, rr_error *err);
 
 /* Checks an objective's text (names, arguments, modifiers) without a vehicle. */

@@ -18,6 +18,7 @@ typedef struct rr_robust_opts {
   double conicity_min, conicity_max; /* 0.05 .. 0.40 */
   int n_conicity;                    /* 8 */
 } rr_robust_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_robust_opts rr_robust_opts_default(void);
 
 typedef struct rr_robust {
@@ -42,6 +43,7 @@ typedef struct rr_critical_opts {
   double v_min_ms, v_max_ms, step_ms, tol_ms; /* 10, 600, 1, 1e-3 km/h */
   int index_modes;                            /* 0: any oscillatory mode */
 } rr_critical_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_critical_opts rr_critical_opts_default(void);
 
 typedef struct rr_critical {

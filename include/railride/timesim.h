@@ -50,6 +50,7 @@ typedef struct rr_lti_disc {
   double *Phi; /* N x N */
   double *G;   /* N x 4m: [G0 G1 G2 G3] */
 } rr_lti_disc;
+/* Phi and G for A (N x N), B (N x m) and step dt, by one matrix exponential. */
 RR_API int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt,
                              rr_lti_disc *d, rr_error *err);
 RR_API void rr_lti_disc_free(rr_lti_disc *d);
@@ -77,6 +78,7 @@ typedef struct rr_validate_opts {
   rr_progress progress;       /* steps: the track, the time run, each point, the PEM lines (none);
                                  a stop returns RR_ESTOPPED and no result */
 } rr_validate_opts;
+/* The defaults given in the fields' comments. */
 RR_API rr_validate_opts rr_validate_opts_default(void);
 
 #define RR_NBANDS_MAX 40
@@ -103,6 +105,9 @@ typedef struct rr_validate_result {
   rr_validate_point *points;
   double seconds_simulated;
 } rr_validate_result;
+/* The run that opts describe (above): a track realisation of sp, the time
+ * simulation, Welch's PSDs against the PEM at each point, into r (free it with
+ * rr_validate_result_free). */
 RR_API int rr_validate(const rr_model *m, const rr_spectrum *sp, const rr_validate_opts *o,
                        rr_validate_result *r, rr_error *err);
 RR_API void rr_validate_result_free(rr_validate_result *r);

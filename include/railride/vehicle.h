@@ -59,6 +59,7 @@ RR_API void rr_vehicle_default(rr_vehicle *veh);
 #define RR_FLANGE_CLEARANCE_DEFAULT 8e-3
 #define RR_FLANGE_STIFFNESS_DEFAULT 500e6
 #define RR_CONICITY_HOLD_DEFAULT 12e-3
+/* Sets those defaults in veh (the other fields untouched). */
 RR_API void rr_vehicle_contact_defaults(rr_vehicle *veh);
 /* Loads an INI vehicle file (with `base =` inheritance). */
 RR_API int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err);
