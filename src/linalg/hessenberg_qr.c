@@ -85,7 +85,7 @@ static double sgn(double a, double b) { return b >= 0 ? fabs(a) : -fabs(a); }
  * matrix ("lane"), on a strided view: entry (i, j) at a[(i ld + j) st]. The
  * bulge-chasing sweep, where the time goes, exists twice: for one matrix,
  * and for 4 or 8 matrices at once in SIMD lanes (rr_eig_batch, hessenberg_qr_lanes.h). */
-#define E(i, j) a[((size_t)(i)*ld + (j)) * st]
+#define E(i, j) a[((size_t)(i) * (size_t)ld + (size_t)(j)) * (size_t)st]
 
 typedef struct {
   int nn, l, m, its, status; /* status: 0 sweep pending, 1 done, -1 no convergence */

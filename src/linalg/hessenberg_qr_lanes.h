@@ -33,7 +33,7 @@ typedef long long vl __attribute__((vector_size(8 * QRW)));
     o_ != 0;                                                                                       \
   })
 
-#define V(i, j) b[(size_t)(i)*ld + (j)]
+#define V(i, j) b[(size_t)(i) * (size_t)ld + (size_t)(j)]
 
 static inline __attribute__((always_inline)) void sweep_lanes(vd *b, int ld, const qr_lane *lanes,
                                                               const int *go)
