@@ -238,7 +238,12 @@ static void balance(int n, double *a, double *d)
   }
 }
 
-RR_CLONES int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work,
+#if RR_HAVE_V4
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+RR_CLONES
+#endif
+int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work,
                         int *iwork)
 {
   if (n > 64 || n < 1) return -1;

@@ -10,7 +10,7 @@
 #define RR_EIGDEC_H
 
 /* Shifts per inverse-iteration pass (one AVX2 vector of doubles). */
-#define RR_EIGDEC_LANES 4
+#define RR_EIGDEC_LANES 8
 /* Workspace sizes, in doubles and ints. */
 #define RR_EIGDEC_LWORK(n)                                                                         \
   ((1 + 2 * RR_EIGDEC_LANES) * (n) * (n) + (1 + 6 * RR_EIGDEC_LANES) * (n)) /* n <= 64 */

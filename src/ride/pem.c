@@ -438,12 +438,13 @@ RR_INLINE void smw_correct(const double *are, const double *aim, const double *d
 
 /* Frequency k's FRFs from its modal sums (are, aim: the real and imaginary
    parts of the residue entries, already the outputs' acceleration plus
-   roll-gravity): the feedthrough, then the SMW correction for the SDF
-   elements. */
-RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k,
-                                       const double *are, const double *aim)
+   roll-gravity): the feedthrough, then the SMW correction for the nu SDF
+   elements. Inlined with nu a constant for the usual 0, 1 and 2 dampers, so
+   that the small loops unroll. */
+RR_INLINE void finish_body(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k,
+                           const double *are, const double *aim, int nu)
 {
-  int ni = p->ni, np = p->np, nu = u->nu, nH = np * ni;
+  int ni = p->ni, np = p->np, nH = np * ni;
   double w = 2 * RR_PI * p->f[k];
   double Hr[16 * 16], Hi[16 * 16];
   for (int t = 0; t < nH; t++) Hr[t] = are[u->oHq + t] + u->dB[t];
@@ -464,6 +465,17 @@ RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const 
   }
   double complex *Hk = p->H + (size_t)k * nH;
   for (int t = 0; t < nH; t++) Hk[t] = Hr[t] + I * Hi[t];
+}
+
+RR_CLONES static void finish_frequency(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k,
+                                       const double *are, const double *aim)
+{
+  switch (u->nu) {
+  case 0: finish_body(p, m, u, k, are, aim, 0); break;
+  case 1: finish_body(p, m, u, k, are, aim, 1); break;
+  case 2: finish_body(p, m, u, k, are, aim, 2); break;
+  default: finish_body(p, m, u, k, are, aim, u->nu);
+  }
 }
 
 /* The feedthrough of the acceleration outputs: rows M^-1 B (inputs) and
