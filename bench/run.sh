@@ -16,6 +16,18 @@ echo "== ride evaluation (C) =="
 taskset -c 1 "$B/bench/bench_ride"
 echo "== numpy, the same evaluation (D built, 400 batched 17x17 solves, PEM, the three indices at 3 points) =="
 "$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_ride.py
+echo "== ride evaluation against numpy in alternating pairs (this VM's speed changes within a run) =="
+pairs=$(mktemp)
+"$B/railride" matrices --speed 350 --conicity 0.17 --json > "$pairs.json"
+for i in 1 2 3 4 5 6; do
+  a=$(taskset -c 1 $PY bench/numpy_ride.py < "$pairs.json" | tail -1 | awk '{print $2}')
+  b=$(taskset -c 1 "$B/bench/bench_ride" | head -1 | awk '{print $2}')
+  echo "$a $b"
+done > "$pairs"
+med=$(awk '{print $1 / $2}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
+best=$(awk '{if (!n || $1 < n) n = $1; if (!c || $2 < c) c = $2} END {printf "%.1f", n / c}' "$pairs")
+echo "ride_vs_numpy_median_ratio $med (6 pairs, us: $(tr '\n' ' ' < "$pairs")); best against best $best"
+rm -f "$pairs" "$pairs.json"
 echo "== design batches (paper objectives: 9 eigen-solves a design) =="
 "$B/bench/bench_batch"
 echo "== the same from Python (ctypes), one thread =="
