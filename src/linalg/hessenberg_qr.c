@@ -104,106 +104,125 @@ static void lane_init(const double *a, int n, int ld, int st, qr_lane *L)
   L->status = 0;
 }
 
+/* The row l at which the active block nn splits off: the lowest l with a
+ * negligible subdiagonal E(l, l-1) (set to zero), by the deflation test of
+ * Ahues & Tisseur (LAPACK Working Note 122), as in LAPACK's dlahqr: small
+ * relative to the 2 x 2 block it couples. */
+static inline __attribute__((always_inline)) int split_row(double *a, int ld, int st, int nn,
+                                                           double anorm)
+{
+  int l;
+  for (l = nn; l >= 1; l--) {
+    double h = fabs(E(l, l - 1)), s;
+    if (h <= DBL_MIN) {
+      E(l, l - 1) = 0;
+      break;
+    }
+    s = fabs(E(l - 1, l - 1)) + fabs(E(l, l));
+    if (s == 0) s = anorm;
+    if (h <= DBL_EPSILON * s) {
+      double hu = fabs(E(l - 1, l)), ab = MAX(h, hu), ba = MIN(h, hu);
+      double dd = fabs(E(l - 1, l - 1) - E(l, l)), aa = MAX(fabs(E(l, l)), dd),
+             bb = MIN(fabs(E(l, l)), dd);
+      double ss = aa + ab;
+      if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) {
+        E(l, l - 1) = 0;
+        break;
+      }
+    }
+  }
+  return l;
+}
+
+/* The two roots of the trailing 2 x 2 block (rows nn - 1, nn) into wr, wi. */
+static inline __attribute__((always_inline)) void two_roots(double x, double y, double w, double t,
+                                                            int nn, double *wr, double *wi)
+{
+  double p = 0.5 * (y - x), q = p * p + w, z = sqrt(fabs(q));
+  x += t;
+  if (q >= 0) {
+    z = p + sgn(z, p);
+    wr[nn - 1] = wr[nn] = x + z;
+    if (z != 0) wr[nn] = x - w / z;
+    wi[nn - 1] = wi[nn] = 0;
+  } else {
+    wr[nn - 1] = wr[nn] = x + p;
+    wi[nn - 1] = -(wi[nn] = z);
+  }
+}
+
+/* Where the double-shift sweep starts (row m, l <= m <= nn - 2) and its first
+ * column (p, q, r), scaled to unit 1-norm into L: two small consecutive
+ * subdiagonals let it start above l. The column is formed times h(m+1, m),
+ * the test being scale-free: no division per row. */
+static inline __attribute__((always_inline)) void
+sweep_start(double *a, int ld, int st, int l, int nn, double x, double y, double w, qr_lane *L)
+{
+  int m;
+  double p = 0, q = 0, r = 0, s, z;
+  for (m = nn - 2; m >= l; m--) {
+    z = E(m, m);
+    r = x - z;
+    s = y - z;
+    double h21 = E(m + 1, m);
+    p = (r * s - w) + E(m, m + 1) * h21;
+    q = (E(m + 1, m + 1) - z - r - s) * h21;
+    r = E(m + 2, m + 1) * h21;
+    if (m == l) break;
+    double u = fabs(E(m, m - 1)) * (fabs(q) + fabs(r));
+    double v = fabs(p) * (fabs(E(m - 1, m - 1)) + fabs(z) + fabs(E(m + 1, m + 1)));
+    if (u + v == v) break;
+  }
+  s = 1 / (fabs(p) + fabs(q) + fabs(r));
+  for (int i = m + 2; i <= nn; i++) {
+    E(i, i - 2) = 0;
+    if (i != m + 2) E(i, i - 3) = 0;
+  }
+  L->nn = nn;
+  L->l = l;
+  L->m = m;
+  L->p = p * s;
+  L->q = q * s;
+  L->r = r * s;
+}
+
 /* Takes the roots that have converged at the bottom of the active block and
  * prepares the next double-shift sweep: rows l..nn, starting at row m with
  * first column (p, q, r). Sets status 1 when every root is found. */
 static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *wr, double *wi)
 {
   int nn = L->nn;
-  double p = 0, q = 0, r = 0, s, w, x, y, z;
   while (nn >= 0) {
-    int l;
-    for (l = nn; l >= 1; l--) {
-      /* deflation test of Ahues & Tisseur (LAPACK Working Note 122), as in
-         LAPACK's dlahqr: a small subdiagonal is negligible relative to the
-         2 x 2 block it couples */
-      double h = fabs(E(l, l - 1));
-      if (h <= DBL_MIN) {
-        E(l, l - 1) = 0;
-        break;
-      }
-      s = fabs(E(l - 1, l - 1)) + fabs(E(l, l));
-      if (s == 0) s = L->anorm;
-      if (h <= DBL_EPSILON * s) {
-        double hu = fabs(E(l - 1, l)), ab = MAX(h, hu), ba = MIN(h, hu);
-        double dd = fabs(E(l - 1, l - 1) - E(l, l)), aa = MAX(fabs(E(l, l)), dd),
-               bb = MIN(fabs(E(l, l)), dd);
-        double ss = aa + ab;
-        if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) {
-          E(l, l - 1) = 0;
-          break;
-        }
-      }
-    }
-    x = E(nn, nn);
+    int l = split_row(a, ld, st, nn, L->anorm);
+    double x = E(nn, nn);
     if (l == nn) { /* one root */
       wr[nn] = x + L->t;
       wi[nn--] = 0;
       L->its = 0;
       continue;
     }
-    y = E(nn - 1, nn - 1);
-    w = E(nn, nn - 1) * E(nn - 1, nn);
+    double y = E(nn - 1, nn - 1), w = E(nn, nn - 1) * E(nn - 1, nn);
     if (l == nn - 1) { /* two roots */
-      p = 0.5 * (y - x);
-      q = p * p + w;
-      z = sqrt(fabs(q));
-      x += L->t;
-      if (q >= 0) {
-        z = p + sgn(z, p);
-        wr[nn - 1] = wr[nn] = x + z;
-        if (z != 0) wr[nn] = x - w / z;
-        wi[nn - 1] = wi[nn] = 0;
-      } else {
-        wr[nn - 1] = wr[nn] = x + p;
-        wi[nn - 1] = -(wi[nn] = z);
-      }
+      two_roots(x, y, w, L->t, nn, wr, wi);
       nn -= 2;
       L->its = 0;
       continue;
     }
     /* no root yet: a double QR step */
-    if (L->its == 30 * (n > 10 ? n : 10)) {
+    if (L->its == 30 * (n > 10 ? n : 10)) { /* LAPACK's limit */
       L->status = -1;
       L->nn = nn;
       return;
-    }                                     /* LAPACK's limit */
+    }
     if (L->its > 0 && L->its % 10 == 0) { /* exceptional shift */
       L->t += x;
       for (int i = 0; i <= nn; i++) E(i, i) -= x;
-      s = fabs(E(nn, nn - 1)) + fabs(E(nn - 1, nn - 2));
+      double s = fabs(E(nn, nn - 1)) + fabs(E(nn - 1, nn - 2));
       y = x = 0.75 * s;
       w = -0.4375 * s * s;
     }
     ++L->its;
-    int m;
-    /* Where to start the sweep: two small consecutive subdiagonals? The
-       first column of the shifted product is formed times h(m+1, m), the
-       test being scale-free: no division per row. */
-    for (m = nn - 2; m >= l; m--) {
-      z = E(m, m);
-      r = x - z;
-      s = y - z;
-      double h21 = E(m + 1, m);
-      p = (r * s - w) + E(m, m + 1) * h21;
-      q = (E(m + 1, m + 1) - z - r - s) * h21;
-      r = E(m + 2, m + 1) * h21;
-      if (m == l) break;
-      double u = fabs(E(m, m - 1)) * (fabs(q) + fabs(r));
-      double v = fabs(p) * (fabs(E(m - 1, m - 1)) + fabs(z) + fabs(E(m + 1, m + 1)));
-      if (u + v == v) break;
-    }
-    s = 1 / (fabs(p) + fabs(q) + fabs(r));
-    for (int i = m + 2; i <= nn; i++) {
-      E(i, i - 2) = 0;
-      if (i != m + 2) E(i, i - 3) = 0;
-    }
-    L->nn = nn;
-    L->l = l;
-    L->m = m;
-    L->p = p * s;
-    L->q = q * s;
-    L->r = r * s;
+    sweep_start(a, ld, st, l, nn, x, y, w, L);
     return;
   }
   L->nn = nn;
