@@ -151,8 +151,8 @@ static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, 
   double x[64];
   for (int i = 0; i < ni; i++) x[i] = rr_model_input_x(m, i);
   rr_model_free(m);
-  *u = malloc(sizeof(double) * (size_t)ni * ns);
-  *du = malloc(sizeof(double) * (size_t)ni * ns);
+  *u = malloc(sizeof(double) * (size_t)ni * (size_t)ns);
+  *du = malloc(sizeof(double) * (size_t)ni * (size_t)ns);
   if (!*u || !*du) return cli_bad("out of memory");
   if (a->track) {
     rr_track_record r;
@@ -186,9 +186,9 @@ static void sim_rows(FILE *fp, const rr_nonlinear *nl, const double *Z, int ns, 
 {
   int N = rr_nonlinear_size(nl), n = rr_nonlinear_ndof(nl), nw = rr_nonlinear_ninputs(nl);
   for (int k = 0; k < ns; k++) {
-    const double *z = Z + (size_t)k * N;
+    const double *z = Z + (size_t)k * (size_t)N;
     double yt[64];
-    for (int w = 0; w < nw; w++) yt[w] = u ? u[(size_t)w * ns + k] : 0;
+    for (int w = 0; w < nw; w++) yt[w] = u ? u[(size_t)w * (size_t)ns + (size_t)k] : 0;
     fprintf(fp, "%.10g", k / fs);
     for (int i = 0; i < n; i++) fprintf(fp, ",%.10g", z[i]);
     for (int w = 0; w < nw; w++) {
@@ -214,7 +214,7 @@ static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
   if (!r && (st = rr_model_from_vehicle(&c->veh, &m, &e))) r = cli_fail(&e, st);
   if (!r) {
     int N = rr_nonlinear_size(nl);
-    Z = malloc(sizeof(double) * (size_t)N * ns);
+    Z = malloc(sizeof(double) * (size_t)N * (size_t)ns);
     z0 = calloc((size_t)N, sizeof(double));
     if (!Z || !z0) r = cli_bad("out of memory");
     double y0 = a->have_disturbance ? a->disturbance : u ? 0 : SIM_DISTURBANCE_DEFAULT;

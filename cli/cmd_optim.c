@@ -87,7 +87,8 @@ static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X,
     if (rank[i] != 0) continue;
     int dup = 0;
     for (int q = 0; q < i && !dup; q++)
-      dup = rank[q] == 0 && same_design(X + (size_t)q * p->nvar, X + (size_t)i * p->nvar, p->nvar);
+      dup = rank[q] == 0 &&
+            same_design(X + (size_t)q * (size_t)p->nvar, X + (size_t)i * (size_t)p->nvar, p->nvar);
     if (dup) continue;
     nfront++;
     cJSON *o = cJSON_CreateObject(), *vars = cJSON_AddObjectToObject(o, "variables"),

@@ -81,9 +81,9 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   if (st) goto out;
   warn_if_unstable(m, speed_kmh, conicity);
   int n = rr_model_ndof(m), np = r->npoints;
-  rows = malloc(sizeof(double) * n * np);
-  rows0 = malloc(sizeof(double) * n * np);
-  G = malloc(sizeof(double) * r->nfreq * np);
+  rows = malloc(sizeof(double) * (size_t)n * (size_t)np);
+  rows0 = malloc(sizeof(double) * (size_t)n * (size_t)np);
+  G = malloc(sizeof(double) * (size_t)r->nfreq * (size_t)np);
   if (!rows || !rows0 || !G) {
     st = RR_ENOMEM;
     snprintf(err->msg, sizeof err->msg, "out of memory");
@@ -113,8 +113,8 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
                           .wd_rms = c.wd_rms,
                           .nmv = rr_en12299_comfort(c.wd_rms)};
   }
-  if (psd) memcpy(psd, G, sizeof(double) * r->nfreq * np);
-  if (freqs) memcpy(freqs, f, sizeof(double) * r->nfreq);
+  if (psd) memcpy(psd, G, sizeof(double) * (size_t)r->nfreq * (size_t)np);
+  if (freqs) memcpy(freqs, f, sizeof(double) * (size_t)r->nfreq);
 out:
   free(rows);
   free(rows0);
@@ -232,7 +232,9 @@ static void ride_write_psd(FILE *fp, const ride_args *a, const ride_results *rr)
   for (int i = 0; i < nf; i++) {
     fprintf(fp, "%.10g", rr->freqs[i]);
     for (int k = 0; k < a->ncon; k++)
-      for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", rr->psd[((size_t)k * nf + i) * np + q]);
+      for (int q = 0; q < np; q++)
+        fprintf(fp, ",%.10g",
+                rr->psd[((size_t)k * (size_t)nf + (size_t)i) * (size_t)np + (size_t)q]);
     double b = rr_sperling_filter(rr->freqs[i], RR_AXIS_LATERAL);
     fprintf(fp, ",%.10g\n", b * b);
   }
@@ -297,7 +299,7 @@ static int ride_all(const cli_common *c, const ride_args *a, ride_results *rr)
   rr_error e;
   for (int k = 0; k < a->ncon; k++) {
     int st = ride_eval(&c->veh, c->speed_kmh, a->conicities[k], &a->rs, rr->pts + k * np,
-                       rr->psd + (size_t)k * nf * np, rr->freqs, &e);
+                       rr->psd + (size_t)k * (size_t)nf * (size_t)np, rr->freqs, &e);
     if (st) return cli_fail(&e, st);
   }
   return 0;
@@ -359,7 +361,8 @@ int cmd_frf(int argc, char **argv)
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;
   int n = rr_model_ndof(m), np = a.rs.npoints, ni = rr_model_ninputs(m);
-  double *rows = malloc(sizeof(double) * n * np), *rows0 = malloc(sizeof(double) * n * np);
+  double *rows = malloc(sizeof(double) * (size_t)n * (size_t)np),
+         *rows0 = malloc(sizeof(double) * (size_t)n * (size_t)np);
   rr_error e;
   rr_frf_plan *plan = NULL;
   int st =
@@ -386,7 +389,7 @@ int cmd_frf(int argc, char **argv)
   for (int k = 0; k < a.rs.nfreq; k++)
     for (int q = 0; q < np; q++)
       for (int i = 0; i <= ni; i++) {
-        const double complex *Hq = H + ((size_t)k * np + q) * ni;
+        const double complex *Hq = H + ((size_t)k * (size_t)np + (size_t)q) * (size_t)ni;
         double complex h = i < ni ? Hq[i] : rr_pem_lagged_sum(Hq, xin, ni, 2 * RR_PI * f[k], v);
         char inp[8];
         snprintf(inp, sizeof inp, i < ni ? "%d" : "sum", i + 1);

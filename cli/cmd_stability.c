@@ -26,7 +26,7 @@ int cmd_matrices(int argc, char **argv)
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   int n = rr_model_ndof(m), ni = rr_model_ninputs(m), N = rr_model_state_size(m);
-  double *A = malloc(sizeof(double) * (size_t)N * N);
+  double *A = malloc(sizeof(double) * (size_t)N * (size_t)N);
   rr_error e;
   if (!A) {
     rr_model_free(m);
@@ -572,7 +572,7 @@ static void locus_print(const cli_common *c, const grid_args *a, const rr_locus_
            "e_carbody,e_frames,e_wheelsets,roll_share,hunting_related\n");
   for (int b = 0; b < nb; b++)
     for (int p = 0; p < a->n; p++) {
-      const rr_locus_point *lp = &pts[(size_t)p * nb + b];
+      const rr_locus_point *lp = &pts[(size_t)p * (size_t)nb + (size_t)b];
       if (!isfinite(lp->re)) continue;
       double sp = a->param == RR_LOCUS_SPEED ? lp->param * RR_KMH : v0,
              co = a->param == RR_LOCUS_CONICITY ? lp->param : l0;
@@ -784,7 +784,7 @@ int cmd_map(int argc, char **argv)
   for (int i = 0; i < a.s_n && !r; i++) /* a stopped run: the rows done */
     for (int j = 0; j < a.c_n && done[i]; j++)
       map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), lin(a.c_from, a.c_to, j, a.c_n),
-                &zs[(size_t)i * a.c_n + j]);
+                &zs[(size_t)i * (size_t)a.c_n + (size_t)j]);
   free(zs);
   free(done);
   if (r) {

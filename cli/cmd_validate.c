@@ -108,8 +108,10 @@ static void write_psd(FILE *fp, const val_args *a, const rr_validate_result *res
   fprintf(fp, ",welch_sigma_rel\n");
   for (int k = 0; k < res->nwelch; k++) {
     fprintf(fp, "%.10g", res->welch_f[k]);
-    for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res->welch_P[(size_t)q * res->nwelch + k]);
-    for (int q = 0; q < np; q++) fprintf(fp, ",%.10g", res->pem_P[(size_t)q * res->nwelch + k]);
+    for (int q = 0; q < np; q++)
+      fprintf(fp, ",%.10g", res->welch_P[(size_t)q * (size_t)res->nwelch + (size_t)k]);
+    for (int q = 0; q < np; q++)
+      fprintf(fp, ",%.10g", res->pem_P[(size_t)q * (size_t)res->nwelch + (size_t)k]);
     fprintf(fp, ",%.6g\n", res->bin_sigma);
   }
 }

@@ -202,7 +202,7 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols)
 {
   cJSON *arr = cJSON_CreateArray();
   for (int i = 0; i < rows; i++)
-    cJSON_AddItemToArray(arr, cJSON_CreateDoubleArray(A + (size_t)i * cols, cols));
+    cJSON_AddItemToArray(arr, cJSON_CreateDoubleArray(A + (size_t)i * (size_t)cols, cols));
   return arr;
 }
 

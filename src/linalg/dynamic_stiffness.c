@@ -98,7 +98,7 @@ static void form(rr_dsolver *ds, double complex s, double k_sdf)
     memset(D, 0, sizeof *D * (size_t)n * (size_t)n);
   else /* only the cached factors' positions can be nonzero */
     for (int k = 0; k < n; k++) {
-      double complex *prow = D + (size_t)ds->sta_ord[k] * n;
+      double complex *prow = D + (size_t)ds->sta_ord[k] * (size_t)n;
       prow[k] = 0;
       for (int q = ds->sta_us[k]; q < ds->sta_us[k + 1]; q++) prow[ds->sta_uc[q]] = 0;
       for (int q = ds->sta_ls[k]; q < ds->sta_ls[k + 1]; q++) D[ds->sta_lr[q] * n + k] = 0;
@@ -126,13 +126,13 @@ static int factor_cached(rr_dsolver *ds)
   int n = ds->n;
   double complex *A = ds->D;
   for (int k = 0; k < n; k++) {
-    double complex *prow = A + (size_t)ds->sta_ord[k] * n;
+    double complex *prow = A + (size_t)ds->sta_ord[k] * (size_t)n;
     double pk = abs1(prow[k]);
     for (int q = ds->sta_ls[k]; q < ds->sta_ls[k + 1]; q++)
       if (!(abs1(A[ds->sta_lr[q] * n + k]) <= RR_DSOLVER_PIVOT_GROWTH * pk)) return 0;
     double complex inv = 1.0 / prow[k];
     for (int q = ds->sta_ls[k]; q < ds->sta_ls[k + 1]; q++) {
-      double complex *row = A + (size_t)ds->sta_lr[q] * n;
+      double complex *row = A + (size_t)ds->sta_lr[q] * (size_t)n;
       double complex l = row[k] * inv;
       row[k] = l;
       for (int c = ds->sta_us[k]; c < ds->sta_us[k + 1]; c++)
@@ -188,7 +188,7 @@ static void factor_pivoting(rr_dsolver *ds)
     int p = ds->rest[best_r];
     ds->rest[best_r] = ds->rest[--nrest];
     ds->ord[k] = p;
-    double complex *prow = A + (size_t)p * n;
+    double complex *prow = A + (size_t)p * (size_t)n;
     if (best <= tiny) prow[k] = tiny > 0 ? tiny : 1e-300;
     ds->ustart[k] = nu;
     for (int j = k + 1; j < n; j++)
@@ -196,7 +196,7 @@ static void factor_pivoting(rr_dsolver *ds)
     ds->lstart[k] = nl;
     double complex inv = 1.0 / prow[k];
     for (int r = 0; r < nrest; r++) {
-      double complex *row = A + (size_t)ds->rest[r] * n;
+      double complex *row = A + (size_t)ds->rest[r] * (size_t)n;
       if (row[k] == 0) continue;
       double complex l = row[k] * inv;
       row[k] = l;
@@ -233,7 +233,7 @@ void rr_dsolver_solve(const rr_dsolver *ds, double complex *b, double complex *t
       b[ds->lrow[q]] -= A[ds->lrow[q] * n + k] * bk;
   }
   for (int k = n - 1; k >= 0; k--) {
-    const double complex *row = A + (size_t)ds->ord[k] * n;
+    const double complex *row = A + (size_t)ds->ord[k] * (size_t)n;
     double complex acc = b[ds->ord[k]];
     for (int q = ds->ustart[k]; q < ds->ustart[k + 1]; q++)
       acc -= row[ds->ucol[q]] * t[ds->ucol[q]];

@@ -214,8 +214,8 @@ static void balance(int n, double *a, double *d)
       double c = 0, r = 0;
       for (int j = 0; j < n; j++)
         if (j != i) {
-          c += fabs(a[(size_t)j * n + i]);
-          r += fabs(a[(size_t)i * n + j]);
+          c += fabs(a[(size_t)j * (size_t)n + (size_t)i]);
+          r += fabs(a[(size_t)i * (size_t)n + (size_t)j]);
         }
       if (c == 0 || r == 0) continue;
       double g = r / 2, f = 1, s = c + r;
@@ -231,8 +231,8 @@ static void balance(int n, double *a, double *d)
       if ((c + r) / f < 0.95 * s) {
         done = 0;
         d[i] *= f;
-        for (int j = 0; j < n; j++) a[(size_t)i * n + j] /= f;
-        for (int j = 0; j < n; j++) a[(size_t)j * n + i] *= f;
+        for (int j = 0; j < n; j++) a[(size_t)i * (size_t)n + (size_t)j] /= f;
+        for (int j = 0; j < n; j++) a[(size_t)j * (size_t)n + (size_t)i] *= f;
       }
     }
   }
@@ -259,7 +259,7 @@ int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work
   w.di = w.dr + n * L;
   balance(n, a, dsc);
   rr_elmhes(n, a, perm);
-  memcpy(h, a, sizeof(double) * n * n);
+  memcpy(h, a, sizeof(double) * (size_t)n * (size_t)n);
   if (rr_hqr(n, h, wr, wi)) return -1;
   for (int j = 0; j + 1 < n; j++)
     if (wi[j] < 0) { /* LAPACK's order: the positive imaginary part first */
@@ -300,7 +300,7 @@ int rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work
     inverse_iteration(n, a, perm, dsc, gr, gi, eps3, &w);
     for (int l = 0; l < L && g + l < ns; l++) {
       int j = col[g + l];
-      double *c0 = vr + (size_t)j * n;
+      double *c0 = vr + (size_t)j * (size_t)n;
       for (int i = 0; i < n; i++) c0[i] = w.yr[i * L + l];
       if (wi[j] > 0)
         for (int i = 0; i < n; i++) c0[n + i] = w.yi[i * L + l];

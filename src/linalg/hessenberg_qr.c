@@ -361,7 +361,8 @@ int rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr
   int bad = 0;
   for (int c = 0; c < nb; c += 4) {
     int k = nb - c < 4 ? nb - c : 4;
-    bad |= eig_batch4(n, k, mats + c, wr + (size_t)c * n, wi + (size_t)c * n, work, fail + c);
+    bad |= eig_batch4(n, k, mats + c, wr + (size_t)c * (size_t)n, wi + (size_t)c * (size_t)n, work,
+                      fail + c);
   }
   return bad;
 }

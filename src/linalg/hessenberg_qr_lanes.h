@@ -151,14 +151,14 @@ static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int
         size_t pv = (size_t)piv[c], mm = (size_t)m, L = QRW;
         if (pv == mm) continue;
         for (size_t j = (size_t)m - 1; j < (size_t)n; j++) {
-          double t = s[(pv * ld + j) * L + c];
-          s[(pv * ld + j) * L + c] = s[(mm * ld + j) * L + c];
-          s[(mm * ld + j) * L + c] = t;
+          double t = s[(pv * (size_t)ld + j) * L + (size_t)c];
+          s[(pv * (size_t)ld + j) * L + (size_t)c] = s[(mm * (size_t)ld + j) * L + (size_t)c];
+          s[(mm * (size_t)ld + j) * L + (size_t)c] = t;
         }
         for (size_t i = 0; i < (size_t)n; i++) {
-          double t = s[(i * ld + pv) * L + c];
-          s[(i * ld + pv) * L + c] = s[(i * ld + mm) * L + c];
-          s[(i * ld + mm) * L + c] = t;
+          double t = s[(i * (size_t)ld + pv) * L + (size_t)c];
+          s[(i * (size_t)ld + pv) * L + (size_t)c] = s[(i * (size_t)ld + mm) * L + (size_t)c];
+          s[(i * (size_t)ld + mm) * L + (size_t)c] = t;
         }
       }
     }
@@ -199,7 +199,8 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
         /* idle lanes (never swept) copy lane 0, so that their pivots agree
            and elmhes' interchanges stay whole vectors */
         const double *src = mats[c < nb ? c : 0];
-        s[((size_t)i * ld + j) * QRW + c] = i < n && j < n ? src[i * n + j] : 0;
+        s[((size_t)i * (size_t)ld + (size_t)j) * QRW + (size_t)c] =
+            i < n && j < n ? src[i * n + j] : 0;
       }
   elmhes_lanes(n, b, ld);
   qr_lane lanes[QRW];
@@ -221,8 +222,8 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
   for (int c = 0; c < nb; c++) {
     fail[c] = lanes[c].status < 0;
     bad |= fail[c];
-    memcpy(wr + (size_t)c * n, wrs[c], sizeof(double) * (size_t)n);
-    memcpy(wi + (size_t)c * n, wis[c], sizeof(double) * (size_t)n);
+    memcpy(wr + (size_t)c * (size_t)n, wrs[c], sizeof(double) * (size_t)n);
+    memcpy(wi + (size_t)c * (size_t)n, wis[c], sizeof(double) * (size_t)n);
   }
   return bad;
 }

@@ -25,7 +25,7 @@ static const double b13[14] = {64764752532480000.0,
                                1.0};
 static const double theta13 = 5.371920351148152;
 
-size_t rr_expm_work_size(int n) { return (size_t)9 * n * n + n; }
+size_t rr_expm_work_size(int n) { return (size_t)9 * (size_t)n * (size_t)n + (size_t)n; }
 
 static void mm(int n, const double *A, const double *B, double *C)
 {
@@ -40,7 +40,7 @@ int rr_expm(int n, const double *A0, double *E, double *work, rr_error *err)
     own = work = malloc(sizeof(double) * rr_expm_work_size(n));
     if (!work) return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
-  size_t nn = (size_t)n * n;
+  size_t nn = (size_t)n * (size_t)n;
   double *A = work, *A2 = A + nn, *A4 = A2 + nn, *A6 = A4 + nn, *U = A6 + nn, *V = U + nn,
          *T = V + nn, *P = T + nn, *Q = P + nn;
   int *ipiv = (int *)(Q + nn); /* n ints fit in n doubles */

@@ -221,12 +221,12 @@ static void sort_result(rr_modal_result *res, double complex *scratch)
     int j = i;
     while (j > 0 && cmp_mode(&res->modes[j - 1], &t) > 0) j--;
     if (j == i) continue;
-    memcpy(scratch, res->shapes + (size_t)i * res->ndof, row);
+    memcpy(scratch, res->shapes + (size_t)i * (size_t)res->ndof, row);
     memmove(&res->modes[j + 1], &res->modes[j], (size_t)(i - j) * sizeof t);
-    memmove(res->shapes + (size_t)(j + 1) * res->ndof, res->shapes + (size_t)j * res->ndof,
-            (size_t)(i - j) * row);
+    memmove(res->shapes + (size_t)(j + 1) * (size_t)res->ndof,
+            res->shapes + (size_t)j * (size_t)res->ndof, (size_t)(i - j) * row);
     res->modes[j] = t;
-    memcpy(res->shapes + (size_t)j * res->ndof, scratch, row);
+    memcpy(res->shapes + (size_t)j * (size_t)res->ndof, scratch, row);
   }
 }
 
@@ -241,10 +241,11 @@ void rr_modal_collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_
     if (im < 0) continue;
     rr_mode *md = &res->modes[res->n];
     rr_mode_fill(md, re, im, anorm);
-    double complex *phi = res->shapes + (size_t)res->n * n;
+    double complex *phi = res->shapes + (size_t)res->n * (size_t)n;
     for (int i = 0; i < n; i++)
-      phi[i] = im > 0 ? ws->vr[(size_t)j * N + i] + I * ws->vr[(size_t)(j + 1) * N + i]
-                      : ws->vr[(size_t)j * N + i];
+      phi[i] = im > 0 ? ws->vr[(size_t)j * (size_t)N + (size_t)i] +
+                            I * ws->vr[(size_t)(j + 1) * (size_t)N + (size_t)i]
+                      : ws->vr[(size_t)j * (size_t)N + (size_t)i];
     rr_shape_normalise(phi, n);
     rr_mode_shares(m, phi, md);
     res->n++;
@@ -447,8 +448,8 @@ static int batch_group(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int
   for (int c = 0; c < nb; c++) {
     if ((st = rr_model_set_operating(m, v[c], lam[c], err))) return st;
     if (lanes && !fail[c]) {
-      stability_from_eigs(m, o, ws, N, ws->wrb + (size_t)c * N, ws->wib + (size_t)c * N, anorm[c],
-                          &out[c]);
+      stability_from_eigs(m, o, ws, N, ws->wrb + (size_t)c * (size_t)N,
+                          ws->wib + (size_t)c * (size_t)N, anorm[c], &out[c]);
       st = check_finite(&out[c], err);
     } else {
       st = rr_modal_stability(m, o, ws, &out[c], err);

@@ -49,7 +49,7 @@ static int best_match(const rr_modal_result *r, const double complex *phi, int n
   int best = -1;
   double bm = -1;
   for (int i = 0; i < r->n; i++) {
-    double v = rr_mac(phi, r->shapes + (size_t)i * n, n);
+    double v = rr_mac(phi, r->shapes + (size_t)i * (size_t)n, n);
     if (v > bm) {
       bm = v;
       best = i;
@@ -80,7 +80,7 @@ static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result 
   double k_lo, k_hi;
   rr_sdf_range(&m->curve, &k_lo, &k_hi);
   rr_mode cur = r0->modes[b], mb = cur;
-  copy_shape(phi, r0->shapes + (size_t)b * n, n);
+  copy_shape(phi, r0->shapes + (size_t)b * (size_t)n, n);
   double complex *phia = ws->x;
   copy_shape(phia, phi, n);
   double k = k_lo, h = h_of(m, k, cur.im), step = (k_hi - k_lo) / FIRST_STEPS, ka = k, kb = k;
@@ -105,14 +105,14 @@ static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result 
       copy_shape(phia, phi, n);
       kb = kn;
       mb = nx;
-      copy_shape(phi, rb->shapes + (size_t)j * n, n);
+      copy_shape(phi, rb->shapes + (size_t)j * (size_t)n, n);
       found = 1;
       break;
     }
     k = kn;
     cur = nx;
     h = hn;
-    copy_shape(phi, rb->shapes + (size_t)j * n, n);
+    copy_shape(phi, rb->shapes + (size_t)j * (size_t)n, n);
     if (k >= k_hi) lost = 1;
   }
   if (found && h >= 0 && ka == kb)
@@ -130,10 +130,10 @@ static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result 
       if (h_of(m, km, mm.im) >= 0) {
         kb = km;
         mb = mm;
-        copy_shape(phi, rb->shapes + (size_t)j * n, n);
+        copy_shape(phi, rb->shapes + (size_t)j * (size_t)n, n);
       } else {
         ka = km;
-        copy_shape(phia, rb->shapes + (size_t)j * n, n);
+        copy_shape(phia, rb->shapes + (size_t)j * (size_t)n, n);
       }
     }
   }
@@ -155,11 +155,11 @@ static int ref_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
   /* branches are reported in r0's order into res, which must not alias r0 */
   for (int b = 0; b < r0->n; b++) {
     rr_mode *rep = &res->modes[b];
-    double complex *phi = res->shapes + (size_t)b * n;
+    double complex *phi = res->shapes + (size_t)b * (size_t)n;
     if (!r0->modes[b].oscillatory) { /* not followed: reported as at k_lo */
       *rep = r0->modes[b];
       rep->sdf_k = k_lo;
-      copy_shape(phi, r0->shapes + (size_t)b * n, n);
+      copy_shape(phi, r0->shapes + (size_t)b * (size_t)n, n);
       continue;
     }
     if ((st = ref_branch(m, ws, r0, b, rb, rep, ws->branch, err))) return st;
@@ -239,7 +239,7 @@ static double best_of_all(const tracker *tr, double k, const double complex *ref
   rr_modal_ws *ws = tr->ws;
   int n = m->n, N;
   if (rr_state_matrix_merged(m, k, ws->A, &N, NULL)) return 0;
-  memcpy(ws->At, ws->A, sizeof(double) * (size_t)N * N);
+  memcpy(ws->At, ws->A, sizeof(double) * (size_t)N * (size_t)N);
   if (rr_eig_small(N, ws->At, ws->wr, ws->wi)) return 0;
   double best = -1;
   for (int j = 0; j < N; j++) {
@@ -482,14 +482,14 @@ static int fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_res
   int n = tr->m->n;
   for (int b = 0; b < r0->n; b++) {
     rr_mode *rep = &res->modes[b];
-    double complex *shape = res->shapes + (size_t)b * n;
+    double complex *shape = res->shapes + (size_t)b * (size_t)n;
     if (!r0->modes[b].oscillatory) {
       *rep = r0->modes[b];
       rep->sdf_k = tr->k_lo;
-      copy_shape(shape, r0->shapes + (size_t)b * n, n);
+      copy_shape(shape, r0->shapes + (size_t)b * (size_t)n, n);
       continue;
     }
-    rr_dsolver_to(tr->ds, r0->shapes + (size_t)b * n, tr->phi);
+    rr_dsolver_to(tr->ds, r0->shapes + (size_t)b * (size_t)n, tr->phi);
     fast_branch(tr, r0->modes[b].re + I * r0->modes[b].im, rep, shape);
   }
   res->n = r0->n;
@@ -503,7 +503,7 @@ static int fast_track(const tracker *tr, const rr_modal_result *r0, rr_modal_res
         int st =
             ref_branch(tr->m, tr->ws, r0, pair[q], rb, &res->modes[pair[q]], tr->ws->branch, err);
         if (st) return st;
-        copy_shape(res->shapes + (size_t)pair[q] * n, tr->ws->branch, n);
+        copy_shape(res->shapes + (size_t)pair[q] * (size_t)n, tr->ws->branch, n);
       }
     }
   return RR_OK;
@@ -544,7 +544,7 @@ static int osc_start(const tracker *tr, int N, rr_modal_result *r0)
     double complex s = re + I * im, *x = tr->xn;
     for (int i = 0; i < n; i++) x[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
     if (newton(tr, tr->k_lo, &s, x, NEWTON_TOL_ROOT)) s = re + I * im;
-    rr_dsolver_from(tr->ds, x, r0->shapes + (size_t)r0->n * n);
+    rr_dsolver_from(tr->ds, x, r0->shapes + (size_t)r0->n * (size_t)n);
     rr_mode_fill(&r0->modes[r0->n], creal(s), cimag(s), tr->anorm);
     r0->n++;
   }
@@ -559,7 +559,7 @@ int rr_sdf_modes_fast_osc(const rr_model *m, const rr_modal_opts *o, rr_modal_ws
   tracker_init(&tr, m, ws, 0);
   int N, st = rr_state_matrix_merged(m, tr.k_lo, ws->A, &N, err);
   if (st) return st;
-  memcpy(ws->At, ws->A, sizeof(double) * (size_t)N * N);
+  memcpy(ws->At, ws->A, sizeof(double) * (size_t)N * (size_t)N);
   if (rr_eig_small(N, ws->At, ws->wr, ws->wi)) return fast_modes(m, o, ws, res, err);
   tr.anorm = rr_modal_max_abs(ws->A, N);
   rr_modal_result *r0 = res == &ws->trk[0] ? &ws->trk[1] : &ws->trk[0];

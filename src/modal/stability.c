@@ -235,7 +235,7 @@ static void locus_match(const rr_modal_result *res, int n, int nb, double param,
       if (done[b]) continue;
       for (int i = 0; i < res->n; i++) {
         if (used[i]) continue;
-        double mac = rr_mac(prev + (size_t)b * n, res->shapes + (size_t)i * n, n);
+        double mac = rr_mac(prev + (size_t)b * (size_t)n, res->shapes + (size_t)i * (size_t)n, n);
         if (mac > bestmac) {
           bestmac = mac;
           bb = b;
@@ -246,7 +246,8 @@ static void locus_match(const rr_modal_result *res, int n, int nb, double param,
     if (bb < 0) break;
     done[bb] = used[bi] = 1;
     row[bb] = locus_point(param, &res->modes[bi], bestmac);
-    memcpy(prev + (size_t)bb * n, res->shapes + (size_t)bi * n, (size_t)n * sizeof *prev);
+    memcpy(prev + (size_t)bb * (size_t)n, res->shapes + (size_t)bi * (size_t)n,
+           (size_t)n * sizeof *prev);
   }
   for (int b = 0; b < nb; b++)
     if (!done[b]) row[b] = locus_gap(param);
@@ -288,7 +289,7 @@ int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_mod
   memcpy(v.modes, res->modes, (size_t)res->n * sizeof *v.modes);
   memcpy(v.shapes, res->shapes, (size_t)res->n * (size_t)m->n * sizeof *v.shapes);
   memset(v.modes + res->n, 0, (size_t)(cap - res->n) * sizeof *v.modes); /* plain bytes to copy */
-  memset(v.shapes + (size_t)res->n * m->n, 0,
+  memset(v.shapes + (size_t)res->n * (size_t)m->n, 0,
          (size_t)(cap - res->n) * (size_t)m->n * sizeof *v.shapes);
   return RR_OK;
 }
@@ -338,12 +339,13 @@ int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const v
       t->nb = 0;
       for (int i = 0; i < res.n; i++) {
         if (!res.modes[i].oscillatory) continue;
-        memcpy(t->prev + (size_t)t->nb * t->n, res.shapes + (size_t)i * t->n,
+        memcpy(t->prev + (size_t)t->nb * (size_t)t->n, res.shapes + (size_t)i * (size_t)t->n,
                (size_t)t->n * sizeof *t->prev);
         out[t->nb++] = locus_point(values[p], &res.modes[i], 1.0);
       }
     } else {
-      locus_match(&res, t->n, t->nb, values[p], t->prev, t->used, t->done, out + (size_t)p * t->nb);
+      locus_match(&res, t->n, t->nb, values[p], t->prev, t->used, t->done,
+                  out + (size_t)p * (size_t)t->nb);
     }
   }
   *nbranch = t->nb;
@@ -366,12 +368,13 @@ int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
   for (; p < npts && !st; p++) {
     st = rr_locus_solve(m, param, values[p], o, ws, &res, rec, err);
     if (!st)
-      st = rr_locus_follow(t, values + p, 1, rec, out + (size_t)p * (nb > 0 ? nb : 0), &nb, err);
+      st = rr_locus_follow(t, values + p, 1, rec, out + (size_t)p * (size_t)(nb > 0 ? nb : 0), &nb,
+                           err);
     if (!st && (st = rr_progress_step(pr, p + 1, npts, err))) p++;
   }
   if (st == RR_ESTOPPED) /* the points not reached */
     for (p -= 1; p < npts; p++)
-      for (int b = 0; b < nb; b++) out[(size_t)p * nb + b] = locus_gap(values[p]);
+      for (int b = 0; b < nb; b++) out[(size_t)p * (size_t)nb + (size_t)b] = locus_gap(values[p]);
   if (!st || st == RR_ESTOPPED) *nbranch = nb;
   rr_model_set_operating(m, v0, l0, NULL);
   rr_locus_tracker_free(t);

@@ -305,8 +305,8 @@ static double peak(const double *u, int stride, int ns)
 {
   double a = 0;
   for (int i = 1; i < ns - 1; i++) {
-    double y0 = fabs(u[(size_t)(i - 1) * stride]), y1 = fabs(u[(size_t)i * stride]),
-           y2 = fabs(u[(size_t)(i + 1) * stride]);
+    double y0 = fabs(u[(size_t)(i - 1) * (size_t)stride]), y1 = fabs(u[(size_t)i * (size_t)stride]),
+           y2 = fabs(u[(size_t)(i + 1) * (size_t)stride]);
     double den = y0 - 2 * y1 + y2;
     a = fmax(a, y1 >= y0 && y1 >= y2 && den < 0 ? y1 - 0.125 * (y0 - y2) * (y0 - y2) / den : y1);
   }
@@ -319,10 +319,11 @@ static double peak(const double *u, int stride, int ns)
 static void measure(const double *u, int stride, int ns, double fs, double *amp, double *freq)
 {
   double a1 = peak(u, stride, ns / 2),
-         a2 = peak(u + (size_t)(ns / 2) * stride, stride, ns - ns / 2), t_first = NAN, t_last = NAN;
+         a2 = peak(u + (size_t)(ns / 2) * (size_t)stride, stride, ns - ns / 2), t_first = NAN,
+         t_last = NAN;
   int ncross = 0;
   for (int i = 1; i < ns; i++) {
-    double p = u[(size_t)(i - 1) * stride], q = u[(size_t)i * stride];
+    double p = u[(size_t)(i - 1) * (size_t)stride], q = u[(size_t)i * (size_t)stride];
     if (p < 0 && q >= 0) {
       double t = (i - 1 + p / (p - q)) / fs;
       if (!ncross) t_first = t;
@@ -347,8 +348,9 @@ static int scan_run(rr_nonlinear *nl, double *z, const rr_scan_opts *o, double *
   if (st) return st;
   int first = (int)ceil(o->settle_s * SCAN_FS);
   pt->speed_ms = rr_nonlinear_speed(nl);
-  measure(buf + (size_t)first * N + k, N, ns - first, SCAN_FS, &pt->amplitude_m, &pt->frequency_hz);
-  memcpy(z, buf + (size_t)(ns - 1) * N, sizeof(double) * (size_t)N);
+  measure(buf + (size_t)first * (size_t)N + k, N, ns - first, SCAN_FS, &pt->amplitude_m,
+          &pt->frequency_hz);
+  memcpy(z, buf + (size_t)(ns - 1) * (size_t)N, sizeof(double) * (size_t)N);
   return RR_OK;
 }
 
@@ -373,7 +375,8 @@ int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_con
   int st = build(veh, p, law, vs[0], &m, &nl, err);
   if (st) return st;
   int N = rr_nonlinear_size(nl), ns = (int)ceil((o->settle_s + o->measure_s) * SCAN_FS) + 1;
-  double *z = calloc((size_t)N, sizeof(double)), *buf = malloc(sizeof(double) * (size_t)ns * N);
+  double *z = calloc((size_t)N, sizeof(double)),
+         *buf = malloc(sizeof(double) * (size_t)ns * (size_t)N);
   if (!z || !buf) st = rr_seterr(err, RR_ENOMEM, "out of memory");
   for (int w = 0; w < rr_nonlinear_ninputs(nl) && !st; w++)
     z[rr_nonlinear_index_y(nl, w)] = o->y0_m;

@@ -72,13 +72,13 @@ static int check_inputs(const rr_model *m, const rr_profile *p, const rr_contact
 static int suspension(rr_nonlinear *nl, const rr_model *m, rr_error *err)
 {
   rr_model *s = NULL;
-  double *A = malloc(sizeof(double) * (size_t)nl->N * nl->N);
+  double *A = malloc(sizeof(double) * (size_t)nl->N * (size_t)nl->N);
   if (rr_model_clone(m, &s, err) || !A) {
     free(s);
     free(A);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
-  size_t nn = sizeof(double) * (size_t)m->n * m->n;
+  size_t nn = sizeof(double) * (size_t)m->n * (size_t)m->n;
   memcpy(s->C, s->C0, nn);
   memcpy(s->K, s->K0, nn);
   int st = rr_model_state_matrix(s, 0, A, err), N = nl->N;
@@ -241,7 +241,7 @@ void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z,
                               double *J)
 {
   int N = nl->N;
-  memset(J, 0, sizeof(double) * (size_t)N * N);
+  memset(J, 0, sizeof(double) * (size_t)N * (size_t)N);
   for (int i = 0; i < N; i++)
     for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++)
       J[i * N + nl->col[k]] = nl->val[k];
@@ -277,7 +277,7 @@ RR_CLONES static void suspension_product(const rr_nonlinear *nl, const double *X
     int nc = m - c0 < JVP_COLS ? m - c0 : JVP_COLS;
     for (int j = 0; j < N; j++)
       for (int c = 0; c < JVP_COLS; c++)
-        xt[j * JVP_COLS + c] = c < nc ? X[(size_t)(c0 + c) * N + j] : 0;
+        xt[j * JVP_COLS + c] = c < nc ? X[(size_t)(c0 + c) * (size_t)N + (size_t)j] : 0;
     for (int i = 0; i < N; i++) {
       double acc[JVP_COLS] = {0};
       for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) {
@@ -285,7 +285,7 @@ RR_CLONES static void suspension_product(const rr_nonlinear *nl, const double *X
 #pragma omp simd
         for (int c = 0; c < JVP_COLS; c++) acc[c] += v * x[c];
       }
-      for (int c = 0; c < nc; c++) out[(size_t)(c0 + c) * N + i] = acc[c];
+      for (int c = 0; c < nc; c++) out[(size_t)(c0 + c) * (size_t)N + (size_t)i] = acc[c];
     }
   }
 }
@@ -302,8 +302,8 @@ void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, cons
   }
   suspension_product(nl, X, m, out);
   for (int c = 0; c < m; c++) {
-    const double *xc = X + (size_t)c * N;
-    double *oc = out + (size_t)c * N;
+    const double *xc = X + (size_t)c * (size_t)N;
+    double *oc = out + (size_t)c * (size_t)N;
     for (int i = 0; i < nl->nw; i++) {
       const wheelset *w = &nl->w[i];
       double dx[4] = {xc[w->y], xc[w->p], xc[n + w->y], xc[n + w->p]}, gy = 0, gp = 0;

@@ -51,7 +51,7 @@ int rr_ode_open(ode_cv *c, const rr_ode *ode, double p, const double *z0, double
   c->y = N_VNew_Serial(n, c->ctx);
   c->atol = N_VNew_Serial(n, c->ctx);
   c->A = SUNDenseMatrix(n, n, c->ctx);
-  c->J = malloc(sizeof(double) * (size_t)n * n);
+  c->J = malloc(sizeof(double) * (size_t)n * (size_t)n);
   c->mem = CVodeCreate(CV_BDF, c->ctx);
   if (!c->y || !c->atol || !c->A || !c->J || !c->mem) {
     rr_ode_close(c);

@@ -56,11 +56,12 @@ static void var_dense(const var_ctx *c, const double *z, const double *X, double
   for (int k = 0; k < c->sens; k++)
     for (int i = 0; i < n; i++) {
       double acc = 0;
-      for (int j = 0; j < n; j++) acc += c->J[(size_t)i * n + j] * X[(size_t)k * n + j];
-      out[(size_t)k * n + i] = acc;
+      for (int j = 0; j < n; j++)
+        acc += c->J[(size_t)i * (size_t)n + (size_t)j] * X[(size_t)k * (size_t)n + (size_t)j];
+      out[(size_t)k * (size_t)n + (size_t)i] = acc;
     }
   if (c->c0 + c->sens <= n) return; /* no parameter column */
-  double h = 1e-6 * fmax(fabs(c->p), 1e-3), *last = out + (size_t)(c->sens - 1) * n;
+  double h = 1e-6 * fmax(fabs(c->p), 1e-3), *last = out + (size_t)(c->sens - 1) * (size_t)n;
   s->ode.rhs(s->ode.user, 0, c->p + h, z, c->a);
   s->ode.rhs(s->ode.user, 0, c->p - h, z, c->b);
   for (int i = 0; i < n; i++) last[i] += (c->a[i] - c->b[i]) / (2 * h);
@@ -94,7 +95,8 @@ static void var_tolerances(const rr_orbit_sys *s, double rtol, double scale, int
   for (int c = 0; c < nc; c++) {
     int k = c0 + c;
     for (int i = 0; i < n; i++)
-      tol[(size_t)(c + 1) * n + i] = rtol * s->atol[i] / (k < n ? s->atol[k] : s->p_unit);
+      tol[(size_t)(c + 1) * (size_t)n + (size_t)i] =
+          rtol * s->atol[i] / (k < n ? s->atol[k] : s->p_unit);
   }
 }
 
@@ -219,18 +221,18 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   P.ytmp = N_VNew_Serial(ny, ctx);
   tol = N_VNew_Serial(ny, ctx);
   if (P.y) rr_nvector_fast(P.y); /* one pass per stage combination, not one per term */
-  c.J = malloc(sizeof(double) * ((size_t)n * n + 2 * (size_t)n));
+  c.J = malloc(sizeof(double) * ((size_t)n * (size_t)n + 2 * (size_t)n));
   if (!P.y || !P.yprev || !P.ytmp || !tol || !c.J) {
     st = rr_seterr(err, RR_ENOMEM, "out of memory");
     goto done;
   }
-  c.a = c.J + (size_t)n * n;
+  c.a = c.J + (size_t)n * (size_t)n;
   c.b = c.a + n;
   double *Y = N_VGetArrayPointer(P.y), scale = fmax(fabs(z0[s->k_amp]) / s->amp_unit, 1e-3);
   memset(Y, 0, sizeof(double) * (size_t)ny);
   memcpy(Y, z0, sizeof(double) * (size_t)n);
   for (int k = 0; k < nc; k++) /* Phi(0) = I, phi_p(0) = 0 */
-    if (c0 + k < n) Y[(size_t)(k + 1) * n + c0 + k] = 1;
+    if (c0 + k < n) Y[(size_t)(k + 1) * (size_t)n + (size_t)c0 + (size_t)k] = 1;
   var_tolerances(s, rtol, scale, c0, nc, N_VGetArrayPointer(tol));
   P.mem = ERKStepCreate(var_rhs, 0, P.y, ctx);
   if (!P.mem ||
@@ -251,7 +253,7 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
     if (!isfinite(Y[i])) st = rr_seterr(err, RR_ENOCONV, "orbit: the flow is not finite");
   *amp = P.amp;
   memcpy(zT, Y, sizeof(double) * (size_t)n);
-  if (nc) memcpy(cols, Y + n, sizeof(double) * (size_t)n * nc);
+  if (nc) memcpy(cols, Y + n, sizeof(double) * (size_t)n * (size_t)nc);
 done:
   if (P.mem) ERKStepFree(&P.mem);
   N_Vector v[4] = {P.y, P.yprev, P.ytmp, tol};
@@ -275,7 +277,7 @@ typedef struct sens_job {
   rr_error err[RR_ORBIT_GROUPS]; /* each group's failure, where it ran here */
 } sens_job;
 
-static size_t sens_item(int n, int ncols) { return (size_t)n * (1 + ncols) + 1; }
+static size_t sens_item(int n, int ncols) { return (size_t)n * (size_t)(1 + ncols) + 1; }
 
 static int sens_ncols(int n) { return (n + 1 + RR_ORBIT_GROUPS - 1) / RR_ORBIT_GROUPS; }
 
@@ -333,11 +335,11 @@ static int flow_sens(const rr_orbit_sys *s, const rr_runner_opts *run, double p,
   memcpy(f->zT, buf, sizeof(double) * (size_t)n);
   f->amp = buf[n];
   for (int k = 0; k <= n; k++) {
-    const double *col = buf + (size_t)(k / ncols) * item + n + 1 + (size_t)(k % ncols) * n;
+    const double *col = buf + (size_t)(k / ncols) * item + n + 1 + (size_t)(k % ncols) * (size_t)n;
     if (k == n)
       memcpy(f->phip, col, sizeof(double) * (size_t)n);
     else
-      for (int i = 0; i < n; i++) f->Phi[(size_t)i * n + k] = col[i];
+      for (int i = 0; i < n; i++) f->Phi[(size_t)i * (size_t)n + (size_t)k] = col[i];
   }
   return RR_OK;
 }
@@ -413,8 +415,8 @@ static void flow_rows(const rr_orbit_sys *s, work *w, double p)
   double *fz = w->R; /* scratch */
   s->ode.rhs(s->ode.user, 0, p, w->f.zT, fz);
   for (int i = 0; i < n; i++) {
-    double *row = w->B + (size_t)i * m;
-    for (int j = 0; j < n; j++) row[j] = w->f.Phi[(size_t)i * n + j] - (i == j);
+    double *row = w->B + (size_t)i * (size_t)m;
+    for (int j = 0; j < n; j++) row[j] = w->f.Phi[(size_t)i * (size_t)n + (size_t)j] - (i == j);
     row[n] = fz[i];
     row[n + 1] = w->f.phip[i];
   }
@@ -428,12 +430,12 @@ static void newton_system(const rr_orbit_sys *s, work *w, const double *z0, doub
 {
   int n = w->n, m = n + 2;
   double *J = w->Jn, *R = w->R;
-  memcpy(J, w->B, sizeof(double) * (size_t)n * m);
-  memset(J + (size_t)n * m, 0, sizeof(double) * 2 * (size_t)m);
+  memcpy(J, w->B, sizeof(double) * (size_t)n * (size_t)m);
+  memset(J + (size_t)n * (size_t)m, 0, sizeof(double) * 2 * (size_t)m);
   memcpy(R, w->F, sizeof(double) * (size_t)n);
   J[n * m + s->k_phase] = 1;
   R[n] = z0[s->k_phase];
-  double *last = J + (size_t)(n + 1) * m;
+  double *last = J + (size_t)(n + 1) * (size_t)m;
   if (c->kind == 0) {
     last[n + 1] = 1;
     R[n + 1] = p - c->p;
@@ -456,7 +458,7 @@ static void broyden(work *w)
   for (int j = 0; j < m; j++) dd += w->dX[j] * w->dX[j];
   if (!(dd > 0)) return;
   for (int i = 0; i < n; i++) {
-    double *row = w->B + (size_t)i * m, bx = 0;
+    double *row = w->B + (size_t)i * (size_t)m, bx = 0;
     for (int j = 0; j < m; j++) bx += row[j] * w->dX[j];
     double g = (w->Fn[i] - w->F[i] - bx) / dd;
     for (int j = 0; j < m; j++) row[j] += g * w->dX[j];
@@ -467,14 +469,14 @@ static void broyden(work *w)
    direction). */
 static double floquet_max(const double *Phi, int n, rr_error *err, int *st)
 {
-  double *a = malloc(sizeof(double) * (size_t)n * n), *wr = malloc(sizeof(double) * (size_t)n),
-         *wi = malloc(sizeof(double) * (size_t)n);
+  double *a = malloc(sizeof(double) * (size_t)n * (size_t)n),
+         *wr = malloc(sizeof(double) * (size_t)n), *wi = malloc(sizeof(double) * (size_t)n);
   double best = -1;
   *st = RR_OK;
   if (!a || !wr || !wi)
     *st = rr_seterr(err, RR_ENOMEM, "out of memory");
   else {
-    memcpy(a, Phi, sizeof(double) * (size_t)n * n);
+    memcpy(a, Phi, sizeof(double) * (size_t)n * (size_t)n);
     if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, a, n, wr, wi, NULL, 1, NULL, 1))
       *st = rr_seterr(err, RR_ELAPACK, "orbit: Floquet multipliers: dgeev failed");
     int trivial = 0;
@@ -622,10 +624,11 @@ int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, d
 {
   int n = s->ode.n, st;
   flow f;
-  double *buf = malloc(sizeof(double) * ((size_t)n * n * 2 + 4 * (size_t)n + sens_buf_size(n)));
+  double *buf =
+      malloc(sizeof(double) * ((size_t)n * (size_t)n * 2 + 4 * (size_t)n + sens_buf_size(n)));
   if (!buf) return rr_seterr(err, RR_ENOMEM, "out of memory");
   f.Phi = buf;
-  double *V = buf + (size_t)n * n, *wr = V + (size_t)n * n, *wi = wr + n;
+  double *V = buf + (size_t)n * (size_t)n, *wr = V + (size_t)n * (size_t)n, *wi = wr + n;
   f.zT = wi + n;
   f.phip = f.zT + n;
   st = flow_sens(s, NULL, p, z0, T, &f, f.phip + n, err);
@@ -639,7 +642,7 @@ int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, d
   if (!st) {
     *mu = hypot(wr[best], wi[best]);
     int col = wi[best] < 0 ? best - 1 : best; /* a complex pair: the real part of its vector */
-    for (int i = 0; i < n; i++) v[i] = V[(size_t)i * n + col];
+    for (int i = 0; i < n; i++) v[i] = V[(size_t)i * (size_t)n + (size_t)col];
   }
   free(buf);
   return st;
@@ -651,8 +654,9 @@ static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, d
                       rr_error *err)
 {
   int n = s->ode.n, st = RR_OK, best = -1;
-  double *J = calloc((size_t)n * n, sizeof(double)), *wr = malloc(sizeof(double) * (size_t)n),
-         *wi = malloc(sizeof(double) * (size_t)n), *V = malloc(sizeof(double) * (size_t)n * n);
+  double *J = calloc((size_t)n * (size_t)n, sizeof(double)),
+         *wr = malloc(sizeof(double) * (size_t)n), *wi = malloc(sizeof(double) * (size_t)n),
+         *V = malloc(sizeof(double) * (size_t)n * (size_t)n);
   if (!J || !wr || !wi || !V) st = rr_seterr(err, RR_ENOMEM, "out of memory");
   if (!st) {
     memset(z0, 0, sizeof(double) * (size_t)n);
@@ -682,7 +686,7 @@ static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, d
 static void store(const rr_orbit *o, const double *z0, int n, rr_orbit *out, double *z_out, int *k)
 {
   out[*k] = *o;
-  if (z_out) memcpy(z_out + (size_t)*k * n, z0, sizeof(double) * (size_t)n);
+  if (z_out) memcpy(z_out + (size_t)*k * (size_t)n, z0, sizeof(double) * (size_t)n);
   (*k)++;
 }
 

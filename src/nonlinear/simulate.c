@@ -38,7 +38,7 @@ static const double *track_at(const sim_ctx *s, double t, double *yt)
   double h00 = (1 + 2 * u) * (1 - u) * (1 - u), h10 = u * (1 - u) * (1 - u),
          h01 = u * u * (3 - 2 * u), h11 = u * u * (u - 1);
   for (int i = 0; i < ni; i++) {
-    const double *a = o->yt + (size_t)i * ns, *da = o->dyt + (size_t)i * ns;
+    const double *a = o->yt + (size_t)i * (size_t)ns, *da = o->dyt + (size_t)i * (size_t)ns;
     yt[i] = h00 * a[k] + h10 * h * da[k] + h01 * a[k + 1] + h11 * h * da[k + 1];
   }
   return yt;
@@ -95,7 +95,7 @@ int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, 
     for (int i = 0; i < N && !st; i++)
       if (!isfinite(y[i]))
         st = rr_seterr(err, RR_ENOCONV, "simulate: the state is not finite at t = %g s", t);
-    if (!st) memcpy(out + (size_t)k * N, y, sizeof(double) * (size_t)N);
+    if (!st) memcpy(out + (size_t)k * (size_t)N, y, sizeof(double) * (size_t)N);
   }
   rr_ode_close(&c);
   return st;

@@ -577,7 +577,7 @@ int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, in
 #endif
   /* thread-private contexts, made once and kept */
   if (nt > 1 && d->nclones < nt - 1) {
-    rr_design **c = realloc(d->clones, sizeof(rr_design *) * (nt - 1));
+    rr_design **c = realloc(d->clones, sizeof(rr_design *) * (size_t)(nt - 1));
     if (!c)
       nt = 1;
     else {
@@ -601,7 +601,9 @@ int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, in
     t = omp_get_thread_num();
 #endif
     rr_design *ctx = t == 0 ? d : d->clones[t - 1];
-    if (rr_design_evaluate(ctx, x + (size_t)i * d->nvar, f + (size_t)i * d->nobj, NULL)) failed++;
+    if (rr_design_evaluate(ctx, x + (size_t)i * (size_t)d->nvar, f + (size_t)i * (size_t)d->nobj,
+                           NULL))
+      failed++;
   }
   if (nfailed) *nfailed = failed;
   return RR_OK;

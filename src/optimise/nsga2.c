@@ -70,7 +70,7 @@ typedef struct lex_order {
 static int lex_before(const void *ctx, int b, int a)
 {
   const lex_order *o = ctx;
-  return lex_cmp(o->f + (size_t)b * o->m, o->f + (size_t)a * o->m, o->m) < 0;
+  return lex_cmp(o->f + (size_t)b * (size_t)o->m, o->f + (size_t)a * (size_t)o->m, o->m) < 0;
 }
 
 typedef struct key_order {
@@ -127,7 +127,7 @@ static int stair_insert(stair *st, const double *f, int id)
   st->n = w;
   if (st->n == st->cap) {
     int nc = st->cap ? 2 * st->cap : 16;
-    int *q = realloc(st->id, sizeof(int) * nc);
+    int *q = realloc(st->id, sizeof(int) * (size_t)nc);
     if (!q) return -1;
     st->id = q;
     st->cap = nc;
@@ -141,7 +141,7 @@ static int stair_insert(stair *st, const double *f, int id)
       hi = mid;
   }
   pos = lo;
-  memmove(st->id + pos + 1, st->id + pos, sizeof(int) * (st->n - pos));
+  memmove(st->id + pos + 1, st->id + pos, sizeof(int) * (size_t)(st->n - pos));
   st->id[pos] = id;
   st->n++;
   return 0;
@@ -155,9 +155,10 @@ static int nondominated_ranks(int n, int m, const double *f, int *rank)
      members dominates it. For two and three objectives the test is a search
      (an earlier q dominates p iff q2 <= p2 and q3 <= p3, q != p); otherwise
      fronts are linked lists through next[] scanned newest first. */
-  int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *head = malloc(sizeof(int) * (n + 1)),
-      *next = malloc(sizeof(int) * (n > 0 ? n : 1));
-  double *minf2 = malloc(sizeof(double) * (n + 1));
+  int *idx = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1)),
+      *head = malloc(sizeof(int) * (size_t)(n + 1)),
+      *next = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  double *minf2 = malloc(sizeof(double) * (size_t)(n + 1));
   stair *st = m == 3 ? calloc((size_t)n + 1, sizeof(stair)) : NULL;
   if (!idx || !head || !next || !minf2 || (m == 3 && !st)) {
     free(idx);
@@ -173,7 +174,7 @@ static int nondominated_ranks(int n, int m, const double *f, int *rank)
   int nf = 0, fail = 0;
   for (int t = 0; t < n && !fail; t++) {
     int p = idx[t];
-    const double *fp = f + (size_t)p * m;
+    const double *fp = f + (size_t)p * (size_t)m;
     int k = 0;
     for (; k < nf; k++) {
       int dom = 0;
@@ -185,7 +186,7 @@ static int nondominated_ranks(int n, int m, const double *f, int *rank)
         dom = minf2[k] <= fp[1] && (q[0] < fp[0] || minf2[k] < fp[1]);
       } else
         for (int q = head[k]; q >= 0 && !dom; q = next[q])
-          dom = dominates(f + (size_t)q * m, fp, m);
+          dom = dominates(f + (size_t)q * (size_t)m, fp, m);
       if (!dom) break;
     }
     if (k == nf) {
@@ -241,8 +242,8 @@ static int stair2_add(double *s1, double *s2, int *ns, const double *p)
     }
   int pos = 0;
   while (pos < w && s1[pos] < p[0]) pos++;
-  memmove(s1 + pos + 1, s1 + pos, sizeof(double) * (w - pos));
-  memmove(s2 + pos + 1, s2 + pos, sizeof(double) * (w - pos));
+  memmove(s1 + pos + 1, s1 + pos, sizeof(double) * (size_t)(w - pos));
+  memmove(s2 + pos + 1, s2 + pos, sizeof(double) * (size_t)(w - pos));
   s1[pos] = p[0];
   s2[pos] = p[1];
   *ns = w + 1;
@@ -252,8 +253,10 @@ static int stair2_add(double *s1, double *s2, int *ns, const double *p)
 /* m = 2 or 3; -1 when out of memory. */
 static double hypervolume(int n, int m, const double *f, const double *ref)
 {
-  int *idx = malloc(sizeof(int) * (n > 0 ? n : 1)), *tmp = malloc(sizeof(int) * (n > 0 ? n : 1));
-  double *s1 = malloc(sizeof(double) * (n + 1)), *s2 = malloc(sizeof(double) * (n + 1)),
+  int *idx = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1)),
+      *tmp = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  double *s1 = malloc(sizeof(double) * (size_t)(n + 1)),
+         *s2 = malloc(sizeof(double) * (size_t)(n + 1)),
          *key = calloc(n > 0 ? n : 1, sizeof(double));
   if (!idx || !tmp || !s1 || !s2 || !key) {
     free(idx);
@@ -265,7 +268,7 @@ static double hypervolume(int n, int m, const double *f, const double *ref)
   }
   int k = 0, ns = 0;
   for (int i = 0; i < n; i++) {
-    const double *p = f + (size_t)i * m;
+    const double *p = f + (size_t)i * (size_t)m;
     int in = 1;
     for (int j = 0; j < m; j++)
       if (!(p[j] < ref[j])) in = 0;
@@ -328,7 +331,7 @@ static void crowding(const int *mem, int cnt, int m, const double *f, double *cd
   for (int k = 0; k < m; k++) {
     for (int i = 0; i < cnt; i++) {
       tmp[i] = mem[i];
-      col[mem[i]] = f[(size_t)mem[i] * m + k];
+      col[mem[i]] = f[(size_t)mem[i] * (size_t)m + (size_t)k];
     }
     sort_by_key(tmp, cnt, col, tmp2, 0);
     double lo = col[tmp[0]], hi = col[tmp[cnt - 1]];
@@ -400,7 +403,7 @@ static int constrained_ranks(int n, int m, const double *f, const double *cv, in
   int nfeas = 0, nf = 0;
   for (int i = 0; i < n; i++)
     if (cv[i] == 0) {
-      memcpy(fc + (size_t)nfeas * m, f + (size_t)i * m, sizeof(double) * m);
+      memcpy(fc + (size_t)nfeas * (size_t)m, f + (size_t)i * (size_t)m, sizeof(double) * (size_t)m);
       idx[nfeas++] = i;
     }
   if (nfeas && (nf = nondominated_ranks(nfeas, m, fc, r2)) < 0) return -1;
@@ -446,11 +449,11 @@ static int better(int a, int b, const int *rank, const double *cd)
 static void split_eval(const double *E, int n, int m, int nc, double *F, double *CV)
 {
   for (int i = 0; i < n; i++) {
-    memcpy(F + (size_t)i * m, E + (size_t)i * (m + nc), sizeof(double) * m);
+    memcpy(F + (size_t)i * (size_t)m, E + (size_t)i * (size_t)(m + nc), sizeof(double) * (size_t)m);
     if (!nc) continue;
     double v = 0;
     for (int k = 0; k < nc; k++) {
-      double g = E[(size_t)i * (m + nc) + m + k];
+      double g = E[(size_t)i * (size_t)(m + nc) + (size_t)m + (size_t)k];
       v += isnan(g) ? INFINITY : fmax(g, 0);
     }
     CV[i] = v;
@@ -493,8 +496,8 @@ static int state_save(const char *path, const nsga_state *s, rr_error *err)
             ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 1) ||
             ckpt_io(f, (void *)s->lo, sizeof(double), (size_t)s->d, 1) ||
             ckpt_io(f, (void *)s->hi, sizeof(double), (size_t)s->d, 1) ||
-            ckpt_io(f, s->X, sizeof(double), N * s->d, 1) ||
-            ckpt_io(f, s->F, sizeof(double), N * s->m, 1) ||
+            ckpt_io(f, s->X, sizeof(double), N * (size_t)s->d, 1) ||
+            ckpt_io(f, s->F, sizeof(double), N * (size_t)s->m, 1) ||
             (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 1)) ||
             ckpt_io(f, s->cd, sizeof(double), N, 1) || ckpt_io(f, s->rank, sizeof(int), N, 1);
   if (fclose(f) || bad) {
@@ -532,12 +535,12 @@ static int state_load(const char *path, nsga_state *s, rr_error *err)
            ckpt_io(f, lo, sizeof(double), (size_t)s->d, 0) ||
            ckpt_io(f, hi, sizeof(double), (size_t)s->d, 0))
     st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
-  else if (seed != s->seed || memcmp(lo, s->lo, sizeof(double) * s->d) ||
-           memcmp(hi, s->hi, sizeof(double) * s->d))
+  else if (seed != s->seed || memcmp(lo, s->lo, sizeof(double) * (size_t)s->d) ||
+           memcmp(hi, s->hi, sizeof(double) * (size_t)s->d))
     st = rr_seterr(err, RR_EINVAL,
                    "%s: a checkpoint of another run (seed or variable bounds differ)", path);
-  else if (ckpt_io(f, s->X, sizeof(double), N * s->d, 0) ||
-           ckpt_io(f, s->F, sizeof(double), N * s->m, 0) ||
+  else if (ckpt_io(f, s->X, sizeof(double), N * (size_t)s->d, 0) ||
+           ckpt_io(f, s->F, sizeof(double), N * (size_t)s->m, 0) ||
            (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 0)) ||
            ckpt_io(f, s->cd, sizeof(double), N, 0) || ckpt_io(f, s->rank, sizeof(int), N, 0))
     st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
@@ -654,8 +657,8 @@ static void make_offspring(nsga_work *w, const double *lo, const double *hi, rr_
   }
   for (int i = 0; i < N; i += 2) {
     double *c1 = w->X2 + i * d, *c2 = w->X2 + (i + 1) * d;
-    memcpy(c1, w->X + w->sel[i] * d, sizeof(double) * d);
-    memcpy(c2, w->X + w->sel[i + 1] * d, sizeof(double) * d);
+    memcpy(c1, w->X + w->sel[i] * d, sizeof(double) * (size_t)d);
+    memcpy(c2, w->X + w->sel[i + 1] * d, sizeof(double) * (size_t)d);
     if (rr_rng_uniform(rng) < o->p_crossover)
       for (int j = 0; j < d; j++)
         if (rr_rng_uniform(rng) < 0.5) sbx(rng, o->eta_c, lo[j], hi[j], &c1[j], &c2[j]);
@@ -684,17 +687,17 @@ static void select_survivors(nsga_work *w, int nf)
     }
   }
   for (int i = 0; i < N; i++) {
-    memcpy(w->X2 + i * d, w->X + keep[i] * d, sizeof(double) * d);
-    memcpy(w->F2 + i * m, w->F + keep[i] * m, sizeof(double) * m);
+    memcpy(w->X2 + i * d, w->X + keep[i] * d, sizeof(double) * (size_t)d);
+    memcpy(w->F2 + i * m, w->F + keep[i] * m, sizeof(double) * (size_t)m);
     w->tmp[i] = w->rank[keep[i]];
     w->col[i] = w->cd[keep[i]];
     if (w->CV) w->fc[i] = w->CV[keep[i]]; /* fc: scratch for the survivors' violations */
   }
-  if (w->CV) memcpy(w->CV, w->fc, sizeof(double) * N);
-  memcpy(w->X, w->X2, sizeof(double) * N * d);
-  memcpy(w->F, w->F2, sizeof(double) * N * m);
-  memcpy(w->rank, w->tmp, sizeof(int) * N);
-  memcpy(w->cd, w->col, sizeof(double) * N);
+  if (w->CV) memcpy(w->CV, w->fc, sizeof(double) * (size_t)N);
+  memcpy(w->X, w->X2, sizeof(double) * (size_t)N * (size_t)d);
+  memcpy(w->F, w->F2, sizeof(double) * (size_t)N * (size_t)m);
+  memcpy(w->rank, w->tmp, sizeof(int) * (size_t)N);
+  memcpy(w->cd, w->col, sizeof(double) * (size_t)N);
 }
 
 /* Generation g's report to the progress callback: the front's size and, every
@@ -709,7 +712,7 @@ static int report(nsga_work *w, const rr_nsga2_opts *o, int g, long evals, doubl
     int c = 0;
     for (int i = 0; i < N; i++)
       if (w->rank[i] == 0 && (!w->CV || w->CV[i] == 0)) {
-        memcpy(w->F2 + c * m, w->F + i * m, sizeof(double) * m);
+        memcpy(w->F2 + c * m, w->F + i * m, sizeof(double) * (size_t)m);
         c++;
       }
     hv = m == 1 ? NAN : hypervolume(c, m, w->F2, w->ref);
@@ -768,8 +771,8 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     make_offspring(&w, lo, hi, &rng, o);
     if ((st = evaluate(&w, eval, user, w.X2, w.F2, w.CV ? w.CV + N : NULL, err))) break;
     ck.evals += N;
-    memcpy(w.X + N * d, w.X2, sizeof(double) * N * d);
-    memcpy(w.F + N * m, w.F2, sizeof(double) * N * m);
+    memcpy(w.X + N * d, w.X2, sizeof(double) * (size_t)N * (size_t)d);
+    memcpy(w.F + N * m, w.F2, sizeof(double) * (size_t)N * (size_t)m);
     int nf = rank_all(&w, w.R, err);
     if (nf < 0) {
       st = -nf;
@@ -783,13 +786,13 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     if (o->progress && report(&w, o, g, ck.evals, now_s() - t0)) break;
   }
   if (!st) {
-    memcpy(x_out, w.X, sizeof(double) * N * d);
-    memcpy(f_out, w.F, sizeof(double) * N * m);
-    if (rank_out) memcpy(rank_out, w.rank, sizeof(int) * N);
+    memcpy(x_out, w.X, sizeof(double) * (size_t)N * (size_t)d);
+    memcpy(f_out, w.F, sizeof(double) * (size_t)N * (size_t)m);
+    if (rank_out) memcpy(rank_out, w.rank, sizeof(int) * (size_t)N);
     if (o->cv_out && w.CV)
-      memcpy(o->cv_out, w.CV, sizeof(double) * N);
+      memcpy(o->cv_out, w.CV, sizeof(double) * (size_t)N);
     else if (o->cv_out)
-      memset(o->cv_out, 0, sizeof(double) * N);
+      memset(o->cv_out, 0, sizeof(double) * (size_t)N);
   }
   work_free(&w);
   return st;

@@ -142,7 +142,7 @@ static int gb_band_at(const double *f, int n, int axis, int k, gb_band *b)
 /* A_i^3 F(f_i) / f_i of one band, A_i = sqrt(2 G(f_i) df). */
 static double gb_term(const gb_band *b, const double *G, int stride)
 {
-  const double *g = G + (size_t)b->lo * stride;
+  const double *g = G + (size_t)b->lo * (size_t)stride;
   double A = sqrt(2 * (g[0] + b->t * (g[stride] - g[0])) * GB_DF);
   return A * A * A * b->ff;
 }

@@ -179,19 +179,19 @@ static int execute_direct(rr_frf_plan *p, const rr_model *m)
     for (int i = 0; i < n * n; i++) nrm += cabs(p->D[i]);
     rr_clu_factor(p->D, n, p->piv, 1e-300 + 1e-17 * nrm / n);
     for (int i = 0; i < ni; i++) {
-      double complex *x = p->X + (size_t)i * n;
+      double complex *x = p->X + (size_t)i * (size_t)n;
       for (int r = 0; r < n; r++) x[r] = m->B[r * ni + i];
       rr_clu_solve(p->D, n, p->piv, x);
     }
     for (int q = 0; q < np; q++)
       for (int i = 0; i < ni; i++) {
         double complex acc = 0, acc0 = 0;
-        const double complex *x = p->X + (size_t)i * n;
+        const double complex *x = p->X + (size_t)i * (size_t)n;
         for (int r = 0; r < n; r++) {
           acc += p->rows[q * n + r] * x[r];
           acc0 += p->rows0[q * n + r] * x[r];
         }
-        p->H[((size_t)k * np + q) * ni + i] = -w * w * acc + acc0;
+        p->H[((size_t)k * (size_t)np + (size_t)q) * (size_t)ni + (size_t)i] = -w * w * acc + acc0;
       }
   }
   return RR_OK;
@@ -245,7 +245,8 @@ static void eigvec(const double *v, const double *wi, int N, int j, double compl
   int pair = wi[j] != 0, c0 = pair && wi[j] < 0 ? j - 1 : j;
   double sg = pair && wi[j] < 0 ? -1.0 : 1.0;
   for (int r = 0; r < N; r++)
-    x[r] = v[(size_t)c0 * N + r] + (pair ? sg * I * v[(size_t)(c0 + 1) * N + r] : 0);
+    x[r] = v[(size_t)c0 * (size_t)N + (size_t)r] +
+           (pair ? sg * I * v[(size_t)(c0 + 1) * (size_t)N + (size_t)r] : 0);
 }
 
 /* Residues from LAPACK's eigenvectors of the state matrix in p->A (left and
@@ -303,22 +304,24 @@ static int residues_dgeev(rr_frf_plan *p, const rr_model *m, int N, int nu, cons
 static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const int *uel)
 {
   int n = p->n, ni = p->ni, nr = ni + nu;
-  memcpy(p->At, p->A, sizeof(double) * N * N);
+  memcpy(p->At, p->A, sizeof(double) * (size_t)N * (size_t)N);
   if (rr_eigdec(N, p->At, p->wr, p->wi, p->vr, p->ework, p->iwork)) return 1;
   double *rhs = p->rhs;
-  memset(rhs, 0, sizeof(double) * N * nr);
+  memset(rhs, 0, sizeof(double) * (size_t)N * (size_t)nr);
   for (int i = 0; i < ni; i++)
-    for (int r = 0; r < n; r++) rhs[(size_t)i * N + n + r] = m->B[r * ni + i] / m->mdiag[r];
+    for (int r = 0; r < n; r++)
+      rhs[(size_t)i * (size_t)N + (size_t)n + (size_t)r] = m->B[r * ni + i] / m->mdiag[r];
   for (int e = 0; e < nu; e++) {
     const rr_mx *mx = &m->mx[uel[e]];
     for (int t = 0; t < mx->nz; t++)
-      rhs[(size_t)(ni + e) * N + n + mx->idx[t]] = mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]];
+      rhs[(size_t)(ni + e) * (size_t)N + (size_t)n + (size_t)mx->idx[t]] =
+          mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]];
   }
-  memcpy(p->V, p->vr, sizeof(double) * N * N);
+  memcpy(p->V, p->vr, sizeof(double) * (size_t)N * (size_t)N);
   double vnorm = LAPACKE_dlange_work(LAPACK_COL_MAJOR, '1', N, N, p->V, N, NULL), rcond = 0;
   if (LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, N, N, p->V, N, p->vpiv)) return 1;
-  if (LAPACKE_dgecon_work(LAPACK_COL_MAJOR, '1', N, p->V, N, vnorm, &rcond, rhs + (size_t)N * nr,
-                          p->iwork) ||
+  if (LAPACKE_dgecon_work(LAPACK_COL_MAJOR, '1', N, p->V, N, vnorm, &rcond,
+                          rhs + (size_t)N * (size_t)nr, p->iwork) ||
       !(rcond >= RCOND_MIN))
     return 1;
   LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', N, nr, p->V, N, p->vpiv, rhs, N);
@@ -332,8 +335,9 @@ static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const
     /* real-basis coefficients (g_re, g_im) of the pair's columns are
        (2 Re beta, -2 Im beta) */
 #define BETA(col)                                                                                  \
-  (pair ? 0.5 * (rhs[(size_t)(col)*N + j] - I * rhs[(size_t)(col)*N + j + 1])                      \
-        : rhs[(size_t)(col)*N + j])
+  (pair ? 0.5 * (rhs[(size_t)(col) * (size_t)N + (size_t)j] -                                      \
+                 I * rhs[(size_t)(col) * (size_t)N + (size_t)j + 1])                               \
+        : rhs[(size_t)(col) * (size_t)N + (size_t)j])
     for (int i = 0; i < ni; i++) p->b[j * ni + i] = BETA(i);
     for (int e = 0; e < nu; e++) p->c[j * MAXU + e] = BETA(ni + e);
 #undef BETA
@@ -448,7 +452,7 @@ RR_INLINE void finish_body(rr_frf_plan *p, const rr_model *m, const smw_set *u, 
   double w = 2 * RR_PI * p->f[k];
   double Hr[16 * 16], Hi[16 * 16];
   for (int t = 0; t < nH; t++) Hr[t] = are[u->oHq + t] + u->dB[t];
-  memcpy(Hi, aim + u->oHq, sizeof(double) * nH);
+  memcpy(Hi, aim + u->oHq, sizeof(double) * (size_t)nH);
   if (nu) {
     double complex s = I * w, dK[MAXU], Z[MAXU * MAXU], M2[MAXU * MAXU];
     double complex kf =
@@ -463,7 +467,7 @@ RR_INLINE void finish_body(rr_frf_plan *p, const rr_model *m, const smw_set *u, 
     smw_matrix(dK, Z, nu, M2);
     smw_correct(are, aim, u->dU, u->oGq, u->oHu, np, ni, nu, M2, Hr, Hi);
   }
-  double complex *Hk = p->H + (size_t)k * nH;
+  double complex *Hk = p->H + (size_t)k * (size_t)nH;
   for (int t = 0; t < nH; t++) Hk[t] = Hr[t] + I * Hi[t];
 }
 
@@ -534,7 +538,7 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
   double w[FV], kfr[FV], kfi[FV], m2r[4][FV], m2i[4][FV];
   for (int l = 0; l < FV; l++) { /* a short last step repeats its last frequency */
     int kk = kk0 + (l < nv ? l : nv - 1);
-    re[l] = acc + (size_t)2 * kk * E;
+    re[l] = acc + (size_t)2 * (size_t)kk * (size_t)E;
     im[l] = re[l] + E;
     w[l] = 2 * RR_PI * p->f[k0 + kk];
     double complex kf = nu ? rr_model_series_k(m, u->uel[0], I * w[l], 0) : 0;
@@ -567,8 +571,8 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
           hi[l] -= gr[e][l] * ui + gi[e][l] * ur;
         }
       }
-      double complex *out = p->H + (size_t)(k0 + kk0) * nH + q * ni + i;
-      for (int l = 0; l < nv; l++) out[(size_t)l * nH] = hr[l] + I * hi[l];
+      double complex *out = p->H + (size_t)(k0 + kk0) * (size_t)nH + q * ni + i;
+      for (int l = 0; l < nv; l++) out[(size_t)l * (size_t)nH] = hr[l] + I * hi[l];
     }
   }
 }
@@ -578,7 +582,7 @@ RR_CLONES static void finish_chunk(rr_frf_plan *p, const rr_model *m, const smw_
                                    int nk, const double *acc, int E)
 {
   for (int kk = 0; kk < nk; kk += u->nu <= 2 ? FV : 1) {
-    const double *are = acc + (size_t)2 * kk * E;
+    const double *are = acc + (size_t)2 * (size_t)kk * (size_t)E;
     switch (u->nu) {
     case 0: finish_lanes(p, m, u, k0, nk, kk, acc, E, 0); break;
     case 1: finish_lanes(p, m, u, k0, nk, kk, acc, E, 1); break;
@@ -679,7 +683,7 @@ static int residue_table(rr_frf_plan *p, smw_set *u, int N, int *nt, int *npair,
   for (int j = 0, tp = 0, tq = *npair; j < N; j++) {
     if (p->wi[j] < 0) continue; /* the conjugate of a stored pair */
     int t = p->wi[j] > 0 ? tp++ : tq++;
-    double *tr = p->T + (size_t)t * E, *ti = p->T + (size_t)(*nt + t) * E;
+    double *tr = p->T + (size_t)t * (size_t)E, *ti = p->T + (size_t)(*nt + t) * (size_t)E;
     const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni,
                          *uu = p->u + j * MAXU, *cc = p->c + j * MAXU, l2 = p->lam[j] * p->lam[j];
 #define PUT(off, val)                                                                              \
@@ -728,7 +732,7 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   for (int k0 = 0; k0 < p->nf; k0 += FCHUNK) {
     int nk = p->nf - k0 < FCHUNK ? p->nf - k0 : FCHUNK;
     for (int kk = 0; kk < nk; kk++) {
-      double *wre = p->Wt + (size_t)2 * kk * K;
+      double *wre = p->Wt + (size_t)2 * (size_t)kk * (size_t)K;
       modal_weights(la, lb, npair, nt, 2 * RR_PI * p->f[k0 + kk], wre, wre + K);
     }
     cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * nk, E, K, 1.0, p->Wt, K, p->T, E,
@@ -753,7 +757,7 @@ static void update_lags(rr_frf_plan *p, const rr_model *m)
   for (int k = 0; k < p->nf; k++) {
     double w = 2 * RR_PI * p->f[k];
     for (int i = 0; i < p->ni; i++)
-      p->lag[(size_t)k * p->ni + i] = cexp(I * w * m->contacts[i].x / m->speed);
+      p->lag[(size_t)k * (size_t)p->ni + (size_t)i] = cexp(I * w * m->contacts[i].x / m->speed);
   }
   p->lag_speed = m->speed;
   for (int i = 0; i < p->ni; i++) p->lag_x[i] = m->contacts[i].x;
@@ -770,12 +774,12 @@ int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
   p->route = p->use_dgeev ? RR_FRF_MODAL_LAPACK : p->method;
   int st = p->method == RR_FRF_DIRECT ? execute_direct(p, m) : execute_modal(p, m, err);
   if (st) return st;
-  size_t nH = (size_t)p->nf * p->np * p->ni;
+  size_t nH = (size_t)p->nf * (size_t)p->np * (size_t)p->ni;
   for (size_t t = 0; t < nH; t++)
     if (!isfinite(creal(p->H[t])) || !isfinite(cimag(p->H[t])))
       return rr_seterr(err, RR_ENOCONV,
                        "frf: response not finite at %g Hz (singular dynamic stiffness)",
-                       p->f[t / ((size_t)p->np * p->ni)]);
+                       p->f[t / ((size_t)p->np * (size_t)p->ni)]);
   return RR_OK;
 }
 
@@ -805,11 +809,11 @@ int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, d
     double complex lagk[RR_SYS_MAX_INPUTS];
     const double complex *lag = lagk;
     if (cached)
-      lag = p->lag + (size_t)k * p->ni;
+      lag = p->lag + (size_t)k * (size_t)p->ni;
     else
       for (int i = 0; i < p->ni; i++) lagk[i] = cexp(I * w * m->contacts[i].x / v);
     for (int q = 0; q < p->np; q++) {
-      const double complex *h = p->H + ((size_t)k * p->np + q) * p->ni;
+      const double complex *h = p->H + ((size_t)k * (size_t)p->np + (size_t)q) * (size_t)p->ni;
       double complex a = 0;
       for (int i = 0; i < p->ni; i++) a += h[i] * lag[i];
       G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
@@ -825,10 +829,10 @@ int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double
 {
   for (int q = 0; q < np; q++) {
     double pt[3] = {x[q], 0, h_p};
-    int st = rr_model_point_row(m, "c", pt, RR_DIR_Y, rows + (size_t)q * m->n, err);
+    int st = rr_model_point_row(m, "c", pt, RR_DIR_Y, rows + (size_t)q * (size_t)m->n, err);
     if (st) return st;
     if (rows0) {
-      double *r0 = rows0 + (size_t)q * m->n;
+      double *r0 = rows0 + (size_t)q * (size_t)m->n;
       for (int i = 0; i < m->n; i++) r0[i] = 0;
       if (roll_gravity) {
         for (int b = 0; b < m->nbodies; b++)

@@ -28,9 +28,10 @@ int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt,
      Gamma_p = int_0^dt e^{A(dt - tau)} B (tau/dt)^p dtau in the column block of
      the chain state that produces (tau/dt)^p. */
   int S = N + 4 * m;
-  double *Mx = calloc((size_t)S * S, sizeof(double)), *E = malloc(sizeof(double) * S * S);
-  d->Phi = malloc(sizeof(double) * N * N);
-  d->G = malloc(sizeof(double) * N * 4 * m);
+  double *Mx = calloc((size_t)S * (size_t)S, sizeof(double)),
+         *E = malloc(sizeof(double) * (size_t)S * (size_t)S);
+  d->Phi = malloc(sizeof(double) * (size_t)N * (size_t)N);
+  d->G = malloc(sizeof(double) * (size_t)N * 4 * (size_t)m);
   if (!Mx || !E || !d->Phi || !d->G) {
     free(Mx);
     free(E);
@@ -51,7 +52,7 @@ int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt,
     return st;
   }
   double *Gam[4];
-  double *gbuf = malloc(sizeof(double) * 4 * N * m);
+  double *gbuf = malloc(sizeof(double) * 4 * (size_t)N * (size_t)m);
   if (!gbuf) {
     free(Mx);
     free(E);
@@ -59,11 +60,12 @@ int rr_lti_discretise(int N, int m, const double *A, const double *B, double dt,
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
   for (int p = 0; p < 4; p++) {
-    Gam[p] = gbuf + (size_t)p * N * m;
+    Gam[p] = gbuf + (size_t)p * (size_t)N * (size_t)m;
     for (int i = 0; i < N; i++)
       for (int j = 0; j < m; j++) Gam[p][i * m + j] = E[i * S + N + p * m + j];
   }
-  for (int i = 0; i < N; i++) memcpy(d->Phi + i * N, E + (size_t)i * S, sizeof(double) * N);
+  for (int i = 0; i < N; i++)
+    memcpy(d->Phi + i * N, E + (size_t)i * (size_t)S, sizeof(double) * (size_t)N);
   /* Hermite: w(t) = h00 w_k + h10 dt w'_k + h01 w_{k+1} + h11 dt w'_{k+1}, t = tau/dt;
      in powers of t: 1: w_k; t: dt w'_k; t^2: -3 w_k - 2 dt w'_k + 3 w_{k+1} - dt w'_{k+1};
      t^3: 2 w_k + dt w'_k - 2 w_{k+1} + dt w'_{k+1}. */
@@ -98,20 +100,20 @@ static void pass(const rr_lti_disc *d, int ns, const double *w, const double *dw
         double acc = 0;
         for (int i = 0; i < N; i++) acc += C[r * N + i] * x[i];
         for (int j = 0; j < m; j++) {
-          acc += D[r * m + j] * w[(size_t)j * ns + k];
-          if (E) acc += E[r * m + j] * dw[(size_t)j * ns + k];
+          acc += D[r * m + j] * w[(size_t)j * (size_t)ns + (size_t)k];
+          if (E) acc += E[r * m + j] * dw[(size_t)j * (size_t)ns + (size_t)k];
         }
-        y[(size_t)r * ns + k] = acc;
+        y[(size_t)r * (size_t)ns + (size_t)k] = acc;
       }
     for (int j = 0; j < m; j++) {
-      in[j] = w[(size_t)j * ns + k];
-      in[m + j] = dw[(size_t)j * ns + k];
-      in[2 * m + j] = w[(size_t)j * ns + k1];
-      in[3 * m + j] = dw[(size_t)j * ns + k1];
+      in[j] = w[(size_t)j * (size_t)ns + (size_t)k];
+      in[m + j] = dw[(size_t)j * (size_t)ns + (size_t)k];
+      in[2 * m + j] = w[(size_t)j * (size_t)ns + (size_t)k1];
+      in[3 * m + j] = dw[(size_t)j * (size_t)ns + (size_t)k1];
     }
     cblas_dgemv(CblasRowMajor, CblasNoTrans, N, N, 1.0, d->Phi, N, x, 1, 0.0, xn, 1);
     cblas_dgemv(CblasRowMajor, CblasNoTrans, N, 4 * m, 1.0, d->G, 4 * m, in, 1, 1.0, xn, 1);
-    memcpy(x, xn, sizeof(double) * N);
+    memcpy(x, xn, sizeof(double) * (size_t)N);
   }
 }
 
@@ -119,11 +121,12 @@ int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double 
                     const double *C, const double *D, const double *E, double *y, rr_error *err)
 {
   int N = d->N;
-  double *x = calloc(N, sizeof(double)), *xn = malloc(sizeof(double) * N),
-         *in = malloc(sizeof(double) * 4 * d->m);
-  double *P = malloc(sizeof(double) * N * N), *T = malloc(sizeof(double) * N * N),
-         *R = malloc(sizeof(double) * N * N);
-  int *piv = malloc(sizeof(int) * N);
+  double *x = calloc((size_t)N, sizeof(double)), *xn = malloc(sizeof(double) * (size_t)N),
+         *in = malloc(sizeof(double) * 4 * (size_t)d->m);
+  double *P = malloc(sizeof(double) * (size_t)N * (size_t)N),
+         *T = malloc(sizeof(double) * (size_t)N * (size_t)N),
+         *R = malloc(sizeof(double) * (size_t)N * (size_t)N);
+  int *piv = malloc(sizeof(int) * (size_t)N);
   int st = RR_OK;
   if (!x || !xn || !in || !P || !T || !R || !piv) {
     st = rr_seterr(err, RR_ENOMEM, "out of memory");
@@ -132,17 +135,17 @@ int rr_lti_periodic(const rr_lti_disc *d, int ns, const double *w, const double 
   /* r: the state after one period from rest */
   pass(d, ns, w, dw, 0, NULL, NULL, NULL, NULL, x, xn, in);
   /* Phi^ns by binary powering */
-  memset(R, 0, sizeof(double) * N * N);
+  memset(R, 0, sizeof(double) * (size_t)N * (size_t)N);
   for (int i = 0; i < N; i++) R[i * N + i] = 1;
-  memcpy(P, d->Phi, sizeof(double) * N * N);
+  memcpy(P, d->Phi, sizeof(double) * (size_t)N * (size_t)N);
   for (unsigned e = (unsigned)ns; e; e >>= 1) {
     if (e & 1) {
       cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, N, N, 1.0, R, N, P, N, 0.0, T, N);
-      memcpy(R, T, sizeof(double) * N * N);
+      memcpy(R, T, sizeof(double) * (size_t)N * (size_t)N);
     }
     if (e > 1) {
       cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, N, N, 1.0, P, N, P, N, 0.0, T, N);
-      memcpy(P, T, sizeof(double) * N * N);
+      memcpy(P, T, sizeof(double) * (size_t)N * (size_t)N);
     }
   }
   /* x0 = (I - Phi^ns)^-1 r: the periodic steady state */

@@ -15,9 +15,9 @@ int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, d
                      "track: need speed > 0, fs > 0, >= 4 samples, 0 <= f_lo < f_hi");
   int nh = ns / 2 + 1;
   double T = ns / fs, dn = 1.0 / (v * T);
-  double *amp = malloc(sizeof(double) * nh), *phase = malloc(sizeof(double) * nh),
-         *out = fftw_malloc(sizeof(double) * ns);
-  fftw_complex *Y = fftw_malloc(sizeof(fftw_complex) * nh);
+  double *amp = malloc(sizeof(double) * (size_t)nh), *phase = malloc(sizeof(double) * (size_t)nh),
+         *out = fftw_malloc(sizeof(double) * (size_t)ns);
+  fftw_complex *Y = fftw_malloc(sizeof(fftw_complex) * (size_t)nh);
   int st = RR_OK;
   if (!amp || !phase || !Y || !out) {
     st = rr_seterr(err, RR_ENOMEM, "out of memory");
@@ -39,7 +39,7 @@ int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, d
   }
   for (int i = 0; i < ni; i++)
     for (int d = 0; d < 2; d++) {
-      double *dst = (d ? du : u) + (size_t)i * ns;
+      double *dst = (d ? du : u) + (size_t)i * (size_t)ns;
       if (!dst) continue;
       for (int k = 0; k < nh; k++) {
         double f = k / T, arg = phase[k] + 2 * RR_PI * (f / v) * x[i];
@@ -49,7 +49,7 @@ int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, d
         Y[k][1] = cimag(y);
       }
       fftw_execute(plan); /* out[m] = sum_k A_k cos(2 pi f_k t_m + arg_k) */
-      memcpy(dst, out, sizeof(double) * ns);
+      memcpy(dst, out, sizeof(double) * (size_t)ns);
     }
   fftw_destroy_plan(plan);
 done:

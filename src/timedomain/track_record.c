@@ -99,11 +99,11 @@ int rr_track_record_sample(const rr_track_record *r, double v, const double *x, 
   for (int i = 0; i < ni;
        i++) { /* y_t(v t + x_i), the last contact starting at the record's start */
     int hint = 0;
-    double *ui = u + (size_t)i * ns;
+    double *ui = u + (size_t)i * (size_t)ns;
     for (int k = 0; k < ns; k++) ui[k] = record_at(r, r->x[0] + v * k / fs + (x[i] - lo), &hint);
     for (int k = 0; k < ns; k++) {
       int a = k > 0 ? k - 1 : k, b = k < ns - 1 ? k + 1 : k;
-      du[(size_t)i * ns + k] = (ui[b] - ui[a]) * fs / (b - a);
+      du[(size_t)i * (size_t)ns + (size_t)k] = (ui[b] - ui[a]) * fs / (b - a);
     }
   }
   return RR_OK;

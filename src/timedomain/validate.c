@@ -227,7 +227,8 @@ static void output_rows(const rr_validate_opts *o, vwork *w)
   cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, N, ni, N, 1.0, w->A, N, w->Bs, ni, 0.0,
               w->ABs, ni);
   for (int q = 0; q < np; q++) {
-    const double *row = o->rows + (size_t)q * n, *row0 = o->rows0 ? o->rows0 + (size_t)q * n : NULL;
+    const double *row = o->rows + (size_t)q * (size_t)n,
+                 *row0 = o->rows0 ? o->rows0 + (size_t)q * (size_t)n : NULL;
     for (int k = 0; k < n; k++) {
       if (row[k] == 0) continue;
       for (int j = 0; j < N; j++) {
@@ -275,7 +276,8 @@ static int point_indices(const rr_validate_opts *o, vwork *w, rr_validate_result
 {
   rr_validate_point *pt = &r->points[q];
   int ns = w->ns, np = w->np, nh = w->nh;
-  const double *a = w->y + (size_t)q * ns, *ad = w->y + (size_t)(np + q) * ns, zero = 0;
+  const double *a = w->y + (size_t)q * (size_t)ns, *ad = w->y + (size_t)(np + q) * (size_t)ns,
+               zero = 0;
   double ss = 0;
   for (int k = 0; k < ns; k++) ss += a[k] * a[k];
   pt->rms_time = sqrt(ss / ns);
@@ -292,7 +294,7 @@ static int point_indices(const rr_validate_opts *o, vwork *w, rr_validate_result
                                  err)) ||
       (st = rr_weighted_rms(w->fp, G, o->nfreq, np, RR_ISO_WD, &pt->wd_rms_pem, err)))
     return st;
-  double *P = r->welch_P + (size_t)q * nh;
+  double *P = r->welch_P + (size_t)q * (size_t)nh;
   if ((st = rr_welch_psd(a, ns, o->fs_hz, o->nseg, r->welch_f, P, &r->navg, err))) return st;
   for (int k = 0; k < nh && w->kb0 < 0; k++) /* the first point: the bins inside the band */
     if (r->welch_f[k] >= o->f_lo_hz && r->welch_f[k] <= o->f_hi_hz) {
@@ -346,7 +348,8 @@ static int welch_expectation(const rr_model *m, const rr_spectrum *sp, const rr_
     for (int l = (lc - reach > 0 ? lc - reach : 0); l <= lc + reach && l < nl; l++) {
       double complex W = hann_dtft(2 * RR_PI * (fl[l] - fk) / o->fs_hz, o->nseg);
       double kern = creal(W * conj(W)) / (o->fs_hz * wss);
-      for (int q = 0; q < np; q++) r->pem_P[(size_t)q * nh + k] += Gl[l * np + q] / T * kern;
+      for (int q = 0; q < np; q++)
+        r->pem_P[(size_t)q * (size_t)nh + (size_t)k] += Gl[l * np + q] / T * kern;
     }
   }
   free(fl);
@@ -362,7 +365,8 @@ static void band_compare(const rr_validate_opts *o, const vwork *w, rr_validate_
 {
   double df = o->fs_hz / o->nseg;
   rr_validate_point *pt = &r->points[q];
-  const double *P = r->welch_P + (size_t)q * w->nh, *Q = r->pem_P + (size_t)q * w->nh;
+  const double *P = r->welch_P + (size_t)q * (size_t)w->nh,
+               *Q = r->pem_P + (size_t)q * (size_t)w->nh;
   pt->nbands = 0;
   for (int b = -20; b <= 20 && pt->nbands < RR_NBANDS_MAX; b++) {
     double fc = pow(10, b / 10.0), lo = fc * pow(10, -0.05), hi = fc * pow(10, 0.05);

@@ -13,8 +13,9 @@ int rr_welch_psd(const double *x, int n, double fs, int nseg, double *f, double 
         err, RR_EINVAL,
         "welch: need an even segment >= 8 samples, no longer than the record (%d > %d)", nseg, n);
   int nh = nseg / 2 + 1, step = nseg / 2, K = (n - nseg) / step + 1;
-  double *buf = fftw_malloc(sizeof(double) * nseg), *win = malloc(sizeof(double) * nseg);
-  fftw_complex *X = fftw_malloc(sizeof(fftw_complex) * nh);
+  double *buf = fftw_malloc(sizeof(double) * (size_t)nseg),
+         *win = malloc(sizeof(double) * (size_t)nseg);
+  fftw_complex *X = fftw_malloc(sizeof(fftw_complex) * (size_t)nh);
   if (!buf || !win || !X) {
     fftw_free(buf);
     free(win);
@@ -32,7 +33,7 @@ int rr_welch_psd(const double *x, int n, double fs, int nseg, double *f, double 
     f[k] = k * fs / nseg;
   }
   for (int s = 0; s < K; s++) {
-    const double *seg = x + (size_t)s * step;
+    const double *seg = x + (size_t)s * (size_t)step;
     double mean = 0;
     for (int j = 0; j < nseg; j++) mean += seg[j];
     mean /= nseg;
