@@ -93,10 +93,7 @@ int cmd_damper(int argc, char **argv)
   for (int i = 0; i < a.n; i++) {
     double f = a.n == 1 ? a.f_from : a.f_from * pow(a.f_to / a.f_from, (double)i / (a.n - 1));
     double w = 2 * RR_PI * f;
-    double complex ks = k;
-    if (sdf)
-      ks = c.veh.sdf_mode == RR_SDF_PAPER ? rr_sdf_storage(&c.veh.sdf, f)
-                                          : rr_sdf_complex(&c.veh.sdf, w);
+    double complex ks = sdf ? rr_sdf_series_k(&c.veh.sdf, c.veh.sdf_mode, I * w) : k;
     double complex ke = rr_maxwell_stiffness(ks, cd, I * w);
     double st = creal(ke), lo = cimag(ke);
     if (root) {
