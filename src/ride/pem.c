@@ -345,34 +345,6 @@ static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const
   return 0;
 }
 
-/* The nu x nu SMW matrix W: inverted in place for nu <= 2 (one
-   factorisation per frequency is most of the SMW cost), else LU. */
-static void smw_factor(double complex *W, int nu, int *piv)
-{
-  if (nu == 1)
-    W[0] = 1 / W[0];
-  else if (nu == 2) {
-    double complex id = 1 / (W[0] * W[3] - W[1] * W[2]), w0 = W[0];
-    W[0] = W[3] * id;
-    W[1] *= -id;
-    W[2] *= -id;
-    W[3] = w0 * id;
-  } else
-    rr_clu_factor(W, nu, piv, 1e-300);
-}
-
-static void smw_solve(const double complex *W, int nu, const int *piv, double complex *r)
-{
-  if (nu == 1)
-    r[0] *= W[0];
-  else if (nu == 2) {
-    double complex r0 = r[0];
-    r[0] = W[0] * r0 + W[1] * r[1];
-    r[1] = W[2] * r0 + W[3] * r[1];
-  } else
-    rr_clu_solve(W, nu, piv, r);
-}
-
 /* The SDF elements handled by SMW and where their blocks sit among the
    residue entries (execute_modal's layout). */
 typedef struct smw_set {
@@ -384,104 +356,36 @@ typedef struct smw_set {
 } smw_set;
 
 /* M2 = (I + dK Z)^-1 diag(dK), nu x nu: the SMW correction is then
-   O D^-1 B = O D0^-1 B - (O D0^-1 U) M2 (U^T D0^-1 B). Closed form for the
-   usual one or two dampers (one merged pair per bogie). */
-RR_INLINE void smw_matrix(const double complex *dK, const double complex *Z, int nu,
-                          double complex *M2)
+   O D^-1 B = O D0^-1 B - (O D0^-1 U) M2 (U^T D0^-1 B). One frequency, by LU
+   (more than two dampers; smw_lanes has the closed forms for one and two). */
+static void smw_matrix(const double complex *dK, const double complex *Z, int nu,
+                       double complex *M2)
 {
-  if (nu == 1) {
-    M2[0] = dK[0] / (1 + dK[0] * Z[0]);
-    return;
-  }
-  if (nu == 2) {
-    double complex w0 = 1 + dK[0] * Z[0], w1 = dK[0] * Z[1], w2 = dK[1] * Z[2],
-                   w3 = 1 + dK[1] * Z[3];
-    double complex id = 1 / (w0 * w3 - w1 * w2);
-    M2[0] = w3 * id * dK[0];
-    M2[1] = -w1 * id * dK[1];
-    M2[2] = -w2 * id * dK[0];
-    M2[3] = w0 * id * dK[1];
-    return;
-  }
   double complex W[MAXU * MAXU];
   int piv[MAXU];
   for (int e = 0; e < nu; e++)
     for (int g = 0; g < nu; g++) W[e * nu + g] = (e == g) + dK[e] * Z[e * nu + g];
-  smw_factor(W, nu, piv);
+  rr_clu_factor(W, nu, piv, 1e-300);
   for (int g = 0; g < nu; g++) { /* column g of W^-1 diag(dK) */
     double complex col[MAXU];
     for (int e = 0; e < nu; e++) col[e] = e == g ? dK[g] : 0;
-    smw_solve(W, nu, piv, col);
+    rr_clu_solve(W, nu, piv, col);
     for (int e = 0; e < nu; e++) M2[e * nu + g] = col[e];
   }
 }
 
-/* H -= (G M2) Hu for the outputs (G: np x nu entries at og of the modal
-   sums plus the feedthrough dU; Hu at ou; H in real and imaginary parts
-   apart, so that the loop over the inputs vectorises). */
-RR_INLINE void smw_correct(const double *are, const double *aim, const double *dU, int og, int ou,
-                           int np, int ni, int nu, const double complex *M2, double *Hr, double *Hi)
-{
-  const double *ur = are + ou, *ui = aim + ou;
-  for (int q = 0; q < np; q++) {
-    for (int e = 0; e < nu; e++) {
-      double complex g = 0;
-      for (int h = 0; h < nu; h++)
-        g += (are[og + q * nu + h] + dU[q * nu + h] + I * aim[og + q * nu + h]) * M2[h * nu + e];
-      double gr = creal(g), gi = cimag(g);
-      double *hr = Hr + q * ni, *hi = Hi + q * ni;
-      const double *xr = ur + e * ni, *xi = ui + e * ni;
-#pragma omp simd
-      for (int i = 0; i < ni; i++) {
-        hr[i] -= gr * xr[i] - gi * xi[i];
-        hi[i] -= gr * xi[i] + gi * xr[i];
-      }
-    }
-  }
-}
-
-/* Frequency k's FRFs from its modal sums (are, aim: the real and imaginary
-   parts of the residue entries, already the outputs' acceleration plus
+/* The FRFs of FV frequencies at once (kk0 .. of the chunk starting at k0, its
+   modal sums in acc, E a row; already the outputs' acceleration plus
    roll-gravity): the feedthrough, then the SMW correction for the nu SDF
-   elements. Inlined with nu a constant for the usual 0, 1 and 2 dampers, so
-   that the small loops unroll. */
-RR_INLINE void finish_body(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k,
-                           const double *are, const double *aim, int nu)
-{
-  int ni = p->ni, np = p->np, nH = np * ni;
-  double w = 2 * RR_PI * p->f[k];
-  double Hr[16 * 16], Hi[16 * 16];
-  for (int t = 0; t < nH; t++) Hr[t] = are[u->oHq + t] + u->dB[t];
-  memcpy(Hi, aim + u->oHq, sizeof(double) * (size_t)nH);
-  if (nu) {
-    double complex s = I * w, dK[MAXU], Z[MAXU * MAXU], M2[MAXU * MAXU];
-    double complex kf =
-        rr_model_series_k(m, u->uel[0], s, 0); /* every SMW element follows the one curve */
-    for (int e = 0; e < nu; e++) {
-      /* kf c s / (kf + c s) - k_lo c s / (k_lo + c s), without the
-         cancellation when kf is near k_lo */
-      double complex cs = m->mx[u->uel[e]].c * s;
-      dK[e] = u->umult[e] * cs * cs * (kf - u->k_lo) / ((kf + cs) * (u->k_lo + cs));
-    }
-    for (int e = 0; e < nu * nu; e++) Z[e] = are[u->oZ + e] + I * aim[u->oZ + e];
-    smw_matrix(dK, Z, nu, M2);
-    smw_correct(are, aim, u->dU, u->oGq, u->oHu, np, ni, nu, M2, Hr, Hi);
-  }
-  double complex *Hk = p->H + (size_t)k * (size_t)nH;
-  for (int t = 0; t < nH; t++) Hk[t] = Hr[t] + I * Hi[t];
-}
-
-/* The same for FV frequencies at once (kk0 .. of the chunk starting at k0,
-   its sums in acc, E a row), with the usual 0, 1 or 2 dampers: the SMW
-   algebra in lanes across the frequencies (real and imaginary parts apart),
-   the per-frequency complex algebra having been a tenth of the evaluation. */
+   elements, in lanes across the frequencies (real and imaginary parts apart;
+   the per-frequency complex algebra had been a tenth of the evaluation). */
 #define FV 4 /* frequencies a step: one AVX2 vector */
 
 RR_INLINE void smw_lanes(const rr_model *m, const smw_set *u, const double *w, const double *kfr,
                          const double *kfi, const double *const *re, const double *const *im,
                          int nu, double (*m2r)[FV], double (*m2i)[FV])
 {
-  double dkr[2][FV], dki[2][FV], zr[4][FV], zi[4][FV];
+  double dkr[MAXU][FV], dki[MAXU][FV], zr[MAXU * MAXU][FV], zi[MAXU * MAXU][FV];
   for (int e = 0; e < nu; e++) {
     /* dK = mult cs^2 (kf - k_lo) / ((kf + cs)(k_lo + cs)), cs = j c w */
     double c = m->mx[u->uel[e]].c, um = u->umult[e], klo = u->k_lo;
@@ -499,6 +403,19 @@ RR_INLINE void smw_lanes(const rr_model *m, const smw_set *u, const double *w, c
       zr[e][l] = re[l][u->oZ + e];
       zi[e][l] = im[l][u->oZ + e];
     }
+  if (nu > 2) { /* the general M2, one frequency at a time */
+    for (int l = 0; l < FV; l++) {
+      double complex dK[MAXU], Z[MAXU * MAXU], M2[MAXU * MAXU];
+      for (int e = 0; e < nu; e++) dK[e] = dkr[e][l] + I * dki[e][l];
+      for (int e = 0; e < nu * nu; e++) Z[e] = zr[e][l] + I * zi[e][l];
+      smw_matrix(dK, Z, nu, M2);
+      for (int e = 0; e < nu * nu; e++) {
+        m2r[e][l] = creal(M2[e]);
+        m2i[e][l] = cimag(M2[e]);
+      }
+    }
+    return;
+  }
 #pragma omp simd
   for (int l = 0; l < FV; l++) {
     if (nu == 1) { /* M2 = dK / (1 + dK Z) */
@@ -535,7 +452,7 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
 {
   int ni = p->ni, np = p->np, nH = np * ni, nv = nk - kk0 < FV ? nk - kk0 : FV;
   const double *re[FV], *im[FV];
-  double w[FV], kfr[FV], kfi[FV], m2r[4][FV], m2i[4][FV];
+  double w[FV], kfr[FV], kfi[FV], m2r[MAXU * MAXU][FV], m2i[MAXU * MAXU][FV];
   for (int l = 0; l < FV; l++) { /* a short last step repeats its last frequency */
     int kk = kk0 + (l < nv ? l : nv - 1);
     re[l] = acc + (size_t)2 * (size_t)kk * (size_t)E;
@@ -547,7 +464,7 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
   }
   if (nu) smw_lanes(m, u, w, kfr, kfi, re, im, nu, m2r, m2i);
   for (int q = 0; q < np; q++) {
-    double gr[2][FV], gi[2][FV]; /* g_e = sum_h (G(q, h) + dU(q, h)) M2(h, e) */
+    double gr[MAXU][FV], gi[MAXU][FV]; /* g_e = sum_h (G(q, h) + dU(q, h)) M2(h, e) */
     for (int e = 0; e < nu; e++)
       for (int l = 0; l < FV; l++) {
         double sr = 0, si = 0;
@@ -577,17 +494,17 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
   }
 }
 
-/* A chunk's FRFs from its modal sums (acc: 2 nk rows of E). */
+/* A chunk's FRFs from its modal sums (acc: 2 nk rows of E), the usual 0, 1
+   and 2 dampers with nu a constant, so that the small loops unroll. */
 RR_CLONES static void finish_chunk(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k0,
                                    int nk, const double *acc, int E)
 {
-  for (int kk = 0; kk < nk; kk += u->nu <= 2 ? FV : 1) {
-    const double *are = acc + (size_t)2 * (size_t)kk * (size_t)E;
+  for (int kk = 0; kk < nk; kk += FV) {
     switch (u->nu) {
     case 0: finish_lanes(p, m, u, k0, nk, kk, acc, E, 0); break;
     case 1: finish_lanes(p, m, u, k0, nk, kk, acc, E, 1); break;
     case 2: finish_lanes(p, m, u, k0, nk, kk, acc, E, 2); break;
-    default: finish_body(p, m, u, k0 + kk, are, are + E, u->nu);
+    default: finish_lanes(p, m, u, k0, nk, kk, acc, E, u->nu);
     }
   }
 }
