@@ -109,14 +109,6 @@ static int parse_psd_unit(sp_ctx *c, const char *val)
   return 1;
 }
 
-/* The index of val in the NULL-ended list, or -1. */
-static int word_index(const char *val, const char *const *words)
-{
-  for (int i = 0; words[i]; i++)
-    if (!strcmp(val, words[i])) return i;
-  return -1;
-}
-
 /* A key whose value is one word of a list: direction, form, freq_unit, sided,
    outside, shape. Returns 1 (read), 0 (refused: status set) or -1 (another
    key). */
@@ -134,29 +126,30 @@ static int sp_word_key(sp_ctx *c, const char *name, const char *val)
   rr_spectrum *s = c->sp;
   int i;
   if (!strcmp(name, "direction")) {
-    if ((i = word_index(val, dirs)) < 0)
+    if ((i = rr_word_index(val, dirs)) < 0)
       return sp_fail(c, RR_EINVAL, name, "lateral, vertical, crosslevel or gauge expected");
     snprintf(s->direction, sizeof s->direction, "%s", val);
   } else if (!strcmp(name, "form")) {
-    if ((i = word_index(val, forms)) < 0)
+    if ((i = rr_word_index(val, forms)) < 0)
       return sp_fail(c, RR_EINVAL, name, "powerlaw, german, fra, rational7 or table expected");
     c->have_form = 1;
     s->form = form_of[i];
   } else if (!strcmp(name, "freq_unit")) {
-    if ((i = word_index(val, units)) < 0)
+    if ((i = rr_word_index(val, units)) < 0)
       return sp_fail(c, RR_EUNIT, name, "1/m or rad/m expected");
     c->have_freq = 1;
     s->rad_per_m = i == 2;
   } else if (!strcmp(name, "sided")) {
-    if ((i = word_index(val, sides)) < 0) return sp_fail(c, RR_EINVAL, name, "one or two expected");
+    if ((i = rr_word_index(val, sides)) < 0)
+      return sp_fail(c, RR_EINVAL, name, "one or two expected");
     c->have_sided = 1;
     c->two_sided = i;
   } else if (!strcmp(name, "outside")) {
-    if ((i = word_index(val, outs)) < 0)
+    if ((i = rr_word_index(val, outs)) < 0)
       return sp_fail(c, RR_EINVAL, name, "extend or zero expected");
     s->clip = i;
   } else if (!strcmp(name, "shape")) {
-    if ((i = word_index(val, shapes)) < 0)
+    if ((i = rr_word_index(val, shapes)) < 0)
       return sp_fail(c, RR_EINVAL, name, "alignment, vertical, crosslevel or gauge expected");
     s->shape = shape_of[i];
   } else

@@ -100,3 +100,10 @@ int rr_csv_pair(const char *line, int rows_so_far, double *a, double *b)
     return 1;
   return -1;
 }
+
+int rr_word_index(const char *word, const char *const *list)
+{
+  for (int i = 0; list[i]; i++)
+    if (!strcmp(word, list[i])) return i;
+  return -1;
+}

@@ -44,4 +44,8 @@ int rr_csv_pair(const char *line, int rows_so_far, double *a, double *b);
    r, at a NUL byte or a data line longer than num - 2. */
 char *rr_lines_ini_reader(char *str, int num, void *stream);
 
+/* The index of word in the NULL-ended list, or -1 (the keyword values of
+   the readers). */
+int rr_word_index(const char *word, const char *const *list);
+
 #endif

@@ -156,27 +156,23 @@ static int table_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
    tables ([vehicle] ones were read in pass 1). */
 static int special_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
 {
-  static const char *const modes[] = {"none", "paper", "physical"};
+  static const char *const modes[] = {"none", "paper", "physical", NULL};
   static const int mode_of[] = {RR_SDF_NONE, RR_SDF_PAPER, RR_SDF_PHYSICAL};
-  static const char *const yes[] = {"yes", "true", "on", "1"}, *const no[] = {"no", "false", "off",
-                                                                              "0"};
+  static const char *const yes_no[] = {"yes", "true", "on", "1", "no", "false", "off", "0", NULL};
+  int i;
   if (!strcmp(k->section, "vehicle")) return 1;
   if (!strcmp(k->key, "sdf")) {
-    for (int i = 0; i < 3; i++)
-      if (!strcmp(val, modes[i])) {
-        c->veh->sdf_mode = mode_of[i];
-        return 1;
-      }
-    return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none, paper or physical", k->section, k->key,
-                val);
+    if ((i = rr_word_index(val, modes)) < 0)
+      return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none, paper or physical", k->section, k->key,
+                  val);
+    c->veh->sdf_mode = mode_of[i];
+    return 1;
   }
   if (!strcmp(k->key, "gravity_stiffness")) {
-    for (int i = 0; i < 4; i++)
-      if (!strcmp(val, yes[i]) || !strcmp(val, no[i])) {
-        c->veh->gravity_stiffness = !strcmp(val, yes[i]);
-        return 1;
-      }
-    return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", k->section, k->key, val);
+    if ((i = rr_word_index(val, yes_no)) < 0)
+      return fail(c, RR_EINVAL, "[%s] %s: '%s' is not yes or no", k->section, k->key, val);
+    c->veh->gravity_stiffness = i < 4;
+    return 1;
   }
   if (!strcmp(k->key, "conicity_poly")) return poly_value(c, k->section, k->key, val);
   if (!strcmp(k->key, "conicity_table") || !strcmp(k->key, "sdf_table"))
