@@ -515,7 +515,9 @@ int cmd_bifurcation(int argc, char **argv)
       "from the variational equations) and pseudo-arclength continuation; each cycle's stability\n"
       "from its Floquet multipliers; the nonlinear critical speed is the branch's lowest speed\n"
       "(folds refined). A Hopf point above B is followed from there. scan: the paper's method,\n"
-      "direct integration at each speed from the previous run's end state, up then down.\n"
+      "direct integration at each speed from the previous run's end state, up then down (10 mm\n"
+      "on every wheelset to start; on the way up, 0.1 mm again after a speed whose motion died\n"
+      "out; the way down from 10 mm when the top speed has no cycle).\n"
       "Amplitude: the leading wheelset's lateral displacement.\n" CLI_COMMON_HELP
       "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
       "  --speeds A:B         speed range, km/h (default 100:600)\n"

@@ -266,6 +266,37 @@ static void run_measure(rr_nonlinear *nl, const double *z0, double dur, double l
   free(out);
 }
 
+/* The branch's amplitude at speed v (linear between its points; NaN outside). */
+static double branch_amplitude(const rr_cycle *c, int n, double v)
+{
+  for (int i = 1; i < n; i++)
+    if ((c[i - 1].speed_ms - v) * (c[i].speed_ms - v) <= 0) {
+      double u = (v - c[i - 1].speed_ms) / (c[i].speed_ms - c[i - 1].speed_ms);
+      return c[i - 1].amplitude_m + u * (c[i].amplitude_m - c[i - 1].amplitude_m);
+    }
+  return NAN;
+}
+
+/* The scan (direct integration, the paper's method) from far below the Hopf
+   point: the motion dies out there, and the way up must still find the cycles
+   beyond it, at the amplitudes of the continuation's stable branch. */
+static void check_scan(const rr_vehicle *veh, const rr_profile *p, const rr_cycle *c, int n,
+                       double v_hopf)
+{
+  double kmh[4] = {300, 440, 575, 580}, vs[4];
+  rr_scan_point up[4], down[4];
+  rr_error e;
+  for (int i = 0; i < 4; i++) vs[i] = kmh[i] * KMH;
+  int st = rr_bifurcation_scan(veh, p, NULL, vs, 4, NULL, up, down, &e);
+  CHECK_OK(st, e);
+  for (int i = 0; i < 4 && !st; i++) {
+    double want = vs[i] < v_hopf ? 0 : branch_amplitude(c, n, vs[i]);
+    CHECK(isfinite(want), "scan at %g km/h: the branch covers it", kmh[i]);
+    CHECK_CLOSE(up[i].amplitude_m, want, 0.01, 0, "scan up: amplitude against the branch");
+    CHECK_CLOSE(down[i].amplitude_m, want, 0.01, 0, "scan down: amplitude against the branch");
+  }
+}
+
 /* The continuation's branches, checked: Hopf speed, residuals, stable cycles
    reproduced by direct integration, unstable ones left along their unstable
    Floquet vector. A subcritical case: conicity rising with amplitude. */
@@ -292,7 +323,6 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   rr_bifurcation b;
   st = rr_bifurcation_continue(&veh, &p, NULL, &o, pts, Z, cap, &b, &e);
   CHECK_OK(st, e);
-  fprintf(stderr, "DBG npoints %d end %d\n", b.npoints, b.end);
   CHECK(b.type == want_type && b.npoints >= 5, "branch type %d (want %d), %d points", b.type,
         want_type, b.npoints);
   /* the Hopf point: an independent critical-speed call, and the branch's own extrapolation */
@@ -310,6 +340,7 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
         cr.speed_ms * RR_KMH);
   rr_modal_ws_free(ws);
   rr_model_free(m);
+  if (want_type == RR_BIF_SUPERCRITICAL) check_scan(&veh, &p, pts, b.npoints, b.hopf_speed_ms);
   int N = 0, checked_stable = 0, checked_unstable = 0, first_stable = -1, worst = -1;
   for (int i = 0; i < b.npoints; i++) {
     CHECK(pts[i].residual <= 1e-8, "cycle %d: residual %g", i, pts[i].residual);

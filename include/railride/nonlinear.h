@@ -149,15 +149,18 @@ RR_API int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p,
  * from the top; settle_s of transient, then the amplitude and frequency of
  * y_w1 over measure_s. up, down: nv each (amplitude 0 where the motion dies
  * out: below 1 um, or its amplitude over the second half of the window more
- * than 2 % below the first half's). The first run starts from y0_m on every wheelset. */
+ * than 2 % below the first half's). The first run starts from y0_m on every
+ * wheelset; on the way up, a run after one whose motion died out starts from
+ * reseed_m on every wheelset (a dead state cannot grow, however unstable the
+ * speed), and the way down starts from y0_m when the top speed has no cycle. */
 typedef struct rr_scan_point {
   double speed_ms, amplitude_m, frequency_hz;
 } rr_scan_point;
 typedef struct rr_scan_opts {
-  double settle_s, measure_s, y0_m;
+  double settle_s, measure_s, y0_m, reseed_m;
 } rr_scan_opts;
 /* The defaults given in the fields' comments. */
-RR_API rr_scan_opts rr_scan_opts_default(void); /* 20 s, 2 s, 10 mm */
+RR_API rr_scan_opts rr_scan_opts_default(void); /* 20 s, 2 s, 10 mm, 0.1 mm */
 RR_API int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p,
                                const rr_contact_law *law, const double *vs, int nv,
                                const rr_scan_opts *o, rr_scan_point *up, rr_scan_point *down,

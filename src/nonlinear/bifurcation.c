@@ -40,7 +40,7 @@ rr_orbit_opts rr_orbit_opts_default(void)
 
 rr_scan_opts rr_scan_opts_default(void)
 {
-  return (rr_scan_opts){.settle_s = 20, .measure_s = 2, .y0_m = 10e-3};
+  return (rr_scan_opts){.settle_s = 20, .measure_s = 2, .y0_m = 10e-3, .reseed_m = 0.1e-3};
 }
 
 static void sys_rhs(void *u, double t, double p, const double *z, double *dz)
@@ -336,6 +336,13 @@ static void measure(const double *u, int stride, int ns, double fs, double *amp,
   *freq = cycle && ncross >= 2 ? (ncross - 1) / (t_last - t_first) : NAN;
 }
 
+/* A fresh start: every wheelset displaced by y_m, the rest at rest. */
+static void scan_seed(const rr_nonlinear *nl, double *z, double y_m)
+{
+  memset(z, 0, sizeof(double) * (size_t)rr_nonlinear_size(nl));
+  for (int w = 0; w < rr_nonlinear_ninputs(nl); w++) z[rr_nonlinear_index_y(nl, w)] = y_m;
+}
+
 /* One run at nl's speed from z (left at the run's end). */
 static int scan_run(rr_nonlinear *nl, double *z, const rr_scan_opts *o, double *buf, int ns,
                     rr_scan_point *pt, rr_error *err)
@@ -361,9 +368,10 @@ int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_con
   rr_scan_opts def = rr_scan_opts_default();
   if (!o) o = &def;
   if (!(nv >= 1 && o->settle_s >= 0 && o->measure_s > 0 && o->settle_s + o->measure_s <= 1e4 &&
-        isfinite(o->y0_m)))
+        isfinite(o->y0_m) && isfinite(o->reseed_m)))
     return rr_seterr(err, RR_EINVAL,
-                     "scan: at least one speed, settle >= 0, measure > 0 s (together <= 1e4 s)");
+                     "scan: at least one speed, settle >= 0, measure > 0 s (together <= 1e4 s), "
+                     "finite disturbances");
   for (int i = 0; i < nv; i++)
     if (!(vs[i] > 0 && vs[i] <= RR_SPEED_MAX_MS) || (i && !(vs[i] > vs[i - 1])))
       return rr_seterr(err, RR_EINVAL, "scan: speeds must rise within (0, %g] km/h",
@@ -378,11 +386,13 @@ int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_con
   double *z = calloc((size_t)N, sizeof(double)),
          *buf = malloc(sizeof(double) * (size_t)ns * (size_t)N);
   if (!z || !buf) st = rr_seterr(err, RR_ENOMEM, "out of memory");
-  for (int w = 0; w < rr_nonlinear_ninputs(nl) && !st; w++)
-    z[rr_nonlinear_index_y(nl, w)] = o->y0_m;
-  for (int i = 0; i < nv && !st; i++) /* up: each speed from the last end state */
+  if (!st) scan_seed(nl, z, o->y0_m);
+  for (int i = 0; i < nv && !st; i++) { /* up: each speed from the last end state */
+    if (i > 0 && up[i - 1].amplitude_m == 0) scan_seed(nl, z, o->reseed_m); /* it died out */
     if (!(st = rr_nonlinear_set_speed(nl, vs[i], err)))
       st = scan_run(nl, z, o, buf, ns, &up[i], err);
+  }
+  if (!st && up[nv - 1].amplitude_m == 0) scan_seed(nl, z, o->y0_m); /* no cycle on top */
   for (int i = nv - 1; i >= 0 && !st; i--) /* down, from the top speed's motion */
     if (!(st = rr_nonlinear_set_speed(nl, vs[i], err)))
       st = scan_run(nl, z, o, buf, ns, &down[i], err);
