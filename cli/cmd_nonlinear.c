@@ -310,6 +310,12 @@ static const char *end_name(int e)
   return e >= 0 && e <= 4 ? names[e] : "?";
 }
 
+static const char *event_name(rr_bif_event_kind k)
+{
+  static const char *names[] = {"fold", "symmetry-breaking", "period-doubling", "torus"};
+  return k >= RR_EVENT_FOLD && k <= RR_EVENT_TORUS ? names[k] : "?";
+}
+
 static cJSON *num_or_null(double x)
 {
   return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull();
@@ -328,15 +334,32 @@ static cJSON *bif_head(const cli_common *c, const rr_profile *p, const nl_args *
   return o;
 }
 
+/* The stability changes along the branch, a line each after lead. */
+static void bif_events_print(FILE *f, const char *lead, const rr_bifurcation *b,
+                             const rr_cycle *pts)
+{
+  for (int i = 0; i < b->nevents; i++) {
+    const rr_bif_event *e = &b->events[i];
+    int g = e->gained;
+    fprintf(f, "%s%s between %.3f and %.3f km/h (%+d unstable direction%s)%s\n", lead,
+            event_name(e->kind), pts[e->index - 1].speed_ms * RR_KMH,
+            pts[e->index].speed_ms * RR_KMH, g, abs(g) == 1 ? "" : "s",
+            e->kind == RR_EVENT_SYMMETRY_BREAKING ? ": asymmetric cycles branch off (not followed)"
+                                                  : "");
+  }
+}
+
 static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_args *a,
                            const rr_bifurcation *b, const rr_cycle *pts, double secs)
 {
   if (a->csv) {
     assumptions_note("bifurcation", &c->veh, p);
-    printf("speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual\n");
+    bif_events_print(stderr, "railride bifurcation: ", b, pts);
+    printf("speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,symmetric,residual\n");
     for (int i = 0; i < b->npoints; i++)
-      printf("%.10g,%.10g,%.10g,%d,%.10g,%.3g\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m,
-             1 / pts[i].period_s, pts[i].stable, pts[i].floquet_max, pts[i].residual);
+      printf("%.10g,%.10g,%.10g,%d,%.10g,%d,%.3g\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m,
+             1 / pts[i].period_s, pts[i].stable, pts[i].floquet_max, pts[i].symmetric,
+             pts[i].residual);
     return;
   }
   if (c->json) {
@@ -357,8 +380,21 @@ static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_ar
       cJSON_AddNumberToObject(q, "frequency_hz", 1 / pts[i].period_s);
       cJSON_AddBoolToObject(q, "stable", pts[i].stable);
       cJSON_AddNumberToObject(q, "max_floquet_modulus", pts[i].floquet_max);
+      cJSON_AddBoolToObject(q, "symmetric", pts[i].symmetric);
       cJSON_AddNumberToObject(q, "residual", pts[i].residual);
       cJSON_AddItemToArray(arr, q);
+    }
+    cJSON *ev = cJSON_AddArrayToObject(o, "events");
+    for (int i = 0; i < b->nevents; i++) {
+      const rr_bif_event *e = &b->events[i];
+      cJSON *q = cJSON_CreateObject();
+      cJSON_AddStringToObject(q, "kind", event_name(e->kind));
+      cJSON_AddNumberToObject(q, "speed_kmh", e->speed_ms * RR_KMH);
+      cJSON *bt = cJSON_AddArrayToObject(q, "between_points");
+      cJSON_AddItemToArray(bt, cJSON_CreateNumber(e->index - 1));
+      cJSON_AddItemToArray(bt, cJSON_CreateNumber(e->index));
+      cJSON_AddNumberToObject(q, "unstable_directions_gained", e->gained);
+      cJSON_AddItemToArray(ev, q);
     }
     cJSON_AddNumberToObject(o, "seconds", secs);
     cli_json_print(o);
@@ -377,8 +413,11 @@ static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_ar
   printf("linear critical speed (Hopf)  %9.3f km/h  (%.3f Hz; from the branch %.3f)\n",
          b->hopf_speed_ms * RR_KMH, b->hopf_freq_hz, b->hopf_speed_branch_ms * RR_KMH);
   printf("nonlinear critical speed      %9.3f km/h\n", b->nonlinear_critical_ms * RR_KMH);
-  printf("bifurcation                   %s; %d cycles, branch end: %s (%.2f s)\n",
-         type_name(b->type), b->npoints, end_name(b->end), secs);
+  printf("bifurcation                   %s; %d %scycles, branch end: %s (%.2f s)\n",
+         type_name(b->type), b->npoints, b->npoints && pts[0].symmetric ? "symmetric " : "",
+         end_name(b->end), secs);
+  if (b->nevents) printf("stability changes:\n");
+  bif_events_print(stdout, "  ", b, pts);
   printf("%12s %12s %10s %8s %10s\n", "speed_kmh", "amplitude_mm", "freq_hz", "stable", "max|mu|");
   for (int i = 0; i < b->npoints; i++)
     printf("%12.3f %12.4f %10.4f %8s %10.5f\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m * 1e3,

@@ -208,7 +208,7 @@ PY
 "$RR" bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4 --json > "$tmp/scan.json" || bad "scan exit"
 json_check "bifurcation scan" "d['method']=='scan' and len(d['branch'])==6 and [p['sweep'] for p in d['branch']]==['up']*3+['down']*3 and d['branch'][0]['amplitude_m']==0 and d['branch'][2]['amplitude_m']>3e-4 and d['type']=='supercritical'" < "$tmp/scan.json"
 "$RR" bifurcation --profile "$SRC/examples/tread-worn.csv" --speeds 100:545 --csv > "$tmp/bif.csv" || bad "bifurcation csv"
-head -1 "$tmp/bif.csv" | grep -q '^speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,residual$' && ok || bad "bifurcation csv header"
+head -1 "$tmp/bif.csv" | grep -q "^speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,symmetric,residual$" && ok || bad "bifurcation csv header"
 
 # Long runs: Ctrl-C stops after the generation in progress and writes its front
 timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 400 --generations 100000 \

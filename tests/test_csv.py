@@ -40,7 +40,7 @@ UNIT = re.compile(r"_(hz|m|rad|n|nm|kmh|s|deg|per_s|per_s2|rad_per_s|n_per_m|n_s
 # ... or a dimensionless quantity (shares, indices, flags, counts, names)
 DIMENSIONLESS = re.compile(r"^(branch|conicity|stability_index(_const|_sdf)?|zeta_max|stable|mac|e_(carbody|frames|wheelsets)|"
                            r"roll_share|hunting_related|dissipation|input|vehicle|sperling_(const|sdf|weight)|sweep|"
-                           r"max_floquet_modulus|residual|welch_sigma_rel|generation|evaluations|seconds|front_size|"
+                           r"max_floquet_modulus|symmetric|residual|welch_sigma_rel|generation|evaluations|seconds|front_size|"
                            r"hypervolume|feasible|violation|objective:.*)$")
 
 

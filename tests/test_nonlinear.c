@@ -23,6 +23,13 @@ static rr_nonlinear *vehicle_nl(const char *veh_name, const char *prof, double k
   return nl;
 }
 
+static double norm2sq(const double *x, int n)
+{
+  double s = 0;
+  for (int i = 0; i < n; i++) s += x[i] * x[i];
+  return s;
+}
+
 /* The linear model's state matrix at (v, lambda(0)). */
 static double *linear_A(const rr_vehicle *veh, double lam0, double v, int *N)
 {
@@ -159,36 +166,45 @@ static void vdp_jac(void *u, double t, double mu, const double *z, double *J)
   J[3] = mu - z[0] * z[0];
 }
 
+/* The branch from the Hopf point at mu = 0, shot over the whole period and,
+   the oscillator being odd, over half of it as a symmetric orbit: both meet
+   averaging's amplitude, period and nontrivial multiplier exp(-2 pi mu) (the
+   amplitude's own rate -mu over a period). */
 static void test_van_der_pol(void)
 {
-  double atol[2] = {1, 1};
-  rr_orbit_sys s = {.ode = {.n = 2, .rhs = vdp_rhs, .jac = vdp_jac},
-                    .k_amp = 0,
-                    .k_phase = 1,
-                    .amp_unit = 1,
-                    .p_unit = 0.1,
-                    .atol = atol};
-  rr_branch_opts bo = {.p_min = -1,
-                       .p_max = 0.05,
-                       .amp_max = 10,
-                       .amp_start = 0.05,
-                       .ds = 0.2,
-                       .ds_max = 1,
-                       .rtol = 1e-11,
-                       .cap = 100};
-  rr_orbit pts[100];
-  int n = 0, end;
-  rr_error e;
-  int st = rr_orbit_branch(&s, 0, &bo, pts, NULL, &n, &end, &e);
-  CHECK_OK(st, e);
-  CHECK(n >= 5 && end == 0, "van der Pol: %d points, end %d", n, end);
-  for (int i = 0; i < n; i++) {
-    if (pts[i].p > 0.05) continue;
-    double mu = pts[i].p;
-    CHECK_CLOSE(pts[i].amp, 2 * sqrt(mu), 0.01, 0, "van der Pol amplitude vs 2 sqrt(mu)");
-    CHECK_CLOSE(pts[i].T, 2 * RR_PI, 0.01, 0, "van der Pol period vs 2 pi");
-    CHECK(pts[i].stable && pts[i].residual <= 1e-8, "van der Pol cycle stable, residual %g",
-          pts[i].residual);
+  for (int odd = 0; odd < 2; odd++) {
+    double atol[2] = {1, 1};
+    rr_orbit_sys s = {.ode = {.n = 2, .rhs = vdp_rhs, .jac = vdp_jac},
+                      .k_amp = 0,
+                      .k_phase = 1,
+                      .amp_unit = 1,
+                      .p_unit = 0.1,
+                      .atol = atol,
+                      .odd = odd};
+    rr_branch_opts bo = {.p_min = -1,
+                         .p_max = 0.05,
+                         .amp_max = 10,
+                         .amp_start = 0.05,
+                         .ds = 0.2,
+                         .ds_max = 1,
+                         .rtol = 1e-11,
+                         .cap = 100};
+    rr_orbit pts[100];
+    int n = 0, end;
+    rr_error e;
+    int st = rr_orbit_branch(&s, 0, &bo, pts, NULL, &n, &end, &e);
+    CHECK_OK(st, e);
+    CHECK(n >= 5 && end == 0, "van der Pol: %d points, end %d", n, end);
+    for (int i = 0; i < n; i++) {
+      if (pts[i].p > 0.05) continue;
+      double mu = pts[i].p;
+      CHECK_CLOSE(pts[i].amp, 2 * sqrt(mu), 0.01, 0, "van der Pol amplitude vs 2 sqrt(mu)");
+      CHECK_CLOSE(pts[i].T, 2 * RR_PI, 0.01, 0, "van der Pol period vs 2 pi");
+      CHECK_CLOSE(pts[i].floquet_max, exp(-2 * RR_PI * mu), 1e-3, 0,
+                  "van der Pol multiplier vs exp(-2 pi mu)");
+      CHECK(pts[i].stable && pts[i].residual <= 1e-8 && pts[i].symmetric == odd,
+            "van der Pol cycle stable, residual %g", pts[i].residual);
+    }
   }
 }
 
@@ -365,6 +381,19 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
     CHECK_OK(st, e);
     N = rr_nonlinear_size(nl);
     double *z = malloc(sizeof(double) * N), amp, freq;
+    if (q == 0) { /* shot again over the whole period: the same cycle */
+      double *zf = malloc(sizeof(double) * N), T = pts[i].period_s;
+      memcpy(zf, Z + (size_t)i * N, sizeof(double) * N);
+      rr_cycle full;
+      st = rr_cycle_shoot(nl, zf, &T, 0, &full, &e);
+      CHECK_OK(st, e);
+      CHECK(pts[i].symmetric && !full.symmetric && full.residual <= 1e-8,
+            "symmetric branch point, shot as a whole period (residual %g)", full.residual);
+      CHECK_CLOSE(full.period_s, pts[i].period_s, 1e-8, 0, "period: whole against half");
+      CHECK_CLOSE(full.amplitude_m, pts[i].amplitude_m, 1e-7, 0, "amplitude: whole against half");
+      CHECK_CLOSE(full.floquet_max, pts[i].floquet_max, 1e-4, 0, "max |mu|: whole against half");
+      free(zf);
+    }
     if (pts[i].stable) { /* from 0.5 % off the cycle, direct integration stays on it */
       for (int j = 0; j < N; j++) z[j] = Z[(size_t)i * N + j] * 1.005;
       run_measure(nl, z, 12, 1, &amp, &freq);
@@ -412,6 +441,92 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   free(Z);
 }
 
+/* Half a period of direct integration (CVODE, tight) from z0 + h v and
+   z0 - h v: the central difference d = Phi_half v, the half period's flow
+   Jacobian along v. */
+static void half_period_jvp(rr_nonlinear *nl, const double *z0, const double *v, double h, double T,
+                            double *d)
+{
+  int N = rr_nonlinear_size(nl);
+  double *z = malloc(sizeof(double) * N), *out = malloc(sizeof(double) * 2 * N);
+  rr_sim_opts so = rr_sim_opts_default();
+  so.duration_s = T / 2;
+  so.fs_hz = 2 / T; /* the second sample at T / 2 */
+  so.rtol = 1e-11;
+  so.atol_m = 1e-14;
+  rr_error e;
+  for (int sgn = 1; sgn >= -1; sgn -= 2) {
+    for (int j = 0; j < N; j++) z[j] = z0[j] + sgn * h * v[j];
+    int st = rr_simulate(nl, z, &so, out, 2, &e);
+    CHECK_OK(st, e);
+    for (int j = 0; j < N; j++) d[j] = sgn > 0 ? out[N + j] : (d[j] - out[N + j]) / (2 * h);
+  }
+  free(z);
+  free(out);
+}
+
+/* Type 2 on the worn tread: the symmetric branch loses stability where a
+   real multiplier of its half-period map passes -1 (a wheelset reaching the
+   flange). Checked beyond that point by the full period's monodromy matrix
+   (its largest multiplier mu, the half map's squared) and by direct
+   integration: half a period from the cycle pushed along mu's vector v
+   takes the push to +sqrt(mu) v while the cycle itself turns to -z0 (the
+   half map, z -> -z(T/2), has -sqrt(mu): the growing motion breaks the
+   symmetry; a symmetric instability would give -sqrt(mu) v). */
+static void test_symmetry_breaking(void)
+{
+  rr_vehicle veh;
+  rr_profile p;
+  rr_error e;
+  rr_vehicle_open("type2", &veh, &e);
+  rr_profile_open("worn", &p, &e);
+  rr_orbit_opts o = rr_orbit_opts_default();
+  o.v_max_ms = 548 * KMH;
+  int cap = 100;
+  rr_cycle *pts = malloc(sizeof *pts * cap);
+  double *Z = malloc(sizeof(double) * 64 * cap);
+  rr_bifurcation b;
+  int st = rr_bifurcation_continue(&veh, &p, NULL, &o, pts, Z, cap, &b, &e);
+  CHECK_OK(st, e);
+  int ev = -1;
+  for (int i = 0; i < b.nevents && ev < 0; i++)
+    if (b.events[i].kind == RR_EVENT_SYMMETRY_BREAKING) ev = i;
+  CHECK(ev >= 0 && b.events[ev].gained == 1 && b.events[ev].speed_ms > 530 * KMH &&
+            b.events[ev].speed_ms < 548 * KMH,
+        "Type 2 worn: symmetry breaking found (%d events)", b.nevents);
+  if (ev >= 0) {
+    int i = b.events[ev].index;
+    CHECK(pts[i - 1].stable && !pts[i].stable && pts[i - 1].symmetric && pts[i].symmetric,
+          "stable symmetric cycles, then unstable ones");
+    rr_nonlinear *nl;
+    st = rr_nonlinear_from_vehicle(&veh, &p, NULL, pts[i].speed_ms, &nl, &e);
+    CHECK_OK(st, e);
+    int N = rr_nonlinear_size(nl);
+    rr_orbit_sys s;
+    double *atol, mu, *v = malloc(sizeof(double) * N), *d = malloc(sizeof(double) * N);
+    rr_nonlinear_orbit_sys(nl, &s, &atol, &e);
+    const double *z0 = Z + (size_t)i * N;
+    st = rr_orbit_floquet_vector(&s, z0, pts[i].period_s, pts[i].speed_ms, &mu, v, &e);
+    CHECK_OK(st, e);
+    CHECK_CLOSE(mu, pts[i].floquet_max, 1e-3, 0,
+                "the full period's largest multiplier vs the half period's squared");
+    double vv = 0, dv = 0, rr = 0;
+    for (int j = 0; j < N; j++) vv += v[j] * v[j];
+    half_period_jvp(nl, z0, v, 1e-6 * sqrt(norm2sq(z0, N) / vv), pts[i].period_s, d);
+    for (int j = 0; j < N; j++) dv += d[j] * v[j];
+    for (int j = 0; j < N; j++) rr += pow(d[j] - dv / vv * v[j], 2);
+    CHECK_CLOSE(dv / vv, sqrt(mu), 0.02, 0, "Phi_half v / v against +sqrt(mu)");
+    CHECK(sqrt(rr) <= 0.02 * fabs(dv) / sqrt(vv), "Phi_half v along v (off by %g)",
+          sqrt(rr) / (fabs(dv) / sqrt(vv)));
+    free(v);
+    free(d);
+    free(atol);
+    rr_nonlinear_free(nl);
+  }
+  free(pts);
+  free(Z);
+}
+
 /* Vehicle-file keys of the nonlinear model. */
 static void test_vehicle_keys(void)
 {
@@ -448,6 +563,7 @@ int main(void)
   test_linear_no_branch();
   test_vehicle_keys();
   test_branch(NULL, "worn", 580, RR_BIF_SUPERCRITICAL);
+  test_symmetry_breaking();
   test_branch("[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.3 0.02\n", NULL, 600,
               RR_BIF_SUBCRITICAL);
   check_cleanup();

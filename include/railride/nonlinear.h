@@ -87,7 +87,9 @@ typedef struct rr_cycle {
   double amplitude_m; /* max |y_w1| over the cycle (leading wheelset) */
   double floquet_max; /* largest |multiplier| but the trivial one */
   int stable;         /* floquet_max < 1 */
-  double residual;    /* |phi_T(z0) - z0| / |z0| */
+  int symmetric; /* z(t + T/2) = -z(t), the left-right symmetric hunting that leaves the Hopf point
+                    (shot over half a period) */
+  double residual; /* |phi_T(z0) - z0| / |z0| (symmetric: |phi_T/2(z0) + z0| / |z0|) */
 } rr_cycle;
 
 typedef struct rr_orbit_opts {
@@ -116,6 +118,23 @@ typedef enum rr_branch_end {
   RR_BRANCH_LINEAR = 4 /* the model is linear: no branch */
 } rr_branch_end;
 
+/* Where the branch's stability changes between two of its points: the kind
+   of crossing of the unit circle by the Floquet multipliers. */
+typedef enum rr_bif_event_kind {
+  RR_EVENT_FOLD = 0, /* a real multiplier through +1: a fold (the branch turns back in speed) */
+  RR_EVENT_SYMMETRY_BREAKING = 1, /* a symmetric cycle's half-period multiplier through -1:
+                                     asymmetric cycles branch off (not followed) */
+  RR_EVENT_PERIOD_DOUBLING = 2,   /* a real multiplier through -1 (a cycle that is not symmetric) */
+  RR_EVENT_TORUS = 3              /* a complex pair through the unit circle (Neimark-Sacker) */
+} rr_bif_event_kind;
+typedef struct rr_bif_event {
+  rr_bif_event_kind kind;
+  int index;       /* between the branch's points index - 1 and index */
+  double speed_ms; /* midway between their speeds */
+  int gained;      /* unstable directions beyond the event less those before (+-1, a pair +-2) */
+} rr_bif_event;
+#define RR_BIF_MAX_EVENTS 16
+
 typedef struct rr_bifurcation {
   int hopf;             /* 1: the straight-track equilibrium loses stability below 2000 km/h */
   double hopf_speed_ms; /* the linear critical speed at lambda(0) (NaN: none) */
@@ -126,6 +145,9 @@ typedef struct rr_bifurcation {
                                    none) */
   int type;                     /* rr_bif_type: how the branch leaves the Hopf point */
   int npoints, end;             /* points on the branch; rr_branch_end */
+  int nevents;                  /* stability changes along the branch, in its order (the first
+                                   RR_BIF_MAX_EVENTS) */
+  rr_bif_event events[RR_BIF_MAX_EVENTS];
 } rr_bifurcation;
 
 /* The nonlinear vehicle at speed v_ms: profile and contact law NULL take the

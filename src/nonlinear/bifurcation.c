@@ -85,7 +85,8 @@ int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_
                       .k_phase = rr_nonlinear_ndof(nl) + k,
                       .amp_unit = AMP_UNIT,
                       .p_unit = SPEED_UNIT,
-                      .atol = *atol};
+                      .atol = *atol,
+                      .odd = 1}; /* straight, perfect track: the vehicle is left-right symmetric */
   return RR_OK;
 }
 
@@ -96,7 +97,47 @@ static rr_cycle cycle_of(const rr_orbit *o)
                     .amplitude_m = o->amp,
                     .floquet_max = o->floquet_max,
                     .stable = o->stable,
+                    .symmetric = o->symmetric,
                     .residual = o->residual};
+}
+
+/* Unstable directions: a complex pair outside the unit circle counts twice. */
+static int unstable_dims(const rr_orbit *o)
+{
+  return o->outside[RR_CROSS_FOLD] + o->outside[RR_CROSS_FLIP] + 2 * o->outside[RR_CROSS_TORUS];
+}
+
+/* The kind of crossing between two points whose unstable dimension differs:
+   the kind whose count moved most the same way (two real multipliers
+   outside that meet and leave the real axis change no dimension). */
+static rr_bif_event_kind crossing_kind(const rr_orbit *a, const rr_orbit *b, int gained)
+{
+  static const int weight[RR_CROSS_KINDS] = {1, 1, 2};
+  int best = 0, kind = RR_CROSS_FOLD;
+  for (int k = 0; k < RR_CROSS_KINDS; k++) {
+    int moved = (b->outside[k] - a->outside[k]) * weight[k] * (gained > 0 ? 1 : -1);
+    if (moved > best) {
+      best = moved;
+      kind = k;
+    }
+  }
+  if (kind == RR_CROSS_FOLD) return RR_EVENT_FOLD;
+  if (kind == RR_CROSS_TORUS) return RR_EVENT_TORUS;
+  return b->symmetric ? RR_EVENT_SYMMETRY_BREAKING : RR_EVENT_PERIOD_DOUBLING;
+}
+
+/* The stability changes along the branch. */
+static void find_events(const rr_orbit *o, int n, rr_bifurcation *res)
+{
+  res->nevents = 0;
+  for (int i = 1; i < n && res->nevents < RR_BIF_MAX_EVENTS; i++) {
+    int gained = unstable_dims(&o[i]) - unstable_dims(&o[i - 1]);
+    if (!gained) continue;
+    res->events[res->nevents++] = (rr_bif_event){.kind = crossing_kind(&o[i - 1], &o[i], gained),
+                                                 .index = i,
+                                                 .speed_ms = 0.5 * (o[i - 1].p + o[i].p),
+                                                 .gained = gained};
+  }
 }
 
 static rr_contact_law law_of(const rr_vehicle *veh)
@@ -277,6 +318,7 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
     if (!st) st = rr_orbit_branch(&s, vh, &bo, pts, z_out, &n, &res->end, err);
     for (int i = 0; i < n; i++) out[i] = cycle_of(&pts[i]);
     summarise(out, n, res);
+    find_events(pts, n, res);
     free(pts);
     free(atol);
   }

@@ -358,6 +358,7 @@ typedef struct closure {
    iterations cost one plain period; the phase and closure rows are exact. */
 typedef struct work {
   int n, valid;       /* valid: B holds the flow rows of a nearby orbit */
+  int half;           /* symmetric orbits: the half period's map composed with z -> -z */
   double T_max;       /* periods beyond are out of the domain */
   double *B, *Jn, *R; /* n (n + 2), (n + 2)^2, n + 2 */
   double *F, *Fn, *dX,
@@ -366,6 +367,7 @@ typedef struct work {
   flow f;
   const rr_runner_opts *run; /* where the variational groups run (NULL: here) */
   double *sbuf;              /* their results */
+  double *ea, *wr, *wi;      /* the Floquet eigenproblem's scratch */
   char *block;               /* the arrays, one allocation (block.h) */
 } work;
 
@@ -386,6 +388,9 @@ static void work_layout(work *w, rr_block *b)
   w->f.Phi = rr_block_take(b, n * n, d);
   w->f.phip = rr_block_take(b, n, d);
   w->sbuf = rr_block_take(b, sens_buf_size(w->n), d);
+  w->ea = rr_block_take(b, n * n, d);
+  w->wr = rr_block_take(b, n, d);
+  w->wi = rr_block_take(b, n, d);
 }
 
 static int work_new(work *w, int n)
@@ -408,16 +413,21 @@ static double norm2(const double *x, int n)
   return sqrt(s);
 }
 
-/* The flow rows from a period with the variational equations (in w->f). */
+/* The integration span of a period T: half of it for a symmetric orbit. */
+static double span(const work *w, double T) { return w->half ? 0.5 * T : T; }
+
+/* The flow rows from a period with the variational equations (in w->f):
+   d/d(z0, T, p) of F = z(span) -+ z0 (+ for a symmetric orbit). */
 static void flow_rows(const rr_orbit_sys *s, work *w, double p)
 {
   int n = w->n, m = n + 2;
-  double *fz = w->R; /* scratch */
+  double *fz = w->R, sign = w->half ? 1 : -1, dspan = w->half ? 0.5 : 1; /* R: scratch */
   s->ode.rhs(s->ode.user, 0, p, w->f.zT, fz);
   for (int i = 0; i < n; i++) {
     double *row = w->B + (size_t)i * (size_t)m;
-    for (int j = 0; j < n; j++) row[j] = w->f.Phi[(size_t)i * (size_t)n + (size_t)j] - (i == j);
-    row[n] = fz[i];
+    for (int j = 0; j < n; j++)
+      row[j] = w->f.Phi[(size_t)i * (size_t)n + (size_t)j] + sign * (i == j);
+    row[n] = fz[i] * dspan;
     row[n + 1] = w->f.phip[i];
   }
   w->valid = 1;
@@ -465,38 +475,43 @@ static void broyden(work *w)
   }
 }
 
-/* Floquet: the largest |multiplier| but the one nearest 1 (the orbit's own
-   direction). */
-static double floquet_max(const double *Phi, int n, rr_error *err, int *st)
+/* Floquet multipliers from the flow's Jacobian Phi over the span: the
+   return map's is Phi, or -Phi for a symmetric orbit's half period (whose
+   multipliers' squares are the period's). Sets the largest modulus but the
+   trivial multiplier's (the one nearest 1: the orbit's own direction), the
+   count outside the unit circle by kind, and stability. a, wr, wi: n x n,
+   n, n of scratch. */
+static int floquet(const double *Phi, int n, int half, double *a, double *wr, double *wi,
+                   rr_orbit *o, rr_error *err)
 {
-  double *a = malloc(sizeof(double) * (size_t)n * (size_t)n),
-         *wr = malloc(sizeof(double) * (size_t)n), *wi = malloc(sizeof(double) * (size_t)n);
-  double best = -1;
-  *st = RR_OK;
-  if (!a || !wr || !wi)
-    *st = rr_seterr(err, RR_ENOMEM, "out of memory");
-  else {
-    memcpy(a, Phi, sizeof(double) * (size_t)n * (size_t)n);
-    if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, a, n, wr, wi, NULL, 1, NULL, 1))
-      *st = rr_seterr(err, RR_ELAPACK, "orbit: Floquet multipliers: dgeev failed");
-    int trivial = 0;
-    for (int i = 1; i < n && !*st; i++)
-      if (hypot(wr[i] - 1, wi[i]) < hypot(wr[trivial] - 1, wi[trivial])) trivial = i;
-    for (int i = 0; i < n && !*st; i++)
-      if (i != trivial) best = fmax(best, hypot(wr[i], wi[i]));
+  for (size_t i = 0; i < (size_t)n * (size_t)n; i++) a[i] = half ? -Phi[i] : Phi[i];
+  if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, a, n, wr, wi, NULL, 1, NULL, 1))
+    return rr_seterr(err, RR_ELAPACK, "orbit: Floquet multipliers: dgeev failed");
+  int trivial = 0;
+  for (int i = 1; i < n; i++)
+    if (hypot(wr[i] - 1, wi[i]) < hypot(wr[trivial] - 1, wi[trivial])) trivial = i;
+  o->floquet_max = -1;
+  memset(o->outside, 0, sizeof o->outside);
+  for (int i = 0; i < n; i++) {
+    if (i == trivial) continue;
+    double r = hypot(wr[i], wi[i]), mod = half ? r * r : r;
+    o->floquet_max = fmax(o->floquet_max, mod);
+    if (mod <= 1 || wi[i] < 0) continue; /* a complex pair once */
+    o->outside[wi[i] > 0 ? RR_CROSS_TORUS : wr[i] > 0 ? RR_CROSS_FOLD : RR_CROSS_FLIP]++;
   }
-  free(a);
-  free(wr);
-  free(wi);
-  return best;
+  o->stable = o->floquet_max < 1;
+  o->symmetric = half;
+  return RR_OK;
 }
 
-/* One period at the tight tolerance: F = z_T - z0 and the amplitude. */
+/* One period (half, symmetric) at the tight tolerance: F = z(span) -+ z0
+   and the amplitude (a symmetric orbit's half has the whole one's). */
 static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, double p,
                     double rtol, double *F, double *amp, rr_error *err)
 {
-  int st = flow_period(s, p, z0, T, rtol, 0, 0, w->f.zT, &w->f.amp, NULL, err);
-  for (int i = 0; i < w->n && !st; i++) F[i] = w->f.zT[i] - z0[i];
+  int st = flow_period(s, p, z0, span(w, T), rtol, 0, 0, w->f.zT, &w->f.amp, NULL, err);
+  double sign = w->half ? 1 : -1;
+  for (int i = 0; i < w->n && !st; i++) F[i] = w->f.zT[i] + sign * z0[i];
   *amp = w->f.amp;
   return st;
 }
@@ -505,7 +520,7 @@ static int residual(const rr_orbit_sys *s, work *w, const double *z0, double T, 
 static int refresh(const rr_orbit_sys *s, work *w, const double *z0, double T, double p,
                    rr_error *err)
 {
-  int st = flow_sens(s, w->run, p, z0, T, &w->f, w->sbuf, err);
+  int st = flow_sens(s, w->run, p, z0, span(w, T), &w->f, w->sbuf, err);
   if (!st) flow_rows(s, w, p);
   return st;
 }
@@ -550,15 +565,8 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     newton_system(s, w, z0, *p, c);
     if (res <= NEWTON_TOL && fabs(w->R[n + 1]) <= 1e-9 * (c->kind == 0 ? s->p_unit : 1)) {
       if ((st = refresh(s, w, z0, *T, *p, err))) return st;
-      double fm = floquet_max(w->f.Phi, n, err, &st);
-      *out = (rr_orbit){.p = *p,
-                        .T = *T,
-                        .amp = amp,
-                        .floquet_max = fm,
-                        .stable = fm < 1,
-                        .residual = res,
-                        .iterations = it};
-      return st;
+      *out = (rr_orbit){.p = *p, .T = *T, .amp = amp, .residual = res, .iterations = it};
+      return floquet(w->f.Phi, n, w->half, w->ea, w->wr, w->wi, out, err);
     }
     if (LAPACKE_dgesv(LAPACK_ROW_MAJOR, m, 1, w->Jn, m, w->piv, w->R, 1))
       return rr_seterr(err, RR_ENOCONV, "orbit: singular Newton system");
@@ -747,6 +755,7 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
     goto done;
   }
   w.run = &o->runner;
+  w.half = s->odd; /* the Hopf point's cycle is symmetric when f is odd, and so is its branch */
   double ds = o->ds;
   rr_orbit r;
   /* two points at fixed amplitudes leave the Hopf point; then arclength */

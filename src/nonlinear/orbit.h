@@ -31,13 +31,27 @@ typedef struct rr_orbit_sys {
   double amp_unit; /* arclength units of amplitude and parameter */
   double p_unit;
   const double *atol; /* per-state typical magnitudes on an orbit of amplitude amp_unit (n) */
+  /* f(-z) = -f(z): the branch from the Hopf point is followed as symmetric
+     orbits, z(t + T/2) = -z(t), shot over half a period (the return map of
+     the half period composed with z -> -z). The full period's multipliers
+     are the squares of that map's; a real one of them crossing -1 is a
+     symmetry-breaking bifurcation. */
+  int odd;
 } rr_orbit_sys;
+
+/* Multipliers outside the unit circle, by the kind of bifurcation their
+   crossing makes: real above 1 (a fold, or a branch point), real below -1
+   (symmetric orbits: symmetry breaking; others: period doubling), complex
+   pairs (a torus), each pair counted once. */
+enum { RR_CROSS_FOLD, RR_CROSS_FLIP, RR_CROSS_TORUS, RR_CROSS_KINDS };
 
 typedef struct rr_orbit {
   double p, T, amp;
-  double floquet_max; /* largest |multiplier| but the one nearest 1 */
+  double floquet_max; /* largest |multiplier| of the period but the one nearest 1 */
   int stable;
-  double residual; /* |phi_T(z0) - z0| / |z0| */
+  int symmetric;               /* shot as z(t + T/2) = -z(t) (rr_orbit_sys.odd) */
+  int outside[RR_CROSS_KINDS]; /* multipliers outside the unit circle, by kind */
+  double residual;             /* |phi_T(z0) - z0| / |z0| (symmetric: |phi_T/2(z0) + z0| / |z0|) */
   int iterations;
 } rr_orbit;
 
