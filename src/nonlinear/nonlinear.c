@@ -169,43 +169,55 @@ static double saturation(double beta, double *deps)
   return 1 / beta;
 }
 
+/* The unsaturated creep forces f11 s and f22 xy of one wheel (N) at
+   conicity lam and lateral offset d from the track: s the left wheel's
+   longitudinal creepage (the right's is -s), xy both wheels' lateral one. */
+static void creep_forces(const wheelset *w, double v, const double *x, double d, double lam,
+                         double *fx, double *fy)
+{
+  *fx = w->f11 * (w->l0 * x[3] / v + lam * d / w->r0);
+  *fy = w->f22 * (x[2] / v - x[1]);
+}
+
 /* Forces of one wheelset: F[0] lateral (creep + flange + gravity), F[1] yaw
-   moment; their derivatives dF[k][0..4] in y, psi, dy/dt, dpsi/dt and the
-   speed v; flange the flange's share of F[0]. x = (y, psi, dy/dt, dpsi/dt). */
+   moment; with dF (may be NULL: the right-hand side needs none), their
+   derivatives dF[k][0..4] in y, psi, dy/dt, dpsi/dt and the speed v;
+   flange the flange's share of F[0]. x = (y, psi, dy/dt, dpsi/dt). */
 static void contact(const rr_nonlinear *nl, double v, const wheelset *w, const double *x, double yt,
                     double F[2], double dF[2][5], double *flange)
 {
   const rr_contact_law *law = &nl->law;
   double d = x[0] - yt, a = fabs(d), dl, lam = rr_profile_eval(&nl->prof, a, &dl);
-  double dlamd_dd = lam + dl * a;                /* d(lambda(|d|) d) / dd */
-  double s = w->l0 * x[3] / v + lam * d / w->r0; /* longitudinal creepage, left wheel (right: -s) */
-  double xy = x[2] / v - x[1];                   /* lateral creepage, both wheels */
-  double ds[5] = {dlamd_dd / w->r0, 0, 0, w->l0 / v, -w->l0 * x[3] / (v * v)};
-  double dxy[5] = {0, -1, 1 / v, 0, -x[2] / (v * v)};
-  double fx = w->f11 * s, fy = w->f22 * xy, eps = 1, deps = 0, db[5] = {0, 0, 0, 0, 0};
-  if (law->saturation && w->muN > 0) {
-    double fn = hypot(fx, fy), beta = fn / w->muN;
-    eps = saturation(beta, &deps);
-    for (int k = 0; k < 5 && fn > 0; k++)
-      db[k] = (fx * w->f11 * ds[k] + fy * w->f22 * dxy[k]) / (fn * w->muN);
+  double fx, fy, eps = 1, deps = 0, fn = 0;
+  creep_forces(w, v, x, d, lam, &fx, &fy);
+  int sat = law->saturation && w->muN > 0;
+  if (sat) { /* |F| < 1e9 N: no overflow to guard against */
+    fn = sqrt(fx * fx + fy * fy);
+    eps = saturation(fn / w->muN, &deps);
   }
   /* both wheels share |F|, hence eps: F_y = 2 eps (-f22 xy), M_z = 2 eps (-f11 s) l0 */
   F[0] = -2 * eps * fy;
   F[1] = -2 * eps * fx * w->l0;
+  int touch = law->flange_stiffness > 0 && a > law->flange_clearance;
+  *flange = touch ? -law->flange_stiffness * (a - law->flange_clearance) * (d > 0 ? 1 : -1) : 0;
+  F[0] += *flange;
+  if (nl->gravity) { /* K += W lambda / l0 on y, -W lambda l0 on psi, with lambda(|d|) */
+    F[0] -= w->W * lam * d / w->l0;
+    F[1] += w->W * lam * w->l0 * x[1];
+  }
+  if (!dF) return;
+  double dlamd_dd = lam + dl * a; /* d(lambda(|d|) d) / dd */
+  double ds[5] = {dlamd_dd / w->r0, 0, 0, w->l0 / v, -w->l0 * x[3] / (v * v)};
+  double dxy[5] = {0, -1, 1 / v, 0, -x[2] / (v * v)}, db[5] = {0, 0, 0, 0, 0};
+  for (int k = 0; k < 5 && sat && fn > 0; k++)
+    db[k] = (fx * w->f11 * ds[k] + fy * w->f22 * dxy[k]) / (fn * w->muN);
   for (int k = 0; k < 5; k++) {
     dF[0][k] = -2 * (eps * w->f22 * dxy[k] + fy * deps * db[k]);
     dF[1][k] = -2 * w->l0 * (eps * w->f11 * ds[k] + fx * deps * db[k]);
   }
-  *flange = 0;
-  if (law->flange_stiffness > 0 && a > law->flange_clearance) {
-    *flange = -law->flange_stiffness * (a - law->flange_clearance) * (d > 0 ? 1 : -1);
-    F[0] += *flange;
-    dF[0][0] -= law->flange_stiffness;
-  }
-  if (nl->gravity) { /* K += W lambda / l0 on y, -W lambda l0 on psi, with lambda(|d|) */
-    F[0] -= w->W * lam * d / w->l0;
+  if (touch) dF[0][0] -= law->flange_stiffness;
+  if (nl->gravity) {
     dF[0][0] -= w->W * dlamd_dd / w->l0;
-    F[1] += w->W * lam * w->l0 * x[1];
     dF[1][1] += w->W * lam * w->l0;
     dF[1][0] += w->W * w->l0 * x[1] * dl * (d > 0 ? 1 : d < 0 ? -1 : 0);
   }
@@ -229,9 +241,9 @@ void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, cons
   }
   for (int i = 0; i < nl->nw; i++) {
     const wheelset *w = &nl->w[i];
-    double x[4], F[2], dF[2][5], fl;
+    double x[4], F[2], fl;
     wheel_state(nl, w, z, x);
-    contact(nl, v, w, x, yt ? yt[i] : 0, F, dF, &fl);
+    contact(nl, v, w, x, yt ? yt[i] : 0, F, NULL, &fl);
     dz[nl->n + w->y] += F[0] * w->im_y;
     dz[nl->n + w->p] += F[1] * w->im_p;
   }
@@ -258,34 +270,72 @@ void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z,
   }
 }
 
-/* out = [J X_0 .. J X_{m-1}] (columns of N), J = d(dz/dt)/dz at z; with
-   dfdv, the speed derivative d(dz/dt)/dv is added to the last column (the
-   variational equation of the speed's sensitivity). Straight, perfect track. */
-#define JVP_COLS 8 /* columns per pass of the suspension product: one AVX-512 vector */
+/* out = J X, J = d(dz/dt)/dz at z, X and out N x m row by row (the m
+   columns side by side); with dfdv, the speed derivative d(dz/dt)/dv is
+   added to the last column (the variational equation of the speed's
+   sensitivity). Straight, perfect track. Every column's sums run in the
+   same order as a single column's would. */
 #define RR_NL_MAX_STATES (2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES)
 
-/* out_c = A0 x_c for the m columns of X (N apart): the suspension's sparse
-   rows applied to JVP_COLS columns at once, gathered side by side, so that
-   each nonzero costs one vector operation instead of one per column. The
-   sums run in the same order as a column at a time. */
+/* Row i of the suspension's sparse matrix applied to columns c0 .. c0 + B - 1
+   of X (rows w apart) into o; B a constant where it is inlined, so that the
+   columns become whole vector operations. */
+static inline void suspension_row_block(const rr_nonlinear *nl, int i, const double *X, size_t w,
+                                        size_t c0, int B, double *o)
+{
+  double acc[8] = {0};
+  for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) {
+    const double v = nl->val[k], *x = X + (size_t)nl->col[k] * w + c0;
+    for (int c = 0; c < B; c++) acc[c] += v * x[c];
+  }
+  for (int c = 0; c < B; c++) o[c0 + (size_t)c] = acc[c];
+}
+
+/* The suspension's sparse rows applied to the m columns at once: blocks of
+   8 columns, then of 4, then single ones. */
 RR_CLONES static void suspension_product(const rr_nonlinear *nl, const double *X, int m,
                                          double *out)
 {
-  int N = nl->N;
-  double xt[RR_NL_MAX_STATES * JVP_COLS];
-  for (int c0 = 0; c0 < m; c0 += JVP_COLS) {
-    int nc = m - c0 < JVP_COLS ? m - c0 : JVP_COLS;
-    for (int j = 0; j < N; j++)
-      for (int c = 0; c < JVP_COLS; c++)
-        xt[j * JVP_COLS + c] = c < nc ? X[(size_t)(c0 + c) * (size_t)N + (size_t)j] : 0;
-    for (int i = 0; i < N; i++) {
-      double acc[JVP_COLS] = {0};
-      for (int k = nl->row_start[i]; k < nl->row_start[i + 1]; k++) {
-        const double v = nl->val[k], *x = xt + nl->col[k] * JVP_COLS;
+  size_t w = (size_t)m;
+  for (int i = 0; i < nl->N; i++) {
+    double *o = out + (size_t)i * w;
+    size_t c0 = 0;
+    for (; c0 + 8 <= w; c0 += 8) suspension_row_block(nl, i, X, w, c0, 8, o);
+    for (; c0 + 4 <= w; c0 += 4) suspension_row_block(nl, i, X, w, c0, 4, o);
+    for (; c0 < w; c0++) suspension_row_block(nl, i, X, w, c0, 1, o);
+  }
+}
+
+/* The contact forces' rows: per wheelset, the two acceleration rows gain
+   dF/d(y, psi, dy/dt, dpsi/dt) times those rows of X. */
+RR_CLONES static void contact_product(const rr_nonlinear *nl, const double dF[][2][5],
+                                      const double *X, int m, int dfdv, double *out)
+{
+  size_t w = (size_t)m;
+  for (int i = 0; i < nl->nw; i++) {
+    const wheelset *ws = &nl->w[i];
+    int n = nl->n, r[4] = {ws->y, ws->p, n + ws->y, n + ws->p};
+    const double *x0 = X + (size_t)r[0] * w, *x1 = X + (size_t)r[1] * w, *x2 = X + (size_t)r[2] * w,
+                 *x3 = X + (size_t)r[3] * w;
+    double *oy = out + (size_t)(n + ws->y) * w, *op = out + (size_t)(n + ws->p) * w;
+    const double *fy = dF[i][0], *fp = dF[i][1];
 #pragma omp simd
-        for (int c = 0; c < JVP_COLS; c++) acc[c] += v * x[c];
+    for (size_t c = 0; c < w; c++) {
+      double gy = 0, gp = 0;
+      gy += fy[0] * x0[c];
+      gp += fp[0] * x0[c];
+      gy += fy[1] * x1[c];
+      gp += fp[1] * x1[c];
+      gy += fy[2] * x2[c];
+      gp += fp[2] * x2[c];
+      gy += fy[3] * x3[c];
+      gp += fp[3] * x3[c];
+      if (dfdv && c == w - 1) {
+        gy += fy[4];
+        gp += fp[4];
       }
-      for (int c = 0; c < nc; c++) out[(size_t)(c0 + c) * (size_t)N + (size_t)i] = acc[c];
+      oy[c] += gy * ws->im_y;
+      op[c] += gp * ws->im_p;
     }
   }
 }
@@ -293,7 +343,6 @@ RR_CLONES static void suspension_product(const rr_nonlinear *nl, const double *X
 void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m,
                          int dfdv, double *out)
 {
-  int N = nl->N, n = nl->n;
   double dF[RR_SYS_MAX_INPUTS][2][5];
   for (int i = 0; i < nl->nw; i++) {
     double x[4], F[2], fl;
@@ -301,34 +350,16 @@ void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, cons
     contact(nl, v, &nl->w[i], x, 0, F, dF[i], &fl);
   }
   suspension_product(nl, X, m, out);
-  for (int c = 0; c < m; c++) {
-    const double *xc = X + (size_t)c * (size_t)N;
-    double *oc = out + (size_t)c * (size_t)N;
-    for (int i = 0; i < nl->nw; i++) {
-      const wheelset *w = &nl->w[i];
-      double dx[4] = {xc[w->y], xc[w->p], xc[n + w->y], xc[n + w->p]}, gy = 0, gp = 0;
-      for (int k = 0; k < 4; k++) {
-        gy += dF[i][0][k] * dx[k];
-        gp += dF[i][1][k] * dx[k];
-      }
-      if (dfdv && c == m - 1) {
-        gy += dF[i][0][4];
-        gp += dF[i][1][4];
-      }
-      oc[n + w->y] += gy * w->im_y;
-      oc[n + w->p] += gp * w->im_p;
-    }
-  }
+  contact_product(nl, (const double(*)[2][5])dF, X, m, dfdv, out);
 }
 
 /* The saturation's argument beta = |F| / (mu N) of wheelset w at speed v. */
 static double beta_of(const rr_nonlinear *nl, double v, const wheelset *w, const double *z)
 {
-  double x[4], dl;
+  double x[4], dl, fx, fy;
   wheel_state(nl, w, z, x);
-  double d = x[0], lam = rr_profile_eval(&nl->prof, fabs(d), &dl);
-  double fx = w->f11 * (w->l0 * x[3] / v + lam * d / w->r0), fy = w->f22 * (x[2] / v - x[1]);
-  return hypot(fx, fy) / w->muN;
+  creep_forces(w, v, x, x[0], rr_profile_eval(&nl->prof, fabs(x[0]), &dl), &fx, &fy);
+  return sqrt(fx * fx + fy * fy) / w->muN;
 }
 
 /* Where the right-hand side is not smooth, per wheelset on straight track:
@@ -371,9 +402,9 @@ int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, dou
 void rr_nonlinear_forces(const rr_nonlinear *nl, const double *z, const double *yt, int i,
                          double *fy, double *mz, double *flange)
 {
-  double x[4], F[2], dF[2][5];
+  double x[4], F[2];
   wheel_state(nl, &nl->w[i], z, x);
-  contact(nl, nl->v, &nl->w[i], x, yt ? yt[i] : 0, F, dF, flange);
+  contact(nl, nl->v, &nl->w[i], x, yt ? yt[i] : 0, F, NULL, flange);
   *fy = F[0];
   *mz = F[1];
 }

@@ -27,9 +27,9 @@ typedef struct flow {
 } flow;
 
 /* The orbit with a group of its variational equations: Y = [z; columns
-   c0 .. c0 + nc - 1 of [Phi, phi_p]], n (1 + nc). The system is not stiff at the speeds of hunting
-   (spectral radius ~ 600 1/s against a period of ~0.1 s), so an explicit 8th-order pair beats BDF
-   with sensitivities by an order of magnitude. */
+   c0 .. c0 + nc - 1 of [Phi, phi_p], n rows of nc side by side], n (1 + nc). The system is not
+   stiff at the speeds of hunting (spectral radius ~ 600 1/s against a period of ~0.1 s), so an
+   explicit 8th-order pair beats BDF with sensitivities by an order of magnitude. */
 typedef struct var_ctx {
   const rr_orbit_sys *s;
   double p;
@@ -53,18 +53,19 @@ static void var_dense(const var_ctx *c, const double *z, const double *X, double
   const rr_orbit_sys *s = c->s;
   int n = s->ode.n;
   s->ode.jac(s->ode.user, 0, c->p, z, c->J);
-  for (int k = 0; k < c->sens; k++)
+  size_t m = (size_t)c->sens;
+  for (size_t k = 0; k < m; k++)
     for (int i = 0; i < n; i++) {
       double acc = 0;
       for (int j = 0; j < n; j++)
-        acc += c->J[(size_t)i * (size_t)n + (size_t)j] * X[(size_t)k * (size_t)n + (size_t)j];
-      out[(size_t)k * (size_t)n + (size_t)i] = acc;
+        acc += c->J[(size_t)i * (size_t)n + (size_t)j] * X[(size_t)j * m + k];
+      out[(size_t)i * m + k] = acc;
     }
   if (c->c0 + c->sens <= n) return; /* no parameter column */
-  double h = 1e-6 * fmax(fabs(c->p), 1e-3), *last = out + (size_t)(c->sens - 1) * (size_t)n;
+  double h = 1e-6 * fmax(fabs(c->p), 1e-3);
   s->ode.rhs(s->ode.user, 0, c->p + h, z, c->a);
   s->ode.rhs(s->ode.user, 0, c->p - h, z, c->b);
-  for (int i = 0; i < n; i++) last[i] += (c->a[i] - c->b[i]) / (2 * h);
+  for (int i = 0; i < n; i++) out[(size_t)i * m + m - 1] += (c->a[i] - c->b[i]) / (2 * h);
 }
 
 static int var_rhs(double t, N_Vector y, N_Vector ydot, void *user)
@@ -92,12 +93,12 @@ static void var_tolerances(const rr_orbit_sys *s, double rtol, double scale, int
 {
   int n = s->ode.n;
   for (int i = 0; i < n; i++) tol[i] = rtol * s->atol[i] * scale;
-  for (int c = 0; c < nc; c++) {
-    int k = c0 + c;
-    for (int i = 0; i < n; i++)
-      tol[(size_t)(c + 1) * (size_t)n + (size_t)i] =
+  for (int i = 0; i < n; i++)
+    for (int c = 0; c < nc; c++) {
+      int k = c0 + c;
+      tol[(size_t)n + (size_t)i * (size_t)nc + (size_t)c] =
           rtol * s->atol[i] / (k < n ? s->atol[k] : s->p_unit);
-  }
+    }
 }
 
 /* Integration of one period that never steps across a kink of f (the
@@ -205,7 +206,7 @@ static int period_run(period *P, double T)
 
 /* One period from z0 with columns c0 .. c0 + nc - 1 of the variational
    equations (nc = 0: the orbit alone): z(T) to zT, the amplitude to *amp,
-   and the columns at T to cols (n each; may be NULL when nc = 0). */
+   and the columns at T to cols (n rows of nc; may be NULL when nc = 0). */
 static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double T, double rtol,
                        int c0, int nc, double *zT, double *amp, double *cols, rr_error *err)
 {
@@ -232,7 +233,7 @@ static int flow_period(const rr_orbit_sys *s, double p, const double *z0, double
   memset(Y, 0, sizeof(double) * (size_t)ny);
   memcpy(Y, z0, sizeof(double) * (size_t)n);
   for (int k = 0; k < nc; k++) /* Phi(0) = I, phi_p(0) = 0 */
-    if (c0 + k < n) Y[(size_t)(k + 1) * (size_t)n + (size_t)c0 + (size_t)k] = 1;
+    if (c0 + k < n) Y[(size_t)n + (size_t)(c0 + k) * (size_t)nc + (size_t)k] = 1;
   var_tolerances(s, rtol, scale, c0, nc, N_VGetArrayPointer(tol));
   P.mem = ERKStepCreate(var_rhs, 0, P.y, ctx);
   if (!P.mem ||
@@ -268,7 +269,8 @@ done:
    integrated with its own copy of the orbit: the groups are independent
    jobs that a runner may spread over processes, and one process computes the
    same groups, so that the numbers do not depend on how many there are. A
-   job's result: z(T) (n), the amplitude (1), its columns (n x ncols). */
+   job's result: z(T) (n), the amplitude (1), its columns (n rows of its
+   column count). */
 typedef struct sens_job {
   const rr_orbit_sys *s;
   double p, T, rtol;
@@ -335,11 +337,15 @@ static int flow_sens(const rr_orbit_sys *s, const rr_runner_opts *run, double p,
   memcpy(f->zT, buf, sizeof(double) * (size_t)n);
   f->amp = buf[n];
   for (int k = 0; k <= n; k++) {
-    const double *col = buf + (size_t)(k / ncols) * item + n + 1 + (size_t)(k % ncols) * (size_t)n;
-    if (k == n)
-      memcpy(f->phip, col, sizeof(double) * (size_t)n);
-    else
-      for (int i = 0; i < n; i++) f->Phi[(size_t)i * (size_t)n + (size_t)k] = col[i];
+    int g = k / ncols, c = k % ncols, nc = n + 1 - g * ncols < ncols ? n + 1 - g * ncols : ncols;
+    const double *rows = buf + (size_t)g * item + n + 1 + c;
+    for (int i = 0; i < n; i++) {
+      double x = rows[(size_t)i * (size_t)nc];
+      if (k == n)
+        f->phip[i] = x;
+      else
+        f->Phi[(size_t)i * (size_t)n + (size_t)k] = x;
+    }
   }
   return RR_OK;
 }

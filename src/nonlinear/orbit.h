@@ -14,13 +14,13 @@
 #define RR_ORBIT_MAX_KINKS 64
 /* The variational equations run in this many groups of columns, each with
    its own copy of the orbit: jobs for a runner (rr_runner_opts). */
-#define RR_ORBIT_GROUPS 4
+#define RR_ORBIT_GROUPS 2
 
 typedef struct rr_orbit_sys {
   rr_ode ode; /* autonomous (t unused); p the continuation parameter */
-  /* Optional, for speed: out = [J X_0 .. J X_{m-1}] (columns of n),
-     J = df/dz at z, with df/dp added to the last column when dfdp. NULL: the
-     dense ode.jac and a central difference in p. */
+  /* Optional, for speed: out = J X, J = df/dz at z, X and out n x m row by
+     row (the m columns side by side), with df/dp added to the last column
+     when dfdp. NULL: the dense ode.jac and a central difference in p. */
   void (*jvp)(void *user, double p, const double *z, const double *X, int m, int dfdp, double *out);
   /* Optional: nkinks functions of z whose sign changes mark where f is not
      smooth (a dead band's edges); the integration stops at each. */
