@@ -313,6 +313,46 @@ static void check_scan(const rr_vehicle *veh, const rr_profile *p, const rr_cycl
   }
 }
 
+/* The fold's speed (the nonlinear critical speed) against a second method:
+   cycles shot over the whole period at fixed amplitudes on a grid 0.02 mm
+   apart around the branch's lowest cycle, the parabola through the lowest
+   grid point and its neighbours. */
+static void check_fold(const rr_vehicle *veh, const rr_profile *p, const rr_cycle *c,
+                       const double *Z, int n, double v_fold)
+{
+  int b = 0;
+  for (int i = 1; i < n; i++)
+    if (c[i].speed_ms < c[b].speed_ms) b = i;
+  rr_nonlinear *nl;
+  rr_error e;
+  int st = rr_nonlinear_from_vehicle(veh, p, NULL, c[b].speed_ms, &nl, &e);
+  CHECK_OK(st, e);
+  rr_orbit_sys s;
+  double *atol, grid[13], h = 0.02e-3, a0 = c[b].amplitude_m - 6 * h;
+  rr_nonlinear_orbit_sys(nl, &s, &atol, &e);
+  int N = s.ode.n, lo = 0;
+  double *z = malloc(sizeof(double) * N);
+  for (int k = 0; k < 13 && !st; k++) {
+    double T = c[b].period_s, v = c[b].speed_ms;
+    rr_orbit r;
+    memcpy(z, Z + (size_t)b * N, sizeof(double) * N);
+    st = rr_orbit_solve(&s, z, &T, &v, 1e-10, 1, a0 + k * h, &r, &e);
+    CHECK_OK(st, e);
+    grid[k] = v;
+    if (grid[k] < grid[lo]) lo = k;
+  }
+  CHECK(lo > 0 && lo < 12, "the grid brackets the fold (lowest at %d)", lo);
+  if (!st && lo > 0 && lo < 12) {
+    double curv = grid[lo - 1] - 2 * grid[lo] + grid[lo + 1], slope = grid[lo + 1] - grid[lo - 1];
+    double v_grid = grid[lo] - slope * slope / (8 * curv);
+    CHECK_CLOSE(v_fold * RR_KMH, v_grid * RR_KMH, 0, 5e-4,
+                "the fold's speed, km/h, against fixed-amplitude cycles on a grid");
+  }
+  free(z);
+  free(atol);
+  rr_nonlinear_free(nl);
+}
+
 /* The continuation's branches, checked: Hopf speed, residuals, stable cycles
    reproduced by direct integration, unstable ones left along their unstable
    Floquet vector. A subcritical case: conicity rising with amplitude. */
@@ -430,11 +470,12 @@ static void test_branch(const char *veh_file_text, const char *prof, double v_hi
   }
   CHECK(checked_stable == 2 && checked_unstable == (want_type == RR_BIF_SUBCRITICAL),
         "checked %d stable, %d unstable", checked_stable, checked_unstable);
-  if (want_type == RR_BIF_SUBCRITICAL)
+  if (want_type == RR_BIF_SUBCRITICAL) {
     CHECK(b.nonlinear_critical_ms < b.hopf_speed_ms - 5 * KMH,
           "subcritical: nonlinear critical %.2f below Hopf %.2f km/h",
           b.nonlinear_critical_ms * RR_KMH, b.hopf_speed_ms * RR_KMH);
-  else
+    check_fold(&veh, &p, pts, Z, b.npoints, b.nonlinear_critical_ms);
+  } else
     CHECK_CLOSE(b.nonlinear_critical_ms, b.hopf_speed_ms, 1e-12, 0,
                 "supercritical: nonlinear = linear critical speed");
   free(pts);

@@ -238,27 +238,27 @@ static double extrapolate_hopf(const rr_cycle *c, int n)
          c[2].speed_ms * a0 * a1 / ((a2 - a0) * (a2 - a1));
 }
 
-/* The lowest speed on the branch (the Hopf point included), a fold refined
-   by the parabola through it and its neighbours, as speed against amplitude. */
-static double lowest_speed(const rr_cycle *c, int n, double v_hopf)
+/* The lowest speed on the branch (the Hopf point included). A fold there
+   (the lowest cycle has neighbours on both sides) is refined by cycles at
+   fixed amplitudes around it (rr_orbit_fold), started a quarter of the
+   smaller neighbour spacing apart; if those fail, the lowest cycle's speed
+   stands (an upper bound). */
+static double lowest_speed(const rr_orbit_sys *s, const rr_orbit_opts *o, const rr_orbit *c,
+                           const double *Z, int n, double v_hopf)
 {
   int b = -1;
   double best = v_hopf;
   for (int i = 0; i < n; i++)
-    if (c[i].speed_ms < best) {
-      best = c[i].speed_ms;
+    if (c[i].p < best) {
+      best = c[i].p;
       b = i;
     }
   if (b <= 0 || b >= n - 1) return best;
-  double x0 = c[b - 1].amplitude_m, x1 = c[b].amplitude_m, x2 = c[b + 1].amplitude_m;
-  double y0 = c[b - 1].speed_ms, y1 = c[b].speed_ms, y2 = c[b + 1].speed_ms;
-  double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1), a = (d12 - d01) / (x2 - x0);
-  if (!(a > 0)) return best;
-  double xv = 0.5 * (x0 + x1) - d01 / (2 * a),
-         yv = y1 + d01 * (xv - x1) + a * (xv - x0) * (xv - x1);
-  return yv < best && xv > fmin(x0, x2) && xv < fmax(x0, x2)
-             ? yv
-             : best; /* the vertex, when it lies between */
+  double d = 0.25 * fmin(fabs(c[b].amp - c[b - 1].amp), fabs(c[b + 1].amp - c[b].amp)), vf, af;
+  rr_error e;
+  int st = rr_orbit_fold(s, &o->runner, Z + (size_t)b * (size_t)s->ode.n, c[b].T, c[b].p, d,
+                         o->rtol, &vf, &af, &e);
+  return !st && vf < best ? vf : best;
 }
 
 static void summarise(const rr_cycle *c, int n, rr_bifurcation *res)
@@ -267,7 +267,6 @@ static void summarise(const rr_cycle *c, int n, rr_bifurcation *res)
   if (n < 1) return;
   res->type = c[0].speed_ms >= res->hopf_speed_ms ? RR_BIF_SUPERCRITICAL : RR_BIF_SUBCRITICAL;
   res->hopf_speed_branch_ms = extrapolate_hopf(c, n < 3 ? n : 3);
-  res->nonlinear_critical_ms = lowest_speed(c, n, res->hopf_speed_ms);
 }
 
 int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
@@ -315,10 +314,15 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
                          .cap = cap < o->max_points ? cap : o->max_points,
                          .runner = o->runner};
     int n = 0;
-    if (!st) st = rr_orbit_branch(&s, vh, &bo, pts, z_out, &n, &res->end, err);
+    double *Z =
+        z_out ? z_out : malloc(sizeof(double) * (size_t)cap * (size_t)rr_nonlinear_size(nl));
+    if (!st && !Z) st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    if (!st) st = rr_orbit_branch(&s, vh, &bo, pts, Z, &n, &res->end, err);
     for (int i = 0; i < n; i++) out[i] = cycle_of(&pts[i]);
     summarise(out, n, res);
+    if (!st && n) res->nonlinear_critical_ms = lowest_speed(&s, o, pts, Z, n, vh);
     find_events(pts, n, res);
+    if (Z != z_out) free(Z);
     free(pts);
     free(atol);
   }

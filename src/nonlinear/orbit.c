@@ -633,6 +633,57 @@ int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, doub
   return st;
 }
 
+#define FOLD_ROUNDS 3
+
+/* The vertex of the parabola through (a - d, p[0]), (a, p[1]), (a + d, p[2]):
+   its abscissa to *av; its ordinate returned (NaN: not a minimum). */
+static double vertex(double a, double d, const double p[3], double *av)
+{
+  double curv = p[0] - 2 * p[1] + p[2], slope = p[2] - p[0];
+  if (!(curv > 0)) return NAN;
+  *av = a - 0.5 * d * slope / curv;
+  return p[1] - slope * slope / (8 * curv);
+}
+
+int rr_orbit_fold(const rr_orbit_sys *s, const rr_runner_opts *run, const double *z0, double T,
+                  double p, double d, double rtol, double *p_fold, double *amp_fold, rr_error *err)
+{
+  int n = s->ode.n, st = RR_OK;
+  work w;
+  double *X = malloc(sizeof(double) * 2 * ((size_t)n + 2)), *X0 = X + n + 2;
+  if (work_new(&w, n) || !X) {
+    free(X);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
+  w.run = run;
+  w.half = s->odd;
+  memcpy(X0, z0, sizeof(double) * (size_t)n);
+  X0[n] = T;
+  X0[n + 1] = p;
+  double a = z0[s->k_amp];
+  for (int round = 0; round < FOLD_ROUNDS && !st; round++, d *= 0.25) {
+    double pk[3];
+    for (int k = 0; k < 3 && !st; k++) { /* from the nearest orbit known: the centre's */
+      memcpy(X, X0, sizeof(double) * ((size_t)n + 2));
+      closure c = {.kind = 1, .amp = a + (k - 1) * d};
+      rr_orbit r;
+      st = newton(s, &w, X, &X[n], &X[n + 1], rtol, &c, &r, err);
+      pk[k] = X[n + 1];
+      if (k == 1) memcpy(X0, X, sizeof(double) * ((size_t)n + 2));
+    }
+    double av = a, pv = st ? NAN : vertex(a, d, pk, &av);
+    if (!st && !isfinite(pv))
+      st = rr_seterr(err, RR_ENOCONV, "orbit: no fold near %g (p against amplitude is not convex)",
+                     p);
+    *p_fold = pv;
+    *amp_fold = av;
+    a = av;
+  }
+  work_free(&w);
+  free(X);
+  return st;
+}
+
 int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, double p, double *mu,
                             double *v, rr_error *err)
 {

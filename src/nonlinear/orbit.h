@@ -56,9 +56,18 @@ typedef struct rr_orbit {
 } rr_orbit;
 
 /* Newton on (z0, T) at fixed p (fix_p) or on (z0, T, p) with the amplitude
-   fixed at amp (fix_amp): one orbit, refined in place. */
+   fixed at amp (fix_amp): one orbit, refined in place; a whole period's
+   (symmetric orbits too). */
 int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, double rtol,
                    int fix_amp, double amp, rr_orbit *out, rr_error *err);
+
+/* A fold of the branch (a turning point in p) near its orbit (z0, T, p),
+   whose z0[k_amp] is amp: the vertex of p against z0[k_amp], from orbits at
+   fixed z0[k_amp] = a - d, a, a + d, a parabola through them, twice more
+   around its vertex with d / 4. The branch's formulation (symmetric when
+   s->odd). */
+int rr_orbit_fold(const rr_orbit_sys *s, const rr_runner_opts *run, const double *z0, double T,
+                  double p, double d, double rtol, double *p_fold, double *amp_fold, rr_error *err);
 
 /* The Floquet multiplier of largest modulus but the trivial one (*mu) and
    its eigenvector (the real part for a complex pair) at the orbit (z0, T, p). */
