@@ -568,6 +568,70 @@ static void test_symmetry_breaking(void)
   free(Z);
 }
 
+/* A grazing corner: design C of the study (stiff primary, weak yaw dampers)
+   on the worn tread, subcritical, whose unstable branch falls until the
+   leading wheelset reaches the flange (8 mm) at ~158.9 km/h. There the branch
+   turns sharply back up in speed, with stable cycles in flange contact; the
+   continuation steps past the corner (the branch goes on to the range's end),
+   the corner is the lowest speed (the nonlinear critical speed, a fold), and
+   direct integration from a stable cycle beyond it stays on it. */
+static void test_grazing_corner(void)
+{
+  rr_vehicle veh;
+  rr_profile p;
+  rr_error e;
+  int st = rr_vehicle_load(check_write_file("C.ini", "[vehicle]\nbase = type1\n[primary]\n"
+                                                     "longitudinal_stiffness = 119.721 kN/mm\n"
+                                                     "[lateral_damper]\ndamping = 59.9985 kN.s/m\n"
+                                                     "[yaw_damper]\ndamping = 235.793 kN.s/m\n"
+                                                     "series_stiffness = 29.9975 MN/m\n"),
+                           &veh, &e);
+  CHECK_OK(st, e);
+  rr_profile_open("worn", &p, &e);
+  rr_orbit_opts o = rr_orbit_opts_default();
+  o.v_max_ms = 200 * KMH;
+  int cap = 200, beyond = -1, corner = -1;
+  rr_cycle *pts = malloc(sizeof *pts * cap);
+  double *Z = malloc(sizeof(double) * 64 * cap);
+  rr_bifurcation b;
+  st = rr_bifurcation_continue(&veh, &p, NULL, &o, pts, Z, cap, &b, &e);
+  CHECK_OK(st, e);
+  CHECK(b.type == RR_BIF_SUBCRITICAL && b.end == RR_BRANCH_RANGE,
+        "design C worn: subcritical, the branch to the range's end (end %d)", b.end);
+  for (int i = 0; i < b.npoints; i++) {
+    if (corner < 0 || pts[i].speed_ms < pts[corner].speed_ms) corner = i;
+    if (beyond < 0 && corner >= 0 && i > corner && pts[i].amplitude_m > veh.flange_clearance &&
+        pts[i].stable && pts[i].speed_ms > pts[corner].speed_ms + 10 * KMH)
+      beyond = i;
+  }
+  CHECK(corner > 0 && corner < b.npoints - 1 &&
+            fabs(pts[corner].amplitude_m - veh.flange_clearance) < 0.02e-3,
+        "the lowest cycle is the corner at the flange (%g mm)", pts[corner].amplitude_m * 1e3);
+  CHECK_CLOSE(b.nonlinear_critical_ms, pts[corner].speed_ms, 1e-9, 0,
+              "nonlinear critical speed: the corner's");
+  int fold = 0;
+  for (int i = 0; i < b.nevents; i++)
+    fold |= b.events[i].kind == RR_EVENT_FOLD && b.events[i].gained < 0 &&
+            b.events[i].index == corner + 1;
+  CHECK(fold, "a fold at the corner, stable beyond it");
+  CHECK(beyond > 0, "stable cycles in flange contact beyond the corner");
+  if (beyond > 0) {
+    rr_nonlinear *nl;
+    st = rr_nonlinear_from_vehicle(&veh, &p, NULL, pts[beyond].speed_ms, &nl, &e);
+    CHECK_OK(st, e);
+    int N = rr_nonlinear_size(nl);
+    double *z = malloc(sizeof(double) * N), amp, freq;
+    for (int j = 0; j < N; j++) z[j] = Z[(size_t)beyond * N + j] * 1.005;
+    run_measure(nl, z, 12, 1, &amp, &freq);
+    CHECK_CLOSE(amp, pts[beyond].amplitude_m, 0.01, 0, "flange-contact cycle: amplitude");
+    CHECK_CLOSE(freq, 1 / pts[beyond].period_s, 0.005, 0, "flange-contact cycle: frequency");
+    free(z);
+    rr_nonlinear_free(nl);
+  }
+  free(pts);
+  free(Z);
+}
+
 /* Vehicle-file keys of the nonlinear model. */
 static void test_vehicle_keys(void)
 {
@@ -605,6 +669,7 @@ int main(void)
   test_vehicle_keys();
   test_branch(NULL, "worn", 580, RR_BIF_SUPERCRITICAL);
   test_symmetry_breaking();
+  test_grazing_corner();
   test_branch("[vehicle]\nbase = type1\n[contact]\nconicity_poly = 0.3 0.02\n", NULL, 600,
               RR_BIF_SUBCRITICAL);
   check_cleanup();

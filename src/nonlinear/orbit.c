@@ -797,6 +797,49 @@ static void history_predict(const history *h, double ds, double *X)
     X[i] = l0 * (h->k >= 3 ? h->X[0][i] : 0) + l1 * h->X[1][i] + l2 * h->X[2][i];
 }
 
+/* Whether a cycle (ua, up) from the last one (scaled amplitude and speed
+   changes), solved at a fixed amplitude (kind 1) or speed (kind 0), lies
+   back on the branch that came in along (dA, dp): the branch's line
+   backward reaches its fixed coordinate with the other within half of the
+   line's change. Ahead of the last cycle in that coordinate the branch
+   behind cannot be. */
+static int behind(int kind, double ua, double up, double dA, double dp)
+{
+  double fixed = kind ? ua : up, along = kind ? dA : dp, other = kind ? up : ua,
+         slope = kind ? dp / dA : dA / dp; /* the other coordinate per unit of the fixed one */
+  if (fixed * along >= 0) return 0;
+  return fabs(other - fixed * slope) <= 0.5 * fabs(fixed * slope);
+}
+
+/* Past a corner of the branch, where a wheelset starts or stops touching a
+   flange and the branch turns abruptly (a grazing point), the arclength's
+   hyperplane ahead misses it. From the last cycle Xl, whose branch came in
+   along (dA, dp) (scaled): cycles at fixed amplitudes a few um either side
+   (a flange's stiffness lets the amplitude move ~0.01 mm in 1 km/h beyond
+   the contact), then at fixed speeds up to 1 km/h either side (in
+   amp_unit, p_unit); the first near Xl that is not back on the branch
+   behind is the branch beyond. 0: X and r hold it. */
+static int corner_step(const rr_orbit_sys *s, work *w, const double *Xl, double dA, double dp,
+                       double rtol, double *X, rr_orbit *r)
+{
+  static const double damp[] = {2e-3, 1e-3, 4e-3, 0.5e-3, 8e-3}, dspeed[] = {0.1, 0.05, 0.025};
+  int n = s->ode.n, na = (int)(sizeof damp / sizeof damp[0]),
+      nv = (int)(sizeof dspeed / sizeof dspeed[0]);
+  for (int i = 0; i < 2 * (na + nv); i++) {
+    int kind = i < 2 * na ? 1 : 0, j = (kind ? i : i - 2 * na) / 2;
+    double sign = (i % 2 ? -1 : 1) * ((kind ? dA : dp) >= 0 ? 1 : -1);
+    memcpy(X, Xl, sizeof(double) * ((size_t)n + 2));
+    closure c = {.kind = kind,
+                 .amp = Xl[s->k_amp] + sign * damp[kind ? j : 0] * s->amp_unit,
+                 .p = Xl[n + 1] + sign * dspeed[kind ? 0 : j] * s->p_unit};
+    rr_error e;
+    if (newton(s, w, X, &X[n], &X[n + 1], rtol, &c, r, &e)) continue;
+    double ua = (X[s->k_amp] - Xl[s->k_amp]) / s->amp_unit, up = (X[n + 1] - Xl[n + 1]) / s->p_unit;
+    if (fabs(ua) <= 0.1 && fabs(up) <= 1 && !behind(kind, ua, up, dA, dp)) return 0;
+  }
+  return -1;
+}
+
 int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
                     double *z_out, int *np, int *end, rr_error *err)
 {
@@ -847,11 +890,13 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
     rr_error e2;
     if (newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, &e2)) {
       ds *= 0.5;
-      if (ds < 1e-2 * o->ds) {
-        *end = 3;
+      if (ds >= 1e-2 * o->ds) continue;
+      if (corner_step(s, &w, h.X[2], dA / len, dp / len, o->rtol, X, &r)) {
+        *end = 3; /* cannot go on: the branch ends here */
         break;
-      } /* cannot go on: the branch ends here */
-      continue;
+      }
+      h.k = 1; /* the line through the corner and the cycle beyond predicts from here */
+      ds = fmax(o->ds, chord(s, X, h.X[2]));
     }
     store(&r, X, n, out, z_out, &k);
     history_push(s, &h, X);
