@@ -35,4 +35,4 @@ RAILRIDE_LIB="$B/librailride.so" THREADS=1 taskset -c 1 $PY bench/python_batch.p
 echo "== validation: 600 s at 350 km/h simulated and analysed =="
 "$B/railride" validate --speed 350 --conicity 0.2 | tail -1
 echo "== nonlinear model: simulation, bifurcation diagram by continuation and by the scan =="
-taskset -c 1 "$B/bench/bench_nonlinear"
+OMP_NUM_THREADS=1 taskset -c 1 "$B/bench/bench_nonlinear"

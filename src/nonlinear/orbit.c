@@ -651,7 +651,7 @@ int rr_orbit_fold(const rr_orbit_sys *s, const rr_runner_opts *run, const double
   int n = s->ode.n, st = RR_OK;
   work w;
   double *X = malloc(sizeof(double) * 2 * ((size_t)n + 2)), *X0 = X + n + 2;
-  if (work_new(&w, n) || !X) {
+  if (!X || work_new(&w, n)) {
     free(X);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
