@@ -126,31 +126,67 @@ static void indicators(const period *P, const double *z, double *g)
 
 static int crossed(double a, double b) { return (a < 0 && b >= 0) || (a > 0 && b <= 0); }
 
-/* The zero of indicator j in (ta, tb) on the last step's dense output
-   (Illinois false position); y there left in P->ytmp. */
-static double locate(period *P, int j, double ta, double tb)
+/* On the last step's dense output at t (y there left in P->ytmp): indicator
+   j, or for j < 0 the state's component -1 - j. */
+static double probe(period *P, int j, double t)
 {
-  double ga = P->ga[j], gb = P->gb[j], g[RR_ORBIT_MAX_KINKS + 1], t = tb;
+  ERKStepGetDky(P->mem, t, 0, P->ytmp);
+  const double *z = N_VGetArrayPointer(P->ytmp);
+  if (j < 0) return z[-1 - j];
+  double g[RR_ORBIT_MAX_KINKS + 1];
+  indicators(P, z, g);
+  return g[j];
+}
+
+/* The zero in (ta, tb) of what probe(j) gives, ga and gb at the ends
+   (Illinois false position); y there left in P->ytmp. */
+static double locate(period *P, int j, double ta, double tb, double ga, double gb)
+{
+  double t = tb;
   int side = 0;
   for (int it = 0; it < 60 && tb - ta > 1e-15 * fmax(1, fabs(tb)); it++) {
     t = (ta * gb - tb * ga) / (gb - ga);
-    ERKStepGetDky(P->mem, t, 0, P->ytmp);
-    indicators(P, N_VGetArrayPointer(P->ytmp), g);
-    if (g[j] == 0) break;
-    if (crossed(ga, g[j])) {
+    double g = probe(P, j, t);
+    if (g == 0) break;
+    if (crossed(ga, g)) {
       tb = t;
-      gb = g[j];
+      gb = g;
       if (side == -1) ga *= 0.5;
       side = -1;
     } else {
       ta = t;
-      ga = g[j];
+      ga = g;
       if (side == 1) gb *= 0.5;
       side = 1;
     }
   }
   ERKStepGetDky(P->mem, t, 0, P->ytmp);
   return t;
+}
+
+/* The first kink inside the step (tprev, t): a sign change of a kink
+   function, or, where its rate changes sign, its value at that extreme on
+   the other side of zero (it went in and out within the step); t if none. */
+static double first_kink(period *P, double tprev, double t)
+{
+  const rr_orbit_sys *s = P->s;
+  const double *ya = N_VGetArrayPointer(P->yprev), *yb = N_VGetArrayPointer(P->y);
+  double tk = t, te = t, ge[RR_ORBIT_MAX_KINKS + 1];
+  for (int i = 0, r_at = -1; i < s->nkinks; i++) {
+    if (crossed(P->ga[i], P->gb[i])) {
+      tk = fmin(tk, locate(P, i, tprev, t, P->ga[i], P->gb[i]));
+      continue;
+    }
+    int r = s->has_kink_rate ? s->kink_rate[i] : -1;
+    if (r < 0 || !crossed(ya[r], yb[r])) continue;
+    if (r != r_at) { /* the extreme, once for the kinks that share a rate */
+      te = locate(P, -1 - r, tprev, t, ya[r], yb[r]);
+      indicators(P, N_VGetArrayPointer(P->ytmp), ge);
+      r_at = r;
+    }
+    if (crossed(P->ga[i], ge[i])) tk = fmin(tk, locate(P, i, tprev, te, P->ga[i], ge[i]));
+  }
+  return tk;
 }
 
 static int period_run(period *P, double T)
@@ -167,9 +203,7 @@ static int period_run(period *P, double T)
     if (r < 0) return r;
     ERKStepGetLastStep(P->mem, &h);
     indicators(P, Y, P->gb);
-    double tk = t;
-    for (int i = 0; i < nk; i++)
-      if (crossed(P->ga[i], P->gb[i])) tk = fmin(tk, locate(P, i, tprev, t));
+    double tk = nk ? first_kink(P, tprev, t) : t;
     /* a kink inside the step (not at its very start): back to the start and
        stop at the kink; a located kink a hair early is caught again by the
        next, short, step and the stop refined */
@@ -185,7 +219,7 @@ static int period_run(period *P, double T)
       continue;
     }
     if (crossed(P->ga[nk], P->gb[nk])) {
-      locate(P, nk, tprev, t);
+      locate(P, nk, tprev, t, P->ga[nk], P->gb[nk]);
       P->amp = fmax(P->amp, fabs(N_VGetArrayPointer(P->ytmp)[s->k_amp]));
     }
     P->amp = fmax(P->amp, fabs(Y[s->k_amp]));
@@ -840,6 +874,19 @@ static int corner_step(const rr_orbit_sys *s, work *w, const double *Xl, double 
   return -1;
 }
 
+#define TURN_COS_MIN 0.5 /* a step may turn the branch by at most 60 degrees */
+
+/* The cosine of the turn from the last secant (tA, tp) (scaled, unit) to the
+   step from the last cycle a to X. */
+static double turn_cos(const rr_orbit_sys *s, const double *X, const double *a, double tA,
+                       double tp)
+{
+  int n = s->ode.n;
+  double uA = (X[s->k_amp] - a[s->k_amp]) / s->amp_unit, up = (X[n + 1] - a[n + 1]) / s->p_unit;
+  double len = hypot(uA, up);
+  return len > 0 ? (uA * tA + up * tp) / len : 1;
+}
+
 int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
                     double *z_out, int *np, int *end, rr_error *err)
 {
@@ -888,15 +935,16 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
         .kind = 2, .amp = a[s->k_amp], .p = a[n + 1], .tA = dA / len, .tp = dp / len, .ds = ds};
     history_predict(&h, ds, X);
     rr_error e2;
-    if (newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, &e2)) {
-      ds *= 0.5;
+    int fail = newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, &e2);
+    if (fail || turn_cos(s, X, a, dA / len, dp / len) < TURN_COS_MIN) {
+      ds *= 0.5; /* a failure, or a step that turned too far: it may have jumped branches */
       if (ds >= 1e-2 * o->ds) continue;
       if (corner_step(s, &w, h.X[2], dA / len, dp / len, o->rtol, X, &r)) {
         *end = 3; /* cannot go on: the branch ends here */
         break;
       }
       h.k = 1; /* the line through the corner and the cycle beyond predicts from here */
-      ds = fmax(o->ds, chord(s, X, h.X[2]));
+      ds = chord(s, X, h.X[2]);
     }
     store(&r, X, n, out, z_out, &k);
     history_push(s, &h, X);
