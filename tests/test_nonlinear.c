@@ -208,6 +208,79 @@ static void test_van_der_pol(void)
   }
 }
 
+/* The van der Pol oscillator with a dead-band spring beyond |x| = 0.3
+   (k = 100): from mu = 0.0225 its cycles touch the band at both extremes,
+   the one at x = -A inside the period (shot over the whole period), where
+   the integration stops at the band's edges. Every such cycle's return map,
+   integrated again by CVODE (BDF, through the kinks, tolerance 1e-12),
+   closes to 1e-8. */
+#define VDP_BAND 0.3
+#define VDP_BAND_K 100
+
+static void band_rhs(void *u, double t, double mu, const double *z, double *dz)
+{
+  vdp_rhs(u, t, mu, z, dz);
+  double a = fabs(z[0]) - VDP_BAND;
+  if (a > 0) dz[1] -= VDP_BAND_K * a * (z[0] > 0 ? 1 : -1);
+}
+
+static void band_jac(void *u, double t, double mu, const double *z, double *J)
+{
+  vdp_jac(u, t, mu, z, J);
+  if (fabs(z[0]) > VDP_BAND) J[2] -= VDP_BAND_K;
+}
+
+static void band_kinks(void *u, double p, const double *z, double *g)
+{
+  (void)u;
+  (void)p;
+  g[0] = z[0] - VDP_BAND;
+  g[1] = z[0] + VDP_BAND;
+}
+
+static void test_dead_band(void)
+{
+  double atol[2] = {1, 1};
+  rr_orbit_sys s = {.ode = {.n = 2, .rhs = band_rhs, .jac = band_jac},
+                    .nkinks = 2,
+                    .kinks = band_kinks,
+                    .k_amp = 0,
+                    .k_phase = 1,
+                    .amp_unit = 0.1,
+                    .p_unit = 0.01,
+                    .atol = atol};
+  rr_branch_opts bo = {.p_min = -1,
+                       .p_max = 0.05,
+                       .amp_max = 10,
+                       .amp_start = 0.05,
+                       .ds = 0.2,
+                       .ds_max = 0.5,
+                       .rtol = 1e-11,
+                       .cap = 100};
+  rr_orbit pts[100];
+  double Z[200];
+  int n = 0, end, touching = 0;
+  rr_error e;
+  int st = rr_orbit_branch(&s, 0, &bo, pts, Z, &n, &end, &e);
+  CHECK_OK(st, e);
+  for (int i = 0; i < n && !st; i++) {
+    if (pts[i].amp <= VDP_BAND) continue;
+    touching++;
+    double atol_cv[2] = {1e-14, 1e-14}, t = 0;
+    ode_cv c;
+    st = rr_ode_open(&c, &s.ode, pts[i].p, Z + 2 * i, 1e-12, atol_cv, &e);
+    CHECK_OK(st, e);
+    CVodeSetStopTime(c.mem, pts[i].T);
+    CVode(c.mem, pts[i].T, c.y, &t, CV_NORMAL);
+    const double *y = N_VGetArrayPointer(c.y), *z0 = Z + 2 * i;
+    double res = hypot(y[0] - z0[0], y[1] - z0[1]) / hypot(z0[0], z0[1]);
+    CHECK(res <= 1e-8, "touching cycle (mu %.4f, amplitude %.6f): CVODE's return %.1e", pts[i].p,
+          pts[i].amp, res);
+    rr_ode_close(&c);
+  }
+  CHECK(touching >= 3 && end == 0, "cycles touching the band: %d of %d (end %d)", touching, n, end);
+}
+
 /* Constant conicity, no saturation, no flange: a linear model, no branch;
    direct integration grows or decays at a constant rate, never settles. */
 static void test_linear_no_branch(void)
@@ -615,6 +688,26 @@ static void test_grazing_corner(void)
             b.events[i].index == corner + 1;
   CHECK(fold, "a fold at the corner, stable beyond it");
   CHECK(beyond > 0, "stable cycles in flange contact beyond the corner");
+  for (int i = corner - 1; i <= corner + 2 && i > 0 && i < b.npoints; i++) { /* touches of um */
+    rr_nonlinear *nl;
+    st = rr_nonlinear_from_vehicle(&veh, &p, NULL, pts[i].speed_ms, &nl, &e);
+    CHECK_OK(st, e);
+    int N = rr_nonlinear_size(nl);
+    double *out = malloc(sizeof(double) * 2 * N), d = 0;
+    rr_sim_opts so = rr_sim_opts_default();
+    so.duration_s = pts[i].period_s;
+    so.fs_hz = 1 / pts[i].period_s;
+    so.rtol = 1e-11;
+    so.atol_m = 1e-14;
+    st = rr_simulate(nl, Z + (size_t)i * N, &so, out, 2, &e);
+    CHECK_OK(st, e);
+    for (int j = 0; j < N; j++) d += pow(out[N + j] - out[j], 2);
+    CHECK(sqrt(d / norm2sq(out, N)) <= 1e-7,
+          "cycle %d by %.4f mm: periodic by direct integration too (%.1e)", i,
+          pts[i].amplitude_m * 1e3, sqrt(d / norm2sq(out, N)));
+    free(out);
+    rr_nonlinear_free(nl);
+  }
   if (beyond > 0) {
     rr_nonlinear *nl;
     st = rr_nonlinear_from_vehicle(&veh, &p, NULL, pts[beyond].speed_ms, &nl, &e);
@@ -665,6 +758,7 @@ int main(void)
   test_jacobian_fd();
   test_growth_rate();
   test_van_der_pol();
+  test_dead_band();
   test_linear_no_branch();
   test_vehicle_keys();
   test_branch(NULL, "worn", 580, RR_BIF_SUPERCRITICAL);

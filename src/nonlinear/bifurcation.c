@@ -16,7 +16,7 @@ void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z,
                               double *J);
 void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m,
                          int dfdv, double *out);
-int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g, int *rate);
+int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g);
 
 #define AMP_UNIT 1e-3            /* arclength: 1 mm of amplitude ... */
 #define SPEED_UNIT (10 / RR_KMH) /* ... weighs as 10 km/h */
@@ -63,7 +63,7 @@ static void sys_jvp(void *u, double p, const double *z, const double *X, int m, 
 
 static void sys_kinks(void *u, double p, const double *z, double *g)
 {
-  rr_nonlinear_kinks_at(u, p, z, g, NULL);
+  rr_nonlinear_kinks_at(u, p, z, g);
 }
 
 /* The vehicle as an orbit system: amplitude y_w1, phase dy_w1/dt = 0. */
@@ -71,7 +71,7 @@ int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_
 {
   int N = rr_nonlinear_size(nl), k = rr_nonlinear_index_y(nl, 0);
   if (k < 0) return rr_seterr(err, RR_EINVAL, "orbit: the model has no wheelset");
-  int nk = rr_nonlinear_kinks_at(nl, 1, NULL, NULL, NULL);
+  int nk = rr_nonlinear_kinks_at(nl, 1, NULL, NULL);
   if (nk > RR_ORBIT_MAX_KINKS)
     return rr_seterr(err, RR_EUNSUP, "orbit: more than %d wheelset kinks", RR_ORBIT_MAX_KINKS);
   *atol = malloc(sizeof(double) * (size_t)N);
@@ -80,7 +80,6 @@ int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_
   *s = (rr_orbit_sys){.ode = {.n = N, .rhs = sys_rhs, .jac = sys_jac, .user = nl},
                       .jvp = sys_jvp,
                       .nkinks = nk,
-                      .has_kink_rate = 1,
                       .kinks = sys_kinks,
                       .k_amp = k,
                       .k_phase = rr_nonlinear_ndof(nl) + k,
@@ -88,7 +87,6 @@ int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_
                       .p_unit = SPEED_UNIT,
                       .atol = *atol,
                       .odd = 1}; /* straight, perfect track: the vehicle is left-right symmetric */
-  rr_nonlinear_kinks_at(nl, 1, NULL, NULL, s->kink_rate);
   return RR_OK;
 }
 
@@ -128,20 +126,17 @@ static rr_bif_event_kind crossing_kind(const rr_orbit *a, const rr_orbit *b, int
   return b->symmetric ? RR_EVENT_SYMMETRY_BREAKING : RR_EVENT_PERIOD_DOUBLING;
 }
 
-/* The stability changes along the branch, and where it goes on from
-   symmetric cycles to asymmetric ones (past a corner). */
+/* The stability changes along the branch. */
 static void find_events(const rr_orbit *o, int n, rr_bifurcation *res)
 {
   res->nevents = 0;
   for (int i = 1; i < n && res->nevents < RR_BIF_MAX_EVENTS; i++) {
-    int gained = unstable_dims(&o[i]) - unstable_dims(&o[i - 1]),
-        broken = o[i - 1].symmetric && !o[i].symmetric;
-    if (!gained && !broken) continue;
-    res->events[res->nevents++] = (rr_bif_event){
-        .kind = broken ? RR_EVENT_SYMMETRY_BREAKING : crossing_kind(&o[i - 1], &o[i], gained),
-        .index = i,
-        .speed_ms = 0.5 * (o[i - 1].p + o[i].p),
-        .gained = gained};
+    int gained = unstable_dims(&o[i]) - unstable_dims(&o[i - 1]);
+    if (!gained) continue;
+    res->events[res->nevents++] = (rr_bif_event){.kind = crossing_kind(&o[i - 1], &o[i], gained),
+                                                 .index = i,
+                                                 .speed_ms = 0.5 * (o[i - 1].p + o[i].p),
+                                                 .gained = gained};
   }
 }
 

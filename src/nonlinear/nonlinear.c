@@ -366,10 +366,8 @@ static double beta_of(const rr_nonlinear *nl, double v, const wheelset *w, const
    y = 0 (lambda(|y|) has a corner there unless lambda'(0) = 0), the
    flange's edges y = +-clearance, for a polynomial tread its hold's edges
    y = +-hold, and the switch of the saturation law at beta = 3. g (may be
-   NULL) gets one value per kink, zero there; rate (may be NULL) the index in
-   the state of each one's rate of change (dy/dt), -1 for the saturation's;
-   the count is returned. */
-int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g, int *rate)
+   NULL) gets one value per kink, zero there; the count is returned. */
+int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g)
 {
   int k = 0;
   double dl,
@@ -381,7 +379,6 @@ int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, dou
   for (int i = 0; i < nl->nw; i++) {
     const wheelset *w = &nl->w[i];
     double y = z ? z[w->y] : 0;
-    int k0 = k, dy = nl->n + w->y;
     if (corner) {
       if (g) g[k] = y;
       k++;
@@ -394,10 +391,8 @@ int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, dou
       }
       k += 2;
     }
-    for (int j = k0; j < k && rate; j++) rate[j] = dy;
     if (sat && w->muN > 0) {
       if (g) g[k] = beta_of(nl, v, w, z) - 3;
-      if (rate) rate[k] = -1;
       k++;
     }
   }

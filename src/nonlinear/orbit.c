@@ -126,67 +126,31 @@ static void indicators(const period *P, const double *z, double *g)
 
 static int crossed(double a, double b) { return (a < 0 && b >= 0) || (a > 0 && b <= 0); }
 
-/* On the last step's dense output at t (y there left in P->ytmp): indicator
-   j, or for j < 0 the state's component -1 - j. */
-static double probe(period *P, int j, double t)
-{
-  ERKStepGetDky(P->mem, t, 0, P->ytmp);
-  const double *z = N_VGetArrayPointer(P->ytmp);
-  if (j < 0) return z[-1 - j];
-  double g[RR_ORBIT_MAX_KINKS + 1];
-  indicators(P, z, g);
-  return g[j];
-}
-
-/* The zero in (ta, tb) of what probe(j) gives, ga and gb at the ends
+/* The zero of indicator j in (ta, tb) on the last step's dense output
    (Illinois false position); y there left in P->ytmp. */
-static double locate(period *P, int j, double ta, double tb, double ga, double gb)
+static double locate(period *P, int j, double ta, double tb)
 {
-  double t = tb;
+  double ga = P->ga[j], gb = P->gb[j], g[RR_ORBIT_MAX_KINKS + 1], t = tb;
   int side = 0;
   for (int it = 0; it < 60 && tb - ta > 1e-15 * fmax(1, fabs(tb)); it++) {
     t = (ta * gb - tb * ga) / (gb - ga);
-    double g = probe(P, j, t);
-    if (g == 0) break;
-    if (crossed(ga, g)) {
+    ERKStepGetDky(P->mem, t, 0, P->ytmp);
+    indicators(P, N_VGetArrayPointer(P->ytmp), g);
+    if (g[j] == 0) break;
+    if (crossed(ga, g[j])) {
       tb = t;
-      gb = g;
+      gb = g[j];
       if (side == -1) ga *= 0.5;
       side = -1;
     } else {
       ta = t;
-      ga = g;
+      ga = g[j];
       if (side == 1) gb *= 0.5;
       side = 1;
     }
   }
   ERKStepGetDky(P->mem, t, 0, P->ytmp);
   return t;
-}
-
-/* The first kink inside the step (tprev, t): a sign change of a kink
-   function, or, where its rate changes sign, its value at that extreme on
-   the other side of zero (it went in and out within the step); t if none. */
-static double first_kink(period *P, double tprev, double t)
-{
-  const rr_orbit_sys *s = P->s;
-  const double *ya = N_VGetArrayPointer(P->yprev), *yb = N_VGetArrayPointer(P->y);
-  double tk = t, te = t, ge[RR_ORBIT_MAX_KINKS + 1];
-  for (int i = 0, r_at = -1; i < s->nkinks; i++) {
-    if (crossed(P->ga[i], P->gb[i])) {
-      tk = fmin(tk, locate(P, i, tprev, t, P->ga[i], P->gb[i]));
-      continue;
-    }
-    int r = s->has_kink_rate ? s->kink_rate[i] : -1;
-    if (r < 0 || !crossed(ya[r], yb[r])) continue;
-    if (r != r_at) { /* the extreme, once for the kinks that share a rate */
-      te = locate(P, -1 - r, tprev, t, ya[r], yb[r]);
-      indicators(P, N_VGetArrayPointer(P->ytmp), ge);
-      r_at = r;
-    }
-    if (crossed(P->ga[i], ge[i])) tk = fmin(tk, locate(P, i, tprev, te, P->ga[i], ge[i]));
-  }
-  return tk;
 }
 
 static int period_run(period *P, double T)
@@ -203,7 +167,9 @@ static int period_run(period *P, double T)
     if (r < 0) return r;
     ERKStepGetLastStep(P->mem, &h);
     indicators(P, Y, P->gb);
-    double tk = nk ? first_kink(P, tprev, t) : t;
+    double tk = t;
+    for (int i = 0; i < nk; i++)
+      if (crossed(P->ga[i], P->gb[i])) tk = fmin(tk, locate(P, i, tprev, t));
     /* a kink inside the step (not at its very start): back to the start and
        stop at the kink; a located kink a hair early is caught again by the
        next, short, step and the stop refined */
@@ -219,7 +185,7 @@ static int period_run(period *P, double T)
       continue;
     }
     if (crossed(P->ga[nk], P->gb[nk])) {
-      locate(P, nk, tprev, t, P->ga[nk], P->gb[nk]);
+      locate(P, nk, tprev, t);
       P->amp = fmax(P->amp, fabs(N_VGetArrayPointer(P->ytmp)[s->k_amp]));
     }
     P->amp = fmax(P->amp, fabs(Y[s->k_amp]));

@@ -23,14 +23,9 @@ typedef struct rr_orbit_sys {
      when dfdp. NULL: the dense ode.jac and a central difference in p. */
   void (*jvp)(void *user, double p, const double *z, const double *X, int m, int dfdp, double *out);
   /* Optional: nkinks functions of z whose sign changes mark where f is not
-     smooth (a dead band's edges); the integration stops at each. With
-     has_kink_rate, kink_rate[i] is the index in z of kink i's rate of change
-     (-1: none): where that rate changes sign inside a step, the function is
-     also checked at its extreme there, so that a touch that enters and
-     leaves within one step (a grazing) is not stepped over. */
-  int nkinks, has_kink_rate;
+     smooth (a dead band's edges); the integration stops at each. */
+  int nkinks;
   void (*kinks)(void *user, double p, const double *z, double *g);
-  int kink_rate[RR_ORBIT_MAX_KINKS];
   int k_amp;       /* the coordinate whose extreme is the amplitude */
   int k_phase;     /* the phase condition: z0[k_phase] = 0 (its rate: a turning point) */
   double amp_unit; /* arclength units of amplitude and parameter */
