@@ -341,9 +341,10 @@ static void bif_events_print(FILE *f, const char *lead, const rr_bifurcation *b,
   for (int i = 0; i < b->nevents; i++) {
     const rr_bif_event *e = &b->events[i];
     int g = e->gained;
+    (void)pts;
     fprintf(f, "%s%s between %.3f and %.3f km/h (%+d unstable direction%s)%s\n", lead,
-            event_name(e->kind), pts[e->index - 1].speed_ms * RR_KMH,
-            pts[e->index].speed_ms * RR_KMH, g, abs(g) == 1 ? "" : "s",
+            event_name(e->kind), e->speed_lo_ms * RR_KMH, e->speed_hi_ms * RR_KMH, g,
+            abs(g) == 1 ? "" : "s",
             e->kind == RR_EVENT_SYMMETRY_BREAKING ? ": asymmetric cycles branch off (not followed)"
                                                   : "");
   }
@@ -390,6 +391,9 @@ static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_ar
       cJSON *q = cJSON_CreateObject();
       cJSON_AddStringToObject(q, "kind", event_name(e->kind));
       cJSON_AddNumberToObject(q, "speed_kmh", e->speed_ms * RR_KMH);
+      cJSON *br = cJSON_AddArrayToObject(q, "bracket_kmh");
+      cJSON_AddItemToArray(br, cJSON_CreateNumber(e->speed_lo_ms * RR_KMH));
+      cJSON_AddItemToArray(br, cJSON_CreateNumber(e->speed_hi_ms * RR_KMH));
       cJSON *bt = cJSON_AddArrayToObject(q, "between_points");
       cJSON_AddItemToArray(bt, cJSON_CreateNumber(e->index - 1));
       cJSON_AddItemToArray(bt, cJSON_CreateNumber(e->index));

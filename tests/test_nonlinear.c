@@ -610,8 +610,14 @@ static void test_symmetry_breaking(void)
         "Type 2 worn: symmetry breaking found (%d events)", b.nevents);
   if (ev >= 0) {
     int i = b.events[ev].index;
+    const rr_bif_event *be = &b.events[ev];
     CHECK(pts[i - 1].stable && !pts[i].stable && pts[i - 1].symmetric && pts[i].symmetric,
           "stable symmetric cycles, then unstable ones");
+    CHECK(be->speed_lo_ms >= pts[i - 1].speed_ms && be->speed_hi_ms <= pts[i].speed_ms &&
+              be->speed_hi_ms - be->speed_lo_ms <= 0.2 * KMH,
+          "the event located between cycles %.3f and %.3f km/h apart (%.3f - %.3f)",
+          pts[i - 1].speed_ms * RR_KMH, pts[i].speed_ms * RR_KMH, be->speed_lo_ms * RR_KMH,
+          be->speed_hi_ms * RR_KMH);
     rr_nonlinear *nl;
     st = rr_nonlinear_from_vehicle(&veh, &p, NULL, pts[i].speed_ms, &nl, &e);
     CHECK_OK(st, e);

@@ -129,9 +129,11 @@ typedef enum rr_bif_event_kind {
 } rr_bif_event_kind;
 typedef struct rr_bif_event {
   rr_bif_event_kind kind;
-  int index;       /* between the branch's points index - 1 and index */
-  double speed_ms; /* midway between their speeds */
-  int gained;      /* unstable directions beyond the event less those before (+-1, a pair +-2) */
+  int index;                       /* between the branch's points index - 1 and index */
+  double speed_lo_ms, speed_hi_ms; /* between cycles this close on the branch (0.1 km/h or
+                                      0.01 mm of arclength, by bisection along it) */
+  double speed_ms;                 /* midway */
+  int gained; /* unstable directions beyond the event less those before (+-1, a pair +-2) */
 } rr_bif_event;
 #define RR_BIF_MAX_EVENTS 16
 

@@ -101,12 +101,6 @@ static rr_cycle cycle_of(const rr_orbit *o)
                     .residual = o->residual};
 }
 
-/* Unstable directions: a complex pair outside the unit circle counts twice. */
-static int unstable_dims(const rr_orbit *o)
-{
-  return o->outside[RR_CROSS_FOLD] + o->outside[RR_CROSS_FLIP] + 2 * o->outside[RR_CROSS_TORUS];
-}
-
 /* The kind of crossing between two points whose unstable dimension differs:
    the kind whose count moved most the same way (two real multipliers
    outside that meet and leave the real axis change no dimension). */
@@ -126,18 +120,40 @@ static rr_bif_event_kind crossing_kind(const rr_orbit *a, const rr_orbit *b, int
   return b->symmetric ? RR_EVENT_SYMMETRY_BREAKING : RR_EVENT_PERIOD_DOUBLING;
 }
 
-/* The stability changes along the branch. */
-static void find_events(const rr_orbit *o, int n, rr_bifurcation *res)
+#define EVENT_DS 0.01 /* events are located to this arclength (0.1 km/h or 0.01 mm) */
+
+/* The stability changes along the branch, each located between cycles on
+   the branch closer than EVENT_DS (rr_orbit_bisect from the two cycles
+   around it; where that fails, those two stand). Z: the cycles' states. */
+static void find_events(const rr_orbit_sys *s, const rr_orbit_opts *opt, const rr_orbit *o,
+                        const double *Z, int n, rr_bifurcation *res)
 {
+  int N = s->ode.n;
+  double *X = malloc(sizeof(double) * 2 * ((size_t)N + 2)), *Y = X + N + 2;
   res->nevents = 0;
   for (int i = 1; i < n && res->nevents < RR_BIF_MAX_EVENTS; i++) {
-    int gained = unstable_dims(&o[i]) - unstable_dims(&o[i - 1]);
+    int gained = rr_orbit_unstable_dims(&o[i]) - rr_orbit_unstable_dims(&o[i - 1]);
     if (!gained) continue;
+    double lo = o[i - 1].p, hi = o[i].p;
+    if (X) {
+      rr_orbit ra = o[i - 1], rb = o[i];
+      rr_error e;
+      memcpy(X, Z + (size_t)(i - 1) * (size_t)N, sizeof(double) * (size_t)N);
+      memcpy(Y, Z + (size_t)i * (size_t)N, sizeof(double) * (size_t)N);
+      X[N] = ra.T, X[N + 1] = ra.p, Y[N] = rb.T, Y[N + 1] = rb.p;
+      if (!rr_orbit_bisect(s, &opt->runner, X, &ra, Y, &rb, EVENT_DS, opt->rtol, &e)) {
+        lo = X[N + 1];
+        hi = Y[N + 1];
+      }
+    }
     res->events[res->nevents++] = (rr_bif_event){.kind = crossing_kind(&o[i - 1], &o[i], gained),
                                                  .index = i,
-                                                 .speed_ms = 0.5 * (o[i - 1].p + o[i].p),
+                                                 .speed_ms = 0.5 * (lo + hi),
+                                                 .speed_lo_ms = fmin(lo, hi),
+                                                 .speed_hi_ms = fmax(lo, hi),
                                                  .gained = gained};
   }
+  free(X);
 }
 
 static rr_contact_law law_of(const rr_vehicle *veh)
@@ -321,7 +337,7 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
     for (int i = 0; i < n; i++) out[i] = cycle_of(&pts[i]);
     summarise(out, n, res);
     if (!st && n) res->nonlinear_critical_ms = lowest_speed(&s, o, pts, Z, n, vh);
-    find_events(pts, n, res);
+    if (!st) find_events(&s, o, pts, Z, n, res);
     if (Z != z_out) free(Z);
     free(pts);
     free(atol);

@@ -684,6 +684,54 @@ int rr_orbit_fold(const rr_orbit_sys *s, const rr_runner_opts *run, const double
   return st;
 }
 
+int rr_orbit_unstable_dims(const rr_orbit *o)
+{
+  return o->outside[RR_CROSS_FOLD] + o->outside[RR_CROSS_FLIP] + 2 * o->outside[RR_CROSS_TORUS];
+}
+
+#define BISECT_MAXIT 8
+
+static double chord(const rr_orbit_sys *s, const double *a, const double *b);
+
+int rr_orbit_bisect(const rr_orbit_sys *s, const rr_runner_opts *run, double *Xa, rr_orbit *ra,
+                    double *Xb, rr_orbit *rb, double ds_tol, double rtol, rr_error *err)
+{
+  int n = s->ode.n, st = RR_OK, m = n + 2;
+  work w;
+  double *X = malloc(sizeof(double) * (size_t)m);
+  if (!X || work_new(&w, n)) {
+    free(X);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
+  w.run = run;
+  w.half = s->odd;
+  int da = rr_orbit_unstable_dims(ra);
+  for (int it = 0; it < BISECT_MAXIT && chord(s, Xa, Xb) > ds_tol; it++) {
+    double len = chord(s, Xa, Xb);
+    rr_orbit r;
+    int fail = 1;
+    for (int k = 0; k < 2 && fail; k++) { /* halfway, else a third of the way */
+      double u = k ? 1.0 / 3 : 0.5;
+      closure c = {.kind = 2,
+                   .amp = Xa[s->k_amp],
+                   .p = Xa[n + 1],
+                   .tA = (Xb[s->k_amp] - Xa[s->k_amp]) / s->amp_unit / len,
+                   .tp = (Xb[n + 1] - Xa[n + 1]) / s->p_unit / len,
+                   .ds = u * len};
+      for (int i = 0; i < m; i++) X[i] = Xa[i] + u * (Xb[i] - Xa[i]);
+      rr_error e;
+      fail = newton(s, &w, X, &X[n], &X[n + 1], rtol, &c, &r, &e);
+    }
+    if (fail) break; /* the bracket stands */
+    int left = rr_orbit_unstable_dims(&r) == da;
+    memcpy(left ? Xa : Xb, X, sizeof(double) * (size_t)m);
+    *(left ? ra : rb) = r;
+  }
+  work_free(&w);
+  free(X);
+  return st;
+}
+
 int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, double p, double *mu,
                             double *v, rr_error *err)
 {

@@ -61,6 +61,18 @@ typedef struct rr_orbit {
 int rr_orbit_solve(const rr_orbit_sys *s, double *z0, double *T, double *p, double rtol,
                    int fix_amp, double amp, rr_orbit *out, rr_error *err);
 
+/* Unstable directions of an orbit: its multipliers outside the unit
+   circle, a complex pair counting twice. */
+int rr_orbit_unstable_dims(const rr_orbit *o);
+
+/* Between two orbits of a branch, Xa and Xb ((z0, T, p) each, n + 2) with
+   ra, rb their results, whose unstable dimensions differ: orbits on the
+   branch between them (pseudo-arclength from Xa toward Xb, half the chord),
+   keeping the half where the dimension changes, until the chord is below
+   ds_tol (scaled units) or an orbit fails to converge. The bracket in place. */
+int rr_orbit_bisect(const rr_orbit_sys *s, const rr_runner_opts *run, double *Xa, rr_orbit *ra,
+                    double *Xb, rr_orbit *rb, double ds_tol, double rtol, rr_error *err);
+
 /* A fold of the branch (a turning point in p) near its orbit (z0, T, p),
    whose z0[k_amp] is amp: the vertex of p against z0[k_amp], from orbits at
    fixed z0[k_amp] = a - d, a, a + d, a parabola through them, twice more
