@@ -64,9 +64,16 @@ enum {
   }
 /* Where a command's help lists the shared options it reads (only those). */
 #define CLI_COMMON_HELP "@COMMON@\n"
-/* Which shared options a command reads (the vehicle, --sdf and
-   --gravity-stiffness: all); one it does not read is an error. */
-enum { CLI_READS_SPEED = 1, CLI_READS_CONICITY = 2, CLI_READS_JSON = 4, CLI_READS_INDEX = 8 };
+/* Which shared options a command reads (the vehicle and --sdf: all); one
+   it does not read is an error, and so is any option given twice. */
+enum {
+  CLI_READS_SPEED = 1,
+  CLI_READS_CONICITY = 2,
+  CLI_READS_JSON = 4,
+  CLI_READS_INDEX = 8,
+  CLI_READS_GRAVITY = 16, /* --gravity-stiffness: the command builds a linear model */
+  CLI_READS_PROGRESS = 32 /* --progress: the command reports progress */
+};
 
 void cli_common_init(cli_common *c);
 /* Handles a shared option; returns 1 if handled, 0 if not ours, -1 on error (printed). */
@@ -81,6 +88,12 @@ int cli_number(const char *opt, const char *arg, const char *unit, double *out);
 /* The same, within [lo, hi] (the message gives the range). */
 int cli_number_in(const char *opt, const char *arg, const char *unit, double lo, double hi,
                   double *out);
+/* The checks every option meets after getopt_long returned opt (longindex:
+   its entry in opts, or -1): its name written in full (getopt_long would take
+   "--c" for "--conicity"), and not given before (seen: the ids so far,
+   *nseen of them, cap 64). Returns 0, or EXIT_BADINPUT after the message. */
+int cli_option_checks(const char *cmd, char **argv, const struct option *opts, int opt,
+                      int longindex, int *seen, int *nseen);
 /* The message for getopt's ':' (missing value) or '?' (unknown option); returns EXIT_BADINPUT. */
 int cli_getopt_error(const char *cmd, int opt, const char *word);
 /* Work caps: a command refuses a job larger than its limit (--limit N
@@ -110,6 +123,17 @@ void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep);
 /* A CSV number, or an empty field where there is none (a NaN marks "no
    such mode"): railride never writes nan or inf. */
 void cli_csv_num(FILE *fp, double x, char sep);
+
+/* The vehicle stability index as text: "-0.118200 (hunting mode: carbody
+   lateral-yaw at 1.0500 Hz)", "+0.0064 (unstable mode outside the hunting
+   band: ...)", or "none (no hunting-related mode below F Hz; all stable)".
+   mode may be NULL (the frequency alone is then named). */
+void cli_index_text(char *buf, size_t len, double index, rr_index_source src, const rr_mode *mode,
+                    double freq_hz, double fmax_hz);
+/* An index or other number as "%.6f", or "none" when undefined (NaN). */
+const char *cli_num_or_none(char *buf, size_t len, double x);
+/* The index's source for JSON: "hunting", "unstable_outside_hunting", "none". */
+const char *cli_index_source_key(rr_index_source s);
 
 /* A mode as JSON (paper: with the SDF root fields). */
 cJSON *cli_mode_json(const rr_mode *md, int paper);
@@ -175,6 +199,13 @@ void ride_default_points(ride_setup *r, const rr_vehicle *veh);
 enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
 #define RIDE_SETUP_OPTIONS                                                                         \
   {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS},  \
+      {"floor-height", required_argument, 0, OPT_HEIGHT},                                          \
+  {                                                                                                \
+    "roll-gravity", no_argument, 0, OPT_ROLLG                                                      \
+  }
+/* The same without --spectrum (commands that take no track input). */
+#define RIDE_POINT_OPTIONS                                                                         \
+  {"points", required_argument, 0, OPT_POINTS},                                                    \
       {"floor-height", required_argument, 0, OPT_HEIGHT},                                          \
   {                                                                                                \
     "roll-gravity", no_argument, 0, OPT_ROLLG                                                      \

@@ -221,9 +221,13 @@ static int optim_parse(int argc, char **argv, optim_args *a, const char *help)
                                        {0, 0, 0, 0}};
   optind = 1;
   opterr = 0;
-  int opt;
-  while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
+  int opt, seen[64], nseen = 0, li = -1;
+  while ((opt = getopt_long(argc, argv, ":h", opts, &li)) != -1) {
     long k;
+    if (opt != ':' && opt != '?' &&
+        cli_option_checks("optimise", argv, opts, opt, li, seen, &nseen))
+      return EXIT_BADINPUT;
+    li = -1;
     switch (opt) {
     case 'h': fputs(help, stdout); return CLI_HELP_SHOWN;
     case OPT_POP:
@@ -401,6 +405,11 @@ int cmd_optimise(int argc, char **argv)
       "the run's state after every generation; --resume goes on from it (the same problem,\n"
       "population and seed: the result is the uninterrupted run's). See\n"
       "examples/paper-optimisation.ini.\n"
+      "  --population N       population size, even (default: the problem file's)\n"
+      "  --generations N      generations (default: the problem file's)\n"
+      "  --seed N             random seed (default: the problem file's)\n"
+      "  --threads N          threads for the evaluations (0: all cores)\n"
+      "  --output PREFIX      output prefix (default: the problem file's)\n"
       "  --limit N            most designs evaluated, population x (generations + 1) (default "
       "1e8)\n"
       "  --progress           progress on stderr even when it is not a terminal\n"
@@ -636,7 +645,8 @@ int cmd_sweep(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   sweep_args a = {.limit = CLI_LIMIT_GRID};
-  int r = cli_parse(argc, argv, &c, CLI_READS_INDEX, extra, sweep_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_INDEX | CLI_READS_GRAVITY | CLI_READS_PROGRESS, extra,
+                    sweep_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!a.have[0] || !a.objective) return cli_bad("sweep: --x and --objective are required");

@@ -75,7 +75,8 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   rr_comfort_plan *cp = NULL;
   double *rows = NULL, *rows0 = NULL, *G = NULL;
   rr_spectrum sp;
-  int st = rr_spectrum_open(r->spectrum, &sp, err);
+  int st = rr_spectrum_open(r->spectrum, &sp, err), opened = !st;
+  if (!st) st = rr_spectrum_require(&sp, "lateral", "--spectrum: the lateral track input", err);
   if (!st) st = rr_model_from_vehicle(veh, &m, err);
   if (!st) st = rr_model_set_operating(m, speed_kmh / RR_KMH, conicity, err);
   if (st) goto out;
@@ -122,6 +123,7 @@ out:
   rr_comfort_plan_free(cp);
   rr_frf_plan_free(plan);
   rr_model_free(m);
+  if (opened) rr_spectrum_close(&sp);
   return st;
 }
 
@@ -187,9 +189,17 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
   {                                                                                                \
     "method", required_argument, 0, OPT_METHOD                                                     \
   }
+/* frf: the same without a track input */
+#define FRF_OPTIONS                                                                                \
+  RIDE_POINT_OPTIONS, {"band", required_argument, 0, OPT_BAND},                                    \
+  {                                                                                                \
+    "method", required_argument, 0, OPT_METHOD                                                     \
+  }
 #define RIDE_HELP                                                                                  \
-  "  --spectrum S         track alignment spectrum: a name in spectra/ or a file (default "        \
-  "wuhan-guangzhou)\n"                                                                             \
+  "  --spectrum S         lateral alignment spectrum: a name in spectra/, a file (.txt), or a "    \
+  "measured\n                       PSD (.csv, two columns with units in the header, e.g. "        \
+  "n_per_m,psd_m2_per_per_m);\n                       default wuhan-guangzhou\n" FRF_HELP
+#define FRF_HELP                                                                                   \
   "  --points X1,X2,..    floor points along the car, m (default +L, 0, -L)\n"                     \
   "  --floor-height H     floor height above rail, m (default 1.2)\n"                              \
   "  --roll-gravity       the accelerometer senses a_y + g phi_c\n"                                \
@@ -205,9 +215,12 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
   rr_vehicle_default(&tmp);
   ride_setup_default(&a->rs, &tmp);
   int r = conicity_list
-              ? cli_parse_list(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON,
+              ? cli_parse_list(argc, argv, c,
+                               CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON |
+                                   CLI_READS_GRAVITY,
                                extra, ride_cb, a, help)
-              : cli_parse(argc, argv, c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON,
+              : cli_parse(argc, argv, c,
+                          CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_GRAVITY,
                           extra, ride_cb, a, help);
   if (r) return r;
   ride_setup_points(&a->rs, &c->veh, argc, argv);
@@ -352,8 +365,8 @@ int cmd_frf(int argc, char **argv)
       "Complex FRF of carbody floor lateral acceleration per unit track alignment at each\n"
       "wheelset (input 1..4, no time lag) and the lagged sum over the four (input 'sum').\n"
       "CSV columns: f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg ((m/s^2)/m = "
-      "1/s^2).\n" CLI_COMMON_HELP RIDE_HELP;
-  static const struct option extra[] = {RIDE_OPTIONS, {0, 0, 0, 0}};
+      "1/s^2).\n" CLI_COMMON_HELP FRF_HELP;
+  static const struct option extra[] = {FRF_OPTIONS, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
   int r = ride_parse(argc, argv, &c, &a, extra, help, 0);
@@ -530,7 +543,8 @@ int cmd_compare(int argc, char **argv)
   a.c_from = 0.02;
   a.c_to = 0.6;
   a.c_n = 12;
-  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX, extra,
+  int r = cli_parse(argc, argv, &c,
+                    CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY, extra,
                     cmp_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;

@@ -22,7 +22,8 @@ int cmd_matrices(int argc, char **argv)
       "In paper SDF mode A is taken at the curve's lowest stiffness.\n" CLI_COMMON_HELP;
   cli_common c;
   rr_model *m;
-  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, NULL, NULL, NULL, help);
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_GRAVITY, NULL, NULL,
+            NULL, help);
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   int n = rr_model_ndof(m), ni = rr_model_ninputs(m), N = rr_model_state_size(m);
@@ -100,6 +101,7 @@ cJSON *cli_mode_json(const rr_mode *md, int paper)
   cJSON *en = cJSON_AddObjectToObject(o, "energy");
   for (int g = 0; g < RR_NGROUPS; g++) cJSON_AddNumberToObject(en, energy_names[g], md->energy[g]);
   cJSON_AddNumberToObject(o, "roll_share", md->roll_share);
+  cJSON_AddNumberToObject(o, "frame_roll_share", md->frame_roll_share);
   cJSON_AddBoolToObject(o, "oscillatory", md->oscillatory);
   cJSON_AddBoolToObject(o, "hunting_related", md->hunting);
   cJSON_AddBoolToObject(o, "in_index", md->in_index);
@@ -141,6 +143,11 @@ static void modes_json(const cli_common *c, const rr_modal_result *res, int pape
     cJSON_AddNumberToObject(root, "stability_index", res->stability_index);
   else
     cJSON_AddNullToObject(root, "stability_index");
+  cJSON_AddStringToObject(root, "index_source", cli_index_source_key(res->index_source));
+  if (res->index_mode >= 0)
+    cJSON_AddStringToObject(root, "index_mode", res->modes[res->index_mode].name);
+  else
+    cJSON_AddNullToObject(root, "index_mode");
   cJSON_AddBoolToObject(root, "stable", rr_modal_stable(res->zeta_max));
   cJSON_AddNumberToObject(root, "zeta_max", res->zeta_max);
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
@@ -160,22 +167,21 @@ static void modes_table(const cli_common *c, const rr_modal_result *res, int pap
          paper                                ? " (SDF paper mode: self-consistent modes)"
          : c->veh.sdf_mode == RR_SDF_PHYSICAL ? " (SDF physical mode)"
                                               : "");
-  printf("%10s %12s %12s %10s %9s %9s %9s %9s  %-30s %s\n", "freq_hz", "real", "imag", "zeta",
-         "E_car", "E_frame", "E_wheel", "roll", "mode", "flags");
+  printf("%10s %12s %12s %10s %9s %9s %9s %9s %9s  %-34s %s\n", "freq_hz", "real", "imag", "zeta",
+         "E_car", "E_frame", "E_wheel", "roll", "fr_roll", "mode", "flags");
   for (int i = 0; i < res->n; i++) {
     const rr_mode *md = &res->modes[i];
     if (md->im <= 0) continue;
-    printf("%10.4f %12.5g %12.5g %10.5f %9.2e %9.2e %9.2e %9.2e  %-30s %s%s%s\n", md->freq_hz,
-           md->re, md->im, md->zeta, md->energy[0], md->energy[1], md->energy[2], md->roll_share,
-           md->name, md->in_index ? "index " : "", md->hunting ? "hunting" : "",
-           md->self_consistent ? "" : " not-self-consistent");
+    printf("%10.4f %12.5g %12.5g %10.5f %9.2e %9.2e %9.2e %9.2e %9.2e  %-34s %s%s%s%s\n",
+           md->freq_hz, md->re, md->im, md->zeta, md->energy[0], md->energy[1], md->energy[2],
+           md->roll_share, md->frame_roll_share, md->name, md->in_index ? "index " : "",
+           md->hunting ? "hunting" : "", md->self_consistent ? "" : " not-self-consistent",
+           i == res->index_mode ? "  <- sets the index" : "");
   }
-  if (res->index_mode >= 0)
-    printf("vehicle stability index: %.6f (%s at %.4f Hz)\n", res->stability_index,
-           res->modes[res->index_mode].name, res->modes[res->index_mode].freq_hz);
-  else
-    printf("vehicle stability index: none (no hunting-related oscillatory mode below %g Hz)\n",
-           c->mo.fmax_hz);
+  char buf[256];
+  cli_index_text(buf, sizeof buf, res->stability_index, res->index_source,
+                 res->index_mode >= 0 ? &res->modes[res->index_mode] : NULL, NAN, c->mo.fmax_hz);
+  printf("vehicle stability index: %s\n", buf);
   print_verdict(res);
 }
 
@@ -186,12 +192,14 @@ int cmd_modes(int argc, char **argv)
       "Eigenvalues of the state matrix: frequency, stability index zeta = Re/|lambda|\n"
       "(negative is stable), kinetic-energy shares, roll share and a name by dominant\n"
       "motion. The vehicle stability index is the largest zeta over hunting-related modes\n"
-      "(wheelset share >= wmin, roll share < rmax) below fmax; the verdict counts every\n"
-      "oscillatory mode, of any frequency and shape.\n" CLI_COMMON_HELP;
+      "(wheelset share >= wmin, frame-roll share < rmax) below fmax, unless some mode of any\n"
+      "frequency and shape is unstable, which then sets it: its sign is the verdict. With\n"
+      "no hunting-related mode and all stable it is undefined (none; JSON null).\n" CLI_COMMON_HELP;
   cli_common c;
   rr_model *m;
-  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL, NULL,
-            NULL, help);
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX |
+                CLI_READS_GRAVITY,
+            NULL, NULL, NULL, help);
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   rr_modal_result res;
@@ -240,7 +248,7 @@ int cmd_robust(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   robust_args a = {.ro = rr_robust_opts_default()};
-  RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX, extra, robust_cb, &a, help);
+  RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY, extra, robust_cb, &a, help);
   rr_model *m;
   int r = cli_model(&c, &m, 0, 0);
   if (r) return r;
@@ -254,7 +262,7 @@ int cmd_robust(int argc, char **argv)
   if (st) return cli_fail(&e, st);
   int stable = rb.n_unstable == 0;
   if (c.json) {
-    cJSON *root = cJSON_CreateObject();
+    cJSON *root = cJSON_CreateObject(); /* an undefined index is null */
     cJSON_AddNumberToObject(root, "zeta_low", rb.zeta_low);
     cJSON_AddNumberToObject(root, "zeta_high", rb.zeta_high);
     cJSON_AddNumberToObject(root, "std_zeta", rb.std_zeta);
@@ -264,11 +272,17 @@ int cmd_robust(int argc, char **argv)
     cJSON_AddNumberToObject(root, "n_unstable_points", rb.n_unstable);
     cli_json_print(root);
   } else {
-    printf("%s robust stability indices (negative is stable)\n", c.veh.name);
-    printf("  zeta_low  (250 km/h, conicity 0.05): %10.6f\n", rb.zeta_low);
-    printf("  zeta_high (350 km/h, conicity 0.40): %10.6f\n", rb.zeta_high);
-    printf("  std_zeta  (350 km/h, %d conicities 0.05-0.40): %10.6f\n", a.ro.n_conicity,
-           rb.std_zeta);
+    char b1[32], b2[32], b3[32];
+    printf("%s robust stability indices (negative is stable; none: undefined, no hunting-related "
+           "mode)\n",
+           c.veh.name);
+    printf("  zeta_low  (%g km/h, conicity %g): %10s\n", a.ro.v_low_ms * RR_KMH, a.ro.conicity_low,
+           cli_num_or_none(b1, sizeof b1, rb.zeta_low));
+    printf("  zeta_high (%g km/h, conicity %g): %10s\n", a.ro.v_high_ms * RR_KMH,
+           a.ro.conicity_high, cli_num_or_none(b2, sizeof b2, rb.zeta_high));
+    printf("  std_zeta  (%g km/h, %d conicities %g-%g): %10s\n", a.ro.v_high_ms * RR_KMH,
+           a.ro.n_conicity, a.ro.conicity_min, a.ro.conicity_max,
+           cli_num_or_none(b3, sizeof b3, rb.std_zeta));
     if (stable)
       printf("verdict: stable at every point (largest zeta of any mode %.6f)\n", rb.zeta_max);
     else
@@ -337,9 +351,9 @@ static void critical_text(const cli_common *c, double conicity, const crit_args 
   printf("%s critical speed at conicity %g: %.3f km/h\n", c->veh.name, conicity,
          cr->speed_ms * RR_KMH);
   printf("  unstable mode: %s at %.4f Hz (energy carbody %.3f, frames %.3f, wheelsets %.3f; roll "
-         "%.3f; %s)\n",
+         "%.3f, frame roll %.3f; %s)\n",
          md->name, md->freq_hz, md->energy[0], md->energy[1], md->energy[2], md->roll_share,
-         md->hunting ? "hunting-related" : "not hunting-related");
+         md->frame_roll_share, md->hunting ? "hunting-related" : "not hunting-related");
 }
 
 /* Critical speeds at conicities lo..hi-1 of the list. */
@@ -380,7 +394,9 @@ int cmd_critical(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   crit_args a = {.vmin = 10, .vmax = 600, .step = 1, .index_modes = 0};
-  int r = cli_parse_list(argc, argv, &c, CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX,
+  int r = cli_parse_list(argc, argv, &c,
+                         CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY |
+                             CLI_READS_PROGRESS,
                          extra, crit_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
@@ -505,6 +521,7 @@ static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, con
 {
   double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
   locus_solve_job w = {.m = m, .c = c, .param = param, .rs = rr_locus_record_size(m)};
+  size_t stride = (size_t)rr_locus_stride(m);
   long win = (long)cli_par_size() * LOCUS_WINDOW_PER_RANK;
   char *recs = malloc(w.rs * (size_t)(win < n ? win : n));
   unsigned char *done = malloc((size_t)win);
@@ -523,15 +540,15 @@ static int locus_mpi(rr_model *m, const cli_common *c, rr_locus_param param, con
     r = cli_par_for(len, 1, w.rs, locus_solve_items, &w, recs, done, NULL);
     while (ok < len && done[ok]) ok++; /* after Ctrl-C: the window's leading points solved */
     if (!r && ok &&
-        (st = rr_locus_follow(t, vals + lo, (int)ok, recs, pts + (size_t)lo * *nb, nb, &e)))
+        (st = rr_locus_follow(t, vals + lo, (int)ok, recs, pts + (size_t)lo * stride, nb, &e)))
       r = cli_fail(&e, st);
     *ndone += ok;
     if (pr) cli_progress_step(pr, ok);
     if (ok < len) break;
   }
   for (long p = *ndone; p < n && !r; p++) /* a stopped run: the points not followed */
-    for (int b = 0; b < *nb; b++)
-      pts[p * *nb + b] = (rr_locus_point){.param = vals[p], .re = NAN, .im = NAN};
+    for (size_t b = 0; b < stride; b++)
+      pts[(size_t)p * stride + b] = (rr_locus_point){.param = vals[p], .re = NAN, .im = NAN};
   rr_model_set_operating(m, v0, l0, NULL);
   rr_locus_tracker_free(t);
   rr_modal_result_free(&w.res);
@@ -563,23 +580,23 @@ static int locus_range(grid_args *a)
    matched (or not reached) has no row. v0, l0: the fixed speed (km/h) and
    conicity. */
 static void locus_print(const cli_common *c, const grid_args *a, const rr_locus_point *pts, int nb,
-                        double v0, double l0)
+                        size_t stride, double v0, double l0)
 {
   cJSON *root = c->json ? cJSON_CreateObject() : NULL,
         *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
   if (!c->json)
     printf("branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,"
-           "e_carbody,e_frames,e_wheelsets,roll_share,hunting_related\n");
+           "e_carbody,e_frames,e_wheelsets,roll_share,hunting_related,frame_roll_share\n");
   for (int b = 0; b < nb; b++)
     for (int p = 0; p < a->n; p++) {
-      const rr_locus_point *lp = &pts[(size_t)p * (size_t)nb + (size_t)b];
+      const rr_locus_point *lp = &pts[(size_t)p * stride + (size_t)b];
       if (!isfinite(lp->re)) continue;
       double sp = a->param == RR_LOCUS_SPEED ? lp->param * RR_KMH : v0,
              co = a->param == RR_LOCUS_CONICITY ? lp->param : l0;
       if (!c->json) {
-        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", b, sp, co,
-               lp->freq_hz, lp->re, lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1],
-               lp->energy[2], lp->roll_share, lp->hunting);
+        printf("%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6f,%.6g,%.6g,%.6g,%.6g,%d,%.6g\n", b, sp,
+               co, lp->freq_hz, lp->re, lp->im, lp->zeta, lp->mac, lp->energy[0], lp->energy[1],
+               lp->energy[2], lp->roll_share, lp->hunting, lp->frame_roll_share);
         continue;
       }
       cJSON *o = cJSON_CreateObject();
@@ -592,6 +609,7 @@ static void locus_print(const cli_common *c, const grid_args *a, const rr_locus_
       cJSON_AddNumberToObject(o, "stability_index", lp->zeta);
       cJSON_AddNumberToObject(o, "mac", lp->mac);
       cJSON_AddNumberToObject(o, "roll_share", lp->roll_share);
+      cJSON_AddNumberToObject(o, "frame_roll_share", lp->frame_roll_share);
       cJSON_AddBoolToObject(o, "hunting_related", lp->hunting);
       cJSON_AddItemToArray(arr, o);
     }
@@ -627,12 +645,15 @@ int cmd_locus(int argc, char **argv)
   static const char help[] =
       "usage: railride locus [VEHICLE] [--over speed|conicity] [--range FROM:TO:N] [--speed KMH | "
       "--conicity L] [--json]\n"
-      "Root locus: each oscillatory mode followed from point to point by eigenvector\n"
-      "correlation (MAC). Over speed (default 20:500:25 km/h at --conicity, default 0.17)\n"
+      "Root locus: every oscillatory mode followed from point to point by eigenvector\n"
+      "correlation (MAC): a branch is born where its mode becomes oscillatory and ends where\n"
+      "it turns real (no rows outside its life). Over speed (default 20:500:25 km/h at --conicity, "
+      "default 0.17)\n"
       "or conicity (default 0.02:0.5:25 at --speed, default 350 km/h). CSV columns:\n"
       "branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_"
       "frames,\n"
-      "e_wheelsets,roll_share,hunting_related (e_*: kinetic energy shares)\n" CLI_COMMON_HELP
+      "e_wheelsets,roll_share,hunting_related,frame_roll_share (e_*: kinetic energy "
+      "shares)\n" CLI_COMMON_HELP
       "  --over P             parameter swept (--over before --range)\n  --range FROM:TO:N    its "
       "values\n"
       "  --limit N            most points accepted (default 1e5)\n";
@@ -642,8 +663,9 @@ int cmd_locus(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   grid_args a = {.limit = CLI_LIMIT_LOCUS};
-  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb,
-            &a, help);
+  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX |
+                CLI_READS_GRAVITY | CLI_READS_PROGRESS,
+            extra, grid_cb, &a, help);
   if (a.param == RR_LOCUS_SPEED && c.have_speed)
     return cli_bad("locus: --over speed sweeps the speed (--range); --speed is not read");
   if (a.param == RR_LOCUS_CONICITY && c.have_conicity)
@@ -653,15 +675,15 @@ int cmd_locus(int argc, char **argv)
   rr_model *m;
   if (r || (r = cli_model(&c, &m, 0, 0))) return r;
   double *vals = malloc(sizeof(double) * (size_t)a.n);
-  rr_locus_point *pts =
-      malloc(sizeof(rr_locus_point) * (size_t)a.n * (size_t)rr_model_state_size(m));
+  rr_locus_point *pts = malloc(sizeof(rr_locus_point) * (size_t)a.n * (size_t)rr_locus_stride(m));
   int nb = 0;
   if (!vals || !pts) r = cli_bad("out of memory");
   for (int i = 0; i < a.n && !r; i++)
     vals[i] = lin(a.from, a.to, i, a.n) / (a.param == RR_LOCUS_SPEED ? RR_KMH : 1.0);
   if (!r) r = locus_compute(m, &c, &a, vals, pts, &nb);
   if (!r || r == CLI_EXIT_STOPPED) /* stopped: the points done */
-    locus_print(&c, &a, pts, nb, rr_model_speed(m) * RR_KMH, rr_model_conicity(m));
+    locus_print(&c, &a, pts, nb, (size_t)rr_locus_stride(m), rr_model_speed(m) * RR_KMH,
+                rr_model_conicity(m));
   rr_model_free(m);
   free(vals);
   free(pts);
@@ -671,10 +693,11 @@ int cmd_locus(int argc, char **argv)
 static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
 {
   int stable = rr_modal_stable(z->zeta_max);
-  if (!arr) {
-    printf("%.10g,%.10g,%.10g,", v, l, z->index);
+  if (!arr) { /* an undefined index: empty cells */
+    printf("%.10g,%.10g,", v, l);
+    cli_csv_num(stdout, z->index, ',');
     cli_csv_num(stdout, z->index_freq_hz, ',');
-    printf("%.10g,%d\n", z->zeta_max, stable);
+    printf("%.10g,%d,%s\n", z->zeta_max, stable, cli_index_source_key(z->source));
     return;
   }
   cJSON *o = cJSON_CreateObject();
@@ -685,6 +708,7 @@ static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
     cJSON_AddNumberToObject(o, "index_freq_hz", z->index_freq_hz);
   else
     cJSON_AddNullToObject(o, "index_freq_hz");
+  cJSON_AddStringToObject(o, "index_source", cli_index_source_key(z->source));
   cJSON_AddNumberToObject(o, "zeta_max", z->zeta_max);
   cJSON_AddBoolToObject(o, "stable", stable);
   cJSON_AddItemToArray(arr, o);
@@ -724,9 +748,10 @@ int cmd_map(int argc, char **argv)
       "usage: railride map [VEHICLE] [--speeds FROM:TO:N] [--conicities FROM:TO:N] [--json]\n"
       "Vehicle stability index over a speed x conicity grid (paper Fig. 7); defaults\n"
       "100:500:41 km/h and 0.02:0.5:25. CSV columns:\n"
-      "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n"
-      "(zeta_max: the largest zeta of any oscillatory mode; stable: 1 when it is < "
-      "0).\n" CLI_COMMON_HELP
+      "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source\n"
+      "(zeta_max: the largest zeta of any oscillatory mode; stable: 1 when it is < 0;\n"
+      "index_source: hunting, unstable_outside_hunting, or none with empty index "
+      "cells).\n" CLI_COMMON_HELP
       "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n"
       "  --limit N            most points accepted (default 1e6)\n";
   static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS},
@@ -741,7 +766,8 @@ int cmd_map(int argc, char **argv)
                  .c_to = 0.5,
                  .c_n = 25,
                  .limit = CLI_LIMIT_GRID};
-  RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX, extra, grid_cb, &a, help);
+  RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY | CLI_READS_PROGRESS, extra,
+            grid_cb, &a, help);
   if (!(a.s_from > 0 && a.s_to > 0 && fmax(a.s_from, a.s_to) <= RR_SPEED_MAX_MS * RR_KMH))
     return cli_bad("--speeds: must be within (0, %g] km/h", RR_SPEED_MAX_MS * RR_KMH);
   if (!(a.c_from >= 0 && a.c_to >= 0 && fmax(a.c_from, a.c_to) <= RR_CONICITY_MAX))
@@ -780,7 +806,8 @@ int cmd_map(int argc, char **argv)
   rr_model_free(m);
   cJSON *root = c.json ? cJSON_CreateObject() : NULL,
         *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
-  if (!r && !c.json) printf("speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable\n");
+  if (!r && !c.json)
+    printf("speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source\n");
   for (int i = 0; i < a.s_n && !r; i++) /* a stopped run: the rows done */
     for (int j = 0; j < a.c_n && done[i]; j++)
       map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), lin(a.c_from, a.c_to, j, a.c_n),

@@ -71,7 +71,8 @@ static void summary_json(const cli_common *c, const summary *s)
   cJSON_AddStringToObject(root, "sdf", sdf_name(c->veh.sdf_mode));
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
   cJSON_AddNumberToObject(root, "conicity", c->conicity);
-  cJSON_AddNumberToObject(root, "stability_index", s->res.stability_index);
+  cJSON_AddNumberToObject(root, "stability_index", s->res.stability_index); /* NaN: null */
+  cJSON_AddStringToObject(root, "index_source", cli_index_source_key(s->res.index_source));
   cJSON_AddBoolToObject(root, "stable", rr_modal_stable(s->res.zeta_max));
   cJSON_AddNumberToObject(root, "zeta_max", s->res.zeta_max);
   if (s->res.index_mode >= 0)
@@ -114,19 +115,22 @@ static void summary_json(const cli_common *c, const summary *s)
 
 static void modes_text(const cli_common *c, const rr_modal_result *res)
 {
-  printf("Hunting-related modes at %g km/h, conicity %g (f <= %g Hz, wheelset share >= %g, roll "
-         "share < %g):\n",
+  printf("Hunting-related modes at %g km/h, conicity %g (f <= %g Hz, wheelset share >= %g, "
+         "frame-roll share < %g):\n",
          c->speed_kmh, c->conicity, c->mo.fmax_hz, c->mo.w_min, c->mo.r_max);
   printf("  %9s %10s %9s %9s %9s %9s  %s\n", "freq_hz", "zeta", "E_car", "E_frame", "E_wheel",
-         "roll", "mode");
+         "fr_roll", "mode");
   for (int i = 0; i < res->n; i++) {
     const rr_mode *md = &res->modes[i];
-    if (!md->in_index) continue;
+    if (!md->in_index && i != res->index_mode) continue;
     printf("  %9.4f %10.5f %9.2e %9.2e %9.2e %9.2e  %s%s\n", md->freq_hz, md->zeta, md->energy[0],
-           md->energy[1], md->energy[2], md->roll_share, md->name,
-           i == res->index_mode ? "  <- least damped" : "");
+           md->energy[1], md->energy[2], md->frame_roll_share, md->name,
+           i == res->index_mode ? "  <- sets the index" : "");
   }
-  printf("  vehicle stability index: %.6f (negative is stable)\n", res->stability_index);
+  char buf[256];
+  cli_index_text(buf, sizeof buf, res->stability_index, res->index_source,
+                 res->index_mode >= 0 ? &res->modes[res->index_mode] : NULL, NAN, c->mo.fmax_hz);
+  printf("  vehicle stability index: %s (negative is stable)\n", buf);
   if (res->max_mode >= 0)
     printf("  verdict: %s (least damped of all modes: %s at %.4f Hz, zeta %.6f)\n\n",
            rr_modal_stable(res->zeta_max) ? "stable" : "UNSTABLE", res->modes[res->max_mode].name,
@@ -137,9 +141,12 @@ static void stability_text(const summary *s)
 {
   const rr_robust *rb = &s->rb;
   printf("Robust indices (paper Table 1):\n");
-  printf("  zeta_low  (250 km/h, 0.05) = %10.6f\n  zeta_high (350 km/h, 0.40) = %10.6f\n"
-         "  std_zeta  (350 km/h, 8 conicities) = %10.6f\n",
-         rb->zeta_low, rb->zeta_high, rb->std_zeta);
+  char b1[32], b2[32], b3[32];
+  printf("  zeta_low  (250 km/h, 0.05) = %10s\n  zeta_high (350 km/h, 0.40) = %10s\n"
+         "  std_zeta  (350 km/h, 8 conicities) = %10s\n",
+         cli_num_or_none(b1, sizeof b1, rb->zeta_low),
+         cli_num_or_none(b2, sizeof b2, rb->zeta_high),
+         cli_num_or_none(b3, sizeof b3, rb->std_zeta));
   if (rb->n_unstable == 0)
     printf("  verdict: stable at every robust point\n\n");
   else
@@ -187,8 +194,9 @@ int cmd_summary(int argc, char **argv)
       "SDF.\n" CLI_COMMON_HELP;
   cli_common c;
   int r = cli_parse(argc, argv, &c,
-                    CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX, NULL,
-                    NULL, NULL, help);
+                    CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX |
+                        CLI_READS_GRAVITY | CLI_READS_PROGRESS,
+                    NULL, NULL, NULL, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = CLI_SPEED_DEFAULT_KMH;

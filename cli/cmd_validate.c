@@ -69,6 +69,7 @@ static int val_run(cli_common *c, val_args *a, rr_validate_result *res, double *
   rr_error e;
   rr_spectrum sp;
   int st = rr_spectrum_open(a->rs.spectrum, &sp, &e), n = rr_model_ndof(m), np = a->rs.npoints;
+  if (!st) st = rr_spectrum_require(&sp, "lateral", "--spectrum: the lateral track input", &e);
   double *rows = malloc(sizeof(double) * (size_t)(n * np)),
          *rows0 = malloc(sizeof(double) * (size_t)(n * np));
   if (!st && (!rows || !rows0)) {
@@ -92,6 +93,7 @@ static int val_run(cli_common *c, val_args *a, rr_validate_result *res, double *
   free(rows);
   free(rows0);
   rr_model_free(m);
+  rr_spectrum_close(&sp);  /* safe after a failed open too */
   if (st == RR_ESTOPPED) { /* one result: nothing partial to write */
     fprintf(stderr, "railride: validate: stopped by a signal (%s); nothing written\n", e.msg);
     return CLI_EXIT_STOPPED;
@@ -254,8 +256,10 @@ int cmd_validate(int argc, char **argv)
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a.rs, &tmp);
-  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON, extra,
-                    val_cb, &a, help);
+  int r = cli_parse(argc, argv, &c,
+                    CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_GRAVITY |
+                        CLI_READS_PROGRESS,
+                    extra, val_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   double samples = a.vo.duration_s * a.vo.fs_hz;

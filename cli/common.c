@@ -246,9 +246,11 @@ static const struct {
     {CLI_READS_INDEX,
      "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n"},
     {0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
-    {0, "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
+    {CLI_READS_GRAVITY,
+     "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
     {CLI_READS_JSON, "  --json               JSON output\n"},
-    {0, "  --progress           progress with an ETA on stderr even when it is not a terminal\n"},
+    {CLI_READS_PROGRESS,
+     "  --progress           progress with an ETA on stderr even when it is not a terminal\n"},
     {0, "  --help               this text\n"},
 };
 
@@ -282,7 +284,36 @@ static unsigned reads_of(int opt)
   case OPT_FMAX:
   case OPT_WMIN:
   case OPT_RMAX: return CLI_READS_INDEX;
+  case OPT_GRAVITY: return CLI_READS_GRAVITY;
+  case OPT_PROGRESS_ALL: return CLI_READS_PROGRESS;
   }
+  return 0;
+}
+
+/* 1 when opt was given before (seen: the ids so far, *nseen of them). */
+static int given_twice(int *seen, int *nseen, int cap, int opt)
+{
+  for (int i = 0; i < *nseen; i++)
+    if (seen[i] == opt) return 1;
+  if (*nseen < cap) seen[(*nseen)++] = opt;
+  return 0;
+}
+
+int cli_option_checks(const char *cmd, char **argv, const struct option *opts, int opt,
+                      int longindex, int *seen, int *nseen)
+{
+  if (longindex >= 0) { /* the word that named it: before its value, or with "=value" */
+    const struct option *o = &opts[longindex];
+    int sep = o->has_arg == required_argument && optarg && optarg == argv[optind - 1];
+    const char *word = argv[optind - 1 - sep];
+    size_t len = strlen(o->name);
+    if (strncmp(word, "--", 2) || strncmp(word + 2, o->name, len) ||
+        (word[2 + len] && word[2 + len] != '='))
+      return cli_bad("%s: option '%.*s' is not written in full (did you mean '--%s'?)", cmd,
+                     (int)strcspn(word, "="), word, o->name);
+  }
+  if (given_twice(seen, nseen, 64, opt))
+    return cli_bad("%s: option '--%s' given twice", cmd, opt_name(opts, opt));
   return 0;
 }
 
@@ -300,13 +331,15 @@ static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
   c->conicity_list = list;
   optind = 1;
   opterr = 0;
-  int opt;
-  while ((opt = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
+  int opt, seen[64], nseen = 0, li = -1;
+  while ((opt = getopt_long(argc, argv, ":h", opts, &li)) != -1) {
     if (opt == 'h' || opt == OPT_HELP) {
       print_help(usage_text, reads);
       return CLI_HELP_SHOWN;
     }
     if (opt == ':' || opt == '?') return cli_getopt_error(argv[0], opt, argv[optind - 1]);
+    if (cli_option_checks(argv[0], argv, opts, opt, li, seen, &nseen)) return EXIT_BADINPUT;
+    li = -1;
     if (reads_of(opt) && !(reads_of(opt) & reads))
       return cli_bad("%s: option '--%s' is not one this command reads (see --help)", argv[0],
                      opt_name(opts, opt));
@@ -449,4 +482,35 @@ void cli_progress_end(cli_progress *p)
   if (p->show)
     fprintf(stderr, "\r%s: %ld/%ld in %.1f s%s\n", p->what, p->done, p->total, cli_now_s() - p->t0,
             p->done < p->total ? " (stopped)" : "             ");
+}
+
+const char *cli_num_or_none(char *buf, size_t len, double x)
+{
+  if (isnan(x))
+    snprintf(buf, len, "none");
+  else
+    snprintf(buf, len, "%.6f", x);
+  return buf;
+}
+
+const char *cli_index_source_key(rr_index_source s)
+{
+  return s == RR_INDEX_HUNTING    ? "hunting"
+         : s == RR_INDEX_UNSTABLE ? "unstable_outside_hunting"
+                                  : "none";
+}
+
+void cli_index_text(char *buf, size_t len, double index, rr_index_source src, const rr_mode *mode,
+                    double freq_hz, double fmax_hz)
+{
+  if (src == RR_INDEX_NONE) {
+    snprintf(buf, len, "none (undefined: no hunting-related mode below %g Hz; all modes stable)",
+             fmax_hz);
+    return;
+  }
+  if (mode)
+    snprintf(buf, len, "%.6f (%s: %s at %.4f Hz)", index, rr_index_source_name(src), mode->name,
+             mode->freq_hz);
+  else
+    snprintf(buf, len, "%.6f (%s at %.4f Hz)", index, rr_index_source_name(src), freq_hz);
 }

@@ -59,9 +59,9 @@ json_check "critical keys" "'critical_speed_kmh' in d and (d['critical_speed_kmh
 json_check "stable to range end" "d['critical_speed_kmh'] is None and d['stable_to_range_end']" < "$tmp/c2.json"
 
 "$RR" locus --over speed --range 100:400:4 > "$tmp/l.csv" || bad "locus exit"
-head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,e_wheelsets,roll_share,hunting_related' && ok || bad "locus header"
+head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,e_wheelsets,roll_share,hunting_related,frame_roll_share' && ok || bad "locus header"
 "$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 > "$tmp/map.csv" || bad "map exit"
-[ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable' && ok || bad "map shape"
+[ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source' && ok || bad "map shape"
 "$RR" damper --freqs 0.1:10:5 > "$tmp/d.csv" || bad "damper exit"
 grep -q '^freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation$' "$tmp/d.csv" && ok || bad "damper header"
 "$RR" summary "$SRC/examples/type2.ini" > "$tmp/s.txt" || bad "summary exit"

@@ -39,7 +39,7 @@ def run(*args):
 UNIT = re.compile(r"_(hz|m|rad|n|nm|kmh|s|deg|per_s|per_s2|rad_per_s|n_per_m|n_s_per_m|kg|kg_m2|n_m_per_rad|m2s-4_per_hz)$", re.IGNORECASE)
 # ... or a dimensionless quantity (shares, indices, flags, counts, names)
 DIMENSIONLESS = re.compile(r"^(branch|conicity|stability_index(_const|_sdf)?|zeta_max|stable|mac|e_(carbody|frames|wheelsets)|"
-                           r"roll_share|hunting_related|dissipation|input|vehicle|sperling_(const|sdf|weight)|sweep|"
+                           r"(frame_)?roll_share|hunting_related|index_source|dissipation|input|vehicle|sperling_(const|sdf|weight)|sweep|"
                            r"max_floquet_modulus|symmetric|residual|welch_sigma_rel|generation|evaluations|seconds|front_size|"
                            r"hypervolume|feasible|violation|objective:.*)$")
 
@@ -50,7 +50,7 @@ def check_units(name, head, objectives):
         check(ok, "%s: column %r names its unit" % (name, col))
 
 
-def check_csv(name, text, must_have=(), objectives=(), strings=("input", "vehicle", "sweep")):
+def check_csv(name, text, must_have=(), objectives=(), strings=("input", "vehicle", "sweep", "index_source")):
     check(not any(l.startswith("#") for l in text.splitlines()), "%s: no comment lines" % name)
     rows = list(csv.reader(io.StringIO(text)))
     check(len(rows) >= 2, "%s: a header and rows" % name)

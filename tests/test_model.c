@@ -331,10 +331,12 @@ static void test_paper_roots(void)
 static int same_locus_point(const rr_locus_point *a, const rr_locus_point *b)
 {
   int same = a->hunting == b->hunting;
-  const double x[] = {a->param, a->re,        a->im,        a->freq_hz,   a->zeta,
-                      a->mac,   a->energy[0], a->energy[1], a->energy[2], a->roll_share};
-  const double y[] = {b->param, b->re,        b->im,        b->freq_hz,   b->zeta,
-                      b->mac,   b->energy[0], b->energy[1], b->energy[2], b->roll_share};
+  const double x[] = {
+      a->param,     a->re,        a->im,         a->freq_hz,         a->zeta, a->mac, a->energy[0],
+      a->energy[1], a->energy[2], a->roll_share, a->frame_roll_share};
+  const double y[] = {
+      b->param,     b->re,        b->im,         b->freq_hz,         b->zeta, b->mac, b->energy[0],
+      b->energy[1], b->energy[2], b->roll_share, b->frame_roll_share};
   return same && !memcmp(x, y, sizeof x);
 }
 
@@ -359,21 +361,22 @@ static void test_locus_tracking(void)
   enum { NP = 80 };
   double vals[NP];
   for (int i = 0; i < NP; i++) vals[i] = 0.02 + 0.48 * i / (NP - 1);
-  rr_locus_point *pts = malloc(sizeof(rr_locus_point) * NP * rr_model_state_size(m));
+  int S = rr_locus_stride(m);
+  rr_locus_point *pts = malloc(sizeof(rr_locus_point) * NP * S);
   int nb = 0;
   CHECK_OK(rr_locus(m, 1, vals, NP, NULL, NULL, pts, &nb, &e), e);
-  CHECK(nb >= 10, "branches %d", nb);
+  CHECK(nb >= 10 && nb <= S, "branches %d", nb);
   int lowmac = 0, jumps = 0, crossings = 0;
   for (int b = 0; b < nb; b++)
     for (int p = 1; p < NP; p++) {
-      const rr_locus_point *a = &pts[(p - 1) * nb + b], *c = &pts[p * nb + b];
-      if (c->freq_hz > 10) continue; /* the hunting range */
+      const rr_locus_point *a = &pts[(p - 1) * S + b], *c = &pts[p * S + b];
+      if (isnan(a->re) || isnan(c->re) || c->freq_hz > 10) continue; /* alive, hunting range */
       if (c->mac < 0.9) lowmac++;
-      /* a nearly critically damped pair may turn real (f -> 0): not a jump */
-      int osc = a->freq_hz > 0 && c->freq_hz > 0 && a->zeta > -0.99 && c->zeta > -0.99;
-      if (osc && fabs(c->freq_hz - a->freq_hz) > 0.3) jumps++;
+      /* a pair just born from two real roots (zeta near -1) moves fast in
+         frequency, as sqrt of the distance from its birth: not a jump */
+      if (a->zeta > -0.99 && c->zeta > -0.99 && fabs(c->freq_hz - a->freq_hz) > 0.3) jumps++;
       for (int b2 = 0; b2 < nb; b2++) { /* branches that swap frequency order */
-        const rr_locus_point *a2 = &pts[(p - 1) * nb + b2], *c2 = &pts[p * nb + b2];
+        const rr_locus_point *a2 = &pts[(p - 1) * S + b2], *c2 = &pts[p * S + b2];
         if (b2 != b && (a->freq_hz - a2->freq_hz) * (c->freq_hz - c2->freq_hz) < 0) crossings++;
       }
     }
@@ -382,19 +385,21 @@ static void test_locus_tracking(void)
   CHECK(crossings > 0, "the sweep should contain branch crossings to be a test (%d)", crossings);
   /* a progress callback that stops after 30 points: RR_ESTOPPED, the points
      done as in the full run, the rest NaN */
-  rr_locus_point *part = malloc(sizeof(rr_locus_point) * NP * rr_model_state_size(m));
+  rr_locus_point *part = malloc(sizeof(rr_locus_point) * NP * S);
   long calls = 0;
   rr_progress pr = {.fn = stop_at_30, .user = &calls};
   int nb2 = 0, st = rr_locus(m, 1, vals, NP, NULL, &pr, part, &nb2, &e);
-  CHECK(st == RR_ESTOPPED && e.code == RR_ESTOPPED && calls == 30 && nb2 == nb,
+  CHECK(st == RR_ESTOPPED && e.code == RR_ESTOPPED && calls == 30 && nb2 <= nb,
         "stopped locus: status %d, %ld calls", st, calls);
   int same = 1, gaps = 1;
-  for (int i = 0; i < NP * nb; i++) {
-    if (i < 30 * nb)
-      same &= same_locus_point(&part[i], &pts[i]);
-    else
-      gaps &= isnan(part[i].re) && part[i].param == vals[i / nb];
-  }
+  for (int p = 0; p < NP; p++)
+    for (int b = 0; b < nb; b++) {
+      int i = p * S + b;
+      if (p < 30)
+        same &= same_locus_point(&part[i], &pts[i]);
+      else
+        gaps &= isnan(part[i].re) && part[i].param == vals[p];
+    }
   CHECK(same && gaps, "stopped locus: points done bit-identical (%d), the rest NaN (%d)", same,
         gaps);
   /* the two steps: records solved out of order (as other processes would),
@@ -411,9 +416,10 @@ static void test_locus_tracking(void)
     CHECK_OK(rr_locus_solve(m, 1, vals[p], NULL, ws, &res, recs + rs * p, &e), e);
   int nb3 = 0;
   CHECK_OK(rr_locus_follow(t, vals, 33, recs, part, &nb3, &e), e);
-  CHECK_OK(rr_locus_follow(t, vals + 33, NP - 33, recs + rs * 33, part + 33 * nb3, &nb3, &e), e);
+  CHECK_OK(rr_locus_follow(t, vals + 33, NP - 33, recs + rs * 33, part + 33 * S, &nb3, &e), e);
   same = nb3 == nb;
-  for (int i = 0; i < NP * nb && same; i++) same = same_locus_point(&part[i], &pts[i]);
+  for (int p = 0; p < NP && same; p++)
+    for (int b = 0; b < nb && same; b++) same = same_locus_point(&part[p * S + b], &pts[p * S + b]);
   CHECK(same, "solve + follow in two windows = rr_locus (branches %d, %d)", nb3, nb);
   rr_locus_tracker_free(t);
   rr_modal_result_free(&res);

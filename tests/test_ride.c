@@ -56,6 +56,51 @@ static void test_spectra(void)
   CHECK_CLOSE(rr_spectrum_eval(&s, 0.0316227766016838), 2 * 1e-4 * pow(3.16227766016838, -2), 1e-12,
               0, "table log-log midpoint, two-sided");
   CHECK_CLOSE(rr_spectrum_eval(&s, 0.5), 2 * 1e-6 * pow(5, -3), 1e-12, 0, "table second slope");
+  rr_spectrum_close(&s);
+  /* a measured PSD as CSV: header units honoured (mm^2 per cycle/m, rad/m),
+     tens of thousands of rows, the same log-log interpolation */
+  {
+    enum { NROW = 40000 };
+    char *csv = malloc((size_t)NROW * 48 + 64), *q = csv;
+    q += sprintf(q, "n_cycles_per_m,psd_mm2_per_cycle_per_m\n");
+    for (int i = 0; i < NROW; i++) { /* S = 1e-3 n^-2 mm^2/(1/m), 1e-3 .. 1 1/m */
+      double nn = 1e-3 * pow(1e3, i / (NROW - 1.0));
+      q += sprintf(q, "%.17g,%.17g\n", nn, 1e-3 / (nn * nn));
+    }
+    p = write_file("m.csv", csv);
+    CHECK_OK(rr_spectrum_open(p, &s, &e), e);
+    CHECK(s.npts == NROW && !strcmp(s.direction, "lateral"), "measured PSD: %d rows", s.npts);
+    CHECK_CLOSE(rr_spectrum_eval(&s, 0.0123), 1e-9 / (0.0123 * 0.0123), 1e-9, 0,
+                "measured PSD in m^2/(1/m)");
+    CHECK_CLOSE(rr_spectrum_rms(&s, 0.01, 0.1), sqrt(1e-9 * (1 / 0.01 - 1 / 0.1)), 1e-6, 0,
+                "measured PSD RMS against the closed form");
+    rr_spectrum c;
+    CHECK_OK(rr_spectrum_copy(&s, &c, &e), e);
+    CHECK(c.tab_n != s.tab_n && c.npts == s.npts && c.tab_S[777] == s.tab_S[777], "a deep copy");
+    rr_spectrum_close(&c);
+    rr_spectrum_close(&s);
+    p = write_file("w.csv", "omega_rad_per_m,psd_m2_per_rad_per_m\n0.1,2e-6\n1,2e-8\n");
+    CHECK_OK(rr_spectrum_open(p, &s, &e), e);
+    CHECK_CLOSE(rr_spectrum_eval(&s, 0.1 / (2 * RR_PI)), 2 * RR_PI * 2e-6, 1e-12, 0,
+                "rad/m columns: S_n = 2 pi S_Omega");
+    rr_spectrum_close(&s);
+    p = write_file("u.csv", "n_per_m,psd_m2_per_rad_per_m\n0.1,2e-6\n1,2e-8\n");
+    CHECK(rr_spectrum_open(p, &s, &e) == RR_EUNIT && strstr(e.msg, "u.csv:1"),
+          "header units "
+          "that disagree: %s",
+          e.msg);
+    p = write_file("v.csv", "n_per_m,psd_m2_per_per_m\n0.1,2e-6\n0.05,2e-8\n");
+    CHECK(rr_spectrum_open(p, &s, &e) == RR_EINVAL && strstr(e.msg, "v.csv:3"), "decreasing: %s",
+          e.msg);
+    free(csv);
+  }
+  /* a spectrum of another direction is refused for the lateral input */
+  CHECK_OK(rr_spectrum_open("german-high-crosslevel", &s, &e), e);
+  CHECK(rr_spectrum_require(&s, "lateral", "the lateral input", &e) == RR_EINVAL &&
+            strstr(e.msg, "german-high-crosslevel.txt: a crosslevel spectrum"),
+        "cross level as lateral: %s", e.msg);
+  CHECK_OK(rr_spectrum_open("german-high-alignment", &s, &e), e);
+  CHECK_OK(rr_spectrum_require(&s, "lateral", "the lateral input", &e), e);
   p = write_file("r.txt", "direction = vertical\nform = rational7\nfreq_unit = 1/m\npsd_unit = "
                           "mm^2/(1/m)\nsided = one\nvalid = 0.01 0.5\n"
                           "params = 0.1 0.2 0.3 0.4 0.5 0.6 0.7\n");

@@ -260,6 +260,248 @@ static void test_sdf_fast_vs_reference(void)
   CHECK(worst_z <= 1e-10, "SDF zeta differs by %g", worst_z);
 }
 
+/* MODEL.md's rule computed here from the full solve's modes (dgeev shapes,
+   the mass diagonal and the DOF names), not from the library's flags: the
+   frame-roll share from phi_f1 and phi_f2, the hunting modes' largest zeta
+   below fmax, zeta_max over every oscillatory mode, the index zeta_max when
+   that is >= 0, else the hunting one, else undefined. */
+static double independent_index(const rr_model *m, const rr_modal_result *r, const rr_modal_opts *o,
+                                double *zmax)
+{
+  const double *M = rr_model_M(m);
+  int n = rr_model_ndof(m);
+  double hunt = NAN;
+  *zmax = -1;
+  for (int i = 0; i < r->n; i++) {
+    const rr_mode *md = &r->modes[i];
+    double l = hypot(md->re, md->im);
+    if (!(md->im > 1e-6 * l) || !md->oscillatory) continue;
+    const rr_complex *phi = r->shapes + (size_t)i * (size_t)n;
+    double tot = 0, wheel = 0, froll = 0;
+    for (int k = 0; k < n; k++) {
+      const char *nm = rr_model_dof_name(m, k);
+      double t = M[k * n + k] * creal(phi[k] * conj(phi[k]));
+      tot += t;
+      if (!strncmp(nm, "y_w", 3) || !strncmp(nm, "psi_w", 5)) wheel += t;
+      if (!strcmp(nm, "phi_f1") || !strcmp(nm, "phi_f2")) froll += t;
+    }
+    double z = md->re / l;
+    *zmax = fmax(*zmax, z);
+    if (md->im / (2 * RR_PI) <= o->fmax_hz && wheel / tot >= o->w_min && froll / tot < o->r_max &&
+        !(z <= hunt))
+      hunt = z;
+  }
+  return *zmax >= 0 ? *zmax : hunt;
+}
+
+/* Revision 3: the index's sign is the verdict everywhere; an undefined
+   index is NaN (never -1); the fast route, the full solve and the rule
+   computed independently agree on a map of each vehicle. */
+static void test_sign_is_verdict(void)
+{
+  const char *veh[6] = {"type1",
+                        "type2",
+                        "../examples/paper-design-A.ini",
+                        "../examples/paper-design-B.ini",
+                        "../examples/paper-design-C.ini",
+                        "../examples/paper-design-D.ini"};
+  enum { NS = 11, NC = 13 };
+  int outside = 0;
+  for (int k = 0; k < 6; k++) {
+    rr_vehicle v;
+    rr_model *m;
+    rr_modal_ws *ws;
+    rr_modal_result r;
+    rr_error e;
+    CHECK_OK(rr_vehicle_open(veh[k], &v, &e), e);
+    CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+    CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+    CHECK_OK(rr_modal_result_alloc(m, &r, &e), e);
+    double sp[NS * NC], lam[NS * NC];
+    rr_stability z[NS * NC];
+    for (int i = 0; i < NS; i++)
+      for (int j = 0; j < NC; j++) {
+        sp[i * NC + j] = (100 + 50.0 * i) / RR_KMH;
+        lam[i * NC + j] = 0.02 + (0.6 - 0.02) * j / (NC - 1);
+      }
+    CHECK_OK(rr_modal_stability_batch(m, NULL, ws, NS * NC, sp, lam, z, &e), e);
+    rr_modal_opts o = rr_modal_opts_default();
+    int bad_sign = 0, minus1 = 0, bad_full = 0, bad_indep = 0;
+    for (int p = 0; p < NS * NC; p++) {
+      int stable = rr_modal_stable(z[p].zeta_max);
+      if (isnan(z[p].index))
+        bad_sign += !(stable && z[p].source == RR_INDEX_NONE);
+      else
+        bad_sign += (z[p].index < 0) != stable;
+      minus1 += z[p].index == -1;
+      outside += z[p].source == RR_INDEX_UNSTABLE;
+      CHECK_OK(rr_model_set_operating(m, sp[p], lam[p], &e), e);
+      CHECK_OK(rr_modal_solve(m, &o, ws, &r, &e), e);
+      double zmax, ind = independent_index(m, &r, &o, &zmax);
+      bad_full += !(fabs(r.stability_index - z[p].index) <= 1e-9 ||
+                    (isnan(r.stability_index) && isnan(z[p].index)));
+      bad_indep += !(fabs(ind - z[p].index) <= 1e-6 || (isnan(ind) && isnan(z[p].index)));
+    }
+    CHECK(bad_sign == 0, "%s: %d points where the index's sign is not the verdict", veh[k],
+          bad_sign);
+    CHECK(minus1 == 0, "%s: %d points with index -1", veh[k], minus1);
+    CHECK(bad_full == 0, "%s: fast route and full solve disagree at %d points", veh[k], bad_full);
+    CHECK(bad_indep == 0, "%s: %d points differ from the independent rule", veh[k], bad_indep);
+    rr_modal_result_free(&r);
+    rr_modal_ws_free(ws);
+    rr_model_free(m);
+  }
+  CHECK(outside > 50, "the maps should hold unstable modes outside the hunting band (%d)", outside);
+  /* Type 1 at 430 km/h, conicity 0.6: the bogie mode at 10.11 Hz is
+     unstable above the band; the index says so */
+  rr_model *m = model_of("type1", -1);
+  rr_modal_ws *ws;
+  rr_stability s;
+  rr_error e;
+  CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 430 / RR_KMH, 0.6, &e), e);
+  CHECK_OK(rr_modal_stability(m, NULL, ws, &s, &e), e);
+  CHECK(s.source == RR_INDEX_UNSTABLE && s.index > 0 && fabs(s.index_freq_hz - 10.11) < 0.01 &&
+            s.hunting_index < 0,
+        "430 km/h, 0.6: index %g (source %d) at %g Hz, hunting modes %g", s.index, s.source,
+        s.index_freq_hz, s.hunting_index);
+  /* no mode below fmax = 0.1 Hz and all stable: undefined */
+  rr_modal_opts lo = rr_modal_opts_default();
+  lo.fmax_hz = 0.1;
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
+  CHECK_OK(rr_modal_stability(m, &lo, ws, &s, &e), e);
+  CHECK(isnan(s.index) && s.source == RR_INDEX_NONE && s.zeta_max < 0,
+        "fmax 0.1 Hz: index %g, source %d", s.index, s.source);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+  /* as a design objective: the design fails, never scores */
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  const char *keys[1] = {"yaw_damper.damping"};
+  const char *objs[2] = {"index@350,0.17;fmax=0.1", "index@430,0.6"};
+  rr_design *d;
+  double x[1] = {v.yaw_damping}, f[2];
+  CHECK_OK(rr_design_new(&v, 1, keys, 1, objs, &d, &e), e);
+  CHECK(rr_design_evaluate(d, x, f, &e) != 0 && isnan(f[0]), "an undefined objective: %g", f[0]);
+  rr_design_free(d);
+  CHECK_OK(rr_design_new(&v, 1, keys, 1, objs + 1, &d, &e), e);
+  CHECK_OK(rr_design_evaluate(d, x, f, &e), e);
+  CHECK(f[0] > 0, "index@430,0.6 as an objective: %g (unstable: positive)", f[0]);
+  rr_design_free(d);
+}
+
+/* Revision 3's frame-roll rule: with a typical carbody roll inertia,
+   carbody hunting (roll share ~0.74) stays in the index (MODEL.md: Type 1
+   zeta_low -0.0370 from the 1.05 Hz mode, wheelset share 0.057). */
+static void test_typical_inertias(void)
+{
+  rr_vehicle v;
+  rr_error e;
+  rr_model *m;
+  rr_modal_ws *ws;
+  rr_robust rb;
+  CHECK_OK(rr_vehicle_builtin("type1", &v, &e), e);
+  v.carbody_roll_inertia = 9.61e4;
+  v.carbody_yaw_inertia = 1.67e6;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  CHECK_OK(rr_robust_indices(m, NULL, NULL, ws, &rb, &e), e);
+  CHECK_CLOSE(rb.zeta_low, -0.0370, 0, 5e-5, "type1, typical inertias: zeta_low");
+  rr_modal_result r;
+  CHECK_OK(rr_modal_result_alloc(m, &r, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 250 / RR_KMH, 0.05, &e), e);
+  CHECK_OK(rr_modal_solve(m, NULL, ws, &r, &e), e);
+  const rr_mode *md = r.index_mode >= 0 ? &r.modes[r.index_mode] : NULL;
+  CHECK(md && fabs(md->freq_hz - 1.05) < 0.01 &&
+            fabs(md->energy[RR_GROUP_WHEELSET] - 0.057) < 1e-3 && md->roll_share > 0.7 &&
+            md->frame_roll_share < 0.05,
+        "the index's mode: %g Hz, wheelset share %g, roll %g", md ? md->freq_hz : NAN,
+        md ? md->energy[RR_GROUP_WHEELSET] : NAN, md ? md->roll_share : NAN);
+  rr_modal_result_free(&r);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+}
+
+/* Every oscillatory mode of every point lies on exactly one branch of the
+   locus (Fig. 8a: conicity 0.1, 20-500 km/h x 25; Fig. 8b: 350 km/h,
+   conicity 0.02-0.5), so the index's mode is always on the locus; a mode
+   that becomes oscillatory mid-range starts a branch of its own there, and
+   no row has f = 0. */
+static void locus_complete(const char *veh, rr_locus_param par, double fixed, double a, double b,
+                           int *born_late)
+{
+  enum { NP = 25 };
+  rr_model *m = model_of(veh, -1);
+  rr_error e;
+  double vals[NP];
+  for (int i = 0; i < NP; i++) vals[i] = a + (b - a) * i / (NP - 1);
+  if (par == RR_LOCUS_SPEED)
+    rr_model_set_operating(m, 300 / RR_KMH, fixed, &e);
+  else
+    rr_model_set_operating(m, fixed, 0.1, &e);
+  int S = rr_locus_stride(m), nb = 0;
+  rr_locus_point *pts = malloc(sizeof *pts * NP * (size_t)S);
+  CHECK_OK(rr_locus(m, par, vals, NP, NULL, NULL, pts, &nb, &e), e);
+  rr_modal_ws *ws;
+  rr_modal_result r;
+  CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  CHECK_OK(rr_modal_result_alloc(m, &r, &e), e);
+  int missing = 0, zero_f = 0, index_off = 0, count_off = 0;
+  for (int p = 0; p < NP; p++) {
+    double v = par == RR_LOCUS_SPEED ? vals[p] : fixed, l = par == RR_LOCUS_SPEED ? fixed : vals[p];
+    CHECK_OK(rr_model_set_operating(m, v, l, &e), e);
+    CHECK_OK(rr_modal_solve(m, NULL, ws, &r, &e), e);
+    int nosc = 0, alive = 0;
+    for (int i = 0; i < r.n; i++) {
+      if (!r.modes[i].oscillatory) continue;
+      nosc++;
+      int on = 0;
+      for (int bb = 0; bb < nb; bb++)
+        on += pts[p * S + bb].re == r.modes[i].re && pts[p * S + bb].im == r.modes[i].im;
+      missing += on != 1;
+    }
+    for (int bb = 0; bb < nb; bb++) {
+      const rr_locus_point *q = &pts[p * S + bb];
+      if (isnan(q->re)) continue;
+      alive++;
+      zero_f += !(q->freq_hz > 0);
+      if (p > 0 && isnan(pts[(p - 1) * S + bb].re) && bb > 0 && p > 0) {
+        int before = 0; /* born here: no row of it before */
+        for (int p2 = 0; p2 < p; p2++) before += !isnan(pts[p2 * S + bb].re);
+        *born_late += before == 0;
+      }
+    }
+    count_off += alive != nosc;
+    int on_index = 0;
+    for (int bb = 0; bb < nb; bb++) on_index |= pts[p * S + bb].zeta == r.stability_index;
+    index_off += !on_index;
+  }
+  CHECK(missing == 0 && count_off == 0,
+        "%s locus: %d modes not on exactly one branch, %d points "
+        "whose live branches are not their oscillatory modes",
+        veh, missing, count_off);
+  CHECK(zero_f == 0, "%s locus: %d rows with f = 0", veh, zero_f);
+  CHECK(index_off == 0, "%s locus: the index's mode missing at %d points", veh, index_off);
+  rr_modal_result_free(&r);
+  rr_modal_ws_free(ws);
+  free(pts);
+  rr_model_free(m);
+}
+
+static void test_locus_every_mode(void)
+{
+  int late8a = 0, late8b = 0, late_low = 0;
+  locus_complete("type1", RR_LOCUS_SPEED, 0.1, 20 / RR_KMH, 500 / RR_KMH, &late8a);
+  locus_complete("type1", RR_LOCUS_CONICITY, 350 / RR_KMH, 0.02, 0.5, &late8b);
+  locus_complete("type2", RR_LOCUS_SPEED, 0.02, 20 / RR_KMH, 500 / RR_KMH, &late_low);
+  CHECK(late8a > 0 && late_low > 0,
+        "modes that become oscillatory mid-range start branches "
+        "(Fig. 8a %d, low conicity %d)",
+        late8a, late_low);
+  printf("  locus: branches born mid-range: Fig. 8a %d, Fig. 8b %d, Type 2 at conicity 0.02 %d\n",
+         late8a, late8b, late_low);
+}
+
 int main(void)
 {
   test_roll_out_hunting_in();
@@ -267,5 +509,8 @@ int main(void)
   test_verdict_any_mode();
   test_objective_modifiers();
   test_sdf_fast_vs_reference();
+  test_sign_is_verdict();
+  test_typical_inertias();
+  test_locus_every_mode();
   return check_done("stability");
 }

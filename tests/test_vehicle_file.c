@@ -243,8 +243,75 @@ static void test_errors(void)
         "base chain values");
 }
 
+/* Angles are not the number 1 here: every key of the table tried with an
+   angular frequency, a degree and a revolution rate. A frequency key takes
+   rad/s divided by 2 pi and rpm divided by 60; an angular stiffness takes
+   kN.m/deg; every other key refuses them all. Speeds take any speed unit. */
+static void test_angle_units(void)
+{
+  int nk;
+  const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
+  const double pi = 3.14159265358979323846;
+  int tried = 0, hz = 0, ang = 0;
+  for (int i = 0; i < nk; i++) {
+    const rr_vehicle_key *k = &keys[i];
+    if (k->flags & RR_KEY_SPECIAL) continue;
+    int is_hz = !strcmp(k->si_unit, "Hz"), is_ang = !strcmp(k->si_unit, "N.m/rad");
+    const struct {
+      const char *text;
+      double hz, ang; /* the value for a frequency key, an angular stiffness (NaN: refused) */
+    } cases[] = {
+        {"9.4 rad/s", 9.4 / (2 * pi), NAN},
+        {"600 rpm", 10, NAN},
+        {"3 deg", NAN, NAN},
+        {"1 kN.m/deg", NAN, 1000 * 180 / pi},
+        {"2 rev/s", 2, NAN},
+        {"1 mrad", NAN, NAN},
+        {"5 kN.m/rad", NAN, 5000},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+      double x = 0, want = is_hz ? cases[c].hz : is_ang ? cases[c].ang : NAN;
+      rr_error e;
+      int st = rr_units_parse(NULL, cases[c].text, k->si_unit, 0, &x, k->key, &e);
+      tried++;
+      if (isnan(want))
+        CHECK(st == RR_EUNIT, "%s.%s = %s: accepted as %g %s", k->section, k->key, cases[c].text, x,
+              k->si_unit);
+      else
+        CHECK(st == RR_OK && fabs(x - want) <= 1e-12 * want, "%s.%s = %s: %g, expected %g (%s)",
+              k->section, k->key, cases[c].text, x, want, st ? e.msg : "ok");
+    }
+    hz += is_hz;
+    ang += is_ang;
+  }
+  CHECK(hz >= 1 && ang >= 1 && tried > 100, "the key table: %d frequency, %d angular keys", hz,
+        ang);
+  const struct {
+    const char *text;
+    double kmh;
+  } speeds[] = {{"350 km/h", 350},
+                {"350 mph", 350 * 1.609344},
+                {"97.2 m/s", 349.92},
+                {"100 kph", 100},
+                {"200 knot", 200 * 1.852}};
+  for (size_t c = 0; c < sizeof speeds / sizeof speeds[0]; c++) {
+    double x = 0;
+    rr_error e;
+    int st = rr_units_parse(NULL, speeds[c].text, "km/h", 0, &x, "speed", &e);
+    CHECK(st == RR_OK && fabs(x - speeds[c].kmh) <= 1e-9 * speeds[c].kmh, "speed %s: %g km/h (%s)",
+          speeds[c].text, x, st ? e.msg : "ok");
+  }
+  /* a factor unit does not scale a dimensional value */
+  double x;
+  rr_error e;
+  CHECK(rr_units_parse(NULL, "50 kN/mm %", "N/m", 0, &x, "k", &e) == RR_EUNIT, "50 kN/mm %%: %g",
+        x);
+  CHECK(rr_units_parse(NULL, "5 ppm kg", "kg", 0, &x, "m", &e) == RR_EUNIT, "5 ppm kg: %g", x);
+}
+
 int main(void)
 {
+  test_angle_units();
   if (check_tmpdir("vf")) return 1;
   test_units();
   test_examples();

@@ -21,7 +21,7 @@ typedef enum rr_sdf_tracking { RR_TRACK_FAST = 0, RR_TRACK_REFERENCE = 1 } rr_sd
 typedef struct rr_modal_opts {
   double fmax_hz;           /* modes above are left out of the index (default 10 Hz) */
   double w_min;             /* least wheelset kinetic-energy share of a hunting mode (1e-3) */
-  double r_max;             /* roll kinetic-energy share a hunting mode stays below (0.5) */
+  double r_max;             /* frame-roll kinetic-energy share a hunting mode stays below (0.5) */
   rr_sdf_tracking tracking; /* paper-mode SDF method (RR_TRACK_FAST) */
 } rr_modal_opts;
 /* The defaults given in the fields' comments. */
@@ -30,18 +30,27 @@ RR_API rr_modal_opts rr_modal_opts_default(void);
 #define RR_MODE_NAME_MAX 48
 
 typedef struct rr_mode {
-  double re, im;               /* eigenvalue (1/s), im >= 0 */
-  double freq_hz;              /* im / 2 pi */
-  double zeta;                 /* re / |lambda|: negative is stable */
-  double energy[RR_NGROUPS];   /* kinetic-energy shares carbody, frames, wheelsets */
-  double roll_share;           /* kinetic-energy share of the roll DOFs */
-  int oscillatory;             /* im > 1e-6 |lambda| */
-  int hunting;                 /* hunting-related: wheelset share >= w_min, roll share < r_max */
-  int in_index;                /* counted in the vehicle stability index */
-  int self_consistent;         /* paper SDF mode: a self-consistent root was found */
-  double sdf_k;                /* paper SDF mode: series stiffness at the root (N/m) */
+  double re, im;             /* eigenvalue (1/s), im >= 0 */
+  double freq_hz;            /* im / 2 pi */
+  double zeta;               /* re / |lambda|: negative is stable */
+  double energy[RR_NGROUPS]; /* kinetic-energy shares carbody, frames, wheelsets */
+  double roll_share;         /* kinetic-energy share of all roll DOFs */
+  double frame_roll_share;   /* kinetic-energy share of the frames' roll DOFs */
+  int oscillatory;           /* im > 1e-6 |lambda| */
+  int hunting;         /* hunting-related: wheelset share >= w_min, frame-roll share < r_max */
+  int in_index;        /* counted in the vehicle stability index */
+  int self_consistent; /* paper SDF mode: a self-consistent root was found */
+  double sdf_k;        /* paper SDF mode: series stiffness at the root (N/m) */
   char name[RR_MODE_NAME_MAX]; /* dominant motion, e.g. "carbody lateral-yaw", "frames roll" */
 } rr_mode;
+
+/* What set the vehicle stability index (docs/model.md, "Modes and
+ * stability"): its sign is always the verdict. */
+typedef enum rr_index_source {
+  RR_INDEX_NONE = 0,     /* undefined (NaN): no hunting-related mode and all stable */
+  RR_INDEX_HUNTING = 1,  /* the least damped hunting-related mode below fmax */
+  RR_INDEX_UNSTABLE = 2, /* an unstable mode outside the hunting rule or band (zeta_max) */
+} rr_index_source;
 
 typedef struct rr_modal_result {
   int n; /* modes stored (one per conjugate pair, plus real ones) */
@@ -49,10 +58,15 @@ typedef struct rr_modal_result {
   rr_mode *modes; /* sorted: oscillatory by frequency, then real ones */
   int ndof;
   rr_complex *shapes;     /* q part of each mode's eigenvector, n x ndof */
-  double stability_index; /* max zeta over modes in the index; -1 when none */
-  int index_mode;         /* which mode gave it, -1 when none */
-  double zeta_max;        /* max zeta over every oscillatory mode (any frequency, shape) */
-  int max_mode;           /* which mode gave it, -1 when none */
+  double stability_index; /* the index: hunting_index, or zeta_max when that is >= 0;
+                             NaN when undefined */
+  int index_mode;         /* which mode gave it, -1 when undefined */
+  rr_index_source index_source;
+  double hunting_index; /* max zeta over the hunting-related modes below fmax; NaN when none */
+  int hunting_mode;     /* which mode gave it, -1 when none */
+  double zeta_max;      /* max zeta over every oscillatory mode (any frequency, shape); -1
+                           when there is none */
+  int max_mode;         /* which mode gave it, -1 when none */
 } rr_modal_result;
 
 /* The verdict rule: a vehicle is stable at an operating point when every
@@ -74,11 +88,22 @@ RR_API int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws
 /* Stability at one operating point, without mode shapes where none are
  * needed. */
 typedef struct rr_stability {
-  double index;         /* vehicle stability index; -1 when no mode qualifies */
-  double index_freq_hz; /* frequency of the mode that sets it; NaN when none */
-  double zeta_max;      /* largest zeta over every oscillatory mode; -1 when none */
-  double max_freq_hz;   /* frequency of that mode; NaN when none */
+  double index;           /* vehicle stability index (rr_modal_result); NaN when undefined */
+  double index_freq_hz;   /* frequency of the mode that sets it; NaN when undefined */
+  rr_index_source source; /* what set it */
+  double hunting_index;   /* the hunting-related modes' own largest zeta; NaN when none */
+  double zeta_max;        /* largest zeta over every oscillatory mode; -1 when none */
+  double max_freq_hz;     /* frequency of that mode; NaN when none */
 } rr_stability;
+
+/* The index from its two parts, the one home of the rule: the hunting
+ * modes' largest zeta, unless some oscillatory mode is unstable (zeta_max >=
+ * 0), which then sets it; undefined (NaN, RR_INDEX_NONE) when no mode
+ * qualifies and all are stable. *which: 0 hunting, 1 zeta_max's mode, -1 none. */
+RR_API double rr_modal_index_rule(double hunting_index, double zeta_max, int have_max,
+                                  rr_index_source *source, int *which);
+/* "hunting mode", "unstable mode outside the hunting band", "none". */
+RR_API const char *rr_index_source_name(rr_index_source s);
 
 /* By the cheapest exact route: eigenvalues of the state matrix, then (17 x 17
  * inverse iteration) the shapes of candidate modes only; paper-mode SDF by

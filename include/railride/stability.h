@@ -56,33 +56,40 @@ RR_API int rr_critical_speed(rr_model *m, double conicity, const rr_modal_opts *
                              const rr_critical_opts *c, rr_modal_ws *ws, rr_critical *out,
                              rr_error *err);
 
-/* Root locus: modes followed along a parameter by eigenvector correlation.
- * For each point p and branch b fills out[p * nbranch + b]; *nbranch is the
- * number of oscillatory modes at the first point. out must hold
- * npts * (state size) entries. pr (may be NULL): progress per point; when it
- * stops the call (RR_ESTOPPED), the points not reached have re = NaN. */
+/* Root locus: modes followed along a parameter by eigenvector correlation
+ * (MAC). Every oscillatory mode anywhere in the range is a branch: born at
+ * the first point where it is oscillatory (a branch of its own when no branch
+ * continues into it), ended where it turns real (its best match is a real
+ * root) or finds no match; an ended branch's later rows are gaps (re = NaN),
+ * and so are a branch's rows before its birth. out[p * stride + b] with
+ * stride = rr_locus_stride(m) (out holds npts * stride entries); *nbranch:
+ * the branches born. pr (may be NULL): progress per point; when it stops
+ * the call (RR_ESTOPPED), the points not reached are gaps. More than stride
+ * branches born over the range is an error (RR_EUNSUP). */
 typedef enum rr_locus_param { RR_LOCUS_SPEED = 0, RR_LOCUS_CONICITY = 1 } rr_locus_param;
 typedef struct rr_locus_point {
   double param, re, im, freq_hz, zeta, mac;
   double energy[RR_NGROUPS];
-  double roll_share;
+  double roll_share, frame_roll_share;
   int hunting;
 } rr_locus_point;
+/* The row length of a locus's output: the most branches it holds. */
+RR_API int rr_locus_stride(const rr_model *m);
 RR_API int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
                     const rr_modal_opts *o, const rr_progress *pr, rr_locus_point *out,
                     int *nbranch, rr_error *err);
 
 /* rr_locus in two steps, so that the eigen-solves (its cost) can be spread
  * over threads or processes and the branches followed after, with the same
- * result to the bit:
+ * result to the bit (the same layout, out[p * stride + b]):
  * - rr_locus_solve: one point's modes and shapes into a record of
  *   rr_locus_record_size(m) bytes (plain data: records may be copied between
  *   processes running the same build). res: scratch from
  *   rr_modal_result_alloc. Leaves the model at that point.
  * - rr_locus_follow: the branches through npts records in order, into
  *   out[p * nbranch + b]; a tracker goes on from where its last call ended,
- *   so windows of points may be followed one after another. *nbranch: the
- *   oscillatory modes of the first record the tracker saw. */
+ *   so windows of points may be followed one after another (out: the
+ *   window's first row). *nbranch: the branches born so far. */
 typedef struct rr_locus_tracker rr_locus_tracker;
 RR_API size_t rr_locus_record_size(const rr_model *m);
 RR_API int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_modal_opts *o,

@@ -9,6 +9,7 @@ KMH = 3.6
 MODE_NAME_MAX = 48
 NGROUPS = 3
 c_double_p = ctypes.POINTER(ctypes.c_double)
+_INDEX_SOURCE = {0: "none", 1: "hunting", 2: "unstable_outside_hunting"}
 
 
 class _Error(ctypes.Structure):
@@ -23,19 +24,20 @@ class _ModalOpts(ctypes.Structure):
 class _Mode(ctypes.Structure):
     _fields_ = [("re", ctypes.c_double), ("im", ctypes.c_double), ("freq_hz", ctypes.c_double),
                 ("zeta", ctypes.c_double), ("energy", ctypes.c_double * NGROUPS), ("roll_share", ctypes.c_double),
-                ("oscillatory", ctypes.c_int), ("hunting", ctypes.c_int), ("in_index", ctypes.c_int),
+                ("frame_roll_share", ctypes.c_double), ("oscillatory", ctypes.c_int), ("hunting", ctypes.c_int), ("in_index", ctypes.c_int),
                 ("self_consistent", ctypes.c_int), ("sdf_k", ctypes.c_double), ("name", ctypes.c_char * MODE_NAME_MAX)]
 
 
 class _ModalResult(ctypes.Structure):
     _fields_ = [("n", ctypes.c_int), ("cap", ctypes.c_int), ("modes", ctypes.POINTER(_Mode)), ("ndof", ctypes.c_int),
                 ("shapes", ctypes.c_void_p), ("stability_index", ctypes.c_double), ("index_mode", ctypes.c_int),
+                ("index_source", ctypes.c_int), ("hunting_index", ctypes.c_double), ("hunting_mode", ctypes.c_int),
                 ("zeta_max", ctypes.c_double), ("max_mode", ctypes.c_int)]
 
 
 class _Stability(ctypes.Structure):
-    _fields_ = [("index", ctypes.c_double), ("index_freq_hz", ctypes.c_double), ("zeta_max", ctypes.c_double),
-                ("max_freq_hz", ctypes.c_double)]
+    _fields_ = [("index", ctypes.c_double), ("index_freq_hz", ctypes.c_double), ("source", ctypes.c_int),
+                ("hunting_index", ctypes.c_double), ("zeta_max", ctypes.c_double), ("max_freq_hz", ctypes.c_double)]
 
 
 class _RobustOpts(ctypes.Structure):
@@ -102,6 +104,7 @@ def declare(lib):
         "rr_pem_psd": (ctypes.c_int, [P, P, P, c_double_p, E]),
         "rr_comfort_plan_new": (ctypes.c_int, [c_double_p, ctypes.c_int, ctypes.c_int, ctypes.POINTER(P), E]),
         "rr_comfort_plan_free": (None, [P]),
+        "rr_model_dof_name": (ctypes.c_char_p, [P, ctypes.c_int]),
         "rr_comfort_execute": (ctypes.c_int, [P, c_double_p, ctypes.c_int, ctypes.POINTER(_Comfort), E]),
     }
     for name, (res, args) in sig.items():
@@ -155,8 +158,13 @@ class Vehicle:
 
     def modes(self, speed_kmh, conicity, fmax=10.0, wmin=1e-3, rmax=0.5):
         """Every mode: arrays freq_hz, real, imag, zeta, energy (n x 3: carbody,
-        frames, wheelsets), roll_share, hunting, in_index, name; with the vehicle
-        stability_index and zeta_max (any oscillatory mode)."""
+        frames, wheelsets), roll_share, frame_roll_share, oscillatory (False for
+        real roots, whose freq_hz and zeta mean nothing), hunting, in_index, name
+        (no two alike), shape (n x ndof complex: the mode's q part, unit norm,
+        largest component real) and dofs (the DOF names); with the vehicle
+        stability_index (NaN when undefined), index_source ("hunting",
+        "unstable_outside_hunting", "none"), index_mode (row, -1 when undefined)
+        and zeta_max (any oscillatory mode)."""
         self._at(speed_kmh, conicity)
         res = _ModalResult()
         self._call("rr_modal_result_alloc", self._m, ctypes.byref(res))
@@ -168,18 +176,26 @@ class Vehicle:
                    "imag": np.array([m.im for m in ms]), "zeta": np.array([m.zeta for m in ms]),
                    "energy": np.array([list(m.energy) for m in ms]).reshape(-1, NGROUPS),
                    "roll_share": np.array([m.roll_share for m in ms]),
+                   "frame_roll_share": np.array([m.frame_roll_share for m in ms]),
+                   "oscillatory": np.array([bool(m.oscillatory) for m in ms]),
                    "hunting": np.array([bool(m.hunting) for m in ms]),
                    "in_index": np.array([bool(m.in_index) for m in ms]),
                    "name": [m.name.decode() for m in ms],
                    "stability_index": res.stability_index if res.index_mode >= 0 else float("nan"),
+                   "index_source": _INDEX_SOURCE[res.index_source], "index_mode": res.index_mode,
                    "zeta_max": res.zeta_max}
+            ndof = res.ndof
+            buf = (ctypes.c_double * (2 * res.n * ndof)).from_address(res.shapes)
+            out["shape"] = np.frombuffer(buf, dtype=np.float64).copy().view(np.complex128).reshape(res.n, ndof)
+            out["dofs"] = [self._lib.rr_model_dof_name(self._m, i).decode() for i in range(ndof)]
         finally:
             self._lib.rr_modal_result_free(ctypes.byref(res))
         return out
 
     def map(self, speeds_kmh, conicities, fmax=10.0, wmin=1e-3, rmax=0.5, what="index"):
         """The stability index (or what="zeta_max") over speeds x conicities:
-        an array (len(speeds), len(conicities)); NaN where no mode qualifies."""
+        an array (len(speeds), len(conicities)). The index's sign is the verdict;
+        NaN where it is undefined (no hunting-related mode, all stable)."""
         self._live()
         v = np.ascontiguousarray(np.atleast_1d(np.asarray(speeds_kmh, dtype=np.float64)))
         lam = np.ascontiguousarray(np.atleast_1d(np.asarray(conicities, dtype=np.float64)))
@@ -190,12 +206,14 @@ class Vehicle:
             vs = np.full(lam.size, s / KMH)
             self._call("rr_modal_stability_batch", self._m, ctypes.byref(o), self._ws, lam.size, _ptr(vs), _ptr(lam), res)
             for j in range(lam.size):
-                x = res[j].index if what == "index" else res[j].zeta_max
-                out[i, j] = x if x != -1 else float("nan")
+                if what == "index":
+                    out[i, j] = res[j].index  # NaN: undefined (no hunting mode, all stable)
+                else:  # NaN where no mode is oscillatory
+                    out[i, j] = res[j].zeta_max if np.isfinite(res[j].max_freq_hz) else float("nan")
         return out
 
     def stability_index(self, speed_kmh, conicity, **kw):
-        """The vehicle stability index at one point (NaN when no mode qualifies)."""
+        """The vehicle stability index at one point (NaN when undefined)."""
         return float(self.map([speed_kmh], [conicity], **kw)[0, 0])
 
     def robust(self, fmax=10.0, wmin=1e-3, rmax=0.5):

@@ -6,6 +6,7 @@
 #include <float.h>
 #include <lapacke.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "modal_impl.h"
@@ -191,11 +192,43 @@ void rr_mode_fill(rr_mode *md, double re, double im, double anorm)
   md->self_consistent = 1;
 }
 
-/* Hunting-related (docs/model.md): the wheelsets move, and not a roll mode;
-   r_max >= 1 lets every shape through. */
+/* Hunting-related (docs/model.md): the wheelsets move, and not a roll mode
+   of the frames (carbody roll is part of body hunting); r_max >= 1 lets
+   every shape through. */
 static int hunting_related(const rr_mode *md, const rr_modal_opts *o)
 {
-  return md->energy[RR_GROUP_WHEELSET] >= o->w_min && (md->roll_share < o->r_max || o->r_max >= 1);
+  return md->energy[RR_GROUP_WHEELSET] >= o->w_min &&
+         (md->frame_roll_share < o->r_max || o->r_max >= 1);
+}
+
+double rr_modal_index_rule(double hunting_index, double zeta_max, int have_max,
+                           rr_index_source *source, int *which)
+{
+  rr_index_source s = RR_INDEX_NONE;
+  int w = -1;
+  double z = NAN;
+  if (have_max && zeta_max >= 0 && !(hunting_index >= zeta_max)) {
+    s = RR_INDEX_UNSTABLE; /* an unstable mode the hunting rule does not count */
+    w = 1;
+    z = zeta_max;
+  } else if (!isnan(hunting_index)) {
+    s = RR_INDEX_HUNTING;
+    w = 0;
+    z = hunting_index;
+  }
+  if (source) *source = s;
+  if (which) *which = w;
+  return z;
+}
+
+const char *rr_index_source_name(rr_index_source s)
+{
+  switch (s) {
+  case RR_INDEX_HUNTING: return "hunting mode";
+  case RR_INDEX_UNSTABLE: return "unstable mode outside the hunting band";
+  case RR_INDEX_NONE: break;
+  }
+  return "none";
 }
 
 static void classify(rr_mode *md, const rr_modal_opts *o)
@@ -252,25 +285,55 @@ void rr_modal_collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_
   }
 }
 
+/* No two modes of a result share a name (users tell them apart by name, as
+   in SIMPACK or VAMPIRE): a name worn by several modes gets an ordinal in
+   frequency order, "wheelsets yaw #2". */
+static void unique_names(rr_modal_result *res)
+{
+  enum { SUFFIX = 6 };               /* " #" and up to 3 digits and the NUL */
+  for (int i = 0; i < res->n; i++) { /* real roots are told from oscillatory modes first */
+    rr_mode *md = &res->modes[i];
+    size_t l = strlen(md->name);
+    if (!md->oscillatory && l + 12 < sizeof md->name) memcpy(md->name + l, ", aperiodic", 12);
+  }
+  for (int i = 0; i < res->n; i++) {
+    const char *nm = res->modes[i].name;
+    int count = 0;
+    for (int j = i + 1; j < res->n; j++) count += !strcmp(res->modes[j].name, nm);
+    if (count == 0) continue; /* the earlier ones of a shared name were renamed already */
+    char base[RR_MODE_NAME_MAX];
+    snprintf(base, sizeof base, "%.*s", RR_MODE_NAME_MAX - SUFFIX, nm);
+    for (int j = i, k = 1; j < res->n; j++)
+      if (!strcmp(res->modes[j].name, nm) && j != i)
+        snprintf(res->modes[j].name, RR_MODE_NAME_MAX, "%s #%d", base, ++k);
+    snprintf(res->modes[i].name, RR_MODE_NAME_MAX, "%s #1", base);
+  }
+}
+
 void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double complex *scratch)
 {
   sort_result(res, scratch);
-  res->stability_index = -1;
-  res->index_mode = -1;
+  unique_names(res);
+  res->hunting_index = NAN;
+  res->hunting_mode = -1;
   res->zeta_max = -1;
   res->max_mode = -1;
   for (int i = 0; i < res->n; i++) {
     rr_mode *md = &res->modes[i];
     classify(md, o);
-    if (md->in_index && (res->index_mode < 0 || md->zeta > res->stability_index)) {
-      res->stability_index = md->zeta;
-      res->index_mode = i;
+    if (md->in_index && (res->hunting_mode < 0 || md->zeta > res->hunting_index)) {
+      res->hunting_index = md->zeta;
+      res->hunting_mode = i;
     }
     if (md->oscillatory && md->self_consistent && (res->max_mode < 0 || md->zeta > res->zeta_max)) {
       res->zeta_max = md->zeta;
       res->max_mode = i;
     }
   }
+  int which;
+  res->stability_index = rr_modal_index_rule(res->hunting_index, res->zeta_max, res->max_mode >= 0,
+                                             &res->index_source, &which);
+  res->index_mode = which == 0 ? res->hunting_mode : which == 1 ? res->max_mode : -1;
 }
 
 static int paper_sdf(const rr_model *m) { return m->sdf_mode == RR_SDF_PAPER && m->nsdf > 0; }
@@ -317,6 +380,16 @@ static void shape_of(rr_modal_ws *ws, double complex s, double complex *phi)
   rr_dsolver_from(ws->ds, t, phi);
 }
 
+/* The index from hunting_index and zeta_max (index_freq_hz holds the
+   hunting mode's frequency on entry). */
+static void stability_resolve(rr_stability *s)
+{
+  int which;
+  s->index = rr_modal_index_rule(s->hunting_index, s->zeta_max, !isnan(s->max_freq_hz), &s->source,
+                                 &which);
+  s->index_freq_hz = which == 1 ? s->max_freq_hz : which == 0 ? s->index_freq_hz : NAN;
+}
+
 static int needs_shape(const rr_modal_opts *o) { return o->w_min > 0 || o->r_max < 1; }
 
 /* Stability from the eigenvalues (wr, wi) of the model's state matrix at its
@@ -327,7 +400,8 @@ static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_mo
                                 const double *wr, const double *wi, double anorm, rr_stability *out)
 {
   int nc = 0;
-  *out = (rr_stability){.index = -1, .index_freq_hz = NAN, .zeta_max = -1, .max_freq_hz = NAN};
+  *out = (rr_stability){
+      .index = NAN, .index_freq_hz = NAN, .hunting_index = NAN, .zeta_max = -1, .max_freq_hz = NAN};
   for (int j = 0; j < N; j++) {
     double re = wr[j], im = wi[j];
     if (im <= 0 || !rr_modal_is_osc(re, im, anorm)) continue;
@@ -355,16 +429,19 @@ static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_mo
       rr_mode_shares(m, ws->x, &md);
       if (!hunting_related(&md, o)) continue;
     }
-    out->index = ws->candz[i];
+    out->hunting_index = ws->candz[i];
     out->index_freq_hz = wi[j] / (2 * RR_PI);
     break;
   }
+  stability_resolve(out);
 }
 
 static void stability_from_result(const rr_modal_result *r, rr_stability *out)
 {
   out->index = r->stability_index;
   out->index_freq_hz = r->index_mode >= 0 ? r->modes[r->index_mode].freq_hz : NAN;
+  out->source = r->index_source;
+  out->hunting_index = r->hunting_index;
   out->zeta_max = r->zeta_max;
   out->max_freq_hz = r->max_mode >= 0 ? r->modes[r->max_mode].freq_hz : NAN;
 }
@@ -392,7 +469,10 @@ static int eigenvalues_merged(const rr_model *m, rr_modal_ws *ws, int *Nout, dou
 
 static int check_finite(const rr_stability *s, rr_error *err)
 {
-  if (isfinite(s->index) && isfinite(s->zeta_max)) return RR_OK;
+  /* an undefined index is NaN by rule (RR_INDEX_NONE), not by overflow */
+  if ((isfinite(s->index) || s->source == RR_INDEX_NONE) && isfinite(s->zeta_max) &&
+      !(s->source == RR_INDEX_NONE && s->zeta_max >= 0))
+    return RR_OK;
   return rr_seterr(err, RR_ENOCONV,
                    "stability index is not finite (the model's matrices overflow)");
 }

@@ -194,15 +194,20 @@ static void name_mode(const rr_model *m, const double complex *phi, const double
 
 void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md)
 {
-  double tot = 0, roll = 0, eg[RR_NGROUPS] = {0, 0, 0};
+  double tot = 0, roll = 0, froll = 0, eg[RR_NGROUPS] = {0, 0, 0};
   for (int i = 0; i < m->n; i++) {
     double t = dof_energy(m, phi, i);
     eg[m->group[i]] += t;
     tot += t;
   }
-  for (int b = 0; b < m->nbodies; b++) roll += dof_energy(m, phi, m->bodies[b].dof_phi);
+  for (int b = 0; b < m->nbodies; b++) {
+    double e = dof_energy(m, phi, m->bodies[b].dof_phi);
+    roll += e;
+    if (m->bodies[b].group == RR_GROUP_FRAME) froll += e;
+  }
   for (int g = 0; g < RR_NGROUPS; g++) md->energy[g] = tot > 0 ? eg[g] / tot : 0;
   md->roll_share = tot > 0 ? roll / tot : 0;
+  md->frame_roll_share = tot > 0 ? froll / tot : 0;
   if (tot > 0)
     name_mode(m, phi, eg, md->name, sizeof md->name);
   else

@@ -94,7 +94,9 @@ rr_critical_opts rr_critical_opts_default(void)
 
 static double rule_value(const rr_stability *s, const rr_critical_opts *c)
 {
-  return c->index_modes ? s->index : s->zeta_max;
+  /* index_modes: the hunting modes' own index (an undefined one never
+     crosses), not the verdict's zeta_max */
+  return c->index_modes ? (isnan(s->hunting_index) ? -1 : s->hunting_index) : s->zeta_max;
 }
 
 static int unstable_at(rr_model *m, double v, double lam, const rr_modal_opts *o,
@@ -116,7 +118,7 @@ static int unstable_mode(rr_model *m, double v, double lam, const rr_modal_opts 
   int st = rr_model_set_operating(m, v, lam, err);
   if (!st) st = rr_modal_solve(m, o, ws, r, err);
   if (st) return st;
-  int i = c->index_modes ? r->index_mode : r->max_mode;
+  int i = c->index_modes ? r->hunting_mode : r->max_mode;
   out->found = 1;
   out->speed_ms = v;
   if (i >= 0) out->mode = r->modes[i];
@@ -204,10 +206,12 @@ static rr_locus_point locus_point(double param, const rr_mode *md, double mac)
                           .mac = mac,
                           .energy = {md->energy[0], md->energy[1], md->energy[2]},
                           .roll_share = md->roll_share,
+                          .frame_roll_share = md->frame_roll_share,
                           .hunting = md->hunting};
 }
 
-/* A point where a branch has no match (or that was not reached). */
+/* A row where a branch has no mode: before its birth, after its end, or a
+   point not reached. */
 static rr_locus_point locus_gap(double param)
 {
   return (rr_locus_point){.param = param,
@@ -218,39 +222,84 @@ static rr_locus_point locus_gap(double param)
                           .mac = 0,
                           .energy = {NAN, NAN, NAN},
                           .roll_share = NAN,
+                          .frame_roll_share = NAN,
                           .hunting = 0};
 }
 
-/* The modes of res assigned to the nb branches whose last shapes are prev,
-   greedily, best correlations first; prev takes the new shapes. */
-static void locus_match(const rr_modal_result *res, int n, int nb, double param,
-                        double complex *prev, int *used, int *done, rr_locus_point *row)
+int rr_locus_stride(const rr_model *m) { return rr_modal_state_cap(m); }
+
+/* The state of the branches between points. */
+struct rr_locus_tracker {
+  int n, cap, nb;       /* ndof, modes at most (= the stride), branches born */
+  double complex *prev; /* each branch's last shape (cap x n) */
+  int *alive;           /* cap: 1 while a branch goes on */
+  int *used, *done;     /* cap each: one point's matching */
+};
+
+/* The best (branch, mode) pair left: the live branches against every mode
+   of res not yet taken, real ones included (a branch whose best match is a
+   real root has turned real). */
+static double best_pair(const rr_locus_tracker *t, const rr_modal_result *res, int *bb, int *bi)
 {
-  for (int i = 0; i < res->n; i++) used[i] = 0;
-  for (int b = 0; b < nb; b++) done[b] = 0;
-  for (int round = 0; round < nb; round++) {
-    double bestmac = -1;
-    int bb = -1, bi = -1;
-    for (int b = 0; b < nb; b++) {
-      if (done[b]) continue;
-      for (int i = 0; i < res->n; i++) {
-        if (used[i]) continue;
-        double mac = rr_mac(prev + (size_t)b * (size_t)n, res->shapes + (size_t)i * (size_t)n, n);
-        if (mac > bestmac) {
-          bestmac = mac;
-          bb = b;
-          bi = i;
-        }
+  double best = -1;
+  *bb = *bi = -1;
+  for (int b = 0; b < t->nb; b++) {
+    if (!t->alive[b] || t->done[b]) continue;
+    for (int i = 0; i < res->n; i++) {
+      if (t->used[i]) continue;
+      double mac =
+          rr_mac(t->prev + (size_t)b * (size_t)t->n, res->shapes + (size_t)i * (size_t)t->n, t->n);
+      if (mac > best) {
+        best = mac;
+        *bb = b;
+        *bi = i;
       }
     }
-    if (bb < 0) break;
-    done[bb] = used[bi] = 1;
-    row[bb] = locus_point(param, &res->modes[bi], bestmac);
-    memcpy(prev + (size_t)bb * (size_t)n, res->shapes + (size_t)bi * (size_t)n,
-           (size_t)n * sizeof *prev);
   }
-  for (int b = 0; b < nb; b++)
-    if (!done[b]) row[b] = locus_gap(param);
+  return best;
+}
+
+static void take_shape(rr_locus_tracker *t, int b, const rr_modal_result *res, int i)
+{
+  memcpy(t->prev + (size_t)b * (size_t)t->n, res->shapes + (size_t)i * (size_t)t->n,
+         (size_t)t->n * sizeof *t->prev);
+}
+
+/* One point: the live branches matched greedily, best correlations first;
+   a branch matched to a real root, or left without a mode, ends; every
+   oscillatory mode left over is a new branch. row: the point's stride
+   entries. */
+static int locus_step(rr_locus_tracker *t, const rr_modal_result *res, double param,
+                      rr_locus_point *row, rr_error *err)
+{
+  for (int i = 0; i < res->n; i++) t->used[i] = 0;
+  for (int b = 0; b < t->cap; b++) {
+    t->done[b] = 0;
+    row[b] = locus_gap(param);
+  }
+  int bb, bi;
+  double mac;
+  while ((mac = best_pair(t, res, &bb, &bi)) >= 0) {
+    t->done[bb] = t->used[bi] = 1;
+    if (!res->modes[bi].oscillatory) {
+      t->alive[bb] = 0; /* turned real */
+      continue;
+    }
+    row[bb] = locus_point(param, &res->modes[bi], mac);
+    take_shape(t, bb, res, bi);
+  }
+  for (int b = 0; b < t->nb; b++)
+    if (!t->done[b]) t->alive[b] = 0; /* no mode left for it */
+  for (int i = 0; i < res->n; i++) {
+    if (t->used[i] || !res->modes[i].oscillatory) continue;
+    if (t->nb >= t->cap)
+      return rr_seterr(err, RR_EUNSUP, "locus: more than %d branches born over the range", t->cap);
+    int b = t->nb++;
+    t->alive[b] = 1;
+    row[b] = locus_point(param, &res->modes[i], 1.0);
+    take_shape(t, b, res, i);
+  }
+  return RR_OK;
 }
 
 /* A record: the count of modes, then cap modes, then cap x ndof shapes. */
@@ -294,22 +343,17 @@ int rr_locus_solve(rr_model *m, rr_locus_param param, double value, const rr_mod
   return RR_OK;
 }
 
-struct rr_locus_tracker {
-  int n, cap, nb;       /* ndof, modes at most, branches (-1 before the first record) */
-  double complex *prev; /* each branch's last shape (cap x n) */
-  int *used, *done;     /* cap each */
-};
-
 int rr_locus_tracker_new(const rr_model *m, rr_locus_tracker **out, rr_error *err)
 {
   rr_locus_tracker *t = calloc(1, sizeof *t);
   *out = NULL;
   if (!t) return rr_seterr(err, RR_ENOMEM, "out of memory");
-  *t = (rr_locus_tracker){.n = m->n, .cap = rr_modal_state_cap(m), .nb = -1};
+  *t = (rr_locus_tracker){.n = m->n, .cap = rr_modal_state_cap(m), .nb = 0};
   t->prev = malloc((size_t)t->cap * (size_t)t->n * sizeof *t->prev);
+  t->alive = calloc((size_t)t->cap, sizeof *t->alive);
   t->used = malloc((size_t)t->cap * sizeof *t->used);
   t->done = malloc((size_t)t->cap * sizeof *t->done);
-  if (!t->prev || !t->used || !t->done) {
+  if (!t->prev || !t->alive || !t->used || !t->done) {
     rr_locus_tracker_free(t);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
@@ -321,6 +365,7 @@ void rr_locus_tracker_free(rr_locus_tracker *t)
 {
   if (!t) return;
   free(t->prev);
+  free(t->alive);
   free(t->used);
   free(t->done);
   free(t);
@@ -335,18 +380,8 @@ int rr_locus_follow(rr_locus_tracker *t, const double *values, int npts, const v
     rr_modal_result res = record_view((const char *)records + (size_t)p * rs);
     if (res.cap != t->cap || res.ndof != t->n || res.n < 0 || res.n > t->cap)
       return rr_seterr(err, RR_EINVAL, "locus: record %d is not one of this model's", p);
-    if (t->nb < 0) { /* the branches: the oscillatory modes at the first point */
-      t->nb = 0;
-      for (int i = 0; i < res.n; i++) {
-        if (!res.modes[i].oscillatory) continue;
-        memcpy(t->prev + (size_t)t->nb * (size_t)t->n, res.shapes + (size_t)i * (size_t)t->n,
-               (size_t)t->n * sizeof *t->prev);
-        out[t->nb++] = locus_point(values[p], &res.modes[i], 1.0);
-      }
-    } else {
-      locus_match(&res, t->n, t->nb, values[p], t->prev, t->used, t->done,
-                  out + (size_t)p * (size_t)t->nb);
-    }
+    int st = locus_step(t, &res, values[p], out + (size_t)p * (size_t)t->cap, err);
+    if (st) return st;
   }
   *nbranch = t->nb;
   return RR_OK;
@@ -365,16 +400,15 @@ int rr_locus(rr_model *m, rr_locus_param param, const double *values, int npts,
   if (!st) st = rr_modal_ws_new(m, &ws, err);
   if (!st) st = rr_modal_result_alloc(m, &res, err);
   if (!st) st = rr_locus_tracker_new(m, &t, err);
+  size_t stride = (size_t)rr_locus_stride(m);
   for (; p < npts && !st; p++) {
     st = rr_locus_solve(m, param, values[p], o, ws, &res, rec, err);
-    if (!st)
-      st = rr_locus_follow(t, values + p, 1, rec, out + (size_t)p * (size_t)(nb > 0 ? nb : 0), &nb,
-                           err);
+    if (!st) st = rr_locus_follow(t, values + p, 1, rec, out + (size_t)p * stride, &nb, err);
     if (!st && (st = rr_progress_step(pr, p + 1, npts, err))) p++;
   }
   if (st == RR_ESTOPPED) /* the points not reached */
     for (p -= 1; p < npts; p++)
-      for (int b = 0; b < nb; b++) out[(size_t)p * (size_t)nb + (size_t)b] = locus_gap(values[p]);
+      for (size_t b = 0; b < stride; b++) out[(size_t)p * stride + b] = locus_gap(values[p]);
   if (!st || st == RR_ESTOPPED) *nbranch = nb;
   rr_model_set_operating(m, v0, l0, NULL);
   rr_locus_tracker_free(t);

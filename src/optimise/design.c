@@ -284,6 +284,7 @@ void rr_design_free(rr_design *d)
   for (int i = 0; i < d->nobj; i++) {
     rr_frf_plan_free(d->obj[i].plan);
     rr_comfort_plan_free(d->obj[i].cplan);
+    rr_spectrum_close(&d->obj[i].sp);
     free(d->obj[i].G);
   }
   for (int i = 0; i < d->nmodels; i++) {
@@ -393,7 +394,8 @@ int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys,
   for (int i = 0; i < nobj && !st; i++) {
     snprintf(d->objtext[i], sizeof d->objtext[i], "%s", objectives[i]);
     if ((st = parse_objective(objectives[i], &d->obj[i], err))) break;
-    if (is_ride(d->obj[i].kind)) st = rr_spectrum_open(d->obj[i].spectrum, &d->obj[i].sp, err);
+    if (is_ride(d->obj[i].kind) && !(st = rr_spectrum_open(d->obj[i].spectrum, &d->obj[i].sp, err)))
+      st = rr_spectrum_require(&d->obj[i].sp, "lateral", "the lateral track input", err);
   }
   if (!st) st = build(d, err);
   if (st) {
@@ -414,12 +416,13 @@ int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
   int st = context(&d->base, d->nvar, keys, d->nobj, &c, err);
   if (!st) {
     c->mo = d->mo;
-    for (int i = 0; i < d->nobj; i++) {
+    for (int i = 0; i < d->nobj && !st; i++) { /* no table shared: each context owns its own */
       memcpy(c->objtext[i], d->objtext[i], sizeof c->objtext[i]);
       c->obj[i] = d->obj[i];
       c->obj[i].plan = NULL;
       c->obj[i].cplan = NULL;
       c->obj[i].G = NULL;
+      st = rr_spectrum_copy(&d->obj[i].sp, &c->obj[i].sp, err);
     }
     st = build(c, err);
   }
@@ -520,7 +523,7 @@ static int objective_value(rr_design *d, objective *o, robust_cache *rc, double 
     rr_stability s;
     if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
     if ((st = rr_modal_stability(m, &mo, ws, &s, err))) return st;
-    *f = s.index;
+    *f = s.index; /* NaN when undefined: the design fails (never counts as good) */
     o->freq_hz = s.index_freq_hz;
     return RR_OK;
   }
@@ -557,7 +560,10 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
   for (int i = 0; i < d->nobj && !st; i++) st = objective_value(d, &d->obj[i], &rc, &f[i], err);
   for (int i = 0; i < d->nobj && !st; i++)
     if (!isfinite(f[i]))
-      st = rr_seterr(err, RR_ENOCONV, "objective '%s' is not finite", d->obj[i].text);
+      st = rr_seterr(err, RR_ENOCONV,
+                     "objective '%s' is undefined or not finite (a stability index with no "
+                     "hunting-related mode below fmax is undefined)",
+                     d->obj[i].text);
   if (st)
     for (int i = 0; i < d->nobj; i++) f[i] = NAN;
   return st;

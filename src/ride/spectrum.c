@@ -42,6 +42,11 @@ typedef struct sp_ctx {
   int nseen;
 } sp_ctx;
 
+/* What every loaded spectrum must satisfy: its form complete, and finite
+   and positive across its validity range. */
+static int sp_finish(const char *path, rr_spectrum *sp, rr_error *err);
+static int sp_load_text(const char *path, rr_spectrum *sp, rr_error *err);
+
 static int sp_fail(sp_ctx *c, int code, const char *key, const char *msg)
 {
   if (!c->status)
@@ -175,6 +180,27 @@ static int sp_segment(sp_ctx *c, const char *name, const char *val)
   return 1;
 }
 
+/* One row more of a table, the arrays grown by doubling. */
+static int table_push(rr_spectrum *s, double n, double S, rr_error *err)
+{
+  if (s->npts >= RR_SPECTRUM_MAX_POINTS)
+    return rr_seterr(err, RR_EINVAL, "%s: more than %d table rows", s->path,
+                     RR_SPECTRUM_MAX_POINTS);
+  if (s->npts == s->tab_cap) {
+    int cap = s->tab_cap ? 2 * s->tab_cap : 64;
+    double *a = realloc(s->tab_n, sizeof *a * (size_t)cap);
+    if (a) s->tab_n = a;
+    double *b = a ? realloc(s->tab_S, sizeof *b * (size_t)cap) : NULL;
+    if (b) s->tab_S = b;
+    if (!a || !b) return rr_seterr(err, RR_ENOMEM, "out of memory");
+    s->tab_cap = cap;
+  }
+  s->tab_n[s->npts] = n;
+  s->tab_S[s->npts] = S;
+  s->npts++;
+  return RR_OK;
+}
+
 /* point = n S: one row of a table. */
 static int sp_point(sp_ctx *c, const char *name, const char *val)
 {
@@ -182,12 +208,13 @@ static int sp_point(sp_ctx *c, const char *name, const char *val)
   double v[2];
   if (numbers(val, v, 2) || !(v[0] > 0 && v[1] > 0))
     return sp_fail(c, RR_EINVAL, name, "n S expected, both > 0");
-  if (s->npts >= RR_SPECTRUM_MAX_TERMS * 4) return sp_fail(c, RR_EINVAL, name, "too many points");
   if (s->npts && !(v[0] > s->tab_n[s->npts - 1]))
     return sp_fail(c, RR_EINVAL, name, "frequencies must increase");
-  s->tab_n[s->npts] = v[0];
-  s->tab_S[s->npts] = v[1];
-  s->npts++;
+  int st = table_push(s, v[0], v[1], c->err);
+  if (st) {
+    c->status = st;
+    return 0;
+  }
   return 1;
 }
 
@@ -247,11 +274,127 @@ static int sp_handler(void *user, const char *section, const char *name, const c
   return 1;
 }
 
+/* A measured PSD's header: the frequency column's unit (cycles/m or rad/m)
+   and the PSD's (a length squared per the same). */
+static int csv_header(const char *path, const char *line, rr_spectrum *sp, double *lscale,
+                      rr_error *err)
+{
+  char a[128] = "", b[128] = "";
+  if (sscanf(line, " %127[^, \t] %*[, \t] %127[^, \t\r]", a, b) != 2)
+    return rr_seterr(err, RR_EPARSE, "%s:1: header: two column names expected", path);
+  int rad;
+  if (!strcmp(a, "n_per_m") || !strcmp(a, "n_cycles_per_m") || !strcmp(a, "n_1_per_m"))
+    rad = 0;
+  else if (!strcmp(a, "omega_rad_per_m"))
+    rad = 1;
+  else
+    return rr_seterr(err, RR_EUNIT,
+                     "%s:1: header: '%s' is not n_per_m, n_cycles_per_m or omega_rad_per_m", path,
+                     a);
+  static const char *const lengths[][2] = {
+      {"m2", "1"}, {"mm2", "1e-6"}, {"cm2", "1e-4"}, {"um2", "1e-12"}};
+  static const char *const dens[2][3] = {{"_per_per_m", "_per_cycle_per_m", "_per_cycles_per_m"},
+                                         {"_per_rad_per_m", "", ""}};
+  for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++)
+    for (int d = 0; d < 3; d++) {
+      char want[64];
+      if (!dens[rad][d][0]) continue;
+      snprintf(want, sizeof want, "psd_%s%s", lengths[i][0], dens[rad][d]);
+      if (strcmp(b, want)) continue;
+      *lscale = strtod(lengths[i][1], NULL);
+      sp->rad_per_m = rad;
+      return RR_OK;
+    }
+  return rr_seterr(err, RR_EUNIT,
+                   "%s:1: header: '%s' is not a PSD unit matching '%s' (e.g. psd_m2_per_per_m, "
+                   "psd_mm2_per_cycle_per_m, psd_mm2_per_rad_per_m)",
+                   path, b, a);
+}
+
+static int sp_load_csv(const char *path, rr_spectrum *sp, rr_error *err)
+{
+  rr_lines rl;
+  const char *line;
+  double lscale = 1;
+  int st = rr_lines_open(&rl, path, RR_CSV_LINE_MAX, err), r, head = 0;
+  while (!st && (r = rr_lines_next(&rl, &line)) > 0) {
+    double n, S;
+    if (!head) {
+      if (!*line) continue; /* a comment before the header */
+      st = csv_header(path, line, sp, &lscale, err);
+      head = 1;
+      continue;
+    }
+    int k = rr_csv_pair(line, sp->npts + 1, &n, &S);
+    if (k == 0) continue;
+    if (k < 0 || !isfinite(n) || !isfinite(S) || !(n > 0) || !(S > 0))
+      st = rr_seterr(err, RR_EINVAL, "%s:%d: two numbers n > 0, PSD > 0 expected", path, rl.line);
+    else if (sp->npts && !(n > sp->tab_n[sp->npts - 1]))
+      st = rr_seterr(err, RR_EINVAL, "%s:%d: frequencies must increase", path, rl.line);
+    else
+      st = table_push(sp, n, S, err);
+  }
+  if (!st && rl.status) st = rr_seterr(err, rl.status, "%s", rl.err.msg);
+  rr_lines_close(&rl);
+  if (st) return st;
+  if (!head) return rr_seterr(err, RR_EPARSE, "%s: no header (n_per_m,psd_m2_per_per_m)", path);
+  if (sp->npts < 2) return rr_seterr(err, RR_EPARSE, "%s: a PSD needs at least two rows", path);
+  snprintf(sp->direction, sizeof sp->direction, "lateral");
+  sp->form = RR_FORM_TABLE;
+  double f = sp->rad_per_m ? 1.0 / (2 * RR_PI) : 1.0;
+  sp->valid_lo = sp->tab_n[0] * f;
+  sp->valid_hi = sp->tab_n[sp->npts - 1] * f;
+  sp->scale = lscale * (sp->rad_per_m ? 2 * RR_PI : 1.0);
+  return sp_finish(path, sp, err);
+}
+
 int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err)
+{
+  memset(sp, 0, sizeof *sp);
+  snprintf(sp->path, sizeof sp->path, "%s", path);
+  size_t len = strlen(path);
+  int st = len > 4 && !strcmp(path + len - 4, ".csv") ? sp_load_csv(path, sp, err)
+                                                      : sp_load_text(path, sp, err);
+  if (st) rr_spectrum_close(sp);
+  return st;
+}
+
+void rr_spectrum_close(rr_spectrum *sp)
+{
+  if (!sp) return;
+  free(sp->tab_n);
+  free(sp->tab_S);
+  sp->tab_n = sp->tab_S = NULL;
+  sp->npts = sp->tab_cap = 0;
+}
+
+int rr_spectrum_copy(const rr_spectrum *src, rr_spectrum *dst, rr_error *err)
+{
+  *dst = *src;
+  dst->tab_n = dst->tab_S = NULL;
+  dst->npts = dst->tab_cap = 0;
+  for (int i = 0; i < src->npts; i++) {
+    int st = table_push(dst, src->tab_n[i], src->tab_S[i], err);
+    if (st) {
+      rr_spectrum_close(dst);
+      return st;
+    }
+  }
+  return RR_OK;
+}
+
+int rr_spectrum_require(const rr_spectrum *sp, const char *direction, const char *use,
+                        rr_error *err)
+{
+  if (!strcmp(sp->direction, direction)) return RR_OK;
+  return rr_seterr(err, RR_EINVAL, "%s: a %s spectrum, not %s%s (%s)", sp->path, sp->direction,
+                   direction, strcmp(direction, "lateral") ? "" : " alignment", use);
+}
+
+static int sp_load_text(const char *path, rr_spectrum *sp, rr_error *err)
 {
   sp_ctx c;
   memset(&c, 0, sizeof c);
-  memset(sp, 0, sizeof *sp);
   c.path = path;
   c.sp = sp;
   c.err = err;
@@ -278,16 +421,21 @@ int rr_spectrum_load(const char *path, rr_spectrum *sp, rr_error *err)
     return rr_seterr(err, RR_EUNIT,
                      "%s: psd_unit: a %s spectrum is in a length squared (m^2, mm^2), not rad^2",
                      path, sp->direction);
+  double f = sp->rad_per_m ? 1.0 / (2 * RR_PI) : 1.0; /* validity to cycles/m */
+  sp->valid_lo = c.valid[0] * f;
+  sp->valid_hi = c.valid[1] * f;
+  sp->scale = c.psd_scale * (c.two_sided ? 2.0 : 1.0) * (sp->rad_per_m ? 2 * RR_PI : 1.0);
+  return sp_finish(path, sp, err);
+}
+
+static int sp_finish(const char *path, rr_spectrum *sp, rr_error *err)
+{
   if (!sp->name[0]) {
     const char *b = strrchr(path, '/');
     snprintf(sp->name, sizeof sp->name, "%s", b ? b + 1 : path);
     char *dot = strrchr(sp->name, '.');
     if (dot) *dot = 0;
   }
-  double f = sp->rad_per_m ? 1.0 / (2 * RR_PI) : 1.0; /* validity to cycles/m */
-  sp->valid_lo = c.valid[0] * f;
-  sp->valid_hi = c.valid[1] * f;
-  sp->scale = c.psd_scale * (c.two_sided ? 2.0 : 1.0) * (sp->rad_per_m ? 2 * RR_PI : 1.0);
   switch (sp->form) {
   case RR_FORM_POWERLAW:
     if (!sp->nseg)
@@ -355,8 +503,10 @@ const char *rr_spectrum_dir(void)
 
 int rr_spectrum_open(const char *spec, rr_spectrum *sp, rr_error *err)
 {
+  memset(sp, 0, sizeof *sp); /* closable whatever happens */
   size_t len = strlen(spec);
-  if (strchr(spec, '/') || (len > 4 && !strcmp(spec + len - 4, ".txt")))
+  if (strchr(spec, '/') ||
+      (len > 4 && (!strcmp(spec + len - 4, ".txt") || !strcmp(spec + len - 4, ".csv"))))
     return rr_spectrum_load(spec, sp, err);
   for (const char *p = spec; *p; p++)
     if (!(isalnum((unsigned char)*p) || *p == '-' || *p == '_' || *p == '.'))
@@ -469,4 +619,8 @@ int rr_spectrum_new(const char *spec, rr_spectrum **out, rr_error *err)
   return RR_OK;
 }
 
-void rr_spectrum_delete(rr_spectrum *sp) { free(sp); }
+void rr_spectrum_delete(rr_spectrum *sp)
+{
+  rr_spectrum_close(sp);
+  free(sp);
+}

@@ -156,33 +156,95 @@ static int convert_locked(const char *text, const char *unit, const char *si_uni
 }
 
 /* Engineers' run-together spellings, read as their dotted forms: Ns/m,
-   kNs/m, kgm^2, MNm/rad. (None of them is a udunits name.) */
+   kNs/m, kgm^2, MNm/rad; and speeds udunits does not name (mph, kph). */
 static const char *const joined[][2] = {
-    {"Ns", "N.s"},   {"kNs", "kN.s"}, {"MNs", "MN.s"},  {"Nm", "N.m"},      {"kNm", "kN.m"},
-    {"MNm", "MN.m"}, {"kgm", "kg.m"}, {"Nms", "N.m.s"}, {"kNms", "kN.m.s"},
+    {"Ns", "N.s"},      {"kNs", "kN.s"},     {"MNs", "MN.s"},   {"Nm", "N.m"},
+    {"kNm", "kN.m"},    {"MNm", "MN.m"},     {"kgm", "kg.m"},   {"Nms", "N.m.s"},
+    {"kNms", "kN.m.s"}, {"mph", "(mile/h)"}, {"kph", "(km/h)"},
 };
 
-/* unit with every identifier in joined[] spelled out into out (n bytes). */
-static void spell_out(const char *unit, char *out, size_t n)
+/* Angles. udunits takes the radian for the number 1, so "9.4 rad/s" would
+   pass for 9.4 Hz (a 2 pi error) and "rpm" for 2 pi / 60 Hz. Where the
+   user's unit names an angle, every angle (and Hz, one cycle a second) is
+   written as a multiple of a base unit no quantity here uses (the candela),
+   and the angle's power must then match the quantity's: rad/s for a
+   frequency is divided by 2 pi, deg for a conicity is refused. */
+#define RR_CD_2PI "(6.283185307179586 cd)"
+static const char *const angles[][2] = {
+    {"rad", "cd"},
+    {"radian", "cd"},
+    {"radians", "cd"},
+    {"mrad", "(0.001 cd)"},
+    {"urad", "(1e-6 cd)"},
+    {"deg", "(0.017453292519943295 cd)"},
+    {"degree", "(0.017453292519943295 cd)"},
+    {"degrees", "(0.017453292519943295 cd)"},
+    {"arcdeg", "(0.017453292519943295 cd)"},
+    {"rev", RR_CD_2PI},
+    {"revolution", RR_CD_2PI},
+    {"revolutions", RR_CD_2PI},
+    {"cycle", RR_CD_2PI},
+    {"cycles", RR_CD_2PI},
+    {"turn", RR_CD_2PI},
+    {"turns", RR_CD_2PI},
+    {"rpm", "(" RR_CD_2PI "/min)"},
+    {"rps", "(" RR_CD_2PI "/s)"},
+};
+/* The SI units whose angle is implied: Hz is a cycle a second. */
+static const char *const implied[][2] = {{"Hz", "(" RR_CD_2PI "/s)"}};
+
+/* Factor units: a dimensional value in "%" would be scaled silently. */
+static const char *const factors[] = {"%", "percent", "ppm", "ppb", "ppt", "permil"};
+
+typedef const char *const word_table[2];
+
+/* unit with every identifier found in tab (n rows) replaced by its text,
+   into out (len bytes); *hits counts the replacements. */
+static void replace_words(const char *unit, word_table *tab, size_t n, char *out, size_t len,
+                          int *hits)
 {
   size_t k = 0;
-  for (const char *p = unit; *p && k + 1 < n;) {
-    if (!isalpha((unsigned char)*p)) {
+  if (hits) *hits = 0;
+  for (const char *p = unit; *p && k + 1 < len;) {
+    if (!isalpha((unsigned char)*p) && *p != '%') {
       out[k++] = *p++;
       continue;
     }
     const char *id = p;
-    while (isalpha((unsigned char)*p)) p++;
-    size_t len = (size_t)(p - id);
+    while (isalpha((unsigned char)*p) || *p == '%') p++;
+    size_t l = (size_t)(p - id);
     const char *rep = NULL;
-    for (size_t i = 0; i < sizeof joined / sizeof joined[0] && !rep; i++)
-      if (strlen(joined[i][0]) == len && !strncmp(joined[i][0], id, len)) rep = joined[i][1];
-    int w =
-        rep ? snprintf(out + k, n - k, "%s", rep) : snprintf(out + k, n - k, "%.*s", (int)len, id);
+    for (size_t i = 0; i < n && !rep; i++)
+      if (strlen(tab[i][0]) == l && !strncmp(tab[i][0], id, l)) rep = tab[i][1];
+    if (rep && hits) (*hits)++;
+    int w = rep ? snprintf(out + k, len - k, "%s", rep)
+                : snprintf(out + k, len - k, "%.*s", (int)l, id);
     k += w > 0 ? (size_t)w : 0;
-    if (k >= n) k = n - 1;
+    if (k >= len) k = len - 1;
   }
   out[k] = 0;
+}
+
+static int has_factor_unit(const char *unit)
+{
+  for (const char *p = unit; *p;) {
+    if (!isalpha((unsigned char)*p) && *p != '%') {
+      p++;
+      continue;
+    }
+    const char *id = p;
+    while (isalpha((unsigned char)*p) || *p == '%') p++;
+    for (size_t i = 0; i < sizeof factors / sizeof factors[0]; i++)
+      if (strlen(factors[i]) == (size_t)(p - id) && !strncmp(factors[i], id, (size_t)(p - id)))
+        return 1;
+  }
+  return 0;
+}
+
+/* unit with every identifier in joined[] spelled out into out (n bytes). */
+static void spell_out(const char *unit, char *out, size_t n)
+{
+  replace_words(unit, joined, sizeof joined / sizeof joined[0], out, n, NULL);
 }
 
 /* The SI scale of unit text (trimmed). */
@@ -195,13 +257,31 @@ static int unit_scale(const char *unit, const char *si_unit, double *scale, cons
         err, RR_EUNIT,
         "%s: unit '%s' not understood at '%.12s' (one number, then a unit such as kN/mm)", what,
         unit, bad);
+  if (strcmp(si_unit, "1") && has_factor_unit(unit))
+    return rr_seterr(err, RR_EUNIT,
+                     "%s: unit '%s' holds a factor unit (%%, ppm) that would scale a %s value "
+                     "silently",
+                     what, unit, si_unit);
   int st = db_get(err);
   if (st) return st;
-  char spelled[2 * UNIT_TEXT_MAX];
+  char spelled[2 * UNIT_TEXT_MAX], angular[8 * UNIT_TEXT_MAX], target[8 * UNIT_TEXT_MAX];
+  int nang = 0;
   spell_out(unit, spelled, sizeof spelled);
+  replace_words(spelled, angles, sizeof angles / sizeof angles[0], angular, sizeof angular, &nang);
+  if (nang) { /* an angle named: both sides with angles as candelas */
+    char t1[8 * UNIT_TEXT_MAX];
+    replace_words(si_unit, implied, sizeof implied / sizeof implied[0], t1, sizeof t1, NULL);
+    replace_words(t1, angles, sizeof angles / sizeof angles[0], target, sizeof target, NULL);
+  }
   pthread_mutex_lock(&db_lock);
-  st = convert_locked(spelled, unit, si_unit, scale, what, err);
+  st = nang ? convert_locked(angular, unit, target, scale, what, err)
+            : convert_locked(spelled, unit, si_unit, scale, what, err);
   pthread_mutex_unlock(&db_lock);
+  if (st == RR_EUNIT && nang)
+    rr_seterr(err, RR_EUNIT,
+              "%s: '%s' is not a unit of %s (angles count here: 1 Hz is 2 pi rad/s, and a "
+              "quantity without an angle takes none)",
+              what, unit, strcmp(si_unit, "1") ? si_unit : "a dimensionless quantity");
   return st;
 }
 

@@ -11,5 +11,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     double n = sp.valid_lo * pow(sp.valid_hi / sp.valid_lo, i / 20.0), s = rr_spectrum_eval(&sp, n);
     if (!(s >= 0) || isinf(s)) abort();
   }
+  rr_spectrum_close(&sp);
   return 0;
 }
