@@ -546,6 +546,10 @@ static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *
     }
   }
   int st = rr_design_evaluate(r->d, x, &out->f, e);
+  if (st == RR_EUNDEF) { /* an undefined index: an empty cell, the sweep goes on */
+    out->f = out->freq_hz = NAN;
+    return 0;
+  }
   if (st) return cli_fail(e, st);
   out->freq_hz = rr_design_mode_freq(r->d, 0);
   return 0;
@@ -554,14 +558,10 @@ static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *
 static void sweep_row(const sweep_run *r, const double *v, const sweep_val *p)
 {
   for (int ax = 0; ax < r->nax; ax++) printf("%.10g,", v[ax]);
-  printf("%.10g", p->f);
-  if (r->has_freq) {
-    putchar(',');
-    cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : '\n');
-  }
+  cli_csv_num(stdout, p->f, r->has_freq ? ',' : '\n');
+  if (r->has_freq) cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : '\n');
   if (r->has_freq && r->damp_axis >= 0)
     cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * p->freq_hz, '\n');
-  if (!r->has_freq) printf("\n");
 }
 
 /* Grid points lo..hi-1 (row-major over --x, --y). */

@@ -503,11 +503,16 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
       cJSON_AddNumberToObject(o, "sperling_const", wcmax);
       cJSON_AddNumberToObject(o, "sperling_sdf", wsmax);
       cJSON_AddItemToArray(jarr, o);
-    } else if (a->csv) {
+    } else if (a->csv) { /* an undefined index: an empty cell */
       cli_csv_field(stdout, base->name, ',');
-      printf("%.10g,%.10g,%.10g,%.10g,%.10g\n", lam, zc, zs, wcmax, wsmax);
+      printf("%.10g,", lam);
+      cli_csv_num(stdout, zc, ',');
+      cli_csv_num(stdout, zs, ',');
+      printf("%.10g,%.10g\n", wcmax, wsmax);
     } else {
-      printf("%9.4f %12.6f %12.6f %10.4f %10.4f\n", lam, zc, zs, wcmax, wsmax);
+      char b1[32], b2[32];
+      printf("%9.4f %12s %12s %10.4f %10.4f\n", lam, cli_num_or_none(b1, sizeof b1, zc),
+             cli_num_or_none(b2, sizeof b2, zs), wcmax, wsmax);
     }
   }
   rr_modal_ws_free(wc);

@@ -1,4 +1,5 @@
 /* Stability commands: matrices, modes, robust, critical-speed, locus, map. */
+#include <complex.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -136,7 +137,23 @@ static int solve_modes(rr_model *m, const rr_modal_opts *mo, rr_modal_result *re
   return st ? cli_fail(&e, st) : 0;
 }
 
-static void modes_json(const cli_common *c, const rr_modal_result *res, int paper)
+/* A mode's shape as JSON: per DOF its amplitude and phase (the q part of the
+   eigenvector, unit norm, largest component real and positive). */
+static cJSON *shape_json(const rr_model *m, const rr_complex *phi)
+{
+  cJSON *arr = cJSON_CreateArray();
+  for (int i = 0; i < rr_model_ndof(m); i++) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "dof", rr_model_dof_name(m, i));
+    cJSON_AddNumberToObject(o, "amplitude", cabs(phi[i]));
+    cJSON_AddNumberToObject(o, "phase_deg", cabs(phi[i]) > 0 ? carg(phi[i]) * 180 / RR_PI : 0);
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
+static void modes_json(const cli_common *c, const rr_model *m, const rr_modal_result *res,
+                       int paper)
 {
   cJSON *root = cJSON_CreateObject();
   if (res->index_mode >= 0)
@@ -156,8 +173,12 @@ static void modes_json(const cli_common *c, const rr_modal_result *res, int pape
   cJSON_AddNumberToObject(root, "w_min", c->mo.w_min);
   cJSON_AddNumberToObject(root, "r_max", c->mo.r_max);
   cJSON *arr = cJSON_AddArrayToObject(root, "modes");
-  for (int i = 0; i < res->n; i++)
-    if (res->modes[i].im > 0) cJSON_AddItemToArray(arr, cli_mode_json(&res->modes[i], paper));
+  for (int i = 0; i < res->n; i++) {
+    if (res->modes[i].im <= 0) continue;
+    cJSON *o = cli_mode_json(&res->modes[i], paper);
+    cJSON_AddItemToObject(o, "shape", shape_json(m, res->shapes + (size_t)i * (size_t)res->ndof));
+    cJSON_AddItemToArray(arr, o);
+  }
   cli_json_print(root);
 }
 
@@ -185,6 +206,102 @@ static void modes_table(const cli_common *c, const rr_modal_result *res, int pap
   print_verdict(res);
 }
 
+typedef struct modes_args {
+  const char *shape_data;
+} modes_args;
+enum { OPT_SHAPES = 2050 };
+
+static int modes_cb(int opt, const char *arg, void *u)
+{
+  modes_args *a = u;
+  if (opt != OPT_SHAPES) return 1;
+  a->shape_data = arg;
+  return 0;
+}
+
+/* The modes a plan view shows: hunting-related below fmax, and the one
+   that sets the index; at most PLAN_MAX_PANELS, lowest first. */
+#define PLAN_MAX_PANELS 9
+static int plan_modes(const rr_modal_result *res, int *pick)
+{
+  int n = 0;
+  for (int i = 0; i < res->n && n < PLAN_MAX_PANELS; i++)
+    if (res->modes[i].oscillatory && (res->modes[i].in_index || i == res->index_mode))
+      pick[n++] = i;
+  return n;
+}
+
+/* One body's outline (half length a along x, half width w along y) at
+   centre (x, y) turned by psi, closed, then a blank line. */
+static void outline(FILE *fp, double x, double y, double psi, double a, double w)
+{
+  const double cx[5] = {-a, a, a, -a, -a}, cy[5] = {-w, -w, w, w, -w};
+  for (int k = 0; k < 5; k++)
+    fprintf(fp, "%.6g %.6g\n", x + cx[k] * cos(psi) - cy[k] * sin(psi),
+            y + cx[k] * sin(psi) + cy[k] * cos(psi));
+  fputc('\n', fp);
+}
+
+/* The plan view's data: per panel a comment with its title, then the
+   bodies at rest, at phase 0 and a quarter period later (three blocks,
+   separated by two blank lines: gnuplot's index 4p, 4p+1, 4p+2), then the
+   roll labels (index 4p+3). The shape
+   is scaled so the largest lateral motion is 0.6 m on the drawing; yaw
+   turns by the same scale (capped at 20 degrees); roll is marked by the
+   body's name in the title of the panel. */
+static int write_shape_data(const char *path, const cli_common *c, const rr_model *m,
+                            const rr_modal_result *res)
+{
+  FILE *fp = fopen(path, "w");
+  if (!fp) return cli_bad("--shape-data: cannot write %s", path);
+  const rr_vehicle *v = &c->veh;
+  int pick[PLAN_MAX_PANELS], np = plan_modes(res, pick), n = rr_model_ndof(m);
+  const char *body[7] = {"c", "f1", "f2", "w1", "w2", "w3", "w4"};
+  double L = v->bogie_half_spacing, b = v->wheelbase_half, s2 = v->contact_half_spacing;
+  const double bx[7] = {0, L, -L, L + b, L - b, -L + b, -L - b};
+  const double ha[7] = {L + b + 2.0, b + 0.9, b + 0.9, 0.12, 0.12, 0.12, 0.12};
+  const double hw[7] = {1.6, 1.2, 1.2, s2 + 0.1, s2 + 0.1, s2 + 0.1, s2 + 0.1};
+  fprintf(fp, "# railride modes: plan views of %d modes of %s at %g km/h, conicity %g\n", np,
+          v->name, c->speed_kmh, c->conicity);
+  for (int p = 0; p < np; p++) {
+    const rr_mode *md = &res->modes[pick[p]];
+    const rr_complex *phi = res->shapes + (size_t)pick[p] * (size_t)n;
+    double big = 0;
+    for (int i = 0; i < n; i++)
+      if (rr_model_dof_name(m, i)[0] == 'y') big = fmax(big, cabs(phi[i]));
+    double sc = big > 0 ? 0.6 / big : 1;
+    fprintf(fp, "# panel %d: %s, %.3f Hz, zeta %.3f, roll share %.2f%s\n", p, md->name, md->freq_hz,
+            md->zeta, md->roll_share, pick[p] == res->index_mode ? " (sets the index)" : "");
+    for (int ph = -1; ph < 2; ph++) { /* at rest, phase 0, a quarter period later */
+      for (int k = 0; k < 7; k++) {
+        double y = 0, psi = 0;
+        for (int i = 0; i < n && ph >= 0; i++) {
+          const char *nm = rr_model_dof_name(m, i), *u = strchr(nm, '_');
+          if (!u || strcmp(u + 1, body[k])) continue;
+          double q = ph == 0 ? creal(phi[i]) : -cimag(phi[i]); /* Re(phi e^{i pi/2}) */
+          if (nm[0] == 'y') y = sc * q;
+          if (!strncmp(nm, "psi", 3)) psi = fmax(-0.35, fmin(0.35, sc * q));
+        }
+        outline(fp, bx[k], y, psi, ha[k], hw[k]);
+      }
+      fputs("\n\n", fp);
+    }
+    fputs("0 99 \"\"\n", fp);     /* off the drawing: the block is never empty */
+    for (int k = 0; k < 3; k++) { /* roll, at the bodies that have it: amplitude on the scale */
+      char dof[16];
+      snprintf(dof, sizeof dof, "phi_%s", body[k]);
+      for (int i = 0; i < n; i++)
+        if (!strcmp(rr_model_dof_name(m, i), dof) && sc * cabs(phi[i]) > 0.5 * RR_PI / 180)
+          fprintf(fp, "%.6g %.6g \"roll %.0f deg\"\n", bx[k], k ? -hw[k] - 0.9 : hw[k] + 0.9,
+                  sc * cabs(phi[i]) * 180 / RR_PI);
+    }
+    fputs("\n\n", fp);
+  }
+  int bad = ferror(fp);
+  if (fclose(fp) || bad) return cli_bad("--shape-data: writing %s failed", path);
+  return 0;
+}
+
 int cmd_modes(int argc, char **argv)
 {
   static const char help[] =
@@ -194,12 +311,20 @@ int cmd_modes(int argc, char **argv)
       "motion. The vehicle stability index is the largest zeta over hunting-related modes\n"
       "(wheelset share >= wmin, frame-roll share < rmax) below fmax, unless some mode of any\n"
       "frequency and shape is unstable, which then sets it: its sign is the verdict. With\n"
-      "no hunting-related mode and all stable it is undefined (none; JSON null).\n" CLI_COMMON_HELP;
+      "no hunting-related mode and all stable it is undefined (none; JSON null). JSON gives\n"
+      "each mode's shape (amplitude and phase per DOF; unit norm, largest component real).\n"
+      "--plot FILE draws the hunting-related modes below fmax (and the one that sets the\n"
+      "index) in plan view, one panel each: the seven bodies displaced in lateral and yaw,\n"
+      "at phase 0 and a quarter period later, roll marked.\n" CLI_COMMON_HELP
+      "  --shape-data FILE    write those panels' body outlines (gnuplot data) to FILE\n";
+  static const struct option extra[] = {{"shape-data", required_argument, 0, OPT_SHAPES},
+                                        {0, 0, 0, 0}};
   cli_common c;
   rr_model *m;
+  modes_args a = {0};
   RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX |
                 CLI_READS_GRAVITY,
-            NULL, NULL, NULL, help);
+            extra, modes_cb, &a, help);
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   rr_modal_result res;
@@ -208,8 +333,11 @@ int cmd_modes(int argc, char **argv)
     return r;
   }
   int paper = c.veh.sdf_mode == RR_SDF_PAPER;
-  if (c.json)
-    modes_json(&c, &res, paper);
+  if (a.shape_data) r = write_shape_data(a.shape_data, &c, m, &res);
+  if (r)
+    ;
+  else if (c.json)
+    modes_json(&c, m, &res, paper);
   else
     modes_table(&c, &res, paper);
   rr_modal_result_free(&res);

@@ -275,7 +275,51 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
   fprintf(gp, "unset multiplot\n");
 }
 
+/* modes: one plan-view panel per mode of the data (its '# panel' lines
+   give the titles; our own text, quotes doubled for gnuplot). */
+static void script_modes(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc;
+  (void)argv;
+  char titles[9][160], line[512];
+  int np = 0;
+  FILE *f = fopen(d, "r");
+  while (f && np < 9 && fgets(line, sizeof line, f)) {
+    if (strncmp(line, "# panel ", 8)) continue;
+    const char *t = strchr(line, ':');
+    size_t k = 0;
+    for (t = t ? t + 2 : line; *t && *t != '\n' && k + 2 < sizeof titles[0]; t++) {
+      if (*t == '\'') titles[np][k++] = '\'';
+      titles[np][k++] = *t;
+    }
+    titles[np++][k] = 0;
+  }
+  if (f) fclose(f);
+  int cols = np <= 3 ? 1 : np <= 8 ? 2 : 3, rows = (np + cols - 1) / cols;
+  fprintf(gp,
+          "set datafile separator whitespace\n"
+          "set xrange [-16:16]; set yrange [-3.5:3.5]; set ytics 2; set xtics 5\n"
+          "set tmargin 2; set bmargin 2.5; set lmargin 7; set rmargin 2\n"
+          "set multiplot layout %d,%d title 'Mode shapes in plan view: lateral and yaw "
+          "(exaggerated; grey at rest, red phase 0, blue dashed a quarter period later)' "
+          "font ',11'\n",
+          rows > 0 ? rows : 1, cols);
+  for (int p = 0; p < np; p++)
+    fprintf(
+        gp,
+        "set title '%s' font ',9' offset 0,-0.5\n"
+        "set xlabel '%s' offset 0,0.5 font ',9'; set ylabel 'lateral (m)' offset 1,0 font ',9'\n"
+        "plot '%s' index %d u 1:2 w l lc rgb '#bbbbbb' notitle, "
+        "'' index %d u 1:2 w l lw 2 lc rgb '#b2182b' notitle, "
+        "'' index %d u 1:2 w l lw 1.5 dt 2 lc rgb '#2166ac' notitle, "
+        "'' index %d u 1:2:3 w labels font ',8' notitle\n",
+        titles[p], p >= np - cols ? "x along the car (m)" : "", d, 4 * p, 4 * p + 1, 4 * p + 2,
+        4 * p + 3);
+  fprintf(gp, "unset multiplot\n");
+}
+
 static const plot_kind kinds[] = {
+    {"modes", NULL, "--shape-data", 0, script_modes},
     {"damper", NULL, NULL, 0, script_damper},
     {"locus", NULL, NULL, 0, script_locus},
     {"map", NULL, NULL, 1, script_map},

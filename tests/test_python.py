@@ -67,6 +67,22 @@ cm = json.loads(subprocess.run([cli, "modes", "--speed", "350", "--conicity", "0
 check(abs(md["stability_index"] - cm["stability_index"]) < 1e-11 and len(md["freq_hz"]) == len(cm["modes"]) + int(np.sum(md["imag"] == 0))
       and np.allclose(md["freq_hz"][md["imag"] > 0], [m["freq_hz"] for m in cm["modes"]], rtol=1e-12)
       and md["name"][:len(cm["modes"])] == [m["name"] for m in cm["modes"]], "Vehicle.modes equals modes --json")
+# revision 3 and the shapes: unique names, real roots flagged, shapes as a complex array
+# equal to the CLI's amplitude and phase, each an eigenvector of the model (unit norm)
+check(len(set(md["name"])) == len(md["name"]), "mode names unique: %s" % md["name"])
+check(md["oscillatory"].sum() == len(cm["modes"]) and not md["oscillatory"][-1], "real roots flagged")
+sh = md["shape"]
+check(sh.shape == (len(md["name"]), 17) and sh.dtype == np.complex128 and np.allclose(np.linalg.norm(sh, axis=1), 1),
+      "shapes: modes x 17 DOFs, unit norm")
+k = md["index_mode"]
+js = cm["modes"][k]["shape"]
+amp = np.array([e["amplitude"] for e in js]) * np.exp(1j * np.radians([e["phase_deg"] for e in js]))
+check(np.allclose(amp, sh[k], atol=1e-9) and [e["dof"] for e in js] == md["dofs"], "the index mode's shape as --json")
+check(md["index_source"] == "hunting" and md["frame_roll_share"].shape == md["roll_share"].shape, "index source")
+v2 = railride.Vehicle("type1")
+check(v2.modes(430, 0.6)["index_source"] == "unstable_outside_hunting" and v2.stability_index(430, 0.6) > 0,
+      "an unstable mode above the band sets a positive index")
+check(np.isnan(v2.stability_index(350, 0.17, fmax=0.1)), "an undefined index is NaN")
 rb = v.robust()
 check(all(abs(rb[k] - ref[k]) < 1e-12 for k in ("zeta_low", "zeta_high", "std_zeta")), "Vehicle.robust equals robust --json")
 check(abs(v.critical_speed(0.4) - 524.7) < 0.05 and np.isnan(v.critical_speed(0.05)), "Vehicle.critical_speed")

@@ -13,15 +13,16 @@ extern "C" {
 
 enum rr_status {
   RR_OK = 0,
-  RR_EINVAL = 1,  /* invalid argument or value (NaN, out of range, ...) */
-  RR_ENOMEM = 2,  /* allocation failed */
-  RR_EIO = 3,     /* file cannot be opened or read */
-  RR_EPARSE = 4,  /* malformed file: syntax, unknown section or key, missing key */
-  RR_EUNIT = 5,   /* unknown unit or unit of the wrong dimension */
-  RR_ELAPACK = 6, /* a LAPACK routine failed (e.g. QR iteration did not converge) */
-  RR_ENOCONV = 7, /* an iteration did not converge */
-  RR_EUNSUP = 8,  /* combination of options not supported */
-  RR_ESTOPPED = 9 /* stopped by the caller's progress callback (rr_progress) */
+  RR_EINVAL = 1,   /* invalid argument or value (NaN, out of range, ...) */
+  RR_ENOMEM = 2,   /* allocation failed */
+  RR_EIO = 3,      /* file cannot be opened or read */
+  RR_EPARSE = 4,   /* malformed file: syntax, unknown section or key, missing key */
+  RR_EUNIT = 5,    /* unknown unit or unit of the wrong dimension */
+  RR_ELAPACK = 6,  /* a LAPACK routine failed (e.g. QR iteration did not converge) */
+  RR_ENOCONV = 7,  /* an iteration did not converge */
+  RR_EUNSUP = 8,   /* combination of options not supported */
+  RR_ESTOPPED = 9, /* stopped by the caller's progress callback (rr_progress) */
+  RR_EUNDEF = 10   /* a result is undefined (a stability index with no hunting-related mode) */
 };
 
 #define RR_ERROR_MSG_MAX 512

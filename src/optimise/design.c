@@ -107,6 +107,8 @@ static const struct objective_name {
 #define NOBJ_NAMES (int)(sizeof objective_names / sizeof objective_names[0])
 
 static int is_ride(int kind) { return kind >= OBJ_SPERLING; }
+/* The objectives made of the stability index (which may be undefined). */
+static int is_index(int kind) { return kind <= OBJ_INDEX; }
 static int is_stability(int kind) { return !is_ride(kind); }
 
 /* A finite number, the whole token. */
@@ -559,11 +561,13 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
   robust_cache rc = {.n = 0};
   for (int i = 0; i < d->nobj && !st; i++) st = objective_value(d, &d->obj[i], &rc, &f[i], err);
   for (int i = 0; i < d->nobj && !st; i++)
-    if (!isfinite(f[i]))
-      st = rr_seterr(err, RR_ENOCONV,
-                     "objective '%s' is undefined or not finite (a stability index with no "
-                     "hunting-related mode below fmax is undefined)",
+    if (isnan(f[i]) && is_index(d->obj[i].kind))
+      st = rr_seterr(err, RR_EUNDEF,
+                     "objective '%s' is undefined: no hunting-related mode below fmax, and every "
+                     "mode stable",
                      d->obj[i].text);
+    else if (!isfinite(f[i]))
+      st = rr_seterr(err, RR_ENOCONV, "objective '%s' is not finite", d->obj[i].text);
   if (st)
     for (int i = 0; i < d->nobj; i++) f[i] = NAN;
   return st;

@@ -16,6 +16,7 @@ const char *rr_strerror(int status)
   case RR_ENOCONV: return "iteration did not converge";
   case RR_EUNSUP: return "unsupported combination of options";
   case RR_ESTOPPED: return "stopped by the caller";
+  case RR_EUNDEF: return "result undefined";
   default: return "unknown status";
   }
 }
