@@ -420,6 +420,21 @@ static void test_typical_inertias(void)
   rr_modal_result_free(&r);
   rr_modal_ws_free(ws);
   rr_model_free(m);
+  /* Type 2 with those inertias goes unstable at ~148 km/h (conicity 0.05)
+     through carbody hunting: a hunting-related mode now */
+  CHECK_OK(rr_vehicle_builtin("type2", &v, &e), e);
+  v.carbody_roll_inertia = 9.61e4;
+  v.carbody_yaw_inertia = 1.67e6;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  rr_critical cr;
+  CHECK_OK(rr_critical_speed(m, 0.05, NULL, NULL, ws, &cr, &e), e);
+  CHECK(cr.found && fabs(cr.speed_ms * RR_KMH - 147.8) < 0.5 && cr.mode.hunting &&
+            cr.mode.energy[RR_GROUP_WHEELSET] > 0.05 && cr.mode.frame_roll_share < 0.05,
+        "type2, typical inertias: critical %g km/h through '%s' (hunting %d)",
+        cr.speed_ms * RR_KMH, cr.mode.name, cr.mode.hunting);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
 }
 
 /* Every oscillatory mode of every point lies on exactly one branch of the
