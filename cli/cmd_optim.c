@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
+#include "outfile.h"
 #include "parallel.h"
 
 static int whole(const char *v, long lo, long hi, long *out)
@@ -151,32 +152,48 @@ static int progress(void *user, int gen, long evals, double secs, int front, dou
 /* PREFIX-pareto.csv, -pareto.json and -history.csv opened (rank 0; the
    other ranks write to /dev/null), -checkpoint.bin named and, to resume,
    checked. Returns 0 or the exit status (message printed). */
+/* The previous run's history copied into the new one's scratch file (a
+   resumed run goes on from it). */
+static int copy_history(const char *path, FILE *to)
+{
+  FILE *from = fopen(path, "r");
+  if (!from && errno == ENOENT) { /* a run killed before it wrote one: a new history */
+    fprintf(stderr, "railride: optimise --resume: no %s; it starts again here\n", path);
+    fprintf(to, "generation,evaluations,seconds,front_size,hypervolume\n");
+    return 0;
+  }
+  if (!from) return cli_bad("optimise --resume: cannot read %s: %s", path, strerror(errno));
+  char buf[65536];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, from)) > 0) fwrite(buf, 1, n, to);
+  int bad = ferror(from);
+  fclose(from);
+  return bad ? cli_bad("optimise --resume: cannot read %s", path) : 0;
+}
+
+/* Every output goes to a scratch file that replaces the previous one only
+   when the run has written it whole (outfile.h). */
 static int open_outputs(const char *prefix, int resume, char *path, char *hpath, char *jpath,
-                        char *cpath, FILE **fp, FILE **fj, FILE **fh)
+                        char *cpath, cli_outfile *fp, cli_outfile *fj, cli_outfile *fh)
 {
   const size_t n = PATH_MAX + 16;
+  if (!*prefix) return cli_bad("optimise: the output prefix is empty");
   snprintf(cpath, n, "%s-checkpoint.bin", prefix);
   snprintf(path, n, "%s-pareto.csv", prefix);
   snprintf(hpath, n, "%s-history.csv", prefix);
   snprintf(jpath, n, "%s-pareto.json", prefix);
-  *fp = *fj = *fh = NULL;
   if (resume && access(cpath, R_OK)) return cli_bad("optimise --resume: no checkpoint %s", cpath);
-  int rank0 = cli_par_rank() == 0;
-  const char *fail = NULL;
-  if (!(*fp = fopen(rank0 ? path : "/dev/null", "w")))
-    fail = path;
-  else if (!(*fj = fopen(rank0 ? jpath : "/dev/null", "w")))
-    fail = jpath;
-  else if (!(*fh = fopen(rank0 ? hpath : "/dev/null", resume ? "a" : "w")))
-    fail = hpath;
-  if (fail) {
-    int r = cli_bad("optimise: cannot write %s: %s", fail, strerror(errno));
-    if (*fp) fclose(*fp);
-    if (*fj) fclose(*fj);
-    *fp = *fj = NULL;
+  int rank0 = cli_par_rank() == 0, r;
+  if ((r = cli_out_open(fp, rank0 ? path : "/dev/null", "optimise"))) return r;
+  if ((r = cli_out_open(fj, rank0 ? jpath : "/dev/null", "optimise")) ||
+      (r = cli_out_open(fh, rank0 ? hpath : "/dev/null", "optimise")) ||
+      (r = resume && rank0 ? copy_history(hpath, fh->fp) : 0)) {
+    cli_out_abort(fp);
+    cli_out_abort(fj);
+    cli_out_abort(fh);
     return r;
   }
-  if (!resume) fprintf(*fh, "generation,evaluations,seconds,front_size,hypervolume\n");
+  if (!resume) fprintf(fh->fp, "generation,evaluations,seconds,front_size,hypervolume\n");
   return 0;
 }
 
@@ -284,9 +301,10 @@ static int optim_problem(const optim_args *a, rr_problem *p)
 /* A run: its output files, design context and final population. */
 typedef struct optim_run {
   char path[PATH_MAX + 16], hpath[PATH_MAX + 16], jpath[PATH_MAX + 16], cpath[PATH_MAX + 16];
-  FILE *fp, *fj;
+  cli_outfile fp, fj, fh; /* the front (CSV, JSON) and the history: replaced when complete */
   run_log log;
   rr_design *d;
+  rr_vehicle veh;     /* the problem's vehicle after inheritance */
   double *X, *F, *cv; /* population x variables, x objectives, violations */
   int *rank;
   int done_gens;
@@ -295,9 +313,9 @@ typedef struct optim_run {
 
 static void run_close(optim_run *r)
 {
-  FILE *files[] = {r->fp, r->fj, r->log.history};
-  for (int i = 0; i < 3; i++)
-    if (files[i]) fclose(files[i]);
+  cli_out_abort(&r->fp); /* after a failure: the previous files stay */
+  cli_out_abort(&r->fj);
+  cli_out_abort(&r->fh);
   rr_design_free(r->d);
   free(r->X);
   free(r->F);
@@ -310,11 +328,13 @@ static void run_close(optim_run *r)
 static int run_open(optim_run *r, const rr_problem *p, const optim_args *a)
 {
   int st = cli_par_all(open_outputs(p->output, a->resume, r->path, r->hpath, r->jpath, r->cpath,
-                                    &r->fp, &r->fj, &r->log.history));
+                                    &r->fp, &r->fj, &r->fh));
   if (st) return st; /* on any rank: every rank stops */
+  r->log.history = r->fh.fp;
   rr_vehicle v;
   rr_error e;
   if ((st = rr_vehicle_open(p->vehicle[0] ? p->vehicle : NULL, &v, &e))) return cli_fail(&e, st);
+  r->veh = v;
   const char *keys[RR_DESIGN_MAX_VARS], *objs[RR_DESIGN_MAX_OBJS];
   for (int i = 0; i < p->nvar; i++) keys[i] = p->keys[i];
   for (int i = 0; i < p->nobj; i++) objs[i] = p->objs[i];
@@ -328,6 +348,58 @@ static int run_open(optim_run *r, const rr_problem *p, const optim_args *a)
   r->cv = malloc(sizeof(double) * N);
   r->rank = malloc(sizeof(int) * N);
   return r->X && r->F && r->cv && r->rank ? 0 : cli_bad("out of memory");
+}
+
+/* The vehicle's values as the model reads them: every numeric key, the SDF
+   mode and curve, the gravitational stiffness (not its name or padding). */
+static uint64_t vehicle_hash(rr_vehicle *v)
+{
+  int nk;
+  const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
+  uint64_t h = RR_FNV_OFFSET;
+  for (int i = 0; i < nk; i++)
+    if (!(keys[i].flags & RR_KEY_SPECIAL)) h = rr_hash_bytes(h, rr_vehicle_field(v, &keys[i]), 8);
+  const rr_sdf_curve *c = &v->sdf;
+  h = rr_hash_bytes(h, &v->sdf_mode, sizeof v->sdf_mode);
+  h = rr_hash_bytes(h, &v->gravity_stiffness, sizeof v->gravity_stiffness);
+  h = rr_hash_bytes(h, &c->kind, sizeof c->kind);
+  h = rr_hash_bytes(h, &c->k1_hz, sizeof c->k1_hz);
+  h = rr_hash_bytes(h, &c->k2, sizeof c->k2);
+  h = rr_hash_bytes(h, &c->k3, sizeof c->k3);
+  h = rr_hash_bytes(h, &c->n, sizeof c->n);
+  h = rr_hash_bytes(h, &c->has_loss, sizeof c->has_loss);
+  h = rr_hash_bytes(h, c->f_hz, sizeof c->f_hz[0] * (size_t)(c->n > 0 ? c->n : 0));
+  h = rr_hash_bytes(h, c->k_storage, sizeof c->k_storage[0] * (size_t)(c->n > 0 ? c->n : 0));
+  return rr_hash_bytes(h, c->k_loss, sizeof c->k_loss[0] * (size_t)(c->n > 0 ? c->n : 0));
+}
+
+/* What a checkpoint must match to be resumed: each part of the run hashed,
+   by name (rr_nsga2_fingerprint). */
+static rr_nsga2_fingerprint run_fingerprint(optim_run *r, const rr_problem *p)
+{
+  rr_nsga2_fingerprint fp = {.n = 6,
+                             .name = {"the vehicle", "the variables or their bounds",
+                                      "the objectives or their sense", "the constraints",
+                                      "the population or seed", "the railride version"}};
+  uint64_t h[6] = {vehicle_hash(&r->veh), RR_FNV_OFFSET, RR_FNV_OFFSET,
+                   RR_FNV_OFFSET,         RR_FNV_OFFSET, RR_FNV_OFFSET};
+  for (int i = 0; i < p->nvar; i++) {
+    h[1] = rr_hash_bytes(h[1], p->keys[i], strlen(p->keys[i]) + 1);
+    h[1] = rr_hash_bytes(rr_hash_bytes(h[1], &p->lo[i], 8), &p->hi[i], 8);
+  }
+  for (int i = 0; i < p->nobj; i++)
+    h[2] = rr_hash_bytes(rr_hash_bytes(h[2], p->objs[i], strlen(p->objs[i]) + 1), &p->maximize[i],
+                         sizeof p->maximize[i]);
+  for (int i = 0; i < p->ncon; i++) {
+    h[3] = rr_hash_bytes(h[3], p->cons[i], strlen(p->cons[i]) + 1);
+    h[3] = rr_hash_bytes(rr_hash_bytes(h[3], &p->con_sense[i], sizeof p->con_sense[i]),
+                         &p->con_bound[i], 8);
+  }
+  h[4] = rr_hash_bytes(rr_hash_bytes(h[4], &p->population, sizeof p->population), &p->seed,
+                       sizeof p->seed);
+  h[5] = rr_hash_bytes(h[5], rr_version(), strlen(rr_version()));
+  for (int i = 0; i < 6; i++) fp.part[i] = h[i];
+  return fp;
 }
 
 /* NSGA-II over the problem; every rank runs it on the same numbers and rank 0
@@ -346,6 +418,7 @@ static int run_nsga2(optim_run *r, const rr_problem *p, const optim_args *a)
   o.cv_out = r->cv;
   o.checkpoint = cli_par_rank() == 0 ? r->cpath : NULL;
   o.resume = a->resume ? r->cpath : NULL;
+  o.fingerprint = run_fingerprint(r, p);
   cli_catch_stops();
   rr_error e;
   double t0 = cli_now_s();
@@ -359,12 +432,13 @@ static int run_nsga2(optim_run *r, const rr_problem *p, const optim_args *a)
   return 0;
 }
 
-/* The front's files and the summary on standard output. */
-static void run_report(optim_run *r, const rr_problem *p, const char *problem)
+/* The front's files (committed whole) and the summary on standard output. */
+static int run_report(optim_run *r, const rr_problem *p, const char *problem)
 {
-  int N = p->population, nfeas = 0;
+  int N = p->population, nfeas = 0, st;
   double best[RR_DESIGN_MAX_OBJS], worst[RR_DESIGN_MAX_OBJS];
-  int nfront = write_front(r->fp, r->fj, p, r->X, r->F, r->rank, r->cv, N, best, worst);
+  int nfront = write_front(r->fp.fp, r->fj.fp, p, r->X, r->F, r->rank, r->cv, N, best, worst);
+  if ((st = cli_out_commit(&r->fp)) || (st = cli_out_commit(&r->fj))) return st;
   for (int i = 0; i < N; i++) nfeas += r->rank[i] == 0 && r->cv[i] == 0;
   long evals = (long)N * (r->done_gens + 1);
   printf("railride optimise %s: NSGA-II, population %d, %d generations, seed %llu\n", problem, N,
@@ -386,6 +460,7 @@ static void run_report(optim_run *r, const rr_problem *p, const char *problem)
            mx ? "max" : "min", mx ? -best[k] : best[k], mx ? -worst[k] : best[k],
            mx ? -best[k] : worst[k]);
   }
+  return 0;
 }
 
 int cmd_optimise(int argc, char **argv)
@@ -403,7 +478,9 @@ int cmd_optimise(int argc, char **argv)
       "on stderr when it is a terminal (or with --progress). Ctrl-C or SIGTERM stops after the\n"
       "generation in progress and writes its front (exit status 130). PREFIX-checkpoint.bin holds\n"
       "the run's state after every generation; --resume goes on from it (the same problem,\n"
-      "population and seed: the result is the uninterrupted run's). See\n"
+      "population and seed: the result is the uninterrupted run's; a changed problem, vehicle or\n"
+      "version is refused, naming what changed). Each output replaces the previous file only\n"
+      "when written whole (the history at the end of the run). See\n"
       "examples/paper-optimisation.ini.\n"
       "  --population N       population size, even (default: the problem file's)\n"
       "  --generations N      generations (default: the problem file's)\n"
@@ -423,9 +500,9 @@ int cmd_optimise(int argc, char **argv)
                          .show = (a.progress || isatty(STDERR_FILENO)) && cli_par_rank() == 0}};
   st = run_open(&r, &p, &a);
   if (!st) st = run_nsga2(&r, &p, &a);
-  if (r.log.history) fclose(r.log.history); /* complete before the summary */
   r.log.history = NULL;
-  if (!st) run_report(&r, &p, a.problem);
+  if (!st) st = cli_out_commit(&r.fh); /* complete before the summary */
+  if (!st) st = run_report(&r, &p, a.problem);
   run_close(&r);
   if (st) return st;
   return r.done_gens < p.generations ? CLI_EXIT_STOPPED : 0; /* 128 + SIGINT, as a shell says */

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
+#include "outfile.h"
 
 /* The paper's floor points: above the bogie centres and the car's centre,
    x = +L, 0, -L. */
@@ -341,12 +342,15 @@ int cmd_ride(int argc, char **argv)
   if (!c.ncon) return cli_bad("--conicity is required (one value or a comma list)");
   a.ncon = c.ncon;
   memcpy(a.conicities, c.conicities, sizeof(double) * (size_t)c.ncon);
-  FILE *fp = a.psd_path ? fopen(a.psd_path, "w") : NULL; /* checked before the run */
-  if (a.psd_path && !fp) return cli_bad("--psd: cannot write %s", a.psd_path);
+  cli_outfile psd = {0}; /* opened before the run: a folder that cannot be written fails first */
+  if (a.psd_path && (r = cli_out_open(&psd, a.psd_path, "--psd"))) return r;
   ride_results rr = {0};
   r = ride_all(&c, &a, &rr);
-  if (!r && fp) ride_write_psd(fp, &a, &rr);
-  if (fp) fclose(fp);
+  if (!r && psd.fp) ride_write_psd(psd.fp, &a, &rr);
+  if (!r)
+    r = cli_out_commit(&psd);
+  else
+    cli_out_abort(&psd);
   if (!r && c.json)
     ride_json(&c, &a, &rr);
   else if (!r)

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
+#include "outfile.h"
 #include "parallel.h"
 
 #define RUN_PARSE(reads, extra, cb, user, help)                                                    \
@@ -252,8 +253,10 @@ static void outline(FILE *fp, double x, double y, double psi, double a, double w
 static int write_shape_data(const char *path, const cli_common *c, const rr_model *m,
                             const rr_modal_result *res)
 {
-  FILE *fp = fopen(path, "w");
-  if (!fp) return cli_bad("--shape-data: cannot write %s", path);
+  cli_outfile out;
+  int r = cli_out_open(&out, path, "--shape-data");
+  if (r) return r;
+  FILE *fp = out.fp;
   const rr_vehicle *v = &c->veh;
   int pick[PLAN_MAX_PANELS], np = plan_modes(res, pick), n = rr_model_ndof(m);
   const char *body[7] = {"c", "f1", "f2", "w1", "w2", "w3", "w4"};
@@ -297,9 +300,7 @@ static int write_shape_data(const char *path, const cli_common *c, const rr_mode
     }
     fputs("\n\n", fp);
   }
-  int bad = ferror(fp);
-  if (fclose(fp) || bad) return cli_bad("--shape-data: writing %s failed", path);
-  return 0;
+  return cli_out_commit(&out);
 }
 
 int cmd_modes(int argc, char **argv)
@@ -342,7 +343,7 @@ int cmd_modes(int argc, char **argv)
     modes_table(&c, &res, paper);
   rr_modal_result_free(&res);
   rr_model_free(m);
-  return 0;
+  return r;
 }
 
 typedef struct robust_args {

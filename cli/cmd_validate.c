@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
+#include "outfile.h"
 
 typedef struct val_args {
   rr_validate_opts vo;
@@ -267,17 +268,18 @@ int cmd_validate(int argc, char **argv)
   if (a.vo.nseg > samples)
     return cli_bad("--nseg: %d exceeds the record's %.0f samples", a.vo.nseg, samples);
   ride_setup_points(&a.rs, &c.veh, argc, argv);
-  FILE *fp = a.psd_path ? fopen(a.psd_path, "w") : NULL; /* checked before the run */
-  if (a.psd_path && !fp) return cli_bad("--psd: cannot write %s", a.psd_path);
+  cli_outfile psd = {0}; /* opened before the run: a folder that cannot be written fails first */
+  if (a.psd_path && (r = cli_out_open(&psd, a.psd_path, "--psd"))) return r;
   rr_validate_result res;
   val_summary v;
   if ((r = val_run(&c, &a, &res, &v.seconds))) {
-    if (fp) fclose(fp);
+    cli_out_abort(&psd);
     return r;
   }
-  if (fp) {
-    write_psd(fp, &a, &res);
-    fclose(fp);
+  if (psd.fp) write_psd(psd.fp, &a, &res);
+  if ((r = cli_out_commit(&psd))) {
+    rr_validate_result_free(&res);
+    return r;
   }
   val_verdict(&res, &v);
   if (c.json)

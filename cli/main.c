@@ -2,6 +2,7 @@
 #include <string.h>
 #include "cli.h"
 #include "parallel.h"
+#include "outfile.h"
 #include "plot.h"
 #include "railride/version.h"
 
@@ -85,5 +86,5 @@ static int run(int argc, char **argv)
 int main(int argc, char **argv)
 {
   cli_par_init(&argc, &argv);
-  return cli_par_finalize(run(argc, argv));
+  return cli_par_finalize(cli_stdout_close(run(argc, argv)));
 }

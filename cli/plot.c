@@ -3,13 +3,18 @@
  * written to a scratch file through its own option), then gnuplot draws it
  * into FILE, the terminal chosen by the extension (.svg, .png, .pdf). */
 #define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
+#include <spawn.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
+extern char **environ;
 #include "cli.h"
+#include "outfile.h"
 #include "parallel.h"
 #include "plot.h"
 
@@ -25,6 +30,23 @@ typedef struct plot_kind {
   int grid; /* rows on a grid over the first two columns (a map); 2: when --y is given */
   void (*script)(FILE *gp, const char *data, int argc, char **argv);
 } plot_kind;
+
+/* A user's text (an objective, a key) as a gnuplot string literal: single
+   quoted (no escapes, no substitution), every character outside a plain set
+   shown as '?', so that no text reaches gnuplot as code (its backquotes run
+   commands, its quotes end strings). */
+static const char *gp_str(char *out, size_t n, const char *text)
+{
+  static const char plain[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+                              " _.,;:=@+-()/%<>*^#[]";
+  size_t k = 0;
+  if (n < 3) return "''";
+  out[k++] = '\'';
+  for (const char *p = text; *p && k + 2 < n; p++) out[k++] = strchr(plain, *p) ? *p : '?';
+  out[k++] = '\'';
+  out[k] = 0;
+  return out;
+}
 
 static const char *arg_after(int argc, char **argv, const char *opt)
 {
@@ -75,10 +97,12 @@ static void script_locus(FILE *gp, const char *d, int argc, char **argv)
 static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const char *yl,
                        const char *zl, const char *title, int centred, const char *overlay)
 {
+  char t[300], x[200], y[200], z[200];
   fprintf(gp,
-          "set title \"%s\"\nset xlabel \"%s\"; set ylabel \"%s\"; set cblabel \"%s\"\n"
+          "set title %s\nset xlabel %s; set ylabel %s; set cblabel %s\n"
           "stats '%s' u %d nooutput\n",
-          title, xl, yl, zl, d, zcol);
+          gp_str(t, sizeof t, title), gp_str(x, sizeof x, xl), gp_str(y, sizeof y, yl),
+          gp_str(z, sizeof z, zl), d, zcol);
   if (centred)
     fprintf(gp, "m = (abs(STATS_min) > abs(STATS_max)) ? abs(STATS_min) : abs(STATS_max)\nset "
                 "cbrange [-m:m]\n"
@@ -120,10 +144,13 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
   if (x) snprintf(xk, sizeof xk, "%.*s", (int)strcspn(x, "="), x);
   axis_label(xk, xl, sizeof xl);
   if (!y) { /* one axis: the objective (and its mode's frequency) along it */
+    char t[300], a[200], b[200];
+    snprintf(title, sizeof title, "%s along %s", o ? o : "objective", xk);
     fprintf(gp,
-            "set title \"%s along %s\"\nset xlabel \"%s\"; set ylabel \"%s\"\n"
+            "set title %s\nset xlabel %s; set ylabel %s\n"
             "plot '%s' u 1:2 w lp pt 7 ps 0.6 lw 2 notitle\n",
-            o ? o : "objective", xk, xl, o ? o : "objective", d);
+            gp_str(t, sizeof t, title), gp_str(a, sizeof a, xl),
+            gp_str(b, sizeof b, o ? o : "objective"), d);
     return;
   }
   snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
@@ -257,9 +284,10 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
     }
   }
   int npairs = nobj * (nobj - 1) / 2;
+  char a[200], b[200];
   if (npairs < 1) { /* one objective: its values over the front */
-    fprintf(gp, "set title 'Pareto front'\nset ylabel \"%s\"\nplot '%s' u 0:%d w p pt 7 notitle\n",
-            names[0], d, obj[0]);
+    fprintf(gp, "set title 'Pareto front'\nset ylabel %s\nplot '%s' u 0:%d w p pt 7 notitle\n",
+            gp_str(a, sizeof a, names[0]), d, obj[0]);
     return;
   }
   fprintf(gp,
@@ -269,30 +297,26 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
   for (int i = 0, shown = 0; i < nobj && shown < 3; i++)
     for (int j = i + 1; j < nobj && shown < 3; j++, shown++)
       fprintf(gp,
-              "set xlabel \"%s\"; set ylabel \"%s\"\nplot '%s' u %d:%d w p pt 7 ps 0.5 lc rgb "
+              "set xlabel %s; set ylabel %s\nplot '%s' u %d:%d w p pt 7 ps 0.5 lc rgb "
               "'#2166ac' notitle\n",
-              names[i], names[j], d, obj[i], obj[j]);
+              gp_str(a, sizeof a, names[i]), gp_str(b, sizeof b, names[j]), d, obj[i], obj[j]);
   fprintf(gp, "unset multiplot\n");
 }
 
 /* modes: one plan-view panel per mode of the data (its '# panel' lines
-   give the titles; our own text, quotes doubled for gnuplot). */
+   give the titles). */
 static void script_modes(FILE *gp, const char *d, int argc, char **argv)
 {
   (void)argc;
   (void)argv;
-  char titles[9][160], line[512];
+  char titles[9][200], line[512];
   int np = 0;
   FILE *f = fopen(d, "r");
   while (f && np < 9 && fgets(line, sizeof line, f)) {
     if (strncmp(line, "# panel ", 8)) continue;
     const char *t = strchr(line, ':');
-    size_t k = 0;
-    for (t = t ? t + 2 : line; *t && *t != '\n' && k + 2 < sizeof titles[0]; t++) {
-      if (*t == '\'') titles[np][k++] = '\'';
-      titles[np][k++] = *t;
-    }
-    titles[np++][k] = 0;
+    line[strcspn(line, "\n")] = 0;
+    gp_str(titles[np++], sizeof titles[0], t ? t + 2 : line);
   }
   if (f) fclose(f);
   int cols = np <= 3 ? 1 : np <= 8 ? 2 : 3, rows = (np + cols - 1) / cols;
@@ -307,7 +331,7 @@ static void script_modes(FILE *gp, const char *d, int argc, char **argv)
   for (int p = 0; p < np; p++)
     fprintf(
         gp,
-        "set title '%s' font ',9' offset 0,-0.5\n"
+        "set title %s font ',9' offset 0,-0.5\n"
         "set xlabel '%s' offset 0,0.5 font ',9'; set ylabel 'lateral (m)' offset 1,0 font ',9'\n"
         "plot '%s' index %d u 1:2 w l lc rgb '#bbbbbb' notitle, "
         "'' index %d u 1:2 w l lw 2 lc rgb '#b2182b' notitle, "
@@ -359,34 +383,83 @@ static int have_gnuplot(void)
   return 0;
 }
 
-static int render(const plot_kind *k, const char *out, const char *data, int argc, char **argv)
+/* gnuplot run on the script, without a shell (an argument vector), its
+   messages into err; 0 when it exited 0. */
+static int run_gnuplot(const char *script, const char *err)
 {
-  char script[PATH_MAX];
-  snprintf(script, sizeof script, "%s.gp", data);
+  posix_spawn_file_actions_t fa;
+  char *const av[] = {"gnuplot", (char *)script, NULL};
+  pid_t pid;
+  int st = -1;
+  if (posix_spawn_file_actions_init(&fa)) return -1;
+  if (!posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, err, O_WRONLY | O_CREAT | O_TRUNC,
+                                        0600) &&
+      !posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0) &&
+      !posix_spawnp(&pid, "gnuplot", &fa, NULL, av, environ))
+    while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
+    }
+  posix_spawn_file_actions_destroy(&fa);
+  return WIFEXITED(st) && WEXITSTATUS(st) == 0 ? 0 : -1;
+}
+
+/* The script and the picture in the private folder dir (fixed names: no
+   user text in the script), then the picture copied to out whole. */
+static int render(const plot_kind *k, const char *dir, const char *out, const char *data, int argc,
+                  char **argv)
+{
+  char script[PATH_MAX], pic[PATH_MAX], err[PATH_MAX];
+  const char *ext = strrchr(out, '.');
+  snprintf(script, sizeof script, "%s/plot.gp", dir);
+  snprintf(pic, sizeof pic, "%s/picture%s", dir, ext);
+  snprintf(err, sizeof err, "%s/gnuplot.err", dir);
   FILE *gp = fopen(script, "w");
   if (!gp) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
   fprintf(gp,
           "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key "
           "noautotitle\n",
-          terminal_for(out), out);
+          terminal_for(out), pic);
   k->script(gp, data, argc, argv);
-  fclose(gp);
-  char cmd[3 * PATH_MAX];
-  snprintf(cmd, sizeof cmd, "gnuplot '%s' 2> '%s.err'", script, data);
-  int st = system(cmd);
-  if (st != 0) {
-    char err[512] = "";
-    snprintf(cmd, sizeof cmd, "%s.err", data);
-    FILE *fe = fopen(cmd, "r");
-    if (fe) {
-      if (!fgets(err, sizeof err, fe)) err[0] = 0;
-      fclose(fe);
-    }
-    err[strcspn(err, "\n")] = 0;
-    fprintf(stderr, "railride: --plot %s: gnuplot failed: %s\n", out, err[0] ? err : "no message");
+  if (fclose(gp)) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
+  if (run_gnuplot(script, err)) {
+    char msg[512] = "", line[512];
+    FILE *fe = fopen(err, "r");
+    while (fe && fgets(line, sizeof line, fe)) /* the last line that says something */
+      if (line[strspn(line, " \t\r\n")]) snprintf(msg, sizeof msg, "%s", line);
+    if (fe) fclose(fe);
+    msg[strcspn(msg, "\n")] = 0;
+    fprintf(stderr, "railride: --plot %s: gnuplot failed: %s\n", out, msg[0] ? msg : "no message");
     return EXIT_FAIL;
   }
-  return 0;
+  return cli_out_copy(pic, out, "--plot");
+}
+
+/* Copies a data file the command wrote where the user asked into the
+   private folder, so that the script names only files of ours. */
+static const char *private_copy(const char *src, const char *dir, char *out, size_t n)
+{
+  snprintf(out, n, "%s/input.csv", dir);
+  FILE *f = fopen(src, "rb"), *g = fopen(out, "wb");
+  char buf[65536];
+  size_t k;
+  while (f && g && (k = fread(buf, 1, sizeof buf, f)) > 0) fwrite(buf, 1, k, g);
+  if (f) fclose(f);
+  if (g) fclose(g);
+  return out;
+}
+
+/* The private folder and what it holds (files only: made by us). */
+static void remove_private(const char *dir)
+{
+  DIR *d = opendir(dir);
+  struct dirent *e;
+  char p[PATH_MAX];
+  while (d && (e = readdir(d))) {
+    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+    snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+    unlink(p);
+  }
+  if (d) closedir(d);
+  rmdir(dir);
 }
 
 /* The grid's rows with a blank line wherever the first column changes (how
@@ -457,9 +530,10 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   if (!terminal_for(out)) return cli_bad("--plot: '%s' must end in .svg, .png or .pdf", out);
   if (!have_gnuplot())
     return cli_bad("--plot: gnuplot not found on PATH (Debian package gnuplot-nox)");
-  FILE *probe = fopen(out, "w");
-  if (!probe) return cli_bad("--plot: cannot write '%s': %s", out, strerror(errno));
-  fclose(probe);
+  cli_outfile probe; /* the folder writable, the target untouched */
+  int pr = cli_out_open(&probe, out, "--plot");
+  if (pr) return pr;
+  cli_out_abort(&probe);
   char dir[] = "/tmp/railride_plot_XXXXXX", data[PATH_MAX];
   if (!mkdtemp(dir)) return cli_bad("--plot: no scratch folder: %s", strerror(errno));
   snprintf(data, sizeof data, "%s/data.csv", dir);
@@ -488,16 +562,14 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
     close(saved);
     if (!k->extra) replay(data);
   }
-  char grid[PATH_MAX + 8], front[PATH_MAX];
+  char grid[PATH_MAX + 8], front[PATH_MAX], copy[PATH_MAX];
   const char *src = file_data ? file_data : data;
   if (!r && k->script == script_optimise) src = front_file(data, front, sizeof front);
+  if (!r && strcmp(src, data)) src = private_copy(src, dir, copy, sizeof copy);
   if (!r && (k->grid == 1 || (k->grid == 2 && has_arg(n, av, "--y"))))
     src = gridded(src, grid, sizeof grid);
-  if (!r && cli_par_rank() == 0) r = render(k, out, src, n, av); /* one picture from an MPI job */
+  if (!r && cli_par_rank() == 0) r = render(k, dir, out, src, n, av); /* one picture from MPI */
   free(av);
-  char rm[PATH_MAX + 16];
-  snprintf(rm, sizeof rm, "rm -rf '%s'", dir);
-  if (system(rm)) {
-  }
+  if (!getenv("RR_KEEP_PLOT")) remove_private(dir);
   return r;
 }

@@ -249,6 +249,35 @@ timeout -s INT --preserve-status 2 "$RR" map --speeds 100:600:5000 --conicities 
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 12 --threads 1 --output "$tmp/rs" --resume > /dev/null || bad "optimise --resume"
 cmp -s "$tmp/straight-pareto.csv" "$tmp/rs-pareto.csv" && [ "$(wc -l < "$tmp/rs-history.csv")" -eq 13 ] && ok || bad "resumed run = uninterrupted run"
 expect2 "resume without a checkpoint" "no checkpoint" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output "$tmp/none" --resume
+# a resume of a changed problem is refused, naming what changed; the previous front stays
+sed 's/objective = std_zeta minimize/objective = std_zeta maximize/' "$SRC/examples/paper-optimisation.ini" > "$tmp/changed.ini"
+cp "$tmp/rs-pareto.csv" "$tmp/rs-before.csv"
+expect2 "resume of a changed problem" "the objectives or their sense changed" "$RR" optimise "$tmp/changed.ini" --population 40 --generations 14 --threads 1 --output "$tmp/rs" --resume
+cmp -s "$tmp/rs-before.csv" "$tmp/rs-pareto.csv" && ok || bad "a refused resume left the previous front"
+printf '[vehicle]\nbase = type1\n[carbody]\nmass = 40 t\n' > "$tmp/heavier.ini"
+sed "s|vehicle = type1|vehicle = $tmp/heavier.ini|" "$SRC/examples/paper-optimisation.ini" > "$tmp/changedv.ini"
+expect2 "resume with another vehicle" "the vehicle changed" "$RR" optimise "$tmp/changedv.ini" --population 40 --generations 14 --threads 1 --output "$tmp/rs" --resume
+# nothing lost: a full disk or a failed command never leaves a damaged or emptied file
+echo previous > "$tmp/keep.csv"
+"$RR" ride --speed 350 --conicity 0.1 --spectrum nosuch --psd "$tmp/keep.csv" > /dev/null 2>&1
+[ "$(cat "$tmp/keep.csv")" = previous ] && ok || bad "a failed ride emptied --psd"
+"$RR" modes --speed 350 --conicity 0.17 > /dev/full 2> "$tmp/full.err"; st=$?
+[ $st -ne 0 ] && grep -q "standard output" "$tmp/full.err" && ok || bad "stdout to a full disk: exit $st"
+for args in "ride --speed 350 --conicity 0.1 --psd /dev/full" "validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256 --psd /dev/full" \
+  "modes --speed 350 --conicity 0.17 --shape-data /dev/full" "map --speeds 300:400:2 --conicities 0.1:0.2:2 --json"; do
+  # shellcheck disable=SC2086
+  "$RR" $args > /dev/full 2> "$tmp/full.err"; st=$?
+  [ $st -ne 0 ] && grep -q "No space" "$tmp/full.err" && ok || bad "$args to a full disk: exit $st"
+done
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 8 --generations 1 --threads 1 --output "$tmp/full" > /dev/full 2> "$tmp/full.err"; st=$?
+[ $st -ne 0 ] && grep -q "No space" "$tmp/full.err" && ok || bad "optimise's summary to a full disk: exit $st"
+# no user string reaches a shell or gnuplot as code; --plot leaves nothing beside the user's files
+mkdir "$tmp/inj"
+( cd "$tmp/inj" && "$RR" ride --speed 350 --conicity 0.1 --psd 'p$(touch inj1).csv' --plot 'q`touch inj2`.png' > /dev/null 2>&1 \
+  && "$RR" sweep --x conicity=0.1:0.2:2 --objective 'index@350;fmax=10' --plot 'r$(touch inj3)`touch inj4`.svg' > /dev/null 2>&1 )
+[ ! -e "$tmp/inj/inj1" ] && [ ! -e "$tmp/inj/inj2" ] && [ ! -e "$tmp/inj/inj3" ] && [ ! -e "$tmp/inj/inj4" ] \
+  && [ -s "$tmp/inj/q\`touch inj2\`.png" ] && ok || bad "a file name ran a command"
+[ "$(ls -A "$tmp/inj" | wc -l)" -eq 3 ] && ok || bad "--plot left files beside the user's: $(ls -A "$tmp/inj")"
 
 # constraints: every design on the constrained front is feasible (stable at both points); the front is also JSON, each design once
 "$RR" optimise "$SRC/examples/paper-optimisation-constrained.ini" --population 60 --generations 8 --threads 2 --output "$tmp/pc" > /dev/null || bad "constrained optimise exit"

@@ -169,6 +169,94 @@ static void test_resume(void)
   CHECK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X3, F3, NULL, &e) == RR_EINVAL &&
             strstr(e.msg, "another problem"),
         "a checkpoint of another population refused: %s", e.msg);
+  /* the caller's fingerprint: a changed part refused by name */
+  o.population = 60;
+  o.fingerprint =
+      (rr_nsga2_fingerprint){.n = 2, .part = {1, 2}, .name = {"the vehicle", "the objectives"}};
+  snprintf(path, sizeof path, "%s/fp.ckpt", check_dir);
+  o.resume = NULL;
+  o.checkpoint = path;
+  o.progress = stop_at;
+  CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
+  o.progress = NULL;
+  o.resume = path;
+  o.fingerprint.part[1] = 3;
+  CHECK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e) == RR_EINVAL &&
+            strstr(e.msg, "the objectives changed") && !strstr(e.msg, "vehicle"),
+        "a changed objective refused by name: %s", e.msg);
+  o.fingerprint.part[1] = 2;
+  /* crafted or damaged checkpoints: every one an error, never UB or a hang */
+  FILE *f = fopen(path, "rb");
+  fseek(f, 0, SEEK_END);
+  long len = ftell(f);
+  rewind(f);
+  unsigned char *good = malloc((size_t)len), *bad = malloc((size_t)len + 8);
+  CHECK(fread(good, 1, (size_t)len, f) == (size_t)len, "read the checkpoint");
+  fclose(f);
+  const struct {
+    long at;  /* byte offset (negative: from the end) */
+    double v; /* written there as a double, or as an int32 when is_int */
+    int is_int;
+    const char *what;
+  } cases[] = {
+      {8 + 5 * 4, 2147483647, 1, "generation INT_MAX"},
+      {8 + 5 * 4, -5, 1, "negative generation"},
+      {8 + 6 * 4, 1e9, 0, "evaluations"},
+      {len - 60 * 4 - 60 * 8 - 120 * 8 - 1800 * 8, 1e300, 0, "a design at 1e300"},
+      {len - 60 * 4 - 60 * 8 - 120 * 8, NAN, 0, "a NaN objective"},
+      {len - 60 * 4, 77, 1, "a rank beyond the population"},
+  };
+  char bpath[300];
+  snprintf(bpath, sizeof bpath, "%s/bad.ckpt", check_dir);
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    memcpy(bad, good, (size_t)len);
+    if (cases[c].is_int) {
+      int32_t v = (int32_t)cases[c].v;
+      memcpy(bad + cases[c].at, &v, 4);
+    } else {
+      memcpy(bad + cases[c].at, &cases[c].v, 8);
+    }
+    f = fopen(bpath, "wb");
+    fwrite(bad, 1, (size_t)len, f);
+    fclose(f);
+    o.resume = bpath;
+    o.checkpoint = NULL;
+    int st = rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e);
+    CHECK(st == RR_EPARSE || st == RR_EINVAL, "crafted checkpoint (%s): status %d %s",
+          cases[c].what, st, e.msg);
+  }
+  f = fopen(bpath, "wb"); /* cut short, and one byte more */
+  fwrite(good, 1, (size_t)len - 3, f);
+  fclose(f);
+  CHECK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e) == RR_EPARSE,
+        "a checkpoint cut short: %s", e.msg);
+  memcpy(bad, good, (size_t)len);
+  bad[len] = 1;
+  f = fopen(bpath, "wb");
+  fwrite(bad, 1, (size_t)len + 1, f);
+  fclose(f);
+  CHECK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e) == RR_EPARSE,
+        "a checkpoint with bytes after its end: %s", e.msg);
+  /* a symlink planted where a scratch file might be named is never followed:
+     the checkpoint's scratch name is fresh each time (mkstemp) */
+  char victim[300], link_at[320];
+  snprintf(victim, sizeof victim, "%s/victim", check_dir);
+  snprintf(link_at, sizeof link_at, "%s.tmp", path);
+  f = fopen(victim, "w");
+  fputs("precious", f);
+  fclose(f);
+  CHECK(symlink(victim, link_at) == 0, "plant a symlink");
+  o.resume = NULL;
+  o.checkpoint = path;
+  o.progress = stop_at;
+  CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
+  f = fopen(victim, "r");
+  char txt[16] = "";
+  CHECK(f && fgets(txt, sizeof txt, f) && !strcmp(txt, "precious"),
+        "the symlink's target untouched");
+  if (f) fclose(f);
+  free(good);
+  free(bad);
 }
 
 static void test_sort(int m)

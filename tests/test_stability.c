@@ -431,8 +431,8 @@ static void test_typical_inertias(void)
   CHECK_OK(rr_critical_speed(m, 0.05, NULL, NULL, ws, &cr, &e), e);
   CHECK(cr.found && fabs(cr.speed_ms * RR_KMH - 147.8) < 0.5 && cr.mode.hunting &&
             cr.mode.energy[RR_GROUP_WHEELSET] > 0.05 && cr.mode.frame_roll_share < 0.05,
-        "type2, typical inertias: critical %g km/h through '%s' (hunting %d)",
-        cr.speed_ms * RR_KMH, cr.mode.name, cr.mode.hunting);
+        "type2, typical inertias: critical %g km/h through '%s' (hunting %d)", cr.speed_ms * RR_KMH,
+        cr.mode.name, cr.mode.hunting);
   rr_modal_ws_free(ws);
   rr_model_free(m);
 }

@@ -25,6 +25,20 @@ typedef int (*rr_nsga2_eval_fn)(void *user, int n, const double *x, double *f);
 typedef int (*rr_nsga2_progress_fn)(void *user, int generation, long evaluations, double seconds,
                                     int front_size, double hypervolume);
 
+/* What determines a run beyond the numbers rr_nsga2_run sees (the vehicle,
+ * the objectives and their sense, the constraints, the library version...):
+ * a hash per part, with the part's name for messages. A checkpoint carries
+ * them; a resume whose parts differ is refused, naming what changed. */
+#define RR_NSGA2_FP_MAX 8
+typedef struct rr_nsga2_fingerprint {
+  int n;
+  uint64_t part[RR_NSGA2_FP_MAX];
+  const char *name[RR_NSGA2_FP_MAX];
+} rr_nsga2_fingerprint;
+/* FNV-1a over n bytes, continuing from h (start with RR_FNV_OFFSET). */
+#define RR_FNV_OFFSET 14695981039346656037ULL
+RR_API uint64_t rr_hash_bytes(uint64_t h, const void *p, size_t n);
+
 typedef struct rr_nsga2_opts {
   int population;     /* even (100) */
   int generations;    /* (250) */
@@ -43,7 +57,10 @@ typedef struct rr_nsga2_opts {
   double *cv_out;        /* if not NULL: the final population's total violations (pop) */
   const char *checkpoint; /* if not NULL: the run's state written here after every generation */
   const char *resume;     /* if not NULL: a checkpoint to go on from (same problem, population and
-                             seed); the result is the one an uninterrupted run gives */
+                             seed); the result is the one an uninterrupted run gives. Every
+                             field read is checked (counts, ranges, finite values, designs
+                             within their bounds): a damaged or crafted file is an error */
+  rr_nsga2_fingerprint fingerprint; /* the caller's parts of the run (n = 0: none) */
 } rr_nsga2_opts;
 /* The defaults given in the fields' comments. */
 RR_API rr_nsga2_opts rr_nsga2_opts_default(void);

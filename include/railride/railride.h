@@ -22,4 +22,6 @@
 #include "railride/nsga2.h"
 #include "railride/problem.h"
 #include "railride/nonlinear.h"
+#include "railride/profile.h"
+#include "railride/version.h"
 #endif

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 #include "railride/nsga2.h"
 #include "rng.h"
 #include "internal.h"
@@ -461,52 +462,125 @@ static void split_eval(const double *E, int n, int m, int nc, double *F, double 
 }
 
 /* The run's state between generations, as a checkpoint file: a header, the
-   generator's state, the hypervolume reference, the bounds (a resume must
-   be of the same problem) and the population with its ranks and crowding. */
+   generator's state, the caller's fingerprint of the run, the hypervolume
+   reference, the bounds (a resume must be of the same problem) and the
+   population with its ranks and crowding. */
 #define CKPT_MAGIC "RRNSGA2"
-#define CKPT_VERSION 1
+#define CKPT_VERSION 2
 typedef struct nsga_state {
   int d, m, nc, N, g;
+  int generations; /* the run's last generation: a resume's g may not pass it */
   long evals;
   uint64_t seed;
   rr_rng *rng;
   double *ref, *X, *F, *CV, *cd;
   const double *lo, *hi;
   int *rank;
+  const rr_nsga2_fingerprint *fp;
 } nsga_state;
+
+uint64_t rr_hash_bytes(uint64_t h, const void *p, size_t n)
+{
+  const unsigned char *c = p;
+  for (size_t i = 0; i < n; i++) h = (h ^ c[i]) * 1099511628211ULL;
+  return h;
+}
 
 static int ckpt_io(FILE *f, void *p, size_t size, size_t n, int writing)
 {
   return n == 0 || (writing ? fwrite(p, size, n, f) : fread(p, size, n, f)) == n ? 0 : -1;
 }
 
-static int state_save(const char *path, const nsga_state *s, rr_error *err)
+/* Every field in file order (one list for writing and reading). */
+static int ckpt_fields(FILE *f, nsga_state *s, int32_t *head, int64_t *ev, int32_t *nfp,
+                       uint64_t *fp, double *lo, double *hi, int w)
 {
-  char tmpname[4096 + 8];
-  snprintf(tmpname, sizeof tmpname, "%s.tmp", path);
-  FILE *f = fopen(tmpname, "wb");
-  if (!f) return rr_seterr(err, RR_EIO, "nsga2: cannot write the checkpoint %s", tmpname);
-  int32_t head[6] = {CKPT_VERSION, s->d, s->m, s->nc, s->N, s->g};
-  int64_t ev = s->evals;
-  size_t N = (size_t)s->N;
-  int bad = ckpt_io(f, CKPT_MAGIC, 1, 8, 1) || ckpt_io(f, head, sizeof head[0], 6, 1) ||
-            ckpt_io(f, &ev, sizeof ev, 1, 1) ||
-            ckpt_io(f, (void *)&s->seed, sizeof s->seed, 1, 1) ||
-            ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 1) ||
-            ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 1) ||
-            ckpt_io(f, (void *)s->lo, sizeof(double), (size_t)s->d, 1) ||
-            ckpt_io(f, (void *)s->hi, sizeof(double), (size_t)s->d, 1) ||
-            ckpt_io(f, s->X, sizeof(double), N * (size_t)s->d, 1) ||
-            ckpt_io(f, s->F, sizeof(double), N * (size_t)s->m, 1) ||
-            (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 1)) ||
-            ckpt_io(f, s->cd, sizeof(double), N, 1) || ckpt_io(f, s->rank, sizeof(int), N, 1);
-  if (fclose(f) || bad) {
-    remove(tmpname);
-    return rr_seterr(err, RR_EIO, "nsga2: cannot write the checkpoint %s", tmpname);
+  size_t N = (size_t)s->N, d = (size_t)s->d, m = (size_t)s->m;
+  return ckpt_io(f, head, sizeof head[0], 6, w) || ckpt_io(f, ev, sizeof *ev, 1, w) ||
+         ckpt_io(f, &s->seed, sizeof s->seed, 1, w) ||
+         ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, w) || ckpt_io(f, nfp, sizeof *nfp, 1, w) ||
+         *nfp < 0 || *nfp > RR_NSGA2_FP_MAX || ckpt_io(f, fp, sizeof *fp, (size_t)*nfp, w) ||
+         ckpt_io(f, s->ref, sizeof(double), m, w) || ckpt_io(f, lo, sizeof(double), d, w) ||
+         ckpt_io(f, hi, sizeof(double), d, w) || ckpt_io(f, s->X, sizeof(double), N * d, w) ||
+         ckpt_io(f, s->F, sizeof(double), N * m, w) ||
+         (s->nc && ckpt_io(f, s->CV, sizeof(double), N, w)) ||
+         ckpt_io(f, s->cd, sizeof(double), N, w) || ckpt_io(f, s->rank, sizeof(int), N, w);
+}
+
+/* Written to a fresh scratch file beside the target (mkstemp: a planted
+   name or symlink is never followed), fsync'd, then renamed over it. */
+static int state_save(const char *path, nsga_state *s, rr_error *err)
+{
+  char tmp[4096 + 8];
+  if (snprintf(tmp, sizeof tmp, "%s.XXXXXX", path) >= (int)sizeof tmp)
+    return rr_seterr(err, RR_EINVAL, "nsga2: checkpoint name too long");
+  int fd = mkstemp(tmp);
+  FILE *f = fd >= 0 ? fdopen(fd, "wb") : NULL;
+  if (!f) {
+    if (fd >= 0) {
+      close(fd);
+      unlink(tmp);
+    }
+    return rr_seterr(err, RR_EIO, "nsga2: cannot write the checkpoint beside %s", path);
   }
-  if (rename(tmpname, path))
+  int32_t head[6] = {CKPT_VERSION, s->d, s->m, s->nc, s->N, s->g}, nfp = s->fp ? s->fp->n : 0;
+  int64_t ev = s->evals;
+  uint64_t fp[RR_NSGA2_FP_MAX] = {0};
+  for (int i = 0; i < nfp; i++) fp[i] = s->fp->part[i];
+  int bad = ckpt_io(f, CKPT_MAGIC, 1, 8, 1) ||
+            ckpt_fields(f, s, head, &ev, &nfp, fp, (double *)s->lo, (double *)s->hi, 1) ||
+            fflush(f) || fsync(fileno(f));
+  if (fclose(f) || bad) {
+    unlink(tmp);
+    return rr_seterr(err, RR_EIO, "nsga2: writing the checkpoint %s failed", path);
+  }
+  if (rename(tmp, path)) {
+    unlink(tmp);
     return rr_seterr(err, RR_EIO, "nsga2: cannot rename the checkpoint to %s", path);
+  }
   return RR_OK;
+}
+
+/* What a loaded state must hold: a generation within the run, a live
+   generator, finite reference, designs finite and within their bounds,
+   objectives and violations not NaN, ranks within the population. */
+static int state_valid(const nsga_state *s, const int32_t *head, int64_t ev)
+{
+  size_t N = (size_t)s->N;
+  if (!(head[5] >= 0 && head[5] <= s->generations)) return 0;
+  if (ev != (int64_t)(head[5] + 1) * (int64_t)N) return 0; /* N a generation, and the first */
+  if (!(s->rng->s[0] | s->rng->s[1] | s->rng->s[2] | s->rng->s[3])) return 0;
+  for (int k = 0; k < s->m; k++)
+    if (!isfinite(s->ref[k])) return 0;
+  for (size_t i = 0; i < N; i++) {
+    for (int j = 0; j < s->d; j++) {
+      double x = s->X[i * (size_t)s->d + (size_t)j];
+      if (!(x >= s->lo[j] && x <= s->hi[j])) return 0;
+    }
+    for (int k = 0; k < s->m; k++) {
+      double fv = s->F[i * (size_t)s->m + (size_t)k];
+      if (isnan(fv) || fv == -INFINITY) return 0;
+    }
+    if ((s->nc && !(s->CV[i] >= 0)) || !(s->cd[i] >= 0) || s->rank[i] < 0 || s->rank[i] >= s->N)
+      return 0;
+  }
+  return 1;
+}
+
+/* The parts of the run that differ, by name, into buf. */
+static void fp_diff(const rr_nsga2_fingerprint *fp, int n, const uint64_t *got, char *buf,
+                    size_t len)
+{
+  buf[0] = 0;
+  if (!fp || n != fp->n) {
+    snprintf(buf, len, "the run's description");
+    return;
+  }
+  for (int i = 0; i < n; i++)
+    if (got[i] != fp->part[i]) {
+      size_t l = strlen(buf);
+      snprintf(buf + l, len - l, "%s%s", l ? ", " : "", fp->name[i] ? fp->name[i] : "?");
+    }
 }
 
 static int state_load(const char *path, nsga_state *s, rr_error *err)
@@ -514,37 +588,37 @@ static int state_load(const char *path, nsga_state *s, rr_error *err)
   FILE *f = fopen(path, "rb");
   if (!f) return rr_seterr(err, RR_EIO, "%s: cannot read the checkpoint", path);
   char magic[8];
-  int32_t head[6];
+  int32_t head[6], nfp = 0;
   int64_t ev;
-  uint64_t seed;
+  uint64_t seed = s->seed, fp[RR_NSGA2_FP_MAX];
   double lo[64], hi[64];
   int st = RR_OK;
-  size_t N = (size_t)s->N;
   if (ckpt_io(f, magic, 1, 8, 0) || memcmp(magic, CKPT_MAGIC, 8) ||
-      ckpt_io(f, head, sizeof head[0], 6, 0) || head[0] != CKPT_VERSION)
-    st = rr_seterr(err, RR_EPARSE, "%s: not a railride NSGA-II checkpoint", path);
-  else if (head[1] != s->d || head[2] != s->m || head[3] != s->nc || head[4] != s->N || s->d > 64)
-    st = rr_seterr(
-        err, RR_EINVAL,
-        "%s: a checkpoint of another problem (%d variables, %d objectives, %d constraints, "
-        "population %d)",
-        path, head[1], head[2], head[3], head[4]);
-  else if (ckpt_io(f, &ev, sizeof ev, 1, 0) || ckpt_io(f, &seed, sizeof seed, 1, 0) ||
-           ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, 0) ||
-           ckpt_io(f, s->ref, sizeof(double), (size_t)s->m, 0) ||
-           ckpt_io(f, lo, sizeof(double), (size_t)s->d, 0) ||
-           ckpt_io(f, hi, sizeof(double), (size_t)s->d, 0))
-    st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
-  else if (seed != s->seed || memcmp(lo, s->lo, sizeof(double) * (size_t)s->d) ||
+      ckpt_io(f, head, sizeof head[0], 1, 0) || head[0] != CKPT_VERSION)
+    st = rr_seterr(err, RR_EPARSE, "%s: not a railride NSGA-II checkpoint (version %d)", path,
+                   CKPT_VERSION);
+  else if (ckpt_io(f, head + 1, sizeof head[0], 5, 0) || head[1] != s->d || head[2] != s->m ||
+           head[3] != s->nc || head[4] != s->N || s->d > 64)
+    st = rr_seterr(err, RR_EINVAL,
+                   "%s: a checkpoint of another problem (variables, objectives, constraints or "
+                   "population differ)",
+                   path);
+  else if (fseek(f, 8, SEEK_SET) || ckpt_fields(f, s, head, &ev, &nfp, fp, lo, hi, 0) ||
+           fgetc(f) != EOF)
+    st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short or damaged", path);
+  else if (s->seed != seed || memcmp(lo, s->lo, sizeof(double) * (size_t)s->d) ||
            memcmp(hi, s->hi, sizeof(double) * (size_t)s->d))
     st = rr_seterr(err, RR_EINVAL,
                    "%s: a checkpoint of another run (seed or variable bounds differ)", path);
-  else if (ckpt_io(f, s->X, sizeof(double), N * (size_t)s->d, 0) ||
-           ckpt_io(f, s->F, sizeof(double), N * (size_t)s->m, 0) ||
-           (s->nc && ckpt_io(f, s->CV, sizeof(double), N, 0)) ||
-           ckpt_io(f, s->cd, sizeof(double), N, 0) || ckpt_io(f, s->rank, sizeof(int), N, 0))
-    st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is cut short", path);
+  else if (nfp != (s->fp ? s->fp->n : 0) ||
+           (nfp && memcmp(fp, s->fp->part, sizeof(uint64_t) * (size_t)nfp))) {
+    char what[256];
+    fp_diff(s->fp, nfp, fp, what, sizeof what);
+    st = rr_seterr(err, RR_EINVAL, "%s: a checkpoint of another run: %s changed", path, what);
+  } else if (!state_valid(s, head, ev))
+    st = rr_seterr(err, RR_EPARSE, "%s: the checkpoint is damaged (a value out of range)", path);
   fclose(f);
+  s->seed = seed;
   if (!st) {
     s->g = head[5];
     s->evals = (long)ev;
@@ -759,7 +833,9 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
                    .cd = w.cd,
                    .lo = lo,
                    .hi = hi,
-                   .rank = w.rank};
+                   .rank = w.rank,
+                   .generations = o->generations,
+                   .fp = &o->fingerprint};
   if (o->resume)
     st = state_load(o->resume, &ck, err);
   else {
