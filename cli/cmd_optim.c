@@ -33,6 +33,7 @@ typedef struct eval_ctx {
 /* Designs lo..hi-1 of the batch: objectives (maximised ones negated) and
    then the constraints' violations, value - bound for <=, bound - value for
    >= (NSGA-II counts those > 0). */
+#define EVAL_SLICE 256 /* designs between two looks at a stop request: ~0.1 s a thread */
 static int eval_items(void *user, long lo, long hi, void *out)
 {
   eval_ctx *c = user;
@@ -40,8 +41,15 @@ static int eval_items(void *user, long lo, long hi, void *out)
   int w = p->nobj + p->ncon, n = (int)(hi - lo);
   double *f = out;
   rr_error e;
-  int st = rr_design_evaluate_batch(c->d, n, c->x + lo * p->nvar, f, c->threads, NULL, &e);
-  if (st) return cli_fail(&e, st);
+  /* in slices, so that Ctrl-C or SIGTERM stops a large generation within
+     about a second (the generation is then dropped, the last whole one kept) */
+  for (int s0 = 0; s0 < n; s0 += EVAL_SLICE) {
+    int ns = n - s0 < EVAL_SLICE ? n - s0 : EVAL_SLICE;
+    if (cli_stopped()) return RR_ESTOPPED;
+    int st = rr_design_evaluate_batch(c->d, ns, c->x + (lo + s0) * p->nvar, f + (size_t)s0 * w,
+                                      c->threads, NULL, &e);
+    if (st) return cli_fail(&e, st);
+  }
   for (int i = 0; i < n; i++) {
     for (int k = 0; k < p->nobj; k++)
       if (p->maximize[k]) f[i * w + k] = -f[i * w + k];
@@ -425,6 +433,11 @@ static int run_nsga2(optim_run *r, const rr_problem *p, const optim_args *a)
   int st =
       rr_nsga2_run(p->nvar, p->nobj, p->lo, p->hi, eval_batch, &ec, &o, r->X, r->F, r->rank, &e);
   r->seconds = cli_now_s() - t0;
+  if (st == RR_ESTOPPED) {
+    fprintf(stderr, "railride: optimise: stopped by a signal before the first generation was "
+                    "complete; nothing written (the previous files are unchanged)\n");
+    return CLI_EXIT_STOPPED;
+  }
   if (st) return cli_fail(&e, st);
   for (int i = 0; i < p->population; i++) /* maximised objectives back to their sign */
     for (int k = 0; k < p->nobj; k++)

@@ -570,6 +570,6 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
     src = gridded(src, grid, sizeof grid);
   if (!r && cli_par_rank() == 0) r = render(k, dir, out, src, n, av); /* one picture from MPI */
   free(av);
-  if (!getenv("RR_KEEP_PLOT")) remove_private(dir);
+  remove_private(dir);
   return r;
 }

@@ -249,6 +249,17 @@ timeout -s INT --preserve-status 2 "$RR" map --speeds 100:600:5000 --conicities 
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 12 --threads 1 --output "$tmp/rs" --resume > /dev/null || bad "optimise --resume"
 cmp -s "$tmp/straight-pareto.csv" "$tmp/rs-pareto.csv" && [ "$(wc -l < "$tmp/rs-history.csv")" -eq 13 ] && ok || bad "resumed run = uninterrupted run"
 expect2 "resume without a checkpoint" "no checkpoint" "$RR" optimise "$SRC/examples/paper-optimisation.ini" --output "$tmp/none" --resume
+# SIGINT in the middle of a large generation: honoured within 2 s, that generation dropped, the last whole one written
+( "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 6000 --generations 4 --threads 2 --output "$tmp/sg" > "$tmp/sg.out" 2> "$tmp/sg.err"; echo $? > "$tmp/sg.st" ) &
+sgjob=$!
+for _ in $(seq 150); do sleep 0.1; [ -f "$tmp/sg-checkpoint.bin" ] && break; done
+sleep 0.3
+t0=$(date +%s%N)
+pkill -INT -f "optimise $SRC/examples/paper-optimisation.ini --population 6000" || true
+wait $sgjob
+ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+[ "$(cat "$tmp/sg.st")" = 130 ] && [ $ms -lt 2000 ] && grep -q "stopped by a signal after generation 1 of 4" "$tmp/sg.out" && [ -s "$tmp/sg-pareto.csv" ] \
+  && ok || bad "SIGINT mid-generation: exit $(cat "$tmp/sg.st"), ${ms} ms, $(head -2 "$tmp/sg.out" | tail -1) $(cat "$tmp/sg.err")"
 # a resume of a changed problem is refused, naming what changed; the previous front stays
 sed 's/objective = std_zeta minimize/objective = std_zeta maximize/' "$SRC/examples/paper-optimisation.ini" > "$tmp/changed.ini"
 cp "$tmp/rs-pareto.csv" "$tmp/rs-before.csv"

@@ -17,7 +17,10 @@ extern "C" {
 /* Fills f (n x (m + ncon)) for x (n x d): the m objectives, then ncon
    constraint violations (>= 0, 0 when the constraint holds). NaN objectives
    count as worst, a NaN violation as infinite. Returns 0; anything else
-   ends the run with RR_EINVAL (the callback's own message is its to give). */
+   ends the run with RR_EINVAL (the callback's own message is its to give),
+   except RR_ESTOPPED: a stop asked for during a generation, which is then
+   dropped, the last complete generation being the result (generations_done
+   says which; during the initial population the run returns RR_ESTOPPED). */
 typedef int (*rr_nsga2_eval_fn)(void *user, int n, const double *x, double *f);
 /* Called after every generation; a nonzero return stops the run there, the
    population of that generation being the result (generations_done says

@@ -689,6 +689,7 @@ static int evaluate(nsga_work *w, rr_nsga2_eval_fn eval, void *user, const doubl
                     double *CV, rr_error *err)
 {
   int r = eval(user, w->N, X, w->E);
+  if (r == RR_ESTOPPED) return rr_seterr(err, RR_ESTOPPED, "nsga2: stopped during a generation");
   if (r) return rr_seterr(err, RR_EINVAL, "nsga2: the evaluation failed (callback status %d)", r);
   split_eval(w->E, w->N, w->m, w->nc, F, CV);
   sanitize(F, w->N * w->m);
@@ -845,7 +846,10 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   if (o->generations_done) *o->generations_done = ck.g;
   for (int g = ck.g + 1; g <= o->generations && !st; g++) {
     make_offspring(&w, lo, hi, &rng, o);
-    if ((st = evaluate(&w, eval, user, w.X2, w.F2, w.CV ? w.CV + N : NULL, err))) break;
+    if ((st = evaluate(&w, eval, user, w.X2, w.F2, w.CV ? w.CV + N : NULL, err))) {
+      if (st == RR_ESTOPPED) st = RR_OK; /* the partial generation dropped: the last whole one */
+      break;
+    }
     ck.evals += N;
     memcpy(w.X + N * d, w.X2, sizeof(double) * (size_t)N * (size_t)d);
     memcpy(w.F + N * m, w.F2, sizeof(double) * (size_t)N * (size_t)m);
