@@ -133,5 +133,61 @@ if os.environ.get("RR_PIP_TEST", "1") == "1":
         check(r.returncode == 0 and tmp in r.stdout and abs(float(r.stdout.split()[-1]) - ref["zeta_low"]) < 1e-13,
               "the installed package finds its own library: %s %s" % (r.stdout, r.stderr[-300:]))
 
+# handles shared by threads: the same answers as one thread, and closing a
+# handle another thread is using is an error, never a crash
+import threading  # noqa: E402
+shared = railride.Design("type1", ["yaw_damper.series_stiffness"], ["zeta_low", "index@300,0.3"], threads=1)
+xs = np.linspace(5e6, 25e6, 24)[:, None]
+want = shared.evaluate_batch(xs)
+got = [None] * 4
+
+
+def work(t):
+    got[t] = np.vstack([shared.evaluate(x) for x in xs])
+
+
+ts = [threading.Thread(target=work, args=(t,)) for t in range(4)]
+for t in ts:
+    t.start()
+for t in ts:
+    t.join(timeout=120)
+check(all(g is not None and np.array_equal(g, want) for g in got), "a Design shared by 4 threads")
+veh = railride.Vehicle("type2")
+vref = {p: veh.modes(*p)["zeta"] for p in ((250, 0.05), (350, 0.17), (400, 0.4))}
+vgot = {}
+
+
+def vwork(p):
+    for _ in range(5):
+        vgot.setdefault(p, []).append(veh.modes(*p)["zeta"])
+
+
+ts = [threading.Thread(target=vwork, args=(p,)) for p in vref]
+for t in ts:
+    t.start()
+for t in ts:
+    t.join(timeout=120)
+check(all(np.array_equal(z, vref[p]) for p in vref for z in vgot.get(p, [None])), "a Vehicle shared by 3 threads")
+big = np.tile(xs, (80, 1))  # ~0.7 s on one thread: the close comes 0.05 s in
+closer = {}
+busy = threading.Thread(target=lambda: closer.setdefault("f", shared.evaluate_batch(big)))
+busy.start()
+import time  # noqa: E402
+time.sleep(0.05)
+try:
+    shared.close()
+    closer["closed"] = True  # the evaluation had finished: a plain close
+except railride.RailrideError as e:
+    closer["refused"] = str(e)
+busy.join(timeout=120)
+check("refused" in closer and "in use" in closer["refused"], "close during use refused: %s" % closer)
+check("f" in closer and closer["f"].shape == (big.shape[0], 2), "the evaluation in use finished")
+shared.close()
+try:
+    shared.evaluate(xs[0])
+    check(False, "a closed Design raises")
+except railride.RailrideError:
+    check(True, "a closed Design raises")
+
 print("python: %d passed, %d failed" % (passed, failed))
 sys.exit(1 if failed else 0)

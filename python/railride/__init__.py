@@ -14,6 +14,7 @@ The shared library is found through $RAILRIDE_LIB, inside this package (as
 (ctypes.util.find_library), or on the loader's path.
 """
 import ctypes
+import threading
 import ctypes.util
 import os
 
@@ -72,6 +73,32 @@ def library():
     return _lib
 
 
+def _locked(method):
+    """A handle's method, run under the handle's lock (a Design or a Vehicle
+    is safe to share between threads: calls on one handle run one at a time;
+    for parallel work give each thread its own handle, or use the threads of
+    evaluate_batch)."""
+    def call(self, *args, **kw):
+        with self._lock:
+            return method(self, *args, **kw)
+    call.__name__, call.__doc__ = method.__name__, method.__doc__
+    return call
+
+
+def _close_guarded(self, free, what):
+    """Frees the handle unless another thread is using it (then an error:
+    never a crash); closing twice is harmless."""
+    lock = getattr(self, "_lock", None)
+    if lock is None:
+        return
+    if not lock.acquire(blocking=False):
+        raise RailrideError("this %s is in use by another thread: close it when that call returns" % what)
+    try:
+        free()
+    finally:
+        lock.release()
+
+
 class Design:
     """A design context: base vehicle, varying keys, objectives (see design.h).
 
@@ -90,6 +117,7 @@ class Design:
                               ctypes.byref(h), ctypes.byref(err)):
             raise RailrideError(err.msg.decode())
         self._h = h.value
+        self._lock = threading.RLock()
         self.variables = list(variables)
         self.objectives = list(objectives)
         self.threads = int(threads)
@@ -102,6 +130,7 @@ class Design:
     def nobj(self):
         return len(self.objectives)
 
+    @_locked
     def evaluate_batch(self, x):
         """Objectives (n x nobj) for designs x (n x nvar); failed designs give NaN rows."""
         if not getattr(self, "_h", None):
@@ -121,9 +150,11 @@ class Design:
         return self.evaluate_batch(np.asarray(x, dtype=np.float64)[None, :])[0]
 
     def close(self):
-        if getattr(self, "_h", None):
-            library().rr_design_free(self._h)
-            self._h = None
+        def free():
+            if getattr(self, "_h", None):
+                library().rr_design_free(self._h)
+                self._h = None
+        _close_guarded(self, free, "Design")
 
     def __del__(self):
         self.close()

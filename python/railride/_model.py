@@ -2,8 +2,11 @@
 index and its map, robust indices, critical speed, FRFs, PSDs and ride
 indices (ctypes over librailride; see include/railride/*.h)."""
 import ctypes
+import threading
 
 import numpy as np
+
+from . import _locked  # noqa: E402  (defined before this module is imported)
 
 KMH = 3.6
 MODE_NAME_MAX = 48
@@ -133,6 +136,7 @@ class Vehicle:
         if self._lib.rr_vehicle_new(spec.encode(), ctypes.byref(veh), ctypes.byref(err)):
             raise RailrideError(err.msg.decode())
         self._veh = veh
+        self._lock = threading.RLock()
         self._m, self._ws = ctypes.c_void_p(), ctypes.c_void_p()
         self._call("rr_model_from_vehicle", self._veh, ctypes.byref(self._m))
         self._call("rr_modal_ws_new", self._m, ctypes.byref(self._ws))
@@ -156,6 +160,7 @@ class Vehicle:
         o.fmax_hz, o.w_min, o.r_max = fmax, wmin, rmax
         return o
 
+    @_locked
     def modes(self, speed_kmh, conicity, fmax=10.0, wmin=1e-3, rmax=0.5):
         """Every mode: arrays freq_hz, real, imag, zeta, energy (n x 3: carbody,
         frames, wheelsets), roll_share, frame_roll_share, oscillatory (False for
@@ -192,6 +197,7 @@ class Vehicle:
             self._lib.rr_modal_result_free(ctypes.byref(res))
         return out
 
+    @_locked
     def map(self, speeds_kmh, conicities, fmax=10.0, wmin=1e-3, rmax=0.5, what="index"):
         """The stability index (or what="zeta_max") over speeds x conicities:
         an array (len(speeds), len(conicities)). The index's sign is the verdict;
@@ -212,10 +218,12 @@ class Vehicle:
                     out[i, j] = res[j].zeta_max if np.isfinite(res[j].max_freq_hz) else float("nan")
         return out
 
+    @_locked
     def stability_index(self, speed_kmh, conicity, **kw):
         """The vehicle stability index at one point (NaN when undefined)."""
         return float(self.map([speed_kmh], [conicity], **kw)[0, 0])
 
+    @_locked
     def robust(self, fmax=10.0, wmin=1e-3, rmax=0.5):
         """zeta_low, zeta_high, std_zeta (the paper's Table 1), zeta_max, n_unstable."""
         self._live()
@@ -224,6 +232,7 @@ class Vehicle:
         return {"zeta_low": out.zeta_low, "zeta_high": out.zeta_high, "std_zeta": out.std_zeta,
                 "zeta_max": out.zeta_max, "n_unstable": out.n_unstable}
 
+    @_locked
     def critical_speed(self, conicity, vmin=10.0, vmax=600.0, index_modes=False, fmax=10.0, wmin=1e-3, rmax=0.5):
         """The lowest speed (km/h) at which an oscillatory mode has zeta >= 0; NaN when stable to vmax."""
         self._live()
@@ -245,6 +254,7 @@ class Vehicle:
         self._call("rr_frf_plan_new", self._m, ctypes.byref(o), ctypes.byref(plan))
         return plan, rows, x
 
+    @_locked
     def frf(self, speed_kmh, conicity, points=(0.0,), height=1.2, nfreq=400, f_lo=0.3, f_hi=30.0):
         """Frequencies (Hz) and the floor's lateral acceleration FRFs H (nfreq x
         points x wheelsets, complex, (m/s^2)/m) at floor points x (m from the centre)."""
@@ -259,6 +269,7 @@ class Vehicle:
             self._lib.rr_frf_plan_free(plan)
         return f, H.view(np.complex128).reshape(nf, x.size, ni)
 
+    @_locked
     def psd(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=(0.0,), height=1.2, nfreq=400,
             f_lo=0.3, f_hi=30.0):
         """Frequencies (Hz) and the floor's lateral acceleration PSD G (nfreq x
@@ -279,6 +290,7 @@ class Vehicle:
             self._lib.rr_spectrum_delete(sp)
         return f, G.reshape(nf, x.size)
 
+    @_locked
     def ride(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=(0.0,), height=1.2):
         """Ride indices at each floor point: arrays rms (m/s^2), sperling (filter
         method), sperling_gb (GB/T 5599), wd_rms (ISO 2631-1 Wd, m/s^2)."""
@@ -300,11 +312,15 @@ class Vehicle:
         return out
 
     def close(self):
-        if getattr(self, "_veh", None):
-            self._lib.rr_modal_ws_free(self._ws)
-            self._lib.rr_model_free(self._m)
-            self._lib.rr_vehicle_delete(self._veh)
-            self._veh = None
+        from . import _close_guarded
+
+        def free():
+            if getattr(self, "_veh", None):
+                self._lib.rr_modal_ws_free(self._ws)
+                self._lib.rr_model_free(self._m)
+                self._lib.rr_vehicle_delete(self._veh)
+                self._veh = None
+        _close_guarded(self, free, "Vehicle")
 
     def __del__(self):
         self.close()
