@@ -37,7 +37,10 @@ static int damper_cb(int opt, const char *arg, void *u)
     return 0;
   case OPT_FREQS:
     if (cli_range("freqs", arg, "Hz", &a->f_from, &a->f_to, &a->n)) return 1;
-    if (!(a->f_from > 0 && a->f_to > a->f_from)) return cli_bad("--freqs: need 0 < FROM < TO");
+    if (!(a->f_from >= CLI_BAND_LO_MIN && a->f_to >= a->f_from && a->f_to <= CLI_BAND_HI_MAX &&
+          a->n <= CLI_BAND_N_MAX))
+      return cli_bad("--freqs: need %g <= FROM <= TO <= %g Hz and N <= %d", CLI_BAND_LO_MIN,
+                     CLI_BAND_HI_MAX, CLI_BAND_N_MAX);
     return 0;
   }
   return 1;
@@ -72,6 +75,14 @@ int cmd_damper(int argc, char **argv)
   if (a.have_k) k = a.k;
   if (a.have_c) cd = a.c;
   if (!(cd > 0)) return cli_bad("damping is 0: no damper characteristics");
+  rr_error e; /* --k, --c within the physical range of the element's keys */
+  const char *kk =
+                 a.element == 0 ? "yaw_damper.series_stiffness" : "lateral_damper.series_stiffness",
+             *kc = a.element == 0 ? "yaw_damper.damping" : "lateral_damper.damping";
+  if (a.have_k && rr_vehicle_key_check(rr_vehicle_key_find(kk), k, &e))
+    return cli_bad("--k: %s", e.msg);
+  if (a.have_c && rr_vehicle_key_check(rr_vehicle_key_find(kc), cd, &e))
+    return cli_bad("--c: %s", e.msg);
   cJSON *root = c.json ? cJSON_CreateObject() : NULL,
         *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
   if (root) {
@@ -96,6 +107,14 @@ int cmd_damper(int argc, char **argv)
     double complex ks = sdf ? rr_sdf_series_k(&c.veh.sdf, c.veh.sdf_mode, I * w) : k;
     double complex ke = rr_maxwell_stiffness(ks, cd, I * w);
     double st = creal(ke), lo = cimag(ke);
+    if (!(isfinite(st) && isfinite(lo) && isfinite(lo / w) && isfinite(lo / st) && st > 0)) {
+      cJSON_Delete(root); /* a non-finite result is an error, never a number */
+      fprintf(stderr,
+              "railride: damper: the characteristics are not finite at %g Hz (k = %g N/m, c = %g "
+              "N s/m: storage %g N/m)\n",
+              f, creal(ks), cd, st);
+      return EXIT_FAIL;
+    }
     if (root) {
       cJSON *o = cJSON_CreateObject();
       cJSON_AddNumberToObject(o, "freq_hz", f);

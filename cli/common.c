@@ -77,6 +77,10 @@ int cli_range(const char *opt, const char *arg, const char *unit, double *from, 
     return -1;
   }
   *n = (int)k;
+  if (k == 1 && *from != *to) {
+    cli_bad("--%s: N = 1 is one value: FROM and TO must be equal, got '%s'", opt, arg);
+    return -1;
+  }
   return 0;
 }
 

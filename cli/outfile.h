@@ -14,8 +14,8 @@
 typedef struct cli_outfile {
   FILE *fp;
   char path[CLI_OUT_PATH_MAX]; /* the target */
-  char tmp[CLI_OUT_PATH_MAX]; /* the scratch file ("" when written in place) */
-  const char *what;    /* for messages: "--psd", "the Pareto front" */
+  char tmp[CLI_OUT_PATH_MAX];  /* the scratch file ("" when written in place) */
+  const char *what;            /* for messages: "--psd", "the Pareto front" */
 } cli_outfile;
 
 /* Opens the scratch file; prints the error and returns EXIT_BADINPUT (a

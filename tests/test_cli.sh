@@ -252,7 +252,7 @@ expect2 "resume without a checkpoint" "no checkpoint" "$RR" optimise "$SRC/examp
 # SIGINT in the middle of a large generation: honoured within 2 s, that generation dropped, the last whole one written
 ( "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 6000 --generations 4 --threads 2 --output "$tmp/sg" > "$tmp/sg.out" 2> "$tmp/sg.err"; echo $? > "$tmp/sg.st" ) &
 sgjob=$!
-for _ in $(seq 150); do sleep 0.1; [ -f "$tmp/sg-checkpoint.bin" ] && break; done
+for _ in $(seq 900); do sleep 0.1; [ -f "$tmp/sg-checkpoint.bin" ] && break; done
 sleep 0.3
 t0=$(date +%s%N)
 pkill -INT -f "optimise $SRC/examples/paper-optimisation.ini --population 6000" || true
@@ -282,6 +282,28 @@ for args in "ride --speed 350 --conicity 0.1 --psd /dev/full" "validate --speed 
 done
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 8 --generations 1 --threads 1 --output "$tmp/full" > /dev/full 2> "$tmp/full.err"; st=$?
 [ $st -ne 0 ] && grep -q "No space" "$tmp/full.err" && ok || bad "optimise's summary to a full disk: exit $st"
+# a file named where a vehicle, table, spectrum or problem file belongs, that is not one: no message quotes it
+printf 'SECRET_TOKEN=abc123\nOTHER = [x]\n' > "$tmp/secret.env"
+cp "$tmp/secret.env" "$tmp/secret.txt"
+printf '[vehicle]\nbase = %s\n' "$tmp/secret.env" > "$tmp/bsec.ini"
+printf '[vehicle]\nbase = type1\n[yaw_damper]\nsdf = paper\nsdf_table = %s\n' "$tmp/secret.env" > "$tmp/tsec.ini"
+for args in "modes $tmp/bsec.ini --speed 300 --conicity 0.1" "modes $tmp/tsec.ini --speed 300 --conicity 0.1" \
+  "ride --speed 300 --conicity 0.1 --spectrum $tmp/secret.txt" "optimise $tmp/secret.env" "bifurcation --profile $tmp/secret.env"; do
+  # shellcheck disable=SC2086
+  "$RR" $args > /dev/null 2> "$tmp/sec.err"; st=$?
+  [ $st -eq 2 ] && ! grep -q "SECRET\|abc123\|OTHER" "$tmp/sec.err" && ok || bad "$args: exit $st, quotes the file: $(cat "$tmp/sec.err")"
+done
+# a file-size limit (as a full disk): optimise fails with a message, the previous front intact
+echo previous > "$tmp/fz-pareto.csv"
+( trap '' XFSZ; ulimit -f 1; "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 2 --threads 1 --output "$tmp/fz" > /dev/null 2> "$tmp/fz.err" ); st=$?
+[ $st -ne 0 ] && grep -q "File too large" "$tmp/fz.err" && [ "$(cat "$tmp/fz-pareto.csv")" = previous ] && ok || bad "optimise at a file-size limit: exit $st $(cat "$tmp/fz.err")"
+# a 150 MB comment line under a 200 MB memory cap: read past, the keys after it still read
+{ printf '[vehicle]\nbase = type1\n#'; head -c 150000000 /dev/zero | tr '\0' x; printf '\n[carbody]\nmass = 1 g\n'; } > "$tmp/long.ini"
+if [ -z "${ASAN_OPTIONS:-}" ]; then  # AddressSanitizer's shadow memory does not fit under the cap
+  ( ulimit -v 200000; "$RR" modes "$tmp/long.ini" --speed 300 --conicity 0.1 > /dev/null 2> "$tmp/long.err" ); st=$?
+  [ $st -eq 2 ] && grep -q "long.ini:5: \[carbody\] mass" "$tmp/long.err" && ok || bad "a long line under a memory cap: exit $st $(cat "$tmp/long.err")"
+fi
+rm -f "$tmp/long.ini"
 # no user string reaches a shell or gnuplot as code; --plot leaves nothing beside the user's files
 mkdir "$tmp/inj"
 ( cd "$tmp/inj" && "$RR" ride --speed 350 --conicity 0.1 --psd 'p$(touch inj1).csv' --plot 'q`touch inj2`.png' > /dev/null 2>&1 \

@@ -126,6 +126,21 @@ static void test_spectra(void)
   CHECK(rr_spectrum_load(p, &s, &e) == RR_EPARSE && strstr(e.msg, "b4.txt:3: colour"),
         "unknown key: %s", e.msg);
   CHECK(rr_spectrum_open("no-such-spectrum", &s, &e) == RR_EIO, "unknown name");
+  /* a pole or a negative region anywhere the formula is used (it extends past
+     `valid`) is refused at load */
+  p = write_file("pole.txt", "direction = lateral\nform = rational7\nfreq_unit = 1/m\npsd_unit = "
+                             "mm^2/(1/m)\nsided = one\nvalid = 0.01 0.05\n"
+                             "params = 0.1 0.2 0.3 0.4 0.5 0.6 -0.7\n");
+  CHECK(rr_spectrum_load(p, &s, &e) == RR_EINVAL && strstr(e.msg, "pole at"), "a pole: %s", e.msg);
+  p = write_file("neg.txt", "direction = lateral\nform = rational7\nfreq_unit = 1/m\npsd_unit = "
+                            "mm^2/(1/m)\nsided = one\nvalid = 0.01 0.05\n"
+                            "params = 0.1 -0.2 0.001 0.4 0.5 0.6 0.7\n");
+  CHECK(rr_spectrum_load(p, &s, &e) == RR_EINVAL && strstr(e.msg, "negative"),
+        "a negative region: %s", e.msg);
+  p = write_file("negz.txt", "direction = lateral\nform = rational7\nfreq_unit = 1/m\npsd_unit = "
+                             "mm^2/(1/m)\nsided = one\nvalid = 0.25 0.5\noutside = zero\n"
+                             "params = 0.1 -0.2 0.001 0.4 0.5 0.6 0.7\n");
+  CHECK_OK(rr_spectrum_load(p, &s, &e), e); /* its roots lie outside what is used */
 }
 
 static rr_model *vehicle_model(const char *base, int sdf, const char *table)
@@ -285,6 +300,16 @@ static void test_pem(void)
   rr_frf_plan_execute(p, m, &e);
   rr_spectrum_open("wuhan-guangzhou", &s, &e);
   double *G = malloc(sizeof(double) * 400 * 3);
+  /* a spectrum that turns negative in the band the ride uses is an error
+     (status 2 at the command line), never a number */
+  rr_spectrum neg = {.form = RR_FORM_RATIONAL7,
+                     .scale = 1e-6,
+                     .valid_lo = 0.01,
+                     .valid_hi = 0.02,
+                     .p = {0.1, -0.2, 0.001, 0.4, 0.5, 0.6, 0.7}};
+  snprintf(neg.path, sizeof neg.path, "neg.txt");
+  CHECK(rr_pem_psd(p, m, &neg, G, &e) == RR_EINVAL && strstr(e.msg, "neg.txt: the PSD is negative"),
+        "a negative PSD in the band: %s", e.msg);
   CHECK_OK(rr_pem_psd(p, m, &s, G, &e), e);
   const double *f = rr_frf_freqs(p);
   const double complex *H = rr_frf_H(p);

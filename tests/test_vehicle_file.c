@@ -301,6 +301,30 @@ static void test_angle_units(void)
     CHECK(st == RR_OK && fabs(x - speeds[c].kmh) <= 1e-9 * speeds[c].kmh, "speed %s: %g km/h (%s)",
           speeds[c].text, x, st ? e.msg : "ok");
   }
+  /* table headers: units honoured, unknown ones refused (never ignored) */
+  {
+    rr_sdf_curve c;
+    rr_profile pr;
+    rr_error e2;
+    const char *t1 = check_write_file("k1.csv", "f_hz,k_storage_kn_per_mm\n0.1,2\n1,4\n10,8\n");
+    CHECK_OK(rr_sdf_table_load(t1, &c, &e2), e2);
+    CHECK(c.n == 3 && c.k_storage[1] == 4e6, "an SDF table in kN/mm: %g N/m", c.k_storage[1]);
+    const char *t2 = check_write_file(
+        "k2.csv", "f_rad_per_s,k_storage\n6.283185307179586,2e6\n62.83185307179586,4e6\n");
+    CHECK_OK(rr_sdf_table_load(t2, &c, &e2), e2);
+    CHECK(fabs(c.f_hz[0] - 1) < 1e-12 && fabs(c.f_hz[1] - 10) < 1e-12,
+          "an SDF table in rad/s: %g Hz", c.f_hz[0]);
+    const char *t3 = check_write_file("k3.csv", "f_hz,n_per_mm\n0.1,2000\n1,4000\n");
+    CHECK(rr_sdf_table_load(t3, &c, &e2) == RR_EUNIT &&
+              strstr(e2.msg, "k3.csv:1: header: column 2"),
+          "an SDF header unit not understood: %s", e2.msg);
+    const char *t4 = check_write_file("a1.csv", "a_m,conicity\n0,0.3\n0.004,0.2\n");
+    CHECK_OK(rr_profile_load(t4, &pr, &e2), e2);
+    CHECK(pr.n == 2 && pr.a_mm[1] == 4, "a tread table in m: %g mm", pr.a_mm[1]);
+    const char *t5 = check_write_file("a2.csv", "a_inch,conicity\n0,0.3\n1,0.2\n");
+    CHECK(rr_profile_load(t5, &pr, &e2) == RR_EUNIT && strstr(e2.msg, "a2.csv:1: header"),
+          "a tread header unit not understood: %s", e2.msg);
+  }
   /* a factor unit does not scale a dimensional value */
   double x;
   rr_error e;
@@ -311,8 +335,8 @@ static void test_angle_units(void)
 
 int main(void)
 {
-  test_angle_units();
   if (check_tmpdir("vf")) return 1;
+  test_angle_units();
   test_units();
   test_examples();
   test_errors();

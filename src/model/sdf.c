@@ -130,12 +130,44 @@ static int header_line(const char *p)
   return isalpha((unsigned char)*p);
 }
 
+/* The header's names and units (optional; a table without one is Hz and N/m). */
+#define RR_2PI_INV 0.15915494309189535
+static const rr_csv_name sdf_f[] = {{"f_hz", 1},
+                                    {"f", 1},
+                                    {"freq_hz", 1},
+                                    {"frequency_hz", 1},
+                                    {"f_rad_per_s", RR_2PI_INV},
+                                    {"omega_rad_per_s", RR_2PI_INV},
+                                    {NULL, 0}};
+static const rr_csv_name sdf_ks[] = {{"k_storage", 1},
+                                     {"k_storage_n_per_m", 1},
+                                     {"k_storage_n_per_mm", 1e3},
+                                     {"k_storage_kn_per_m", 1e3},
+                                     {"k_storage_kn_per_mm", 1e6},
+                                     {"k_storage_mn_per_m", 1e6},
+                                     {"k", 1},
+                                     {"k_n_per_m", 1},
+                                     {"k_n_per_mm", 1e3},
+                                     {"k_kn_per_m", 1e3},
+                                     {"k_kn_per_mm", 1e6},
+                                     {"k_mn_per_m", 1e6},
+                                     {NULL, 0}};
+static const rr_csv_name sdf_kl[] = {{"k_loss", 1},
+                                     {"k_loss_n_per_m", 1},
+                                     {"k_loss_n_per_mm", 1e3},
+                                     {"k_loss_kn_per_m", 1e3},
+                                     {"k_loss_kn_per_mm", 1e6},
+                                     {"k_loss_mn_per_m", 1e6},
+                                     {NULL, 0}};
+
 int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err)
 {
   rr_lines r;
   int st = rr_lines_open(&r, path, RR_CSV_LINE_MAX, err), ncols = -1, got;
   if (st) return st;
   const char *line;
+  const rr_csv_name *const cols[3] = {sdf_f, sdf_ks, sdf_kl};
+  double sc[3] = {1, 1, 1};
   c->n = 0;
   while (!st && (got = rr_lines_next(&r, &line)) > 0) {
     double v[4];
@@ -143,6 +175,7 @@ int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err)
     while (isspace((unsigned char)*p)) p++;
     if (!*p) continue;
     if (c->n == 0 && ncols < 0 && header_line(p)) {
+      if ((st = rr_csv_header(path, r.line, p, cols, 1, 3, sc, NULL, err))) break;
       ncols = 0;
       continue;
     }
@@ -157,9 +190,9 @@ int rr_sdf_table_load(const char *path, rr_sdf_curve *c, rr_error *err)
       st = rr_seterr(err, RR_EPARSE, "%s:%d: more than %d rows", path, r.line, RR_SDF_TABLE_MAX);
     if (st) break;
     ncols = k;
-    c->f_hz[c->n] = v[0];
-    c->k_storage[c->n] = v[1];
-    c->k_loss[c->n] = k == 3 ? v[2] : 0.0;
+    c->f_hz[c->n] = v[0] * sc[0];
+    c->k_storage[c->n] = v[1] * sc[1];
+    c->k_loss[c->n] = k == 3 ? v[2] * sc[2] : 0.0;
     c->n++;
   }
   if (!st && r.status) st = rr_seterr(err, r.status, "%s", r.err.msg);

@@ -107,6 +107,11 @@ static const struct objective_name {
 #define NOBJ_NAMES (int)(sizeof objective_names / sizeof objective_names[0])
 
 static int is_ride(int kind) { return kind >= OBJ_SPERLING; }
+/* What objectives' arguments accept: a floor point within 100 m of the car
+   centre (as the command line's --points), the index band 1 mHz .. 1 MHz. */
+#define OBJ_X_MAX_M 100.0
+#define OBJ_FMAX_MIN_HZ 1e-3
+#define OBJ_FMAX_MAX_HZ 1e6
 /* The objectives made of the stability index (which may be undefined). */
 static int is_index(int kind) { return kind <= OBJ_INDEX; }
 static int is_stability(int kind) { return !is_ride(kind); }
@@ -153,6 +158,11 @@ static int parse_args(char *at, const struct objective_name *nm, objective *o, r
   if (!(o->conicity >= 0 && o->conicity <= RR_CONICITY_MAX))
     return rr_seterr(err, RR_EINVAL, "objective '%s': conicity must be within [0, %g]", o->text,
                      RR_CONICITY_MAX);
+  if (!(fabs(o->x) <= OBJ_X_MAX_M))
+    return rr_seterr(err, RR_EINVAL,
+                     "objective '%s': the floor point must be within %g m of the "
+                     "car centre",
+                     o->text, OBJ_X_MAX_M);
   return RR_OK;
 }
 
@@ -163,7 +173,7 @@ static int parse_rule(const char *t, objective *o, rr_error *err)
   if (!eq || number(eq + 1, &v))
     return rr_seterr(err, RR_EINVAL, "objective '%s': '%s' needs a number", o->text, t);
   size_t k = (size_t)(eq - t);
-  if (k == 4 && !strncmp(t, "fmax", 4) && v > 0) {
+  if (k == 4 && !strncmp(t, "fmax", 4) && v >= OBJ_FMAX_MIN_HZ && v <= OBJ_FMAX_MAX_HZ) {
     o->mo.fmax_hz = v;
     o->mo_set |= MO_FMAX;
   } else if (k == 4 && !strncmp(t, "wmin", 4) && v >= 0 && v <= 1) {
@@ -174,8 +184,8 @@ static int parse_rule(const char *t, objective *o, rr_error *err)
     o->mo_set |= MO_RMAX;
   } else
     return rr_seterr(err, RR_EINVAL,
-                     "objective '%s': '%s' out of range (fmax > 0 Hz, wmin and rmax in 0..1)",
-                     o->text, t);
+                     "objective '%s': '%s' out of range (fmax %g .. %g Hz, wmin and rmax in 0..1)",
+                     o->text, t, OBJ_FMAX_MIN_HZ, OBJ_FMAX_MAX_HZ);
   return RR_OK;
 }
 
@@ -237,10 +247,17 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
                      "objective '%s': unknown name (railride objectives lists them)", text);
   o->kind = nm->kind;
   int st = parse_args(at, nm, o, err);
-  char *sv;
+  char *sv, *seen[8];
+  int nseen = 0;
   for (char *t = opts && !st ? strtok_r(opts, ";", &sv) : NULL; t && !st;
-       t = strtok_r(NULL, ";", &sv))
-    st = parse_option(t, o, err);
+       t = strtok_r(NULL, ";", &sv)) {
+    size_t k = strcspn(t, "=");
+    for (int i = 0; i < nseen && !st; i++) /* a modifier given twice */
+      if (strcspn(seen[i], "=") == k && !strncmp(seen[i], t, k))
+        st = rr_seterr(err, RR_EINVAL, "objective '%s': '%.*s' given twice", o->text, (int)k, t);
+    if (nseen < 8) seen[nseen++] = t;
+    if (!st) st = parse_option(t, o, err);
+  }
   return st;
 }
 

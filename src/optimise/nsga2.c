@@ -1,6 +1,7 @@
 /* NSGA-II, written from Deb et al. 2002 and the published SBX (Deb & Agrawal
  * 1995) and polynomial mutation formulas. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -527,12 +528,16 @@ static int state_save(const char *path, nsga_state *s, rr_error *err)
   int64_t ev = s->evals;
   uint64_t fp[RR_NSGA2_FP_MAX] = {0};
   for (int i = 0; i < nfp; i++) fp[i] = s->fp->part[i];
+  errno = 0;
   int bad = ckpt_io(f, CKPT_MAGIC, 1, 8, 1) ||
             ckpt_fields(f, s, head, &ev, &nfp, fp, (double *)s->lo, (double *)s->hi, 1) ||
             fflush(f) || fsync(fileno(f));
+  int e = errno;
   if (fclose(f) || bad) {
+    e = e ? e : errno;
     unlink(tmp);
-    return rr_seterr(err, RR_EIO, "nsga2: writing the checkpoint %s failed", path);
+    return rr_seterr(err, RR_EIO, "nsga2: writing the checkpoint %s failed: %s", path,
+                     strerror(e ? e : EIO));
   }
   if (rename(tmp, path)) {
     unlink(tmp);

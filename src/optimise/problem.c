@@ -21,6 +21,7 @@ typedef struct pr_ctx {
   int var_line[RR_DESIGN_MAX_VARS];
   char seen[8][16];
   int nseen;
+  int known; /* a problem-file section was met: the file is one, its text may be quoted */
 } pr_ctx;
 
 static int pr_fail(pr_ctx *c, const char *sec, const char *key, const char *fmt, const char *a)
@@ -63,9 +64,10 @@ static int problem_key(pr_ctx *c, const char *name, const char *val)
     snprintf(c->seen[c->nseen++], sizeof c->seen[0], "%s", name);
   if (!strcmp(name, "vehicle"))
     snprintf(p->vehicle, sizeof p->vehicle, "%s", val);
-  else if (!strcmp(name, "output"))
+  else if (!strcmp(name, "output")) {
+    if (!*val) return pr_fail(c, "problem", name, "an output prefix expected (it is empty)%s", "");
     snprintf(p->output, sizeof p->output, "%s", val);
-  else if (!strcmp(name, "population")) {
+  } else if (!strcmp(name, "population")) {
     if (whole(val, 4, RR_PROBLEM_POPULATION_MAX, &k) || k % 2)
       return pr_fail(c, "problem", name,
                      "an even whole number from 4 to 10000000 expected, got '%s'", val);
@@ -202,9 +204,18 @@ static int handler(void *user, const char *section, const char *name, const char
   char val[512];
   snprintf(val, sizeof val, "%s", value);
   trim(val);
+  c->known |= !strcmp(section, "problem") || !strcmp(section, "variables") ||
+              !strcmp(section, "objectives");
   if (!strcmp(section, "problem")) return problem_key(c, name, val);
   if (!strcmp(section, "variables")) return variable(c, name, val);
   if (!strcmp(section, "objectives")) return objective(c, name, val);
+  if (!c->known) { /* not a problem file: quote none of it */
+    c->status = rr_seterr(c->err, RR_EPARSE,
+                          "%s:%d: not a problem file (no [problem], [variables] or [objectives] "
+                          "before this line)",
+                          c->path, c->rl.line);
+    return 0;
+  }
   return pr_fail(c, section, name, "unknown section (problem, variables, objectives)%s", "");
 }
 

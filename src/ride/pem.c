@@ -723,6 +723,12 @@ int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, d
   for (int k = 0; k < p->nf; k++) {
     double f = p->f[k], w = 2 * RR_PI * f;
     double Gt = rr_spectrum_eval(sp, f / v) / v; /* temporal one-sided PSD, m^2/Hz */
+    if (!(Gt >= 0 && isfinite(Gt))) /* the whole band the ride uses, not only `valid` */
+      return rr_seterr(err, RR_EINVAL,
+                       "%s: the PSD is %s at n = %g 1/m (%g Hz at %g km/h; its valid range is "
+                       "%g .. %g 1/m)",
+                       sp->path[0] ? sp->path : sp->name, isfinite(Gt) ? "negative" : "not finite",
+                       f / v, f, v * RR_KMH, sp->valid_lo, sp->valid_hi);
     double complex lagk[RR_SYS_MAX_INPUTS];
     const double complex *lag = lagk;
     if (cached)

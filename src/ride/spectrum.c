@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <errno.h>
 #include <ini.h>
+#include <lapacke.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,7 +41,44 @@ typedef struct sp_ctx {
   int psd_angle;              /* PSD numerator an angle squared (rad^2) */
   char seen[SP_SEEN_MAX][16]; /* single-valued keys given so far */
   int nseen;
+  int known; /* a spectrum key was read: the file is one, its text may be quoted */
 } sp_ctx;
+
+/* A real root in (0, inf) of the polynomial c[0] x^deg + ... + c[deg]
+   (deg 2 or 4, leading 1), by the eigenvalues of its companion matrix. */
+static int positive_root(const double *c, int deg, double lo, double hi, double *root)
+{
+  double C[16] = {0}, wr[4], wi[4];
+  for (int j = 0; j < deg; j++) C[j * deg] = -c[j + 1] / c[0]; /* first row, column-major */
+  for (int i = 1; i < deg; i++) C[(i - 1) * deg + i] = 1;
+  if (LAPACKE_dgeev(LAPACK_COL_MAJOR, 'N', 'N', deg, C, deg, wr, wi, NULL, 1, NULL, 1)) return 0;
+  for (int i = 0; i < deg; i++)
+    if (fabs(wi[i]) <= 1e-9 * fabs(wr[i]) && wr[i] > lo && wr[i] < hi) {
+      *root = wr[i];
+      return 1;
+    }
+  return 0;
+}
+
+/* The Chinese form's numerator and denominator have no positive root where
+   the formula is used (everywhere when it extends, else within `valid`): a
+   pole or a negative region is no PSD. */
+static int rational_roots_ok(const char *path, const rr_spectrum *sp, rr_error *err)
+{
+  double x0 = sp->rad_per_m ? 2 * RR_PI : 1, lo = sp->clip ? sp->valid_lo * x0 : 0,
+         hi = sp->clip ? sp->valid_hi * x0 : INFINITY, r;
+  const double *p = sp->p;
+  const double num[3] = {1, p[1], p[2]}, den[5] = {1, p[3], p[4], p[5], p[6]};
+  if (positive_root(num, 2, lo, hi, &r))
+    return rr_seterr(err, RR_EINVAL,
+                     "%s: params: the PSD turns negative at %g (the numerator's "
+                     "root) where it is used",
+                     path, r);
+  if (positive_root(den, 4, lo, hi, &r))
+    return rr_seterr(err, RR_EINVAL, "%s: params: the PSD has a pole at %g where it is used", path,
+                     r);
+  return RR_OK;
+}
 
 /* What every loaded spectrum must satisfy: its form complete, and finite
    and positive across its validity range. */
@@ -239,10 +277,27 @@ static int sp_number_key(sp_ctx *c, const char *name, const char *val)
                 : !strcmp(name, "b")  ? &s->b
                 : !strcmp(name, "k")  ? &s->k
                                       : NULL;
+  if (!dst && !c->known) {
+    if (!c->status)
+      c->status = rr_seterr(c->err, RR_EPARSE,
+                            "%s:%d: not a spectrum file (no spectrum key before this line)",
+                            c->path, c->rl.line);
+    return 0;
+  }
   if (!dst) return sp_fail(c, RR_EPARSE, name, "unknown key");
   if (numbers(val, dst, 1) || !(*dst > 0))
     return sp_fail(c, RR_EINVAL, name, "a number > 0 expected");
   return 1;
+}
+
+/* The keys a spectrum file may hold. */
+static int sp_known_key(const char *name)
+{
+  static const char *const keys[] = {
+      "name", "title",     "source", "note",  "psd_unit", "segment", "point",  "direction",
+      "form", "freq_unit", "sided",  "valid", "outside",  "shape",   "params", "A",
+      "Oc",   "Or",        "Os",     "b",     "k",        NULL};
+  return rr_word_index(name, keys) >= 0;
 }
 
 static int sp_handler(void *user, const char *section, const char *name, const char *value)
@@ -250,8 +305,14 @@ static int sp_handler(void *user, const char *section, const char *name, const c
   sp_ctx *c = user;
   rr_spectrum *s = c->sp;
   if (c->status) return 1;
+  if (section[0] && !c->known) {
+    c->status = rr_seterr(c->err, RR_EPARSE, "%s:%d: not a spectrum file (it has sections)",
+                          c->path, c->rl.line);
+    return 0;
+  }
   if (section[0]) return sp_fail(c, RR_EPARSE, section, "spectrum files have no sections");
   if (!sp_once(c, name)) return 0;
+  c->known |= sp_known_key(name);
   char val[256];
   snprintf(val, sizeof val, "%s", value);
   if (!strcmp(name, "name"))
@@ -460,7 +521,7 @@ static int sp_finish(const char *path, rr_spectrum *sp, rr_error *err)
   case RR_FORM_RATIONAL7:
     if (!(sp->p[0] > 0))
       return rr_seterr(err, RR_EPARSE, "%s: params: seven numbers with A > 0 needed", path);
-    break;
+    return rational_roots_ok(path, sp, err);
   }
   /* the formula must be finite and positive across the validity range */
   for (int i = 0; i <= 50; i++) {

@@ -44,6 +44,20 @@ int rr_csv_pair(const char *line, int rows_so_far, double *a, double *b);
    r, at a NUL byte or a data line longer than num - 2. */
 char *rr_lines_ini_reader(char *str, int num, void *stream);
 
+/* A table's header: each column's accepted names, each with the factor that
+   brings its unit to the table's (f_hz 1, f_rad_per_s 1/2 pi, ...). */
+typedef struct rr_csv_name {
+  const char *name; /* NULL ends a column's list */
+  double scale;
+} rr_csv_name;
+/* Checks the header line (fields split at commas, semicolons, blanks)
+   against cols (ncols lists; a header may name nmin..ncols columns): the
+   scales of the columns it names into scale[], else RR_EUNIT naming
+   path:line and the field. A header's units are honoured or refused, never
+   ignored. */
+int rr_csv_header(const char *path, int line, const char *text, const rr_csv_name *const *cols,
+                  int nmin, int ncols, double *scale, int *nnamed, rr_error *err);
+
 /* The index of word in the NULL-ended list, or -1 (the keyword values of
    the readers). */
 int rr_word_index(const char *word, const char *const *list);

@@ -37,8 +37,16 @@ int rr_profile_builtin(const char *name, rr_profile *p, rr_error *err)
   return st;
 }
 
+/* The header's names and units (optional; without one: mm and conicity). */
+static const rr_csv_name tread_a[] = {{"a_mm", 1}, {"amplitude_mm", 1}, {"a_m", 1e3}, {NULL, 0}};
+static const rr_csv_name tread_l[] = {
+    {"conicity", 1}, {"lambda", 1}, {"tan_gamma_e", 1}, {NULL, 0}};
+
 int rr_profile_load(const char *path, rr_profile *p, rr_error *err)
 {
+  const rr_csv_name *const cols[2] = {tread_a, tread_l};
+  double sc[2] = {1, 1};
+  int head = 0;
   rr_lines r;
   int st = rr_lines_open(&r, path, RR_CSV_LINE_MAX, err), got;
   if (st) return st;
@@ -49,7 +57,14 @@ int rr_profile_load(const char *path, rr_profile *p, rr_error *err)
   while (!st && (got = rr_lines_next(&r, &line)) > 0) {
     double a, l;
     int row = rr_csv_pair(line, p->n, &a, &l);
+    if (row == 0 && p->n == 0 && !head && line[strspn(line, " \t")]) { /* the header */
+      head = 1;
+      st = rr_csv_header(path, r.line, line, cols, 2, 2, sc, NULL, err);
+      continue;
+    }
     if (row == 0) continue;
+    a *= sc[0];
+    l *= sc[1];
     if (row < 0)
       st = rr_seterr(err, RR_EPARSE, "%s:%d: expected two numbers a_mm, conicity", path, r.line);
     else if (p->n >= RR_PROFILE_MAX)

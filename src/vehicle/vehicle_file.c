@@ -32,6 +32,7 @@ typedef struct parse_ctx {
   int curve_keys;                 /* sdf_k1/k2/k3 given: bit mask */
   int profile_keys, profile_line; /* conicity_poly 1, conicity_table 2; where */
   int table_line;
+  int known; /* a vehicle-file section was met: the file is one, its text may be quoted */
 } parse_ctx;
 
 static int fail(parse_ctx *c, int code, const char *fmt, const char *a, const char *b,
@@ -115,6 +116,15 @@ static const rr_vehicle_key *known_key(parse_ctx *c, const char *section, const 
     if (!strcmp(keys[i].key, name)) idx = i;
   }
   char msg[64] = "";
+  if (!section_known && !c->known) { /* not a vehicle file: quote none of it */
+    if (!c->status)
+      c->status = rr_seterr(c->err, RR_EPARSE,
+                            "%s:%d: not a vehicle file (no vehicle-file section before this line; "
+                            "railride keys lists them)",
+                            c->path, c->rs.line);
+    return NULL;
+  }
+  c->known |= section_known;
   if (!section_known || idx < 0) {
     fail(c, RR_EPARSE, section_known ? "[%s] %s: unknown key%s" : "[%s] %s: unknown section%s",
          section, name, msg);
