@@ -7,6 +7,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 
 cli = os.environ["RR_CLI"]
 passed = failed = 0
@@ -32,8 +33,11 @@ def check(cond, what):
         print("FAIL:", what, file=sys.stderr)
 
 
+scratch = tempfile.mkdtemp(prefix="rr_opts_")  # the commands' working folder: nothing may appear in it
+
+
 def run(*args):
-    r = subprocess.run([cli, *args], capture_output=True, text=True, timeout=60)
+    r = subprocess.run([cli, *args], capture_output=True, text=True, timeout=60, cwd=scratch)
     return r.returncode, r.stdout + r.stderr
 
 
@@ -95,5 +99,7 @@ for cmd in commands:
         rc, out = run(cmd, opt, value(cmd, opt[2:]), "--help")
         check(rc == 2 and REFUSED.search(out), "%s refuses %s, another command's option: rc %d %s"
               % (cmd, opt, rc, out.strip()[-200:]))
+left = os.listdir(scratch)
+check(not left, "an option tried with --help wrote files: %s" % left)
 print("options: %d passed, %d failed" % (passed, failed))
 sys.exit(1 if failed else 0)
