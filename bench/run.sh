@@ -34,5 +34,7 @@ echo "== the same from Python (ctypes), one thread =="
 RAILRIDE_LIB="$B/librailride.so" THREADS=1 taskset -c 1 $PY bench/python_batch.py
 echo "== validation: 600 s at 350 km/h simulated and analysed =="
 "$B/railride" validate --speed 350 --conicity 0.2 | tail -1
+echo "== contact geometry and equivalent conicity (EN 15302 wheel A on rail A, 2001 y, 66 amplitudes) =="
+taskset -c 1 "$B/bench/bench_contact"
 echo "== nonlinear model: simulation, bifurcation diagram by continuation and by the scan =="
 OMP_NUM_THREADS=1 taskset -c 1 "$B/bench/bench_nonlinear"

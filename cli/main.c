@@ -31,6 +31,7 @@ static const struct {
     {"bifurcation", cmd_bifurcation, "hunting limit cycles against speed: Hopf, folds, stability"},
     {"compare", cmd_compare,
      "SDF vs constant series stiffness: stability and Sperling over conicity"},
+    {"contact", cmd_contact, "wheel-rail contact geometry and equivalent conicity from profiles"},
     {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings"},
     {"objectives", cmd_objectives, "the objective names of problem files and sweeps"},
 };

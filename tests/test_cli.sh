@@ -211,7 +211,7 @@ json_check "bifurcation scan" "d['method']=='scan' and len(d['branch'])==6 and [
 head -1 "$tmp/bif.csv" | grep -q "^speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,symmetric,residual$" && ok || bad "bifurcation csv header"
 
 # Long runs: Ctrl-C stops after the generation in progress and writes its front
-timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 400 --generations 100000 \
+timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 100000 \
   --threads 1 --output "$tmp/int" > "$tmp/int.out" 2>&1; st=$?
 [ $st -eq 130 ] && grep -q "stopped by a signal after generation" "$tmp/int.out" && [ "$(wc -l < "$tmp/int-pareto.csv")" -gt 1 ] \
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"

@@ -21,7 +21,12 @@ VALUES = {"speed": "350", "conicity": "0.17", "fmax": "10", "wmin": "0.001", "rm
           "vmin": "100", "vmax": "200", "step": "1", "n-conicity": "8", "x": "conicity=0.1:0.2:2",
           "y": "speed=100:200:2", "objective": "index@350", "population": "8", "generations": "1",
           "seed": "1", "threads": "1", "output": "/tmp/rr_opt_test", "duration": "1", "fs": "100",
-          "k": "1e6", "c": "1e4", "freqs": "0.1:10:5", "element": "yaw", "plot": "/tmp/x.svg"}
+          "k": "1e6", "c": "1e4", "freqs": "0.1:10:5", "element": "yaw", "plot": "/tmp/x.svg",
+          "roll": "none", "y-range": "-1:1:0.5", "amplitudes": "3", "rail-gmp": "auto", "radius": "460",
+          "radius-right": "460", "radius-left": "460", "inclination": "1/40", "gauge": "1435",
+          "flange-back": "1360", "wheel-origin": "70", "gmp-depth": "14", "lateral-offset": "0", "e0": "750",
+          "grid": "g.csv", "wheel": "w.dat", "wheel-left": "w.dat", "wheel-right": "w.dat", "rail": "r.dat",
+          "rail-left": "r.dat", "rail-right": "r.dat"}
 
 
 def check(cond, what):

@@ -1,8 +1,9 @@
 /* The nonlinear model's two-column readers: tread profile tables (then the
  * conicity over 0-30 mm) and measured alignment records (then sampled for
- * the Type 1 vehicle's contacts at 300 km/h). The first input byte picks the
- * reader. */
+ * the Type 1 vehicle's contacts at 300 km/h), and wheel and rail profiles
+ * (then in contact with themselves). The first input byte picks the reader. */
 #include "fuzz_common.h"
+#include "railride/contact.h"
 #include <math.h>
 
 static void profile(const uint8_t *data, size_t size)
@@ -35,11 +36,34 @@ static void record(const uint8_t *data, size_t size)
   rr_track_record_free(&r);
 }
 
+/* A wheel or rail profile (contact geometry): accepted ones put in contact
+   with themselves at a few displacements, every number finite or an error. */
+static void polyline(const uint8_t *data, size_t size)
+{
+  rr_polyline p;
+  rr_error e;
+  if (rr_polyline_load(fuzz_file("w.dat", data, size), &p, &e)) return;
+  rr_contact_plan *plan;
+  rr_contact_opts o = rr_contact_opts_default();
+  o.lateral_offset_mm = 0;
+  if (!rr_contact_plan_new(&p, NULL, &p, NULL, &o, &plan, &e)) {
+    double y[5] = {-2, -1, 0, 1, 2};
+    rr_contact_state st[5];
+    if (!rr_contact_execute(plan, y, 5, st, &e))
+      for (int i = 0; i < 5; i++)
+        if (!isfinite(st[i].dr_mm) || !isfinite(st[i].side[0].gamma_rad)) abort();
+    rr_contact_plan_free(plan);
+  }
+  rr_polyline_free(&p);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
   if (size < 1) return 0;
-  if (data[0] & 1)
+  if (data[0] % 3 == 1)
     record(data + 1, size - 1);
+  else if (data[0] % 3 == 2)
+    polyline(data + 1, size - 1);
   else
     profile(data + 1, size - 1);
   return 0;

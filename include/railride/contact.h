@@ -1,0 +1,138 @@
+/* railride: wheel-rail contact geometry from profiles and the equivalent
+ * conicity (EN 15302), independent of the vehicle model (docs/contact.md).
+ * Lengths in mm, angles in rad, as the profile files and the standard give
+ * them. Plan/execute: a contact plan places the four profiles once (rail
+ * inclination, gauge measuring point, lateral offsets); the contact at any
+ * lateral displacement y is then an exact search over the polylines'
+ * vertices; a conicity plan prepares a dr(y) table once, and the equivalent
+ * conicity at any amplitude is then a few hundred operations. */
+#ifndef RAILRIDE_CONTACT_H
+#define RAILRIDE_CONTACT_H
+
+#include "railride/common.h"
+#include "railride/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A profile: n points (x strictly increasing, mm), piecewise linear between
+ * them; owned arrays. Right-hand convention (the left side is the mirror). */
+typedef struct rr_polyline {
+  int n;
+  double *x, *z;
+} rr_polyline;
+/* Two numeric columns (blanks, tab, comma or semicolon); '#' comments; text
+ * before the first row is a header; at least 3 points, x strictly rising. */
+RR_API int rr_polyline_load(const char *path, rr_polyline *p, rr_error *err);
+/* A copy of n points. */
+RR_API int rr_polyline_from(const double *x, const double *z, int n, rr_polyline *p,
+                            rr_error *err);
+RR_API void rr_polyline_free(rr_polyline *p);
+
+typedef enum rr_contact_roll {
+  RR_ROLL_NONE = 0, /* each wheel lowered onto its rail independently (EN 15302) */
+  RR_ROLL_RIGID = 1 /* a rigid wheelset: both wheels touch, roll solved */
+} rr_contact_roll;
+
+typedef struct rr_contact_opts {
+  double gauge_mm;          /* 1435 */
+  double flange_back_mm;    /* 1360 */
+  double wheel_origin_mm;   /* flange back to the wheel origin (measuring circle), 70 */
+  double inclination;       /* tan of the angle turning the rail file, 0 (as stored) */
+  double gmp_depth_mm;      /* gauge measuring point below the top of rail, 14 */
+  double gmp_right_mm;      /* the rail files' gauge measuring points (after inclination); */
+  double gmp_left_mm;       /*   NaN: found 14 mm below the top of rail */
+  double lateral_offset_mm; /* the wheel origin less the rail origin, both sides; NaN: placed */
+  double r0_right_mm, r0_left_mm; /* nominal rolling radii at the measuring circles, 460 */
+  rr_contact_roll roll;           /* RR_ROLL_NONE */
+} rr_contact_opts;
+/* The defaults given in the fields' comments. */
+RR_API rr_contact_opts rr_contact_opts_default(void);
+
+/* Where the placement put things (docs/contact.md, placement). */
+typedef struct rr_contact_setup {
+  double b_mm;              /* wheel origin from the wheelset centre: FB/2 + d_fb */
+  double Y_mm[2];           /* rail origin from the track centre, right, left */
+  double offset_mm[2];      /* b - Y, right, left */
+  double gmp_v_mm[2], gmp_z_mm[2];
+  int gmp_at_data_end[2];
+  double r0_mm[2];
+} rr_contact_setup;
+
+typedef struct rr_contact_plan rr_contact_plan;
+/* Places the profiles (copied: the caller keeps its own). wheel_left or
+ * rail_left NULL: the right one mirrored. */
+RR_API int rr_contact_plan_new(const rr_polyline *wheel_right, const rr_polyline *wheel_left,
+                               const rr_polyline *rail_right, const rr_polyline *rail_left,
+                               const rr_contact_opts *o, rr_contact_plan **out, rr_error *err);
+RR_API void rr_contact_plan_free(rr_contact_plan *p);
+RR_API void rr_contact_plan_setup(const rr_contact_plan *p, rr_contact_setup *out);
+
+/* One side's contact at a displacement, in its local (outward) frames. */
+typedef struct rr_contact_side {
+  double rail_v_mm, rail_z_mm;   /* the contact point on the rail */
+  double wheel_u_mm, wheel_z_mm; /* and on the wheel */
+  double r_mm;                   /* rolling radius r0 - z_w(u) */
+  double gamma_rad;              /* contact angle, positive rising to the field side */
+  double lift_mm;                /* height of the wheel origin above the rail origin level */
+  int valid;                     /* 0: the contact is at the end of a profile's data */
+} rr_contact_side;
+typedef struct rr_contact_state {
+  double y_mm;  /* lateral displacement of the wheelset, positive to the right */
+  double dr_mm; /* r_right - r_left */
+  double roll_rad, roll_implied_rad;
+  rr_contact_side side[2]; /* right, left */
+  int valid;
+} rr_contact_state;
+/* The contact at each of n displacements y (mm, in order: with rigid roll
+ * each point starts from the previous one's roll). Allocation-free. */
+RR_API int rr_contact_execute(const rr_contact_plan *p, const double *y_mm, int n,
+                              rr_contact_state *out, rr_error *err);
+/* A contact jump: the rail contact of a side moving by more than 1 mm
+ * between neighbouring grid points. Returns how many were found (at most
+ * cap stored). */
+typedef struct rr_contact_jump {
+  int side; /* 0 right, 1 left */
+  double y_from_mm, y_to_mm, rail_from_mm, rail_to_mm, wheel_from_mm, wheel_to_mm;
+} rr_contact_jump;
+RR_API int rr_contact_jumps(const rr_contact_state *s, int n, rr_contact_jump *out, int cap);
+
+/* Inclusive range a:b:step as the standard's tools make it: x_k = rint((a +
+ * k step) 1e10) / 1e10, k = 0 .. floor((b - a) / step + 1e-9); the count
+ * (out may be NULL to ask it), -1 when step <= 0 or b < a. */
+RR_API long rr_contact_range(double a, double b, double step, double *out, long cap);
+
+/* The equivalent conicity of a dr(y) table (piecewise linear): the run of
+ * valid points around y = 0, the equilibrium y0, and per amplitude the
+ * EN 15302 wavelength method (a), harmonic linearisation (b) and linear
+ * regression (c). */
+typedef struct rr_conicity_plan rr_conicity_plan;
+/* y strictly increasing (mm), dr (mm), valid (may be NULL: all valid). */
+RR_API int rr_conicity_plan_new(const double *y_mm, const double *dr_mm, const int *valid, int n,
+                                rr_conicity_plan **out, rr_error *err);
+RR_API void rr_conicity_plan_free(rr_conicity_plan *p);
+/* The equilibrium dr(y0) = 0 (NaN when none), and the valid range used. */
+RR_API double rr_conicity_y0(const rr_conicity_plan *p);
+RR_API void rr_conicity_range(const rr_conicity_plan *p, double *first_mm, double *last_mm);
+
+typedef struct rr_conicity {
+  double amplitude_mm;
+  double tan_gamma_e;            /* (a) EN 15302 reference: NaN when undefined, 0 in a dead zone */
+  double turning_mm[2];          /* (a) yL, yR */
+  double energy;                 /* (a) C */
+  double wavelength_mm;          /* (a) 2 pi sqrt(e0 r0 / tan_gamma_e); inf when it is 0 */
+  double tan_gamma_e_harmonic;   /* (b) */
+  double harmonic_centre_mm;     /* (b) y_c */
+  double tan_gamma_e_regression; /* (c) */
+} rr_conicity;
+/* All three at one amplitude (mm); e0, r0 (mm) only for the wavelength.
+ * Allocation-free (the plan holds the scratch: one thread at a time per
+ * plan); undefined values are NaN, never an error. */
+RR_API void rr_conicity_eval(rr_conicity_plan *p, double amplitude_mm, double e0_mm, double r0_mm,
+                             rr_conicity *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

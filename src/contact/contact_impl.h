@@ -1,0 +1,19 @@
+/* Internal layout of a contact plan (placement.c makes it, search.c uses it). */
+#ifndef RR_CONTACT_IMPL_H
+#define RR_CONTACT_IMPL_H
+
+#include "railride/contact.h"
+
+struct rr_contact_plan {
+  rr_polyline wheel[2], rail[2]; /* right, left; rails after inclination, local frames */
+  double *wheel_k[2], *rail_k[2]; /* segment slopes (n - 1 each) */
+  rr_contact_setup setup;
+  rr_contact_roll roll;
+};
+
+/* numpy.interp on a polyline (x == last gives the last value). */
+double rr_poly_interp(const double *x, const double *z, int n, double at);
+/* The segment k of x with x[k] <= at < x[k+1], clipped to 0 .. n-2. */
+int rr_poly_segment(const double *x, int n, double at);
+
+#endif
