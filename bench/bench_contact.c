@@ -53,8 +53,10 @@ int main(void)
 {
   double t[7], tg;
   for (int k = 0; k < 7; k++) t[k] = run(RR_ROLL_NONE, &tg);
-  printf("contact_pair_no_roll_ms %.1f  (tan_gamma_e at 3 mm %.5f)\n", 1e3 * bench_median(t, 7), tg);
+  printf("contact_pair_no_roll_ms %.1f  (tan_gamma_e at 3 mm %.5f)\n", 1e3 * bench_median(t, 7),
+         tg);
   for (int k = 0; k < 3; k++) t[k] = run(RR_ROLL_RIGID, &tg);
-  printf("contact_pair_rigid_roll_ms %.1f  (tan_gamma_e at 3 mm %.5f)\n", 1e3 * bench_median(t, 3), tg);
+  printf("contact_pair_rigid_roll_ms %.1f  (tan_gamma_e at 3 mm %.5f)\n", 1e3 * bench_median(t, 3),
+         tg);
   return 0;
 }

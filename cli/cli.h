@@ -34,10 +34,12 @@ typedef struct cli_common {
   int conicity_list; /* set by commands that take a list */
   int json;
   rr_modal_opts mo;
-  int sdf_override; /* -1: keep the vehicle's */
-  int gravity;      /* -1: keep */
-  unsigned given;   /* CLI_READS_* of the shared options given */
-  int progress;     /* --progress: progress on stderr even when it is not a terminal */
+  int sdf_override;          /* -1: keep the vehicle's */
+  int gravity;               /* -1: keep */
+  unsigned given;            /* CLI_READS_* of the shared options given */
+  int progress;              /* --progress: progress on stderr even when it is not a terminal */
+  const char *profiles;      /* --profiles WHEEL[,RAIL] */
+  char conicity_source[200]; /* where the conicity came from (outputs say it) */
 } cli_common;
 
 /* Long options shared by the stability commands (ids >= 1000). */
@@ -51,7 +53,8 @@ enum {
   OPT_SDF,
   OPT_GRAVITY,
   OPT_HELP,
-  OPT_PROGRESS_ALL
+  OPT_PROGRESS_ALL,
+  OPT_PROFILES
 };
 #define CLI_COMMON_OPTIONS                                                                         \
   {"speed", required_argument, 0, OPT_SPEED}, {"conicity", required_argument, 0, OPT_CONICITY},    \
@@ -59,6 +62,7 @@ enum {
       {"wmin", required_argument, 0, OPT_WMIN}, {"rmax", required_argument, 0, OPT_RMAX},          \
       {"sdf", required_argument, 0, OPT_SDF}, {"gravity-stiffness", no_argument, 0, OPT_GRAVITY},  \
       {"progress", no_argument, 0, OPT_PROGRESS_ALL},                                              \
+      {"profiles", required_argument, 0, OPT_PROFILES},                                            \
   {                                                                                                \
     "help", no_argument, 0, OPT_HELP                                                               \
   }
@@ -81,6 +85,9 @@ int cli_common_option(cli_common *c, int opt, const char *arg);
 /* Loads the vehicle (positional argument) and applies overrides; prints and
  * returns EXIT_BADINPUT on error. */
 int cli_load_vehicle(cli_common *c, int argc, char **argv);
+/* After the vehicle: the conicity from --profiles or the vehicle's profiles
+   when the command reads one and none is given (c->conicity_source says). */
+int cli_profile_conicity(cli_common *c, unsigned reads);
 /* Builds a model at the common operating point (requires speed/conicity when asked). */
 int cli_model(cli_common *c, rr_model **m, int need_speed, int need_conicity);
 /* Parses a number option with units into `unit`; prints the error. */

@@ -123,7 +123,8 @@ static int contact_option(int opt, const char *arg, contact_args *a)
   case OPT_RAIL_R: a->rail[0] = arg; return 0;
   case OPT_RAIL_L: a->rail[1] = arg; return 0;
   case OPT_GAUGE: return cli_number("gauge", arg, "mm", &a->o.gauge_mm) ? EXIT_BADINPUT : 0;
-  case OPT_FB: return cli_number("flange-back", arg, "mm", &a->o.flange_back_mm) ? EXIT_BADINPUT : 0;
+  case OPT_FB:
+    return cli_number("flange-back", arg, "mm", &a->o.flange_back_mm) ? EXIT_BADINPUT : 0;
   case OPT_WORIGIN:
     return cli_number("wheel-origin", arg, "mm", &a->o.wheel_origin_mm) ? EXIT_BADINPUT : 0;
   case OPT_INCL: return inclination(arg, &a->o.inclination) ? EXIT_BADINPUT : 0;
@@ -135,12 +136,15 @@ static int contact_option(int opt, const char *arg, contact_args *a)
     if (cli_number("rail-gmp", arg, "mm", &a->o.gmp_right_mm)) return EXIT_BADINPUT;
     a->o.gmp_left_mm = a->o.gmp_right_mm;
     return 0;
-  case OPT_GMPDEPTH: return cli_number("gmp-depth", arg, "mm", &a->o.gmp_depth_mm) ? EXIT_BADINPUT : 0;
+  case OPT_GMPDEPTH:
+    return cli_number("gmp-depth", arg, "mm", &a->o.gmp_depth_mm) ? EXIT_BADINPUT : 0;
   case OPT_LOFF:
     return cli_number("lateral-offset", arg, "mm", &a->o.lateral_offset_mm) ? EXIT_BADINPUT : 0;
   case OPT_RADIUS: return radius_pair(arg, a);
-  case OPT_RADIUS_R: return cli_number("radius-right", arg, "mm", &a->o.r0_right_mm) ? EXIT_BADINPUT : 0;
-  case OPT_RADIUS_L: return cli_number("radius-left", arg, "mm", &a->o.r0_left_mm) ? EXIT_BADINPUT : 0;
+  case OPT_RADIUS_R:
+    return cli_number("radius-right", arg, "mm", &a->o.r0_right_mm) ? EXIT_BADINPUT : 0;
+  case OPT_RADIUS_L:
+    return cli_number("radius-left", arg, "mm", &a->o.r0_left_mm) ? EXIT_BADINPUT : 0;
   case OPT_ROLL:
     if (!strcmp(arg, "none") || !strcmp(arg, "rigid")) {
       a->o.roll = arg[0] == 'r' ? RR_ROLL_RIGID : RR_ROLL_NONE;
@@ -185,7 +189,8 @@ static const char contact_help[] =
     "  --rail-gmp V         the rail file's gauge measuring point, or auto (default: 14 mm below\n"
     "                       the top of rail, --gmp-depth)\n"
     "  --gmp-depth D        depth of the gauge measuring point (default 14)\n"
-    "  --lateral-offset D   the wheel origin less the rail origin, both sides (instead of placing)\n"
+    "  --lateral-offset D   the wheel origin less the rail origin, both sides (instead of "
+    "placing)\n"
     "  --radius R           nominal rolling radius, or R_RIGHT,R_LEFT (default 460)\n"
     "  --radius-right R     the right wheel's nominal radius\n"
     "  --radius-left R      the left wheel's\n"
@@ -203,33 +208,32 @@ static const char contact_help[] =
 
 static int contact_parse(int argc, char **argv, contact_args *a)
 {
-  static const struct option opts[] = {
-      {"wheel", required_argument, 0, OPT_WHEEL},
-      {"wheel-left", required_argument, 0, OPT_WHEEL_L},
-      {"wheel-right", required_argument, 0, OPT_WHEEL_R},
-      {"rail", required_argument, 0, OPT_RAIL},
-      {"rail-left", required_argument, 0, OPT_RAIL_L},
-      {"rail-right", required_argument, 0, OPT_RAIL_R},
-      {"gauge", required_argument, 0, OPT_GAUGE},
-      {"flange-back", required_argument, 0, OPT_FB},
-      {"wheel-origin", required_argument, 0, OPT_WORIGIN},
-      {"inclination", required_argument, 0, OPT_INCL},
-      {"rail-gmp", required_argument, 0, OPT_GMP},
-      {"gmp-depth", required_argument, 0, OPT_GMPDEPTH},
-      {"lateral-offset", required_argument, 0, OPT_LOFF},
-      {"radius", required_argument, 0, OPT_RADIUS},
-      {"radius-right", required_argument, 0, OPT_RADIUS_R},
-      {"radius-left", required_argument, 0, OPT_RADIUS_L},
-      {"roll", required_argument, 0, OPT_ROLL},
-      {"y-range", required_argument, 0, OPT_YRANGE},
-      {"amplitudes", required_argument, 0, OPT_AMPS},
-      {"e0", required_argument, 0, OPT_E0},
-      {"json", no_argument, 0, OPT_CJSON},
-      {"csv", no_argument, 0, OPT_CCSV},
-      {"no-contact-details", no_argument, 0, OPT_NODETAILS},
-      {"grid", required_argument, 0, OPT_GRID},
-      {"help", no_argument, 0, 'h'},
-      {0, 0, 0, 0}};
+  static const struct option opts[] = {{"wheel", required_argument, 0, OPT_WHEEL},
+                                       {"wheel-left", required_argument, 0, OPT_WHEEL_L},
+                                       {"wheel-right", required_argument, 0, OPT_WHEEL_R},
+                                       {"rail", required_argument, 0, OPT_RAIL},
+                                       {"rail-left", required_argument, 0, OPT_RAIL_L},
+                                       {"rail-right", required_argument, 0, OPT_RAIL_R},
+                                       {"gauge", required_argument, 0, OPT_GAUGE},
+                                       {"flange-back", required_argument, 0, OPT_FB},
+                                       {"wheel-origin", required_argument, 0, OPT_WORIGIN},
+                                       {"inclination", required_argument, 0, OPT_INCL},
+                                       {"rail-gmp", required_argument, 0, OPT_GMP},
+                                       {"gmp-depth", required_argument, 0, OPT_GMPDEPTH},
+                                       {"lateral-offset", required_argument, 0, OPT_LOFF},
+                                       {"radius", required_argument, 0, OPT_RADIUS},
+                                       {"radius-right", required_argument, 0, OPT_RADIUS_R},
+                                       {"radius-left", required_argument, 0, OPT_RADIUS_L},
+                                       {"roll", required_argument, 0, OPT_ROLL},
+                                       {"y-range", required_argument, 0, OPT_YRANGE},
+                                       {"amplitudes", required_argument, 0, OPT_AMPS},
+                                       {"e0", required_argument, 0, OPT_E0},
+                                       {"json", no_argument, 0, OPT_CJSON},
+                                       {"csv", no_argument, 0, OPT_CCSV},
+                                       {"no-contact-details", no_argument, 0, OPT_NODETAILS},
+                                       {"grid", required_argument, 0, OPT_GRID},
+                                       {"help", no_argument, 0, 'h'},
+                                       {0, 0, 0, 0}};
   optind = 1;
   opterr = 0;
   int opt, seen[64], nseen = 0, li = -1;
@@ -426,7 +430,8 @@ static void amplitude_json(cJSON *root, const contact_args *a, const contact_run
     cJSON_AddItemToArray(tr, cJSON_CreateNumber(c->tan_gamma_e_regression));
     cJSON_AddItemToArray(tp, cJSON_CreateDoubleArray(c->turning_mm, 2));
     cJSON_AddItemToArray(hc, cJSON_CreateNumber(c->harmonic_centre_mm));
-    cJSON_AddItemToArray(wl, cJSON_CreateNumber(isfinite(c->wavelength_mm) ? c->wavelength_mm : NAN));
+    cJSON_AddItemToArray(wl,
+                         cJSON_CreateNumber(isfinite(c->wavelength_mm) ? c->wavelength_mm : NAN));
   }
 }
 
@@ -539,8 +544,12 @@ static int contact_grid(const contact_run *r, const char *path)
 
 int cmd_contact(int argc, char **argv)
 {
-  contact_args a = {.o = rr_contact_opts_default(), .y_a = -10, .y_b = 10, .y_step = 0.01,
-                    .e0 = NAN, .details = 1};
+  contact_args a = {.o = rr_contact_opts_default(),
+                    .y_a = -10,
+                    .y_b = 10,
+                    .y_step = 0.01,
+                    .e0 = NAN,
+                    .details = 1};
   int r = amplitudes("0.5:10:0.1", &a);
   if (!r) r = contact_parse(argc, argv, &a);
   rr_polyline p[4] = {{0}};

@@ -261,6 +261,7 @@ static void ride_json(const cli_common *c, const ride_args *a, const ride_result
   cJSON_AddStringToObject(root, "spectrum", a->rs.spectrum);
   cJSON_AddStringToObject(root, "vehicle", c->veh.name);
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
+  cJSON_AddStringToObject(root, "conicity_source", c->conicity_source);
   double band[2] = {a->rs.f_lo, a->rs.f_hi};
   cJSON_AddItemToObject(root, "band_hz", cJSON_CreateDoubleArray(band, 2));
   cJSON_AddNumberToObject(root, "nfreq", a->rs.nfreq);

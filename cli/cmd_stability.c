@@ -47,6 +47,7 @@ int cmd_matrices(int argc, char **argv)
       cJSON_AddItemToArray(dofs, cJSON_CreateString(rr_model_dof_name(m, i)));
     cJSON_AddNumberToObject(root, "speed_kmh", c.speed_kmh);
     cJSON_AddNumberToObject(root, "conicity", c.conicity);
+    cJSON_AddStringToObject(root, "conicity_source", c.conicity_source);
     cJSON_AddItemToObject(root, "M", cli_json_matrix(rr_model_M(m), n, n));
     cJSON_AddItemToObject(root, "C", cli_json_matrix(rr_model_C(m), n, n));
     cJSON_AddItemToObject(root, "K", cli_json_matrix(rr_model_K(m), n, n));
@@ -170,6 +171,7 @@ static void modes_json(const cli_common *c, const rr_model *m, const rr_modal_re
   cJSON_AddNumberToObject(root, "zeta_max", res->zeta_max);
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
   cJSON_AddNumberToObject(root, "conicity", c->conicity);
+  cJSON_AddStringToObject(root, "conicity_source", c->conicity_source);
   cJSON_AddNumberToObject(root, "fmax_hz", c->mo.fmax_hz);
   cJSON_AddNumberToObject(root, "w_min", c->mo.w_min);
   cJSON_AddNumberToObject(root, "r_max", c->mo.r_max);
@@ -185,7 +187,8 @@ static void modes_json(const cli_common *c, const rr_model *m, const rr_modal_re
 
 static void modes_table(const cli_common *c, const rr_modal_result *res, int paper)
 {
-  printf("%s at %.6g km/h, conicity %.6g%s\n", c->veh.name, c->speed_kmh, c->conicity,
+  printf("%s at %.6g km/h, conicity %.6g (%s)%s\n", c->veh.name, c->speed_kmh, c->conicity,
+         c->conicity_source,
          paper                                ? " (SDF paper mode: self-consistent modes)"
          : c->veh.sdf_mode == RR_SDF_PHYSICAL ? " (SDF physical mode)"
                                               : "");
@@ -457,6 +460,7 @@ static cJSON *critical_json(const cli_common *c, double conicity, const crit_arg
     cJSON_AddNullToObject(root, "critical_speed_kmh");
   cJSON_AddBoolToObject(root, "stable_to_range_end", !cr->found);
   cJSON_AddNumberToObject(root, "conicity", conicity);
+  cJSON_AddStringToObject(root, "conicity_source", c->conicity_source);
   cJSON_AddStringToObject(root, "rule", a->index_modes ? "index modes" : "any oscillatory mode");
   double range[2] = {a->vmin, a->vmax};
   cJSON_AddItemToObject(root, "range_kmh", cJSON_CreateDoubleArray(range, 2));
@@ -464,7 +468,6 @@ static cJSON *critical_json(const cli_common *c, double conicity, const crit_arg
     cJSON_AddItemToObject(root, "mode", cli_mode_json(&cr->mode, paper));
   else
     cJSON_AddNullToObject(root, "mode");
-  (void)c;
   return root;
 }
 
@@ -477,8 +480,8 @@ static void critical_text(const cli_common *c, double conicity, const crit_args 
            a->vmax);
     return;
   }
-  printf("%s critical speed at conicity %g: %.3f km/h\n", c->veh.name, conicity,
-         cr->speed_ms * RR_KMH);
+  printf("%s critical speed at conicity %g (%s): %.3f km/h\n", c->veh.name, conicity,
+         c->conicity_source, cr->speed_ms * RR_KMH);
   printf("  unstable mode: %s at %.4f Hz (energy carbody %.3f, frames %.3f, wheelsets %.3f; roll "
          "%.3f, frame roll %.3f; %s)\n",
          md->name, md->freq_hz, md->energy[0], md->energy[1], md->energy[2], md->roll_share,

@@ -71,6 +71,7 @@ static void summary_json(const cli_common *c, const summary *s)
   cJSON_AddStringToObject(root, "sdf", sdf_name(c->veh.sdf_mode));
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
   cJSON_AddNumberToObject(root, "conicity", c->conicity);
+  cJSON_AddStringToObject(root, "conicity_source", c->conicity_source);
   cJSON_AddNumberToObject(root, "stability_index", s->res.stability_index); /* NaN: null */
   cJSON_AddStringToObject(root, "index_source", cli_index_source_key(s->res.index_source));
   cJSON_AddBoolToObject(root, "stable", rr_modal_stable(s->res.zeta_max));
@@ -115,9 +116,9 @@ static void summary_json(const cli_common *c, const summary *s)
 
 static void modes_text(const cli_common *c, const rr_modal_result *res)
 {
-  printf("Hunting-related modes at %g km/h, conicity %g (f <= %g Hz, wheelset share >= %g, "
+  printf("Hunting-related modes at %g km/h, conicity %g (%s; f <= %g Hz, wheelset share >= %g, "
          "frame-roll share < %g):\n",
-         c->speed_kmh, c->conicity, c->mo.fmax_hz, c->mo.w_min, c->mo.r_max);
+         c->speed_kmh, c->conicity, c->conicity_source, c->mo.fmax_hz, c->mo.w_min, c->mo.r_max);
   printf("  %9s %10s %9s %9s %9s %9s  %s\n", "freq_hz", "zeta", "E_car", "E_frame", "E_wheel",
          "fr_roll", "mode");
   for (int i = 0; i < res->n; i++) {

@@ -157,8 +157,54 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
     }
     return 1;
   case OPT_GRAVITY: c->gravity = 1; return 1;
+  case OPT_PROFILES: c->profiles = arg; return 1;
   case OPT_PROGRESS_ALL: c->progress = 1; return 1;
   }
+  return 0;
+}
+
+/* The conicity of a command that reads one: given, or the profiles' (the
+   vehicle file's [contact] or --profiles), or the default; the outputs say
+   which. */
+int cli_profile_conicity(cli_common *c, unsigned reads)
+{
+  if (!(reads & CLI_READS_CONICITY)) return 0;
+  if (c->profiles && c->have_conicity)
+    return cli_bad("--profiles gives the conicity: not with --conicity");
+  if (c->profiles) {
+    char w[RR_PROFILE_PATH_MAX];
+    const char *comma = strchr(c->profiles, ',');
+    snprintf(w, sizeof w, "%.*s", comma ? (int)(comma - c->profiles) : (int)strlen(c->profiles),
+             c->profiles);
+    rr_wheel_rail *wr = &c->veh.wheel_rail;
+    snprintf(wr->wheel[0], sizeof wr->wheel[0], "%s", w);
+    wr->wheel[1][0] = 0;
+    if (comma) {
+      snprintf(wr->rail[0], sizeof wr->rail[0], "%s", comma + 1);
+      wr->rail[1][0] = 0;
+    }
+    if (!wr->rail[0][0])
+      return cli_bad("--profiles: a rail is needed (--profiles WHEEL,RAIL, or [contact] rail)");
+  }
+  int profiled = rr_vehicle_has_profiles(&c->veh);
+  if (c->have_conicity) {
+    snprintf(c->conicity_source, sizeof c->conicity_source, "%s",
+             profiled ? "option (over the vehicle file's profiles)" : "option");
+    return 0;
+  }
+  if (!profiled) {
+    snprintf(c->conicity_source, sizeof c->conicity_source, "default %g", CLI_CONICITY_DEFAULT);
+    return 0;
+  }
+  rr_error e;
+  double lam;
+  int st =
+      rr_vehicle_profile_conicity(&c->veh, &lam, c->conicity_source, sizeof c->conicity_source, &e);
+  if (st) return cli_fail(&e, st);
+  if (!(lam <= RR_CONICITY_MAX)) return cli_bad("the profiles' conicity %g is out of range", lam);
+  c->conicity = c->conicities[0] = lam;
+  c->ncon = 1;
+  c->have_conicity = 1;
   return 0;
 }
 
@@ -243,6 +289,10 @@ static const struct {
      "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n"},
     {CLI_READS_SPEED, "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n"},
     {CLI_READS_CONICITY, "  --conicity L         equivalent conicity\n"},
+    {CLI_READS_CONICITY,
+     "  --profiles W[,R]     instead: the equivalent conicity of wheel and rail profiles (EN "
+     "15302,\n"
+     "                       at 3 mm; the rail defaults to the vehicle file's [contact] rail)\n"},
     {CLI_READS_INDEX,
      "  --fmax HZ            highest frequency counted in the stability index (default 10)\n"},
     {CLI_READS_INDEX,
@@ -288,6 +338,7 @@ static unsigned reads_of(int opt)
   case OPT_FMAX:
   case OPT_WMIN:
   case OPT_RMAX: return CLI_READS_INDEX;
+  case OPT_PROFILES: return CLI_READS_CONICITY;
   case OPT_GRAVITY: return CLI_READS_GRAVITY;
   case OPT_PROGRESS_ALL: return CLI_READS_PROGRESS;
   }
@@ -353,7 +404,8 @@ static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
     if (cb && cb(opt, optarg, user) == 0) continue;
     return EXIT_BADINPUT;
   }
-  return cli_load_vehicle(c, argc, argv);
+  int r = cli_load_vehicle(c, argc, argv);
+  return r ? r : cli_profile_conicity(c, reads);
 }
 
 void cli_csv_field(FILE *fp, const char *text, char sep)

@@ -282,6 +282,16 @@ for args in "ride --speed 350 --conicity 0.1 --psd /dev/full" "validate --speed 
 done
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 8 --generations 1 --threads 1 --output "$tmp/full" > /dev/full 2> "$tmp/full.err"; st=$?
 [ $st -ne 0 ] && grep -q "No space" "$tmp/full.err" && ok || bad "optimise's summary to a full disk: exit $st"
+# the linear model fed by profiles equals the model fed by the same conicity as a number
+printf -- '-70 -3.5\n0 0\n65 3.25\n' > "$tmp/cone.dat"
+printf -- '-30 -30\n0 0\n30 -30\n' > "$tmp/knife.dat"
+printf '[vehicle]\nbase = type1\n[contact]\nwheel = cone.dat\nrail = knife.dat\ninclination = 0\n' > "$tmp/vprof.ini"
+a=$("$RR" modes "$tmp/vprof.ini" --speed 300 --json | python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["stability_index"], d["conicity"], d["conicity_source"])')
+b=$("$RR" modes --speed 300 --conicity 0.05 --json | python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["stability_index"], d["conicity"], d["conicity_source"])')
+c=$(cd "$tmp" && "$RR" modes --speed 300 --profiles cone.dat,knife.dat --json | python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["stability_index"], d["conicity"])')
+python3 -c 'import sys; a, b, c = (s.split() for s in sys.argv[1:4]); close = lambda x, y: all(abs(float(p) - float(q)) < 1e-9 for p, q in zip(x[:2], y[:2])); sys.exit(0 if close(a, b) and close(c, b) and " ".join(a[2:]) == "profiles cone.dat/knife.dat at 3 mm" else 1)' "$a" "$b" "$c" \
+  && ok || bad "profiles as the conicity: '$a' / '$b' / '$c'"
+expect2 "--profiles with --conicity" "not with --conicity" "$RR" modes --speed 300 --conicity 0.1 --profiles "$tmp/cone.dat,$tmp/knife.dat"
 # a file named where a vehicle, table, spectrum or problem file belongs, that is not one: no message quotes it
 printf 'SECRET_TOKEN=abc123\nOTHER = [x]\n' > "$tmp/secret.env"
 cp "$tmp/secret.env" "$tmp/secret.txt"

@@ -79,15 +79,12 @@ static void test_annex_e(void)
   /* the independent implementation's y0 and tan_gamma_e at 2, 3, 4, 6 mm */
   const double y0_ref[9] = {0, 0, 0, 0, -2.6561, -2.9947, -2.4939, -1.7244, 0.8024};
   const double at[4] = {2, 3, 4, 6};
-  const double tg_ref[9][4] = {{0.15968, 0.18748, 0.21457, 0.30463},
-                               {0.02500, 0.03228, 0.23810, 0.30004},
-                               {0.02500, 0.26294, 0.32391, 0.28454},
-                               {0.31348, 0.49305, 0.48632, 0.44441},
-                               {0.27296, 0.26048, 0.26988, 0.39626},
-                               {0.37641, 0.27838, 0.22729, 0.40956},
-                               {0.38012, 0.26960, 0.24055, 0.42390},
-                               {0.41540, 0.45467, 0.47932, 0.50401},
-                               {0.10212, 0.12661, 0.22261, 0.30516}};
+  const double tg_ref[9][4] = {
+      {0.15968, 0.18748, 0.21457, 0.30463}, {0.02500, 0.03228, 0.23810, 0.30004},
+      {0.02500, 0.26294, 0.32391, 0.28454}, {0.31348, 0.49305, 0.48632, 0.44441},
+      {0.27296, 0.26048, 0.26988, 0.39626}, {0.37641, 0.27838, 0.22729, 0.40956},
+      {0.38012, 0.26960, 0.24055, 0.42390}, {0.41540, 0.45467, 0.47932, 0.50401},
+      {0.10212, 0.12661, 0.22261, 0.30516}};
   rr_polyline rail = load("SUIC519A.dat");
   double *y = malloc(sizeof(double) * 2001), *dr = malloc(sizeof(double) * 2001);
   int *valid = malloc(sizeof(int) * 2001), outside_total = 0;
@@ -119,13 +116,14 @@ static void test_annex_e(void)
                r.tan_gamma_e, lo, hi);
       }
       CHECK(r.tan_gamma_e >= lo_ext - 1e-12 && r.tan_gamma_e <= hi_ext + 1e-12,
-            "E%d at %.1f mm: %.5f outside the wide band [%.3f, %.3f]", c + 1, amp[k],
-            r.tan_gamma_e, lo_ext, hi_ext);
+            "E%d at %.1f mm: %.5f outside the wide band [%.3f, %.3f]", c + 1, amp[k], r.tan_gamma_e,
+            lo_ext, hi_ext);
     }
     for (int k = 0; k < 4; k++) {
       rr_conicity r;
       rr_conicity_eval(cp, at[k], 750, 460, &r);
-      CHECK_CLOSE(r.tan_gamma_e, tg_ref[c][k], 0, 1e-5, "Annex E tan_gamma_e against the reference");
+      CHECK_CLOSE(r.tan_gamma_e, tg_ref[c][k], 0, 1e-5,
+                  "Annex E tan_gamma_e against the reference");
     }
     /* E3 at 2.6 mm is the one point outside the narrow band that the
        re-sampled profiles allow (docs/contact.md); every other is inside */
@@ -413,8 +411,37 @@ static void test_inclination(void)
   free(st);
 }
 
+/* A vehicle file's [contact] profiles give the linear model's conicity: a
+   cone of slope 0.05 on a knife-edge rail gives 0.05 exactly (EN 15302's
+   method), whatever the placement puts under the wheel. */
+static void test_vehicle_profiles(void)
+{
+  if (check_tmpdir("contact")) return;
+  check_write_file("cone.dat", "-70 -3.5\n0 0\n65 3.25\n");
+  check_write_file("knife.dat", "-30 -30\n0 0\n30 -30\n");
+  const char *v = check_write_file("v.ini", "[vehicle]\nbase = type1\n[contact]\nwheel = cone.dat\n"
+                                            "rail = knife.dat\ninclination = 0\n");
+  rr_vehicle veh;
+  rr_error e;
+  CHECK_OK(rr_vehicle_open(v, &veh, &e), e);
+  double lam;
+  char src[200];
+  CHECK(rr_vehicle_has_profiles(&veh), "the vehicle names profiles");
+  CHECK_OK(rr_vehicle_profile_conicity(&veh, &lam, src, sizeof src, &e), e);
+  CHECK_CLOSE(lam, 0.05, 0, 1e-12, "a cone on a knife edge through a vehicle file");
+  CHECK(!strcmp(src, "profiles cone.dat/knife.dat at 3 mm"), "the source: %s", src);
+  v = check_write_file("v2.ini", "[vehicle]\nbase = type1\n[contact]\nwheel = nosuch.dat\n"
+                                 "rail = knife.dat\n");
+  CHECK_OK(rr_vehicle_open(v, &veh, &e), e);
+  CHECK(rr_vehicle_profile_conicity(&veh, &lam, src, sizeof src, &e) == RR_EIO &&
+            strstr(e.msg, "nosuch.dat"),
+        "a missing profile: %s", e.msg);
+  check_cleanup();
+}
+
 int main(void)
 {
+  test_vehicle_profiles();
   test_cone();
   test_synthetic();
   test_symmetry();

@@ -11,6 +11,7 @@
 
 #include "railride/common.h"
 #include "railride/error.h"
+#include "railride/vehicle.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -26,8 +27,7 @@ typedef struct rr_polyline {
  * before the first row is a header; at least 3 points, x strictly rising. */
 RR_API int rr_polyline_load(const char *path, rr_polyline *p, rr_error *err);
 /* A copy of n points. */
-RR_API int rr_polyline_from(const double *x, const double *z, int n, rr_polyline *p,
-                            rr_error *err);
+RR_API int rr_polyline_from(const double *x, const double *z, int n, rr_polyline *p, rr_error *err);
 RR_API void rr_polyline_free(rr_polyline *p);
 
 typedef enum rr_contact_roll {
@@ -52,9 +52,9 @@ RR_API rr_contact_opts rr_contact_opts_default(void);
 
 /* Where the placement put things (docs/contact.md, placement). */
 typedef struct rr_contact_setup {
-  double b_mm;              /* wheel origin from the wheelset centre: FB/2 + d_fb */
-  double Y_mm[2];           /* rail origin from the track centre, right, left */
-  double offset_mm[2];      /* b - Y, right, left */
+  double b_mm;         /* wheel origin from the wheelset centre: FB/2 + d_fb */
+  double Y_mm[2];      /* rail origin from the track centre, right, left */
+  double offset_mm[2]; /* b - Y, right, left */
   double gmp_v_mm[2], gmp_z_mm[2];
   int gmp_at_data_end[2];
   double r0_mm[2];
@@ -131,6 +131,15 @@ typedef struct rr_conicity {
  * plan); undefined values are NaN, never an error. */
 RR_API void rr_conicity_eval(rr_conicity_plan *p, double amplitude_mm, double e0_mm, double r0_mm,
                              rr_conicity *out);
+
+/* The vehicle's [contact] profiles (rr_wheel_rail): 1 when it names a wheel. */
+RR_API int rr_vehicle_has_profiles(const rr_vehicle *v);
+/* The linear model's conicity from them: tan_gamma_e by EN 15302's method at
+ * the section's amplitude, on the grid -10:10:0.01 mm, with the vehicle's
+ * rolling radius; source (n bytes) says where it came from, e.g. "profiles
+ * RUIC519A.dat/SUIC519A.dat at 3 mm". An undefined value is an error. */
+RR_API int rr_vehicle_profile_conicity(const rr_vehicle *v, double *conicity, char *source,
+                                       size_t n, rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -23,5 +23,6 @@
 #include "railride/problem.h"
 #include "railride/nonlinear.h"
 #include "railride/profile.h"
+#include "railride/contact.h"
 #include "railride/version.h"
 #endif

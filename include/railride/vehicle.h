@@ -15,6 +15,20 @@
 extern "C" {
 #endif
 
+/* The [contact] section's wheel and rail profiles, from which the linear
+ * model's conicity is the equivalent conicity (docs/contact.md): files
+ * (right; left "" = mirrored), placement, roll and the amplitude; SI. */
+#define RR_PROFILE_PATH_MAX 1024
+typedef struct rr_wheel_rail {
+  char wheel[2][RR_PROFILE_PATH_MAX], rail[2][RR_PROFILE_PATH_MAX]; /* right, left */
+  double gauge, flange_back, wheel_origin;                          /* m: 1.435, 1.360, 0.070 */
+  double inclination; /* tan of the rail inclination applied (1/40) */
+  double gauge_point; /* m, the rail file's; NaN: 14 mm below the top */
+  int roll;           /* rr_contact_roll: 0 none, 1 rigid */
+  double amplitude;   /* m: the amplitude of the linear conicity, 3 mm */
+  double radius_left; /* m; NaN: the vehicle's rolling radius */
+} rr_wheel_rail;
+
 typedef struct rr_vehicle {
   char name[64];
   /* [carbody] */
@@ -45,6 +59,7 @@ typedef struct rr_vehicle {
   double friction, flange_clearance, flange_stiffness;
   double conicity_hold; /* m: a polynomial lambda(a) is held beyond (12 mm) */
   rr_profile profile;
+  rr_wheel_rail wheel_rail; /* [contact] wheel and rail profiles (wheel[0] "": none) */
 } rr_vehicle;
 
 /* Built-in vehicles: "type1" (the default), "type2". Each carries its Table 2

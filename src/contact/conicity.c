@@ -11,12 +11,12 @@
 #include "internal.h"
 
 struct rr_conicity_plan {
-  int n;          /* points of the valid run used */
-  double *y, *d;  /* the run's y and dr */
-  double *m;      /* segment slopes of dr (n - 1) */
-  double *S;      /* the potential S(y) = int_{y0}^{y} dr at the grid points */
-  double *rmR;    /* running maximum of S to the right of y0, from i0 + 1 */
-  double *rmL;    /* and to the left, from i0 down (rmL[k] for k = i0 .. 0) */
+  int n;           /* points of the valid run used */
+  double *y, *d;   /* the run's y and dr */
+  double *m;       /* segment slopes of dr (n - 1) */
+  double *S;       /* the potential S(y) = int_{y0}^{y} dr at the grid points */
+  double *rmR;     /* running maximum of S to the right of y0, from i0 + 1 */
+  double *rmL;     /* and to the left, from i0 down (rmL[k] for k = i0 .. 0) */
   double *PL, *PR; /* scratch for one amplitude's inward sums (n each) */
   double y0;
   int i0; /* the segment holding y0 */
@@ -195,9 +195,11 @@ static void inward_sums(rr_conicity_plan *p, double yl, double yr, int kl, int k
   const double *y = p->y, *d = p->d;
   double dl = dr_at(p, kl, yl), drr = dr_at(p, kr, yr);
   p->PL[kl + 1] = -(y[kl + 1] - yl) * (dl + d[kl + 1]) / 2;
-  for (int j = kl + 2; j <= kr; j++) p->PL[j] = p->PL[j - 1] - (y[j] - y[j - 1]) * (d[j - 1] + d[j]) / 2;
+  for (int j = kl + 2; j <= kr; j++)
+    p->PL[j] = p->PL[j - 1] - (y[j] - y[j - 1]) * (d[j - 1] + d[j]) / 2;
   p->PR[kr] = (yr - y[kr]) * (d[kr] + drr) / 2;
-  for (int j = kr - 1; j > kl; j--) p->PR[j] = p->PR[j + 1] + (y[j + 1] - y[j]) * (d[j] + d[j + 1]) / 2;
+  for (int j = kr - 1; j > kl; j--)
+    p->PR[j] = p->PR[j + 1] + (y[j + 1] - y[j]) * (d[j] + d[j + 1]) / 2;
 }
 
 /* The integrand (L/2) sin(theta) / sqrt(C - S(y)) at theta, for a piece in

@@ -5,7 +5,7 @@
 #include "railride/contact.h"
 
 struct rr_contact_plan {
-  rr_polyline wheel[2], rail[2]; /* right, left; rails after inclination, local frames */
+  rr_polyline wheel[2], rail[2];  /* right, left; rails after inclination, local frames */
   double *wheel_k[2], *rail_k[2]; /* segment slopes (n - 1 each) */
   rr_contact_setup setup;
   rr_contact_roll roll;

@@ -98,8 +98,7 @@ static int check_opts(const rr_contact_opts *o, rr_error *err)
   if (!(isfinite(o->inclination) && fabs(o->inclination) <= 0.5 && o->gmp_depth_mm >= 0 &&
         o->gmp_depth_mm < 100))
     return rr_seterr(err, RR_EINVAL, "contact: inclination or gauge point depth out of range");
-  if (!(o->r0_right_mm > 50 && o->r0_right_mm < 2000 && o->r0_left_mm > 50 &&
-        o->r0_left_mm < 2000))
+  if (!(o->r0_right_mm > 50 && o->r0_right_mm < 2000 && o->r0_left_mm > 50 && o->r0_left_mm < 2000))
     return rr_seterr(err, RR_EINVAL, "contact: nominal radii must be within 50 .. 2000 mm");
   if (o->roll != RR_ROLL_NONE && o->roll != RR_ROLL_RIGID)
     return rr_seterr(err, RR_EINVAL, "contact: roll must be none or rigid");

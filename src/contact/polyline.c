@@ -62,8 +62,8 @@ static int check_points(const char *what, const rr_polyline *p, rr_error *err)
       return rr_seterr(err, RR_EINVAL, "%s: point %d is not finite", what, i + 1);
   for (int i = 1; i < p->n; i++)
     if (!(p->x[i] > p->x[i - 1]))
-      return rr_seterr(err, RR_EINVAL,
-                       "%s: point %d: the lateral coordinate must rise strictly", what, i + 1);
+      return rr_seterr(err, RR_EINVAL, "%s: point %d: the lateral coordinate must rise strictly",
+                       what, i + 1);
   return RR_OK;
 }
 

@@ -10,9 +10,9 @@
 #include "contact_impl.h"
 #include "internal.h"
 
-#define TIE_MM 1e-9  /* candidates this close to the deepest are ties */
-#define END_MM 1e-9  /* a contact this close to a profile's end is at the end of its data */
-#define JUMP_MM 1.0  /* a rail contact moving further between grid points is a jump */
+#define TIE_MM 1e-9 /* candidates this close to the deepest are ties */
+#define END_MM 1e-9 /* a contact this close to a profile's end is at the end of its data */
+#define JUMP_MM 1.0 /* a rail contact moving further between grid points is a jump */
 
 /* A wheel as the search sees it: points (x, z) in the rail's frame less a
    shift s (x + s is the rail coordinate), with its segment slopes. */
@@ -30,7 +30,8 @@ typedef struct rail_view {
   const double *x, *z, *k;
   int n;
   double *dr, *dw; /* depth at each rail vertex, each wheel vertex (scratch) */
-  int *kr, *kw;    /* the wheel segment under each rail vertex, the rail segment under each wheel vertex */
+  int *kr,
+      *kw; /* the wheel segment under each rail vertex, the rail segment under each wheel vertex */
 } rail_view;
 
 /* The segment slopes of a polyline, as numpy.interp computes them. */
@@ -46,7 +47,7 @@ static void seg_slopes(const double *x, const double *z, int n, double *k)
 static double deepest(const rail_view *r, const wheel_view *w, int *kind, int *at)
 {
   const double *restrict v = r->x, *restrict zr = r->z, *restrict kr = r->k, *restrict u = w->x,
-                        *restrict zw = w->z, *restrict kw = w->k, s = w->s;
+                         *restrict zw = w->z, *restrict kw = w->k, s = w->s;
   double *restrict ddr = r->dr, *restrict ddw = r->dw;
   int *restrict ckr = r->kr, *restrict ckw = r->kw;
   int m = r->n, n = w->n, j0, j1, i0, i1;
@@ -123,8 +124,7 @@ static void slopes(const double *x, const double *z, int n, double at, double *l
 
 /* The contact of one side: rail point, wheel point (in the wheel view's own
    coordinates), angle, validity; false when the profiles do not overlap. */
-static int side_contact(const rail_view *r, const wheel_view *w, rr_contact_side *c,
-                        double *wx_out)
+static int side_contact(const rail_view *r, const wheel_view *w, rr_contact_side *c, double *wx_out)
 {
   int kind = -1, at = -1;
   double dmax = deepest(r, w, &kind, &at);
@@ -191,9 +191,9 @@ static int state_no_roll(const rr_contact_plan *p, double y, const search_ws *ws
     c->r_mm = p->setup.r0_mm[s] - c->wheel_z_mm;
   }
   st->roll_rad = 0;
-  st->roll_implied_rad = ((st->side[0].lift_mm + p->setup.r0_mm[0]) -
-                          (st->side[1].lift_mm + p->setup.r0_mm[1])) /
-                         (2 * p->setup.b_mm);
+  st->roll_implied_rad =
+      ((st->side[0].lift_mm + p->setup.r0_mm[0]) - (st->side[1].lift_mm + p->setup.r0_mm[1])) /
+      (2 * p->setup.b_mm);
   return RR_OK;
 }
 
@@ -310,8 +310,10 @@ static int solve_roll(const roll_fn *f, double guess, double *phi, rr_error *err
       return RR_OK;
     }
   }
-  return rr_seterr(err, RR_ENOCONV, "contact: no wheelset roll brings both wheels onto their rails "
-                   "at y = %g mm", f->y);
+  return rr_seterr(err, RR_ENOCONV,
+                   "contact: no wheelset roll brings both wheels onto their rails "
+                   "at y = %g mm",
+                   f->y);
 }
 
 /* Rigid roll: the roll solved, then each side's contact on its turned
@@ -361,8 +363,13 @@ int rr_contact_execute(const rr_contact_plan *p, const double *y_mm, int n, rr_c
     free(ik);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
-  search_ws ws = {.dr = blk, .dw = blk + m, .tx = blk + m + nw, .tz = blk + m + 2 * nw,
-                  .tk = blk + m + 3 * nw, .kr = {ik, ik + m + nw}, .kw = {ik + m, ik + 2 * m + nw}};
+  search_ws ws = {.dr = blk,
+                  .dw = blk + m,
+                  .tx = blk + m + nw,
+                  .tz = blk + m + 2 * nw,
+                  .tk = blk + m + 3 * nw,
+                  .kr = {ik, ik + m + nw},
+                  .kw = {ik + m, ik + 2 * m + nw}};
   for (int i = 0; i < n && !st; i++) {
     rr_contact_state *s = &out[i];
     memset(s, 0, sizeof *s);
@@ -407,6 +414,7 @@ long rr_contact_range(double a, double b, double step, double *out, long cap)
   double cnt = floor((b - a) / step + 1e-9) + 1;
   if (!(cnt <= 1e8)) return -1;
   long n = (long)cnt;
-  for (long k = 0; out && k < n && k < cap; k++) out[k] = rint((a + (double)k * step) * 1e10) / 1e10;
+  for (long k = 0; out && k < n && k < cap; k++)
+    out[k] = rint((a + (double)k * step) * 1e10) / 1e10;
   return n;
 }

@@ -116,6 +116,26 @@ static const rr_vehicle_key keys[] = {
      "a CSV file a_mm, conicity for lambda(a), relative to this file (nonlinear model)"},
     {"contact", "conicity_hold", "m", OFF(conicity_hold), P | OPT, 1e-3, 0.05,
      "a polynomial lambda(a) is held at its value beyond this (default 12 mm)"},
+    {"contact", "wheel", "", NOFF, SPC | OPT, 0, 0,
+     "a wheel profile file (lateral vertical, mm; right side), relative to this file: the linear "
+     "conicity becomes its equivalent conicity"},
+    {"contact", "rail", "", NOFF, SPC | OPT, 0, 0, "the rail profile file (right side)"},
+    {"contact", "wheel_left", "", NOFF, SPC | OPT, 0, 0, "the left wheel's (default: mirrored)"},
+    {"contact", "rail_left", "", NOFF, SPC | OPT, 0, 0, "the left rail's (default: mirrored)"},
+    {"contact", "gauge", "m", OFF(wheel_rail.gauge), P | OPT, 0.5, 3, "track gauge (1435 mm)"},
+    {"contact", "flange_back", "m", OFF(wheel_rail.flange_back), P | OPT, 0.5, 3,
+     "flange-back distance (1360 mm)"},
+    {"contact", "wheel_origin", "m", OFF(wheel_rail.wheel_origin), N | OPT, 0, 0.5,
+     "flange back to the wheel profile's origin (70 mm)"},
+    {"contact", "inclination", "", NOFF, SPC | OPT, 0, 0,
+     "rail inclination applied to the rail file: 1/40 (default), 1:20, a decimal, 0"},
+    {"contact", "gauge_point", "", NOFF, SPC | OPT, 0, 0,
+     "the rail file's gauge measuring point (a length), or auto (14 mm below the top of rail)"},
+    {"contact", "roll", "", NOFF, SPC | OPT, 0, 0, "none (default) or rigid wheelset roll"},
+    {"contact", "amplitude", "m", OFF(wheel_rail.amplitude), P | OPT, 1e-4, 0.02,
+     "amplitude of the equivalent conicity that the linear model takes (3 mm)"},
+    {"contact", "radius_left", "m", OFF(wheel_rail.radius_left), P | OPT, 0.1, 1,
+     "the left wheel's nominal rolling radius (default: the vehicle's)"},
 };
 
 const rr_vehicle_key *rr_vehicle_keys(int *n)
@@ -200,6 +220,14 @@ void rr_vehicle_contact_defaults(rr_vehicle *v)
   v->flange_stiffness = RR_FLANGE_STIFFNESS_DEFAULT;
   v->conicity_hold = RR_CONICITY_HOLD_DEFAULT;
   memset(&v->profile, 0, sizeof v->profile);
+  v->wheel_rail = (rr_wheel_rail){.gauge = 1.435,
+                                  .flange_back = 1.360,
+                                  .wheel_origin = 0.070,
+                                  .inclination = 1.0 / 40,
+                                  .gauge_point = NAN,
+                                  .roll = 0,
+                                  .amplitude = 3e-3,
+                                  .radius_left = NAN};
 }
 
 int rr_vehicle_builtin(const char *name, rr_vehicle *v, rr_error *err)
@@ -241,6 +269,7 @@ int rr_vehicle_check(const rr_vehicle *v, rr_error *err)
     if (k->offset == NOFF) continue;
     if (!strncmp(k->key, "sdf_", 4) && v->sdf.kind != RR_CURVE_SLS)
       continue; /* no curve, or a table */
+    if (!strcmp(k->key, "radius_left") && isnan(v->wheel_rail.radius_left)) continue; /* unset */
     int st = rr_vehicle_key_check(k, *(const double *)((const char *)v + k->offset), err);
     if (st) return st;
   }

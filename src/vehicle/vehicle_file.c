@@ -162,6 +162,59 @@ static int table_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
   return 1;
 }
 
+/* [contact]'s wheel and rail profiles: files (relative to this file),
+   the inclination (1/40, 1:20 or a decimal), the gauge point (auto or a
+   length), the roll (none, rigid). */
+static int wheel_rail_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
+{
+  rr_wheel_rail *w = &c->veh->wheel_rail;
+  static const char *const file_keys[] = {"wheel", "wheel_left", "rail", "rail_left", NULL};
+  static const char *const rolls[] = {"none", "rigid", NULL};
+  int i = rr_word_index(k->key, file_keys);
+  if (i >= 0) {
+    char *dst = i < 2 ? w->wheel[i] : w->rail[i - 2];
+    char full[PATH_MAX + 8];
+    resolve_path(c, val, full, sizeof full);
+    if (strlen(full) >= RR_PROFILE_PATH_MAX)
+      return fail(c, RR_EINVAL, "[%s] %s: file name too long%s", k->section, k->key, "");
+    snprintf(dst, RR_PROFILE_PATH_MAX, "%s", full);
+    return 1;
+  }
+  if (!strcmp(k->key, "roll")) {
+    if ((i = rr_word_index(val, rolls)) < 0)
+      return fail(c, RR_EINVAL, "[%s] %s: '%s' is not none or rigid", k->section, k->key, val);
+    w->roll = i;
+    return 1;
+  }
+  if (!strcmp(k->key, "gauge_point") && !strcmp(val, "auto")) {
+    w->gauge_point = NAN;
+    return 1;
+  }
+  double a, b, x;
+  char sep, tail;
+  rr_error e2;
+  if (!strcmp(k->key, "gauge_point")) {
+    char what[128];
+    snprintf(what, sizeof what, "%s:%d: [contact] gauge_point", c->path, c->rs.line);
+    if (rr_units_parse(c->units, val, "m", 0, &x, what, &e2) || !(fabs(x) < 0.2))
+      return fail(c, RR_EINVAL, "[%s] %s: a length within 200 mm or auto, got '%s'", k->section,
+                  k->key, val);
+    w->gauge_point = x;
+    return 1;
+  }
+  if (sscanf(val, " %lf %c %lf %c", &a, &sep, &b, &tail) == 3 && (sep == '/' || sep == ':') &&
+      a >= 0 && b > 0)
+    x = a / b;
+  else if (rr_units_parse(c->units, val, "1", 0, &x, "inclination", &e2))
+    return fail(c, RR_EINVAL, "[%s] %s: 1/40, 1:20 or a decimal expected, got '%s'", k->section,
+                k->key, val);
+  if (!(fabs(x) <= 0.5))
+    return fail(c, RR_EINVAL, "[%s] %s: an inclination within 0.5, got '%s'", k->section, k->key,
+                val);
+  w->inclination = x;
+  return 1;
+}
+
 /* The keys that are not numbers: sdf, gravity_stiffness, the tread and the
    tables ([vehicle] ones were read in pass 1). */
 static int special_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
@@ -187,6 +240,7 @@ static int special_key(parse_ctx *c, const rr_vehicle_key *k, const char *val)
   if (!strcmp(k->key, "conicity_poly")) return poly_value(c, k->section, k->key, val);
   if (!strcmp(k->key, "conicity_table") || !strcmp(k->key, "sdf_table"))
     return table_key(c, k, val);
+  if (!strcmp(k->section, "contact")) return wheel_rail_key(c, k, val); /* the profiles' keys */
   return 1;
 }
 

@@ -1,0 +1,96 @@
+/* The vehicle's wheel and rail profiles ([contact] of a vehicle file) as the
+ * linear model's conicity: the equivalent conicity at the section's
+ * amplitude (docs/model.md, contact geometry from profiles). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "railride/contact.h"
+#include "internal.h"
+
+#define GRID_MM 10.0
+#define GRID_STEP_MM 0.01
+
+int rr_vehicle_has_profiles(const rr_vehicle *v) { return v->wheel_rail.wheel[0][0] != 0; }
+
+static const char *base_name(const char *path)
+{
+  const char *b = strrchr(path, '/');
+  return b ? b + 1 : path;
+}
+
+static rr_contact_opts opts_of(const rr_vehicle *v)
+{
+  const rr_wheel_rail *w = &v->wheel_rail;
+  rr_contact_opts o = rr_contact_opts_default();
+  o.gauge_mm = 1e3 * w->gauge;
+  o.flange_back_mm = 1e3 * w->flange_back;
+  o.wheel_origin_mm = 1e3 * w->wheel_origin;
+  o.inclination = w->inclination;
+  o.gmp_right_mm = o.gmp_left_mm = 1e3 * w->gauge_point; /* NaN: found */
+  o.r0_right_mm = 1e3 * v->rolling_radius;
+  o.r0_left_mm = isnan(w->radius_left) ? o.r0_right_mm : 1e3 * w->radius_left;
+  o.roll = w->roll ? RR_ROLL_RIGID : RR_ROLL_NONE;
+  return o;
+}
+
+/* The four profiles (a left one "" is its right one). */
+static int load4(const rr_wheel_rail *w, rr_polyline *p, rr_error *err)
+{
+  const char *names[4] = {w->wheel[0], w->wheel[1][0] ? w->wheel[1] : w->wheel[0], w->rail[0],
+                          w->rail[1][0] ? w->rail[1] : w->rail[0]};
+  if (!w->rail[0][0]) return rr_seterr(err, RR_EINVAL, "[contact] wheel: a rail profile is needed too");
+  for (int k = 0; k < 4; k++) {
+    int st = rr_polyline_load(names[k], &p[k], err);
+    if (st) return st;
+  }
+  return RR_OK;
+}
+
+int rr_vehicle_profile_conicity(const rr_vehicle *v, double *conicity, char *source, size_t n,
+                                rr_error *err)
+{
+  const rr_wheel_rail *w = &v->wheel_rail;
+  if (!rr_vehicle_has_profiles(v)) return rr_seterr(err, RR_EINVAL, "the vehicle has no profiles");
+  rr_polyline p[4] = {{0}};
+  rr_contact_plan *plan = NULL;
+  rr_conicity_plan *cp = NULL;
+  long ny = rr_contact_range(-GRID_MM, GRID_MM, GRID_STEP_MM, NULL, 0);
+  double *y = malloc(sizeof(double) * (size_t)ny), *dr = malloc(sizeof(double) * (size_t)ny);
+  int *valid = malloc(sizeof(int) * (size_t)ny);
+  rr_contact_state *st = malloc(sizeof *st * (size_t)ny);
+  rr_contact_opts o = opts_of(v);
+  int rc = y && dr && valid && st ? load4(w, p, err) : rr_seterr(err, RR_ENOMEM, "out of memory");
+  if (!rc) {
+    rr_contact_range(-GRID_MM, GRID_MM, GRID_STEP_MM, y, ny);
+    rc = rr_contact_plan_new(&p[0], &p[1], &p[2], &p[3], &o, &plan, err);
+  }
+  if (!rc) rc = rr_contact_execute(plan, y, (int)ny, st, err);
+  for (long i = 0; !rc && i < ny; i++) {
+    dr[i] = st[i].dr_mm;
+    valid[i] = st[i].valid;
+  }
+  if (!rc) rc = rr_conicity_plan_new(y, dr, valid, (int)ny, &cp, err);
+  if (!rc) {
+    rr_conicity c;
+    rr_conicity_eval(cp, 1e3 * w->amplitude, o.wheel_origin_mm + o.flange_back_mm / 2,
+                     o.r0_right_mm, &c);
+    if (!(c.tan_gamma_e >= 0 && isfinite(c.tan_gamma_e)))
+      rc = rr_seterr(err, RR_EINVAL,
+                     "[contact]: the profiles' equivalent conicity at %g mm is undefined (no "
+                     "equilibrium, or the oscillation leaves the valid contact data)",
+                     1e3 * w->amplitude);
+    *conicity = c.tan_gamma_e;
+    if (source)
+      snprintf(source, n, "profiles %s/%s at %g mm", base_name(w->wheel[0]), base_name(w->rail[0]),
+               1e3 * w->amplitude);
+  }
+  rr_conicity_plan_free(cp);
+  rr_contact_plan_free(plan);
+  for (int k = 0; k < 4; k++) rr_polyline_free(&p[k]);
+  free(y);
+  free(dr);
+  free(valid);
+  free(st);
+  return rc;
+}
