@@ -101,6 +101,14 @@ int cli_number_in(const char *opt, const char *arg, const char *unit, double lo,
    *nseen of them, cap 64). Returns 0, or EXIT_BADINPUT after the message. */
 int cli_option_checks(const char *cmd, char **argv, const struct option *opts, int opt,
                       int longindex, int *seen, int *nseen);
+/* getopt_long with those checks: 1 with the next option's id in *opt, 0
+   after the last, -1 after an error's message (a missing value, an unknown,
+   abbreviated or repeated option). Start with optind = 1 and a zeroed s. */
+typedef struct cli_opt_state {
+  int seen[64], nseen;
+} cli_opt_state;
+int cli_next_option(const char *cmd, int argc, char **argv, const struct option *opts,
+                    cli_opt_state *s, int *opt);
 /* The message for getopt's ':' (missing value) or '?' (unknown option); returns EXIT_BADINPUT. */
 int cli_getopt_error(const char *cmd, int opt, const char *word);
 /* Work caps: a command refuses a job larger than its limit (--limit N

@@ -235,12 +235,10 @@ static int contact_parse(int argc, char **argv, contact_args *a)
                                        {"help", no_argument, 0, 'h'},
                                        {0, 0, 0, 0}};
   optind = 1;
-  opterr = 0;
-  int opt, seen[64], nseen = 0, li = -1;
-  while ((opt = getopt_long(argc, argv, ":h", opts, &li)) != -1) {
-    if (opt == ':' || opt == '?') return cli_getopt_error("contact", opt, argv[optind - 1]);
-    if (cli_option_checks("contact", argv, opts, opt, li, seen, &nseen)) return EXIT_BADINPUT;
-    li = -1;
+  cli_opt_state os = {.nseen = 0};
+  int opt, got;
+  while ((got = cli_next_option("contact", argc, argv, opts, &os, &opt)) != 0) {
+    if (got < 0) return EXIT_BADINPUT;
     if (opt == 'h') {
       fputs(contact_help, stdout);
       return CLI_HELP_SHOWN;

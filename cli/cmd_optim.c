@@ -245,14 +245,11 @@ static int optim_parse(int argc, char **argv, optim_args *a, const char *help)
                                        {"help", no_argument, 0, 'h'},
                                        {0, 0, 0, 0}};
   optind = 1;
-  opterr = 0;
-  int opt, seen[64], nseen = 0, li = -1;
-  while ((opt = getopt_long(argc, argv, ":h", opts, &li)) != -1) {
+  cli_opt_state os = {.nseen = 0};
+  int opt, got;
+  while ((got = cli_next_option("optimise", argc, argv, opts, &os, &opt)) != 0) {
     long k;
-    if (opt != ':' && opt != '?' &&
-        cli_option_checks("optimise", argv, opts, opt, li, seen, &nseen))
-      return EXIT_BADINPUT;
-    li = -1;
+    if (got < 0) return EXIT_BADINPUT;
     switch (opt) {
     case 'h': fputs(help, stdout); return CLI_HELP_SHOWN;
     case OPT_POP:

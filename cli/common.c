@@ -372,6 +372,20 @@ int cli_option_checks(const char *cmd, char **argv, const struct option *opts, i
   return 0;
 }
 
+int cli_next_option(const char *cmd, int argc, char **argv, const struct option *opts,
+                    cli_opt_state *s, int *opt)
+{
+  int li = -1;
+  opterr = 0;
+  *opt = getopt_long(argc, argv, ":h", opts, &li);
+  if (*opt == -1) return 0;
+  if (*opt == ':' || *opt == '?') {
+    cli_getopt_error(cmd, *opt, argv[optind - 1]);
+    return -1;
+  }
+  return cli_option_checks(cmd, argv, opts, *opt, li, s->seen, &s->nseen) ? -1 : 1;
+}
+
 static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
                       const struct option *extra, cli_extra_cb cb, void *user,
                       const char *usage_text, int list)
@@ -385,16 +399,14 @@ static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
   cli_common_init(c);
   c->conicity_list = list;
   optind = 1;
-  opterr = 0;
-  int opt, seen[64], nseen = 0, li = -1;
-  while ((opt = getopt_long(argc, argv, ":h", opts, &li)) != -1) {
+  cli_opt_state os = {.nseen = 0};
+  int opt, got;
+  while ((got = cli_next_option(argv[0], argc, argv, opts, &os, &opt)) != 0) {
+    if (got < 0) return EXIT_BADINPUT;
     if (opt == 'h' || opt == OPT_HELP) {
       print_help(usage_text, reads);
       return CLI_HELP_SHOWN;
     }
-    if (opt == ':' || opt == '?') return cli_getopt_error(argv[0], opt, argv[optind - 1]);
-    if (cli_option_checks(argv[0], argv, opts, opt, li, seen, &nseen)) return EXIT_BADINPUT;
-    li = -1;
     if (reads_of(opt) && !(reads_of(opt) & reads))
       return cli_bad("%s: option '--%s' is not one this command reads (see --help)", argv[0],
                      opt_name(opts, opt));

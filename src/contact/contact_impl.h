@@ -13,6 +13,8 @@ struct rr_contact_plan {
 
 /* numpy.interp on a polyline (x == last gives the last value). */
 double rr_poly_interp(const double *x, const double *z, int n, double at);
+/* The segment slopes of a polyline (n - 1), as numpy.interp computes them. */
+void rr_poly_slopes(const double *x, const double *z, int n, double *k);
 /* The segment k of x with x[k] <= at < x[k+1], clipped to 0 .. n-2. */
 int rr_poly_segment(const double *x, int n, double at);
 

@@ -84,10 +84,9 @@ static void gauge_point(const rr_polyline *r, double depth, double *v, double *z
   *z = lev;
 }
 
-/* Segment slopes as numpy.interp computes them (the search multiplies by them). */
-static void slopes_of(const rr_polyline *p, double *k)
+void rr_poly_slopes(const double *x, const double *z, int n, double *k)
 {
-  for (int i = 0; i + 1 < p->n; i++) k[i] = (p->z[i + 1] - p->z[i]) / (p->x[i + 1] - p->x[i]);
+  for (int i = 0; i + 1 < n; i++) k[i] = (z[i + 1] - z[i]) / (x[i + 1] - x[i]);
 }
 
 static int check_opts(const rr_contact_opts *o, rr_error *err)
@@ -147,8 +146,8 @@ int rr_contact_plan_new(const rr_polyline *wheel_right, const rr_polyline *wheel
       st = rr_seterr(err, RR_ENOMEM, "out of memory");
       break;
     }
-    slopes_of(&p->wheel[s], p->wheel_k[s]);
-    slopes_of(&p->rail[s], p->rail_k[s]);
+    rr_poly_slopes(p->wheel[s].x, p->wheel[s].z, p->wheel[s].n, p->wheel_k[s]);
+    rr_poly_slopes(p->rail[s].x, p->rail[s].z, p->rail[s].n, p->rail_k[s]);
     if (isnan(gmp[s])) {
       gauge_point(&p->rail[s], o->gmp_depth_mm, &su->gmp_v_mm[s], &su->gmp_z_mm[s],
                   &su->gmp_at_data_end[s]);

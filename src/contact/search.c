@@ -34,12 +34,6 @@ typedef struct rail_view {
       *kw; /* the wheel segment under each rail vertex, the rail segment under each wheel vertex */
 } rail_view;
 
-/* The segment slopes of a polyline, as numpy.interp computes them. */
-static void seg_slopes(const double *x, const double *z, int n, double *k)
-{
-  for (int i = 0; i + 1 < n; i++) k[i] = (z[i + 1] - z[i]) / (x[i + 1] - x[i]);
-}
-
 /* The deepest overlap d = z_r - z_w over the candidates, and the tie with
    the smallest rail coordinate: *kind 0 a rail vertex (index *at), 1 a
    wheel vertex. Returns dmax (*kind -1 when the profiles do not overlap).
@@ -211,7 +205,7 @@ static int turned_wheel(const rr_contact_plan *p, int s, double y, double phi, c
     ws->tz[i] = sg * sn * eta + c * zeta;
     if (i && !(ws->tx[i] > ws->tx[i - 1])) return 0;
   }
-  seg_slopes(ws->tx, ws->tz, w->n, ws->tk);
+  rr_poly_slopes(ws->tx, ws->tz, w->n, ws->tk);
   return 1;
 }
 

@@ -39,7 +39,8 @@ static int load4(const rr_wheel_rail *w, rr_polyline *p, rr_error *err)
 {
   const char *names[4] = {w->wheel[0], w->wheel[1][0] ? w->wheel[1] : w->wheel[0], w->rail[0],
                           w->rail[1][0] ? w->rail[1] : w->rail[0]};
-  if (!w->rail[0][0]) return rr_seterr(err, RR_EINVAL, "[contact] wheel: a rail profile is needed too");
+  if (!w->rail[0][0])
+    return rr_seterr(err, RR_EINVAL, "[contact] wheel: a rail profile is needed too");
   for (int k = 0; k < 4; k++) {
     int st = rr_polyline_load(names[k], &p[k], err);
     if (st) return st;
