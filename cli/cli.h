@@ -243,6 +243,7 @@ int cmd_optimise(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
 int cmd_keys(int argc, char **argv);
 int cmd_contact(int argc, char **argv);
+int cmd_wear(int argc, char **argv);
 int cmd_objectives(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);
 int cmd_bifurcation(int argc, char **argv);

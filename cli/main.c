@@ -32,6 +32,7 @@ static const struct {
     {"compare", cmd_compare,
      "SDF vs constant series stiffness: stability and Sperling over conicity"},
     {"contact", cmd_contact, "wheel-rail contact geometry and equivalent conicity from profiles"},
+    {"wear", cmd_wear, "wheel profiles (wear stages) on their rail: conicity, stability, ride"},
     {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings"},
     {"objectives", cmd_objectives, "the objective names of problem files and sweeps"},
 };

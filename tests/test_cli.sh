@@ -292,6 +292,22 @@ c=$(cd "$tmp" && "$RR" modes --speed 300 --profiles cone.dat,knife.dat --json | 
 python3 -c 'import sys; a, b, c = (s.split() for s in sys.argv[1:4]); close = lambda x, y: all(abs(float(p) - float(q)) < 1e-9 for p, q in zip(x[:2], y[:2])); sys.exit(0 if close(a, b) and close(c, b) and " ".join(a[2:]) == "profiles cone.dat/knife.dat at 3 mm" else 1)' "$a" "$b" "$c" \
   && ok || bad "profiles as the conicity: '$a' / '$b' / '$c'"
 expect2 "--profiles with --conicity" "not with --conicity" "$RR" modes --speed 300 --conicity 0.1 --profiles "$tmp/cone.dat,$tmp/knife.dat"
+# the wear study: EN 15302's wheels A, B, H, I on rail A give Annex E's tan gamma_e at 3 mm,
+# and each profile's index is the linear model's at that conicity
+P=$(cd "$SRC/profiles/en15302" && pwd)
+printf '[vehicle]\nbase = type1\n[contact]\nrail = %s\ninclination = 0\ngauge_point = -32.5 mm\n' "$P/SUIC519A.dat" > "$tmp/wear.ini"
+"$RR" wear "$tmp/wear.ini" --wheels "$P/RUIC519A.dat,$P/RUIC519B.dat,$P/RUIC519H.dat,$P/RUIC519I.dat" --json > "$tmp/wear.json" || bad "wear exit"
+python3 - "$tmp/wear.json" "$RR" <<'PY' && ok || bad "wear study"
+import json, subprocess, sys
+d = json.load(open(sys.argv[1]))
+ref = [0.18748, 0.03228, 0.26294, 0.49305]
+for p, r in zip(d["profiles"], ref):
+    assert abs(p["tan_gamma_e_3mm"] - r) < 1e-5, (p["wheel"], p["tan_gamma_e_3mm"], r)
+    m = json.loads(subprocess.run([sys.argv[2], "modes", "--speed", "350", "--conicity", repr(p["tan_gamma_e_3mm"]), "--json"],
+                                  capture_output=True, text=True, check=True).stdout)
+    assert abs(m["stability_index"] - p["stability_index"]) < 1e-9, (p["wheel"], m["stability_index"], p["stability_index"])
+assert len(d["profiles"]) == 4 and len(d["profiles"][0]["tan_gamma_e"]) == len(d["amplitude_mm"])
+PY
 # a file named where a vehicle, table, spectrum or problem file belongs, that is not one: no message quotes it
 printf 'SECRET_TOKEN=abc123\nOTHER = [x]\n' > "$tmp/secret.env"
 cp "$tmp/secret.env" "$tmp/secret.txt"

@@ -140,6 +140,10 @@ RR_API int rr_vehicle_has_profiles(const rr_vehicle *v);
  * RUIC519A.dat/SUIC519A.dat at 3 mm". An undefined value is an error. */
 RR_API int rr_vehicle_profile_conicity(const rr_vehicle *v, double *conicity, char *source,
                                        size_t n, rr_error *err);
+/* The same profiles' equivalent conicity function: tan_gamma_e (method a) at
+ * namp amplitudes (mm) into tan_ge (NaN where undefined: no error). */
+RR_API int rr_vehicle_profile_conicity_function(const rr_vehicle *v, const double *amp_mm, int namp,
+                                                double *tan_ge, rr_error *err);
 
 #ifdef __cplusplus
 }

@@ -48,14 +48,14 @@ static int load4(const rr_wheel_rail *w, rr_polyline *p, rr_error *err)
   return RR_OK;
 }
 
-int rr_vehicle_profile_conicity(const rr_vehicle *v, double *conicity, char *source, size_t n,
-                                rr_error *err)
+/* The conicity plan of the vehicle's profiles on the grid (caller frees). */
+static int profile_plan(const rr_vehicle *v, rr_conicity_plan **cp, rr_error *err)
 {
   const rr_wheel_rail *w = &v->wheel_rail;
+  *cp = NULL;
   if (!rr_vehicle_has_profiles(v)) return rr_seterr(err, RR_EINVAL, "the vehicle has no profiles");
   rr_polyline p[4] = {{0}};
   rr_contact_plan *plan = NULL;
-  rr_conicity_plan *cp = NULL;
   long ny = rr_contact_range(-GRID_MM, GRID_MM, GRID_STEP_MM, NULL, 0);
   double *y = malloc(sizeof(double) * (size_t)ny), *dr = malloc(sizeof(double) * (size_t)ny);
   int *valid = malloc(sizeof(int) * (size_t)ny);
@@ -71,27 +71,44 @@ int rr_vehicle_profile_conicity(const rr_vehicle *v, double *conicity, char *sou
     dr[i] = st[i].dr_mm;
     valid[i] = st[i].valid;
   }
-  if (!rc) rc = rr_conicity_plan_new(y, dr, valid, (int)ny, &cp, err);
-  if (!rc) {
-    rr_conicity c;
-    rr_conicity_eval(cp, 1e3 * w->amplitude, o.wheel_origin_mm + o.flange_back_mm / 2,
-                     o.r0_right_mm, &c);
-    if (!(c.tan_gamma_e >= 0 && isfinite(c.tan_gamma_e)))
-      rc = rr_seterr(err, RR_EINVAL,
-                     "[contact]: the profiles' equivalent conicity at %g mm is undefined (no "
-                     "equilibrium, or the oscillation leaves the valid contact data)",
-                     1e3 * w->amplitude);
-    *conicity = c.tan_gamma_e;
-    if (source)
-      snprintf(source, n, "profiles %s/%s at %g mm", base_name(w->wheel[0]), base_name(w->rail[0]),
-               1e3 * w->amplitude);
-  }
-  rr_conicity_plan_free(cp);
+  if (!rc) rc = rr_conicity_plan_new(y, dr, valid, (int)ny, cp, err);
   rr_contact_plan_free(plan);
   for (int k = 0; k < 4; k++) rr_polyline_free(&p[k]);
   free(y);
   free(dr);
   free(valid);
   free(st);
+  return rc;
+}
+
+int rr_vehicle_profile_conicity_function(const rr_vehicle *v, const double *amp_mm, int namp,
+                                         double *tan_ge, rr_error *err)
+{
+  rr_conicity_plan *cp;
+  int rc = profile_plan(v, &cp, err);
+  rr_contact_opts o = opts_of(v);
+  for (int k = 0; !rc && k < namp; k++) {
+    rr_conicity c;
+    rr_conicity_eval(cp, amp_mm[k], o.wheel_origin_mm + o.flange_back_mm / 2, o.r0_right_mm, &c);
+    tan_ge[k] = c.tan_gamma_e;
+  }
+  rr_conicity_plan_free(cp);
+  return rc;
+}
+
+int rr_vehicle_profile_conicity(const rr_vehicle *v, double *conicity, char *source, size_t n,
+                                rr_error *err)
+{
+  const rr_wheel_rail *w = &v->wheel_rail;
+  double a = 1e3 * w->amplitude;
+  int rc = rr_vehicle_profile_conicity_function(v, &a, 1, conicity, err);
+  if (!rc && !(*conicity >= 0 && isfinite(*conicity)))
+    rc = rr_seterr(err, RR_EINVAL,
+                   "[contact]: the profiles' equivalent conicity at %g mm is undefined (no "
+                   "equilibrium, or the oscillation leaves the valid contact data)",
+                   a);
+  if (!rc && source)
+    snprintf(source, n, "profiles %s/%s at %g mm", base_name(w->wheel[0]), base_name(w->rail[0]),
+             a);
   return rc;
 }

@@ -1,0 +1,177 @@
+#define _POSIX_C_SOURCE 200809L
+/* `railride wear`: the paper's robust-design question asked of real
+ * profiles: for each wheel profile (design and measured wear stages, in
+ * order) on the vehicle's rail, the equivalent conicity at 3 mm and its
+ * function, the stability index and verdict at the operating point, the
+ * linear critical speed and the Sperling index at the floor points. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+
+#define WEAR_MAX 32
+#define WEAR_NAMP 14 /* the conicity function at 1.0, 1.5 .. 7.5 mm */
+
+typedef struct wear_args {
+  const char *wheels, *rail;
+  int csv;
+} wear_args;
+enum { OPT_WHEELS = 6100, OPT_WRAIL, OPT_WCSV };
+
+static int wear_cb(int opt, const char *arg, void *u)
+{
+  wear_args *a = u;
+  if (opt == OPT_WHEELS) a->wheels = arg;
+  if (opt == OPT_WRAIL) a->rail = arg;
+  if (opt == OPT_WCSV) a->csv = 1;
+  return opt == OPT_WHEELS || opt == OPT_WRAIL || opt == OPT_WCSV ? 0 : 1;
+}
+
+typedef struct wear_row {
+  char wheel[RR_PROFILE_PATH_MAX];
+  double tg3, tg[WEAR_NAMP];
+  rr_stability s;
+  rr_critical cr;
+  ride_point rp[3];
+} wear_row;
+
+/* One profile: its conicity, then the linear vehicle at it. */
+static int wear_one(const cli_common *c, const wear_args *a, const char *wheel, wear_row *w)
+{
+  rr_vehicle v = c->veh;
+  rr_wheel_rail *wr = &v.wheel_rail;
+  snprintf(w->wheel, sizeof w->wheel, "%s", wheel);
+  snprintf(wr->wheel[0], sizeof wr->wheel[0], "%s", wheel);
+  wr->wheel[1][0] = 0;
+  if (a->rail) {
+    snprintf(wr->rail[0], sizeof wr->rail[0], "%s", a->rail);
+    wr->rail[1][0] = 0;
+  }
+  if (!wr->rail[0][0]) return cli_bad("wear: a rail is needed (--rail, or [contact] rail)");
+  double amps[WEAR_NAMP];
+  for (int k = 0; k < WEAR_NAMP; k++) amps[k] = 1.0 + 0.5 * k;
+  rr_error e;
+  rr_model *m = NULL;
+  rr_modal_ws *ws = NULL;
+  int st = rr_vehicle_profile_conicity(&v, &w->tg3, NULL, 0, &e);
+  if (!st) st = rr_vehicle_profile_conicity_function(&v, amps, WEAR_NAMP, w->tg, &e);
+  if (!st) st = rr_model_from_vehicle(&v, &m, &e);
+  if (!st) st = rr_modal_ws_new(m, &ws, &e);
+  if (!st) st = rr_model_set_operating(m, c->speed_kmh / RR_KMH, w->tg3, &e);
+  if (!st) st = rr_modal_stability(m, &c->mo, ws, &w->s, &e);
+  if (!st) st = rr_critical_speed(m, w->tg3, &c->mo, NULL, ws, &w->cr, &e);
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+  if (st) return cli_fail(&e, st);
+  ride_setup rs;
+  ride_setup_default(&rs, &v);
+  if ((st = ride_eval(&v, c->speed_kmh, w->tg3, &rs, w->rp, NULL, NULL, &e)))
+    return cli_fail(&e, st);
+  return 0;
+}
+
+static void wear_text(const cli_common *c, const wear_row *w, int n)
+{
+  char b1[32], b2[32];
+  printf("%s at %g km/h: wheel profiles on their rail (tan gamma_e by EN 15302 at 3 mm)\n",
+         c->veh.name, c->speed_kmh);
+  printf("  %-28s %9s %10s %-9s %13s %7s %7s %7s\n", "wheel", "tan_ge_3", "index", "verdict",
+         "critical_kmh", "W(+L)", "W(0)", "W(-L)");
+  for (int i = 0; i < n; i++) {
+    const char *b = strrchr(w[i].wheel, '/');
+    printf("  %-28s %9.5f %10s %-9s %13s %7.3f %7.3f %7.3f\n", b ? b + 1 : w[i].wheel, w[i].tg3,
+           cli_num_or_none(b1, sizeof b1, w[i].s.index),
+           rr_modal_stable(w[i].s.zeta_max) ? "stable" : "UNSTABLE",
+           w[i].cr.found ? (snprintf(b2, sizeof b2, "%.3f", w[i].cr.speed_ms * RR_KMH), b2)
+                         : "> 600",
+           w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
+  }
+}
+
+static void wear_csv(const wear_row *w, int n)
+{
+  printf("wheel,tan_gamma_e_3mm,stability_index,zeta_max,stable,critical_speed_kmh,"
+         "sperling_front,sperling_centre,sperling_rear\n");
+  for (int i = 0; i < n; i++) {
+    cli_csv_field(stdout, w[i].wheel, ',');
+    printf("%.10g,", w[i].tg3);
+    cli_csv_num(stdout, w[i].s.index, ',');
+    printf("%.10g,%d,", w[i].s.zeta_max, rr_modal_stable(w[i].s.zeta_max));
+    cli_csv_num(stdout, w[i].cr.found ? w[i].cr.speed_ms * RR_KMH : NAN, ',');
+    printf("%.10g,%.10g,%.10g\n", w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
+  }
+}
+
+static void wear_json(const cli_common *c, const wear_row *w, int n)
+{
+  cJSON *root = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(root, "profiles");
+  cJSON_AddStringToObject(root, "vehicle", c->veh.name);
+  cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
+  double amps[WEAR_NAMP];
+  for (int k = 0; k < WEAR_NAMP; k++) amps[k] = 1.0 + 0.5 * k;
+  cJSON_AddItemToObject(root, "amplitude_mm", cJSON_CreateDoubleArray(amps, WEAR_NAMP));
+  for (int i = 0; i < n; i++) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "wheel", w[i].wheel);
+    cJSON_AddNumberToObject(o, "tan_gamma_e_3mm", w[i].tg3);
+    cJSON_AddItemToObject(o, "tan_gamma_e", cJSON_CreateDoubleArray(w[i].tg, WEAR_NAMP));
+    cJSON_AddNumberToObject(o, "stability_index", w[i].s.index);
+    cJSON_AddStringToObject(o, "index_source", cli_index_source_key(w[i].s.source));
+    cJSON_AddNumberToObject(o, "zeta_max", w[i].s.zeta_max);
+    cJSON_AddBoolToObject(o, "stable", rr_modal_stable(w[i].s.zeta_max));
+    if (w[i].cr.found)
+      cJSON_AddNumberToObject(o, "critical_speed_kmh", w[i].cr.speed_ms * RR_KMH);
+    else
+      cJSON_AddNullToObject(o, "critical_speed_kmh");
+    double sp[3] = {w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling};
+    cJSON_AddItemToObject(o, "sperling", cJSON_CreateDoubleArray(sp, 3));
+    cJSON_AddItemToArray(arr, o);
+  }
+  cli_json_print(root);
+}
+
+int cmd_wear(int argc, char **argv)
+{
+  static const char help[] =
+      "usage: railride wear [VEHICLE] --wheels P1,P2,... [--rail R] [--speed KMH] [--json|--csv]\n"
+      "The paper's robust-design question asked of real profiles: for each wheel profile\n"
+      "(design and measured wear stages, in order) on the rail (--rail, or the vehicle file's\n"
+      "[contact] rail, with its placement keys), the equivalent conicity at 3 mm and its\n"
+      "function (1.0-7.5 mm, JSON), the stability index and verdict at the speed (default\n"
+      "350 km/h), the linear critical speed (10-600 km/h, any mode) and the Sperling index at\n"
+      "the floor points +L, 0, -L (PEM, the Wuhan-Guangzhou alignment).\n" CLI_COMMON_HELP
+      "  --wheels P1,P2,..    wheel profile files (lateral vertical, mm), at most 32\n"
+      "  --rail R             the rail profile file\n"
+      "  --csv                CSV output\n";
+  static const struct option extra[] = {{"wheels", required_argument, 0, OPT_WHEELS},
+                                        {"rail", required_argument, 0, OPT_WRAIL},
+                                        {"csv", no_argument, 0, OPT_WCSV},
+                                        {0, 0, 0, 0}};
+  cli_common c;
+  wear_args a = {0};
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX, extra,
+                    wear_cb, &a, help);
+  if (r) return r == CLI_HELP_SHOWN ? 0 : r;
+  if (!a.wheels) return cli_bad("wear: --wheels is required");
+  if (a.csv && c.json) return cli_bad("wear: --json or --csv, not both");
+  if (!c.have_speed) c.speed_kmh = CLI_SPEED_DEFAULT_KMH;
+  wear_row *rows = calloc(WEAR_MAX, sizeof *rows);
+  char list[WEAR_MAX * 256];
+  if (!rows) return cli_bad("out of memory");
+  if (snprintf(list, sizeof list, "%s", a.wheels) >= (int)sizeof list)
+    r = cli_bad("--wheels: too long");
+  int n = 0;
+  char *sv = NULL;
+  for (char *t = r ? NULL : strtok_r(list, ",", &sv); t && !r; t = strtok_r(NULL, ",", &sv)) {
+    if (n == WEAR_MAX) r = cli_bad("--wheels: at most %d profiles", WEAR_MAX);
+    if (!r) r = wear_one(&c, &a, t, &rows[n++]);
+  }
+  if (!r && c.json)
+    wear_json(&c, rows, n);
+  else if (!r && a.csv)
+    wear_csv(rows, n);
+  else if (!r)
+    wear_text(&c, rows, n);
+  free(rows);
+  return r;
+}
