@@ -133,6 +133,20 @@ if os.environ.get("RR_PIP_TEST", "1") == "1":
         check(r.returncode == 0 and tmp in r.stdout and abs(float(r.stdout.split()[-1]) - ref["zeta_low"]) < 1e-13,
               "the installed package finds its own library: %s %s" % (r.stdout, r.stderr[-300:]))
 
+# contact geometry as numpy arrays: the same numbers as railride contact --json
+P = os.path.join(os.environ["RR_SOURCE_DIR"], "profiles", "en15302")
+cg = railride.contact(os.path.join(P, "RUIC519H.dat"), os.path.join(P, "SUIC519A.dat"), rail_gmp=-32.5,
+                      radius=(460, 459), amplitudes=(1.0, 7.5, 0.1))
+cj = json.loads(subprocess.run([cli, "contact", "--wheel", os.path.join(P, "RUIC519H.dat"), "--rail",
+                                os.path.join(P, "SUIC519A.dat"), "--rail-gmp", "-32.5", "--radius", "460,459",
+                                "--amplitudes", "1.0:7.5:0.1", "--json"], capture_output=True, check=True,
+                               text=True).stdout)
+nan = lambda v: np.array([float("nan") if x is None else x for x in v])  # JSON's null is NaN
+close = lambda a, b: np.allclose(a, b, rtol=1e-13, atol=1e-13, equal_nan=True)  # cJSON prints 15 digits
+check(close(cg["dr_mm"], cj["dr_mm"]) and close(cg["tan_gamma_e"], nan(cj["tan_gamma_e"]))
+      and close(cg["y0_mm"], cj["y0_mm"]) and close(cg["tan_gamma_e_3mm"], cj["tan_gamma_e_3mm"]),
+      "contact() equals contact --json")
+check(abs(cg["y0_mm"] + 2.4939) < 1e-4 and abs(cg["tan_gamma_e_3mm"] - 0.26960) < 1e-5, "contact(): Annex E case E7")
 # handles shared by threads: the same answers as one thread, and closing a
 # handle another thread is using is an error, never a crash
 import threading  # noqa: E402

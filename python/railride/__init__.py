@@ -167,3 +167,4 @@ class Design:
 
 
 from ._model import Vehicle  # noqa: E402  (needs RailrideError and library above)
+from ._contact import contact  # noqa: E402

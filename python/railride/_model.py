@@ -6,7 +6,7 @@ import threading
 
 import numpy as np
 
-from . import _locked  # noqa: E402  (defined before this module is imported)
+from . import _close_guarded, _locked  # noqa: E402  (defined before this module is imported)
 
 KMH = 3.6
 MODE_NAME_MAX = 48
@@ -312,8 +312,6 @@ class Vehicle:
         return out
 
     def close(self):
-        from . import _close_guarded
-
         def free():
             if getattr(self, "_veh", None):
                 self._lib.rr_modal_ws_free(self._ws)
