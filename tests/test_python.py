@@ -133,6 +133,23 @@ if os.environ.get("RR_PIP_TEST", "1") == "1":
         check(r.returncode == 0 and tmp in r.stdout and abs(float(r.stdout.split()[-1]) - ref["zeta_low"]) < 1e-13,
               "the installed package finds its own library: %s %s" % (r.stdout, r.stderr[-300:]))
 
+# the binding's struct copies are checked against the library's layout at import: a
+# copy that lost a field is refused
+import ctypes  # noqa: E402
+
+
+class _OldMode(ctypes.Structure):  # rr_mode without frame_roll_share
+    _fields_ = [("re", ctypes.c_double), ("im", ctypes.c_double), ("freq_hz", ctypes.c_double),
+                ("zeta", ctypes.c_double), ("energy", ctypes.c_double * 3), ("roll_share", ctypes.c_double),
+                ("oscillatory", ctypes.c_int)]
+
+
+try:
+    railride._check_layout(railride.library(), {"rr_mode": _OldMode})
+    check(False, "a stale struct copy is refused")
+except railride.RailrideError as e:
+    check("rr_mode" in str(e), "a stale struct copy is refused: %s" % e)
+railride._check_layout(railride.library())  # the real copies pass
 # contact geometry as numpy arrays: the same numbers as railride contact --json
 P = os.path.join(os.environ["RR_SOURCE_DIR"], "profiles", "en15302")
 cg = railride.contact(os.path.join(P, "RUIC519H.dat"), os.path.join(P, "SUIC519A.dat"), rail_gmp=-32.5,

@@ -24,5 +24,6 @@
 #include "railride/nonlinear.h"
 #include "railride/profile.h"
 #include "railride/contact.h"
+#include "railride/layout.h"
 #include "railride/version.h"
 #endif

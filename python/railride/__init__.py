@@ -43,6 +43,33 @@ def _find_library():
 _lib = None
 
 
+def _check_layout(lib, mirrors=None):
+    """The ctypes copies of the library's structs against the library's own
+    layout (sizes and every field's offset and size): a C change cannot
+    silently misread memory."""
+    from . import _model, _contact
+    mirrors = mirrors or {"rr_error": _model._Error, "rr_modal_opts": _model._ModalOpts, "rr_mode": _model._Mode,
+               "rr_modal_result": _model._ModalResult, "rr_stability": _model._Stability,
+               "rr_robust_opts": _model._RobustOpts, "rr_robust": _model._Robust,
+               "rr_critical_opts": _model._CriticalOpts, "rr_critical": _model._Critical,
+               "rr_frf_opts": _model._FrfOpts, "rr_comfort": _model._Comfort, "rr_polyline": _contact._Polyline,
+               "rr_contact_opts": _contact._ContactOpts, "rr_contact_side": _contact._Side,
+               "rr_contact_state": _contact._State, "rr_conicity": _contact._Conicity}
+    lib.rr_layout.restype = ctypes.c_int
+    lib.rr_layout.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(ctypes.c_size_t),
+                              ctypes.POINTER(ctypes.c_size_t)]
+    off, size = ctypes.c_size_t(), ctypes.c_size_t()
+    for name, cls in mirrors.items():
+        if lib.rr_layout(name.encode(), None, ctypes.byref(off), ctypes.byref(size)) or size.value != ctypes.sizeof(cls):
+            raise RailrideError("the binding's %s (%d bytes) is not the library's (%d)" %
+                                (name, ctypes.sizeof(cls), size.value))
+        for fname, _ in cls._fields_:
+            f = getattr(cls, fname)
+            if lib.rr_layout(name.encode(), fname.encode(), ctypes.byref(off), ctypes.byref(size)) or \
+                    (off.value, size.value) != (f.offset, f.size):
+                raise RailrideError("the binding's %s.%s is not the library's" % (name, fname))
+
+
 def library():
     """The loaded librailride (ctypes.CDLL)."""
     global _lib
@@ -61,6 +88,7 @@ def library():
         lib.rr_design_evaluate_batch.restype = ctypes.c_int
         from ._model import declare
         declare(lib)
+        _check_layout(lib)
         lib.rr_version.restype = ctypes.c_char_p
         if lib.rr_version().decode() != __version__:
             raise RailrideError("librailride %s loaded, this package is %s" % (lib.rr_version().decode(), __version__))
