@@ -201,10 +201,11 @@ typedef const char *const word_table[2];
 /* unit with every identifier found in tab (n rows) replaced by its text,
    into out (len bytes); *hits counts the replacements. */
 static void replace_words(const char *unit, word_table *tab, size_t n, char *out, size_t len,
-                          int *hits)
+                          int *hits, int *powered)
 {
   size_t k = 0;
   if (hits) *hits = 0;
+  if (powered) *powered = 0;
   for (const char *p = unit; *p && k + 1 < len;) {
     if (!isalpha((unsigned char)*p) && *p != '%') {
       out[k++] = *p++;
@@ -216,6 +217,11 @@ static void replace_words(const char *unit, word_table *tab, size_t n, char *out
     const char *rep = NULL;
     for (size_t i = 0; i < n && !rep; i++)
       if (strlen(tab[i][0]) == l && !strncmp(tab[i][0], id, l)) rep = tab[i][1];
+    int pw = *p == '^' || isdigit((unsigned char)*p) || (*p == '-' && isdigit((unsigned char)p[1]));
+    if (rep && rep[0] == '(' && pw) { /* "(km/h)2" is no unit udunits reads well: refused */
+      if (powered) *powered = 1;
+      rep = NULL;
+    }
     if (rep && hits) (*hits)++;
     int w = rep ? snprintf(out + k, len - k, "%s", rep)
                 : snprintf(out + k, len - k, "%.*s", (int)l, id);
@@ -241,12 +247,6 @@ static int has_factor_unit(const char *unit)
   return 0;
 }
 
-/* unit with every identifier in joined[] spelled out into out (n bytes). */
-static void spell_out(const char *unit, char *out, size_t n)
-{
-  replace_words(unit, joined, sizeof joined / sizeof joined[0], out, n, NULL);
-}
-
 /* The SI scale of unit text (trimmed). */
 static int unit_scale(const char *unit, const char *si_unit, double *scale, const char *what,
                       rr_error *err)
@@ -266,12 +266,20 @@ static int unit_scale(const char *unit, const char *si_unit, double *scale, cons
   if (st) return st;
   char spelled[2 * UNIT_TEXT_MAX], angular[8 * UNIT_TEXT_MAX], target[8 * UNIT_TEXT_MAX];
   int nang = 0;
-  spell_out(unit, spelled, sizeof spelled);
-  replace_words(spelled, angles, sizeof angles / sizeof angles[0], angular, sizeof angular, &nang);
+  int pw1 = 0, pw2 = 0;
+  replace_words(unit, joined, sizeof joined / sizeof joined[0], spelled, sizeof spelled, NULL,
+                &pw1);
+  replace_words(spelled, angles, sizeof angles / sizeof angles[0], angular, sizeof angular, &nang,
+                &pw2);
+  if (pw1 || pw2)
+    return rr_seterr(err, RR_EUNIT,
+                     "%s: unit '%s': a power of an angle or of mph / kph is not "
+                     "accepted",
+                     what, unit);
   if (nang) { /* an angle named: both sides with angles as candelas */
     char t1[8 * UNIT_TEXT_MAX];
-    replace_words(si_unit, implied, sizeof implied / sizeof implied[0], t1, sizeof t1, NULL);
-    replace_words(t1, angles, sizeof angles / sizeof angles[0], target, sizeof target, NULL);
+    replace_words(si_unit, implied, sizeof implied / sizeof implied[0], t1, sizeof t1, NULL, NULL);
+    replace_words(t1, angles, sizeof angles / sizeof angles[0], target, sizeof target, NULL, NULL);
   }
   pthread_mutex_lock(&db_lock);
   st = nang ? convert_locked(angular, unit, target, scale, what, err)
