@@ -22,7 +22,7 @@ typedef struct contact_args {
   long namps;
   double e0; /* NaN: b */
   int json, csv, details;
-  const char *grid_path;
+  const char *grid_path, *plot_data;
 } contact_args;
 
 enum {
@@ -49,7 +49,8 @@ enum {
   OPT_CJSON,
   OPT_CCSV,
   OPT_NODETAILS,
-  OPT_GRID
+  OPT_GRID,
+  OPT_PLOTDATA
 };
 
 /* 1/40, 1:20 or a decimal: the tangent of the rail's inclination. */
@@ -158,6 +159,7 @@ static int contact_option(int opt, const char *arg, contact_args *a)
   case OPT_CCSV: a->csv = 1; return 0;
   case OPT_NODETAILS: a->details = 0; return 0;
   case OPT_GRID: a->grid_path = arg; return 0;
+  case OPT_PLOTDATA: a->plot_data = arg; return 0;
   }
   return EXIT_BADINPUT;
 }
@@ -201,6 +203,8 @@ static const char contact_help[] =
     "  --e0 E               Klingel half contact spacing for the wavelength (default: the wheel\n"
     "                       origin's, flange back / 2 + wheel origin)\n"
     "  --grid FILE.csv      write the per-y table (dr, radii, angles, contact points, validity)\n"
+    "  --plot-data FILE     write what --plot draws (gnuplot data: the grid, the conicity\n"
+    "                       function, the right wheel on its rail at y = 0 and at the flange)\n"
     "  --no-contact-details leave the contact points out of the JSON\n"
     "  --json               JSON output\n"
     "  --csv                the conicity function as CSV\n"
@@ -232,6 +236,7 @@ static int contact_parse(int argc, char **argv, contact_args *a)
                                        {"csv", no_argument, 0, OPT_CCSV},
                                        {"no-contact-details", no_argument, 0, OPT_NODETAILS},
                                        {"grid", required_argument, 0, OPT_GRID},
+                                       {"plot-data", required_argument, 0, OPT_PLOTDATA},
                                        {"help", no_argument, 0, 'h'},
                                        {0, 0, 0, 0}};
   optind = 1;
@@ -540,6 +545,60 @@ static int contact_grid(const contact_run *r, const char *path)
   return cli_out_commit(&out);
 }
 
+/* The right wheel (at displacement y, lowered onto its rail) and its rail in
+   track coordinates (mm from the track centre), one block each. */
+static void wheel_on_rail(FILE *fp, const rr_polyline *p, const contact_run *r, long i)
+{
+  const rr_contact_state *s = &r->st[i];
+  for (int k = 0; k < p[2].n; k++) fprintf(fp, "%.6g %.6g\n", r->su.Y_mm[0] + p[2].x[k], p[2].z[k]);
+  fputs("\n\n", fp);
+  for (int k = 0; k < p[0].n; k++)
+    fprintf(fp, "%.6g %.6g\n", s->y_mm + r->su.b_mm + p[0].x[k], p[0].z[k] + s->side[0].lift_mm);
+  fprintf(fp, "\n\n%.6g %.6g\n\n\n", r->su.Y_mm[0] + s->side[0].rail_v_mm, s->side[0].rail_z_mm);
+}
+
+/* What --plot draws, as gnuplot data blocks (index 0 the grid: y dr
+   gamma_right gamma_left rail_right rail_left wheel_right wheel_left; 1 the
+   conicity function; 2-4 and 5-7 the right wheel on its rail at y = 0 and at
+   the onset of flange contact; comments give the labels). */
+static int contact_plot_data(const contact_args *a, const rr_polyline *p, const contact_run *r,
+                             const char *path)
+{
+  cli_outfile out;
+  int rc = cli_out_open(&out, path, "--plot-data");
+  if (rc) return rc;
+  FILE *fp = out.fp;
+  double fr, fl;
+  flange_onset(r, &fr, &fl);
+  long i0 = 0, i1 = 0;
+  for (long i = 0; i < r->n; i++) {
+    if (fabs(r->st[i].y_mm) < fabs(r->st[i0].y_mm)) i0 = i;
+    if (!isnan(fr) && r->st[i].y_mm == fr) i1 = i;
+  }
+  if (isnan(fr)) i1 = r->n - 1;
+  fprintf(fp, "# tan_gamma_e at 3 mm: %.4f; y0 = %.4f mm; wheel %s on rail %s\n", r->c3.tan_gamma_e,
+          r->y0, a->wheel[0], a->rail[0]);
+  fprintf(fp, "# shown at y = %.3f and %.3f mm\n", r->st[i0].y_mm, r->st[i1].y_mm);
+  for (long i = 0; i < r->n; i++) {
+    const rr_contact_state *s = &r->st[i];
+    if (!s->valid) continue;
+    fprintf(fp, "%.6g %.8g %.6g %.6g %.6g %.6g %.6g %.6g\n", s->y_mm, s->dr_mm,
+            s->side[0].gamma_rad, s->side[1].gamma_rad, s->side[0].rail_v_mm, s->side[1].rail_v_mm,
+            s->side[0].wheel_u_mm, s->side[1].wheel_u_mm);
+  }
+  fputs("\n\n", fp);
+  for (long k = 0; k < a->namps; k++) {
+    const rr_conicity *c = &r->cs[k];
+    fprintf(fp, "%.6g %.8g %.8g %.8g\n", c->amplitude_mm,
+            isnan(c->tan_gamma_e) ? NAN : c->tan_gamma_e, c->tan_gamma_e_harmonic,
+            c->tan_gamma_e_regression);
+  }
+  fputs("\n\n", fp);
+  wheel_on_rail(fp, p, r, i0);
+  wheel_on_rail(fp, p, r, i1);
+  return cli_out_commit(&out);
+}
+
 int cmd_contact(int argc, char **argv)
 {
   contact_args a = {.o = rr_contact_opts_default(),
@@ -555,6 +614,7 @@ int cmd_contact(int argc, char **argv)
   if (!r) r = load_profiles(&a, p);
   if (!r) r = contact_compute(&a, p, &run);
   if (!r && a.grid_path) r = contact_grid(&run, a.grid_path);
+  if (!r && a.plot_data) r = contact_plot_data(&a, p, &run, a.plot_data);
   if (!r && a.json)
     contact_json(&a, &run);
   else if (!r && a.csv)

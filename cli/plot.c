@@ -342,7 +342,52 @@ static void script_modes(FILE *gp, const char *d, int argc, char **argv)
   fprintf(gp, "unset multiplot\n");
 }
 
+/* contact: the right wheel on its rail (at y = 0 and at the flange), dr,
+   the contact angles, tan gamma_e by the three methods, and the contact
+   points on rail and wheel against y (the data's comments give the title). */
+static void script_contact(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc;
+  (void)argv;
+  char line[512], title[300] = "'Contact geometry'";
+  FILE *f = fopen(d, "r");
+  if (f && fgets(line, sizeof line, f)) {
+    line[strcspn(line, "\n")] = 0;
+    gp_str(title, sizeof title, line + (line[0] == '#' ? 2 : 0));
+  }
+  if (f) fclose(f);
+  fprintf(
+      gp,
+      "set datafile separator whitespace; set key top left font ',8'\n"
+      "set multiplot layout 3,2 title %s font ',10'\n"
+      "set title 'right wheel on its rail (grey y = 0, red at the flange)' font ',9'\n"
+      "set xlabel 'lateral from the track centre (mm)'; set ylabel 'vertical (mm)'\n"
+      "set size ratio -1\n"
+      "plot '%s' index 2 u 1:2 w l lc rgb '#444444' notitle, '' index 3 u 1:2 w l lc rgb '#999999' "
+      "notitle, '' index 4 u 1:2 w p pt 7 lc rgb '#999999' notitle, '' index 6 u 1:2 w l lc rgb "
+      "'#b2182b' notitle, '' index 7 u 1:2 w p pt 7 lc rgb '#b2182b' notitle\n"
+      "set size noratio\n"
+      "set title 'rolling radius difference' font ',9'; set xlabel 'y (mm)'; set ylabel 'dr (mm)'\n"
+      "plot '%s' index 0 u 1:2 w l lw 2 lc rgb '#2166ac' notitle\n"
+      "set title 'contact angles' font ',9'; set ylabel 'gamma (rad)'\n"
+      "plot '%s' index 0 u 1:3 w l lw 2 t 'right', '' index 0 u 1:4 w l lw 2 dt 2 t 'left'\n"
+      "set title 'equivalent conicity' font ',9'; set xlabel 'amplitude (mm)'; "
+      "set ylabel 'tan gamma_e'\n"
+      "plot '%s' index 1 u 1:2 w l lw 2 t 'EN 15302', '' index 1 u 1:3 w l dt 2 t 'harmonic', "
+      "'' index 1 u 1:4 w l dt 3 t 'regression'\n"
+      "set title 'contact point on the rail' font ',9'; set xlabel 'y (mm)'; "
+      "set ylabel 'v (mm)'\n"
+      "plot '%s' index 0 u 1:5 w p pt 7 ps 0.2 t 'right', '' index 0 u 1:6 w p pt 7 ps 0.2 t "
+      "'left'\n"
+      "set title 'contact point on the wheel' font ',9'; set ylabel 'u (mm)'\n"
+      "plot '%s' index 0 u 1:7 w p pt 7 ps 0.2 t 'right', '' index 0 u 1:8 w p pt 7 ps 0.2 t "
+      "'left'\n"
+      "unset multiplot\n",
+      title, d, d, d, d, d, d);
+}
+
 static const plot_kind kinds[] = {
+    {"contact", NULL, "--plot-data", 0, script_contact},
     {"modes", NULL, "--shape-data", 0, script_modes},
     {"damper", NULL, NULL, 0, script_damper},
     {"locus", NULL, NULL, 0, script_locus},

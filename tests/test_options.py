@@ -26,7 +26,7 @@ VALUES = {"speed": "350", "conicity": "0.17", "fmax": "10", "wmin": "0.001", "rm
           "radius-right": "460", "radius-left": "460", "inclination": "1/40", "gauge": "1435",
           "flange-back": "1360", "wheel-origin": "70", "gmp-depth": "14", "lateral-offset": "0", "e0": "750",
           "grid": "g.csv", "wheel": "w.dat", "wheel-left": "w.dat", "wheel-right": "w.dat", "rail": "r.dat",
-          "rail-left": "r.dat", "rail-right": "r.dat", "wheels": "w.dat"}
+          "rail-left": "r.dat", "rail-right": "r.dat", "wheels": "w.dat", "plot-data": "p.dat"}
 
 
 def check(cond, what):
