@@ -8,15 +8,18 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
+#include "outfile.h"
+#include "plot.h"
 
 #define WEAR_MAX 32
-#define WEAR_NAMP 14 /* the conicity function at 1.0, 1.5 .. 7.5 mm */
+#define WEAR_VMAX_KMH 600 /* rr_critical_speed's default upper end */
+#define WEAR_NAMP 14      /* the conicity function at 1.0, 1.5 .. 7.5 mm */
 
 typedef struct wear_args {
-  const char *wheels, *rail;
+  const char *wheels, *rail, *plot_data;
   int csv;
 } wear_args;
-enum { OPT_WHEELS = 6100, OPT_WRAIL, OPT_WCSV };
+enum { OPT_WHEELS = 6100, OPT_WRAIL, OPT_WCSV, OPT_WPLOTDATA };
 
 static int wear_cb(int opt, const char *arg, void *u)
 {
@@ -24,7 +27,8 @@ static int wear_cb(int opt, const char *arg, void *u)
   if (opt == OPT_WHEELS) a->wheels = arg;
   if (opt == OPT_WRAIL) a->rail = arg;
   if (opt == OPT_WCSV) a->csv = 1;
-  return opt == OPT_WHEELS || opt == OPT_WRAIL || opt == OPT_WCSV ? 0 : 1;
+  if (opt == OPT_WPLOTDATA) a->plot_data = arg;
+  return opt == OPT_WHEELS || opt == OPT_WRAIL || opt == OPT_WCSV || opt == OPT_WPLOTDATA ? 0 : 1;
 }
 
 typedef struct wear_row {
@@ -70,6 +74,13 @@ static int wear_one(const cli_common *c, const wear_args *a, const char *wheel, 
   return 0;
 }
 
+/* A profile's file name without its folder, as a plot label. */
+static const char *base_name(const char *path)
+{
+  const char *b = strrchr(path, '/');
+  return b ? b + 1 : path;
+}
+
 static void wear_text(const cli_common *c, const wear_row *w, int n)
 {
   char b1[32], b2[32];
@@ -78,12 +89,11 @@ static void wear_text(const cli_common *c, const wear_row *w, int n)
   printf("  %-28s %9s %10s %-9s %13s %7s %7s %7s\n", "wheel", "tan_ge_3", "index", "verdict",
          "critical_kmh", "W(+L)", "W(0)", "W(-L)");
   for (int i = 0; i < n; i++) {
-    const char *b = strrchr(w[i].wheel, '/');
-    printf("  %-28s %9.5f %10s %-9s %13s %7.3f %7.3f %7.3f\n", b ? b + 1 : w[i].wheel, w[i].tg3,
+    printf("  %-28s %9.5f %10s %-9s %13s %7.3f %7.3f %7.3f\n", base_name(w[i].wheel), w[i].tg3,
            cli_num_or_none(b1, sizeof b1, w[i].s.index),
            rr_modal_stable(w[i].s.zeta_max) ? "stable" : "UNSTABLE",
            w[i].cr.found ? (snprintf(b2, sizeof b2, "%.3f", w[i].cr.speed_ms * RR_KMH), b2)
-                         : "> 600",
+                         : "> " RR_STR(WEAR_VMAX_KMH),
            w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
   }
 }
@@ -130,6 +140,37 @@ static void wear_json(const cli_common *c, const wear_row *w, int n)
   cli_json_print(root);
 }
 
+/* What --plot draws, as gnuplot data blocks: index 0 the conicity
+   functions (amplitude, then one column per profile), index 1 one row per
+   profile (number, tan gamma_e at 3 mm, index, critical speed, Sperling
+   +L 0 -L, the search's upper end where none was found); '# profile k:'
+   comments give the labels. */
+static int wear_plot_data(const cli_common *c, const wear_row *w, int n, const char *path)
+{
+  cli_outfile out;
+  int rc = cli_out_open(&out, path, "--plot-data");
+  if (rc) return rc;
+  FILE *fp = out.fp;
+  fprintf(fp, "# %s at %g km/h: wheel profiles on their rail\n", c->veh.name, c->speed_kmh);
+  for (int i = 0; i < n; i++) { /* a control character would end the comment */
+    fprintf(fp, "# profile %d: ", i + 1);
+    for (const char *q = base_name(w[i].wheel); *q; q++)
+      fputc((unsigned char)*q < 32 ? '?' : *q, fp);
+    fputc('\n', fp);
+  }
+  for (int k = 0; k < WEAR_NAMP; k++) {
+    fprintf(fp, "%.6g", 1.0 + 0.5 * k);
+    for (int i = 0; i < n; i++) fprintf(fp, " %.8g", w[i].tg[k]);
+    fputc('\n', fp);
+  }
+  fputs("\n\n", fp);
+  for (int i = 0; i < n; i++)
+    fprintf(fp, "%d %.8g %.8g %.8g %.6g %.6g %.6g %g\n", i + 1, w[i].tg3, w[i].s.index,
+            w[i].cr.found ? w[i].cr.speed_ms * RR_KMH : NAN, w[i].rp[0].sperling,
+            w[i].rp[1].sperling, w[i].rp[2].sperling, w[i].cr.found ? NAN : (double)WEAR_VMAX_KMH);
+  return cli_out_commit(&out);
+}
+
 int cmd_wear(int argc, char **argv)
 {
   static const char help[] =
@@ -142,10 +183,13 @@ int cmd_wear(int argc, char **argv)
       "the floor points +L, 0, -L (PEM, the Wuhan-Guangzhou alignment).\n" CLI_COMMON_HELP
       "  --wheels P1,P2,..    wheel profile files (lateral vertical, mm), at most 32\n"
       "  --rail R             the rail profile file\n"
-      "  --csv                CSV output\n";
+      "  --csv                CSV output\n"
+      "  --plot-data FILE     write what --plot draws (gnuplot data: the conicity functions,\n"
+      "                       then a row per profile)\n";
   static const struct option extra[] = {{"wheels", required_argument, 0, OPT_WHEELS},
                                         {"rail", required_argument, 0, OPT_WRAIL},
                                         {"csv", no_argument, 0, OPT_WCSV},
+                                        {"plot-data", required_argument, 0, OPT_WPLOTDATA},
                                         {0, 0, 0, 0}};
   cli_common c;
   wear_args a = {0};
@@ -166,6 +210,7 @@ int cmd_wear(int argc, char **argv)
     if (n == WEAR_MAX) r = cli_bad("--wheels: at most %d profiles", WEAR_MAX);
     if (!r) r = wear_one(&c, &a, t, &rows[n++]);
   }
+  if (!r && a.plot_data) r = wear_plot_data(&c, rows, n, a.plot_data);
   if (!r && c.json)
     wear_json(&c, rows, n);
   else if (!r && a.csv)

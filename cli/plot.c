@@ -386,7 +386,54 @@ static void script_contact(FILE *gp, const char *d, int argc, char **argv)
       title, d, d, d, d, d, d);
 }
 
+/* wear: per wheel profile (numbered along x, names in the key of the
+   first panel) the conicity function, tan gamma_e at 3 mm, the stability
+   index, the linear critical speed and Sperling at the floor points. */
+static void script_wear(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc;
+  (void)argv;
+  char names[32][200], line[512], title[300] = "'Wear study'";
+  int np = 0;
+  FILE *f = fopen(d, "r");
+  for (int row = 0; f && fgets(line, sizeof line, f) && line[0] == '#'; row++) {
+    line[strcspn(line, "\n")] = 0;
+    const char *t = strchr(line, ':');
+    if (!row)
+      gp_str(title, sizeof title, line + 2);
+    else if (np < 32 && t)
+      gp_str(names[np++], sizeof names[0], t + 2);
+  }
+  if (f) fclose(f);
+  fprintf(gp,
+          "set datafile separator whitespace; set key top left font ',8'\n"
+          "set multiplot layout 2,2 title %s font ',10'\n"
+          "set title 'equivalent conicity (EN 15302)' font ',9'\n"
+          "set xlabel 'amplitude (mm)'; set ylabel 'tan gamma_e'\nplot ",
+          title);
+  for (int i = 0; i < np; i++)
+    fprintf(gp, "%s'%s' index 0 u 1:%d w lp pt 7 ps 0.5 lw 2 t %s", i ? ", " : "", d, i + 2,
+            names[i]);
+  fprintf(gp, "%s\n", np ? "" : "NaN notitle");
+  fprintf(gp,
+          "set xlabel 'profile (wear stage)'; set xtics 1; set xrange [0.5:%d.5]; set key off\n"
+          "set title 'stability index at the speed (below 0 stable)' font ',9'\n"
+          "set ylabel 'index'; set xzeroaxis lw 1.5\n"
+          "plot '%s' index 1 u 1:3 w lp pt 7 lw 2 lc rgb '#b2182b'\n"
+          "set title 'linear critical speed (triangles: none up to 600 km/h)' font ',9'\n"
+          "set ylabel 'speed (km/h)'; set yrange [0:660]\n"
+          "plot '%s' index 1 u 1:4 w p pt 7 ps 1.2 lc rgb '#2166ac', '' index 1 u 1:8 w p pt 9 "
+          "ps 1.5 lc rgb '#2166ac'\n"
+          "set yrange [*:*]\n"
+          "set title 'Sperling W at the floor points' font ',9'; set ylabel 'W'; set key on\n"
+          "plot '%s' index 1 u 1:5 w lp pt 7 lw 2 t '+L', '' index 1 u 1:6 w lp pt 5 lw 2 t "
+          "'0', '' index 1 u 1:7 w lp pt 9 lw 2 t '-L'\n"
+          "unset multiplot\n",
+          np > 0 ? np : 1, d, d, d);
+}
+
 static const plot_kind kinds[] = {
+    {"wear", NULL, "--plot-data", 0, script_wear},
     {"contact", NULL, "--plot-data", 0, script_contact},
     {"modes", NULL, "--shape-data", 0, script_modes},
     {"damper", NULL, NULL, 0, script_damper},

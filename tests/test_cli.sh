@@ -308,6 +308,25 @@ for p, r in zip(d["profiles"], ref):
     assert abs(m["stability_index"] - p["stability_index"]) < 1e-9, (p["wheel"], m["stability_index"], p["stability_index"])
 assert len(d["profiles"]) == 4 and len(d["profiles"][0]["tan_gamma_e"]) == len(d["amplitude_mm"])
 PY
+# what wear --plot draws is what --json says (the conicity functions, then a row per profile)
+"$RR" wear "$tmp/wear.ini" --wheels "$P/RUIC519A.dat,$P/RUIC519I.dat" --plot-data "$tmp/wear.dat" > /dev/null || bad "wear --plot-data exit"
+python3 - "$tmp/wear.json" "$tmp/wear.dat" <<'PY' && ok || bad "wear --plot-data"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+blocks = open(sys.argv[2]).read().split("\n\n\n")
+names = [l.split(": ", 1)[1] for l in blocks[0].splitlines() if l.startswith("# profile ")]
+curve = [list(map(float, l.split())) for l in blocks[0].splitlines() if l and l[0] != "#"]
+rows = [list(map(float, l.split())) for l in blocks[1].splitlines() if l.strip()]
+assert names == ["RUIC519A.dat", "RUIC519I.dat"], names
+for j, p in enumerate((d["profiles"][0], d["profiles"][3])):
+    assert [c[0] for c in curve] == d["amplitude_mm"]
+    assert all(abs(c[1 + j] - t) < 1e-7 for c, t in zip(curve, p["tan_gamma_e"]))
+    r = rows[j]
+    assert abs(r[1] - p["tan_gamma_e_3mm"]) < 1e-7 and abs(r[2] - p["stability_index"]) < 1e-7
+    cs = p["critical_speed_kmh"]
+    assert (math.isnan(r[3]) and r[7] == 600) if cs is None else (abs(r[3] - cs) < 1e-5 and math.isnan(r[7])), (r, cs)
+    assert all(abs(a - b) < 1e-5 for a, b in zip(r[4:7], p["sperling"]))
+PY
 # a file named where a vehicle, table, spectrum or problem file belongs, that is not one: no message quotes it
 printf 'SECRET_TOKEN=abc123\nOTHER = [x]\n' > "$tmp/secret.env"
 cp "$tmp/secret.env" "$tmp/secret.txt"

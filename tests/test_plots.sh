@@ -21,6 +21,9 @@ png() {  # png NAME ARGS...: railride ARGS --plot NAME.png, then the picture che
 png damper damper
 png modes modes --speed 350 --conicity 0.17
 png contact contact --wheel "$SRC/profiles/en15302/RUIC519H.dat" --rail "$SRC/profiles/en15302/SUIC519A.dat" --rail-gmp -32.5
+P=$(cd "$SRC/profiles/en15302" && pwd)
+printf '[vehicle]\nbase = type1\n[contact]\nrail = %s\ninclination = 0\ngauge_point = -32.5 mm\n' "$P/SUIC519A.dat" > "$tmp/wear.ini"
+png wear wear "$tmp/wear.ini" --wheels "$P/RUIC519A.dat,$P/RUIC519I.dat"
 png locus locus --over conicity --range 0.05:0.6:12 --speed 300
 png map map --speeds 200:500:4 --conicities 0.05:0.5:4
 png sweep sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:4" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:4" --objective "index@350,0.17"
@@ -41,6 +44,8 @@ svg_has "sweep: axis units" "yaw_damper.damping (N.s/m)" sweep --x "yaw_damper.d
 svg_has "modes: a panel per mode, the index's marked" "sets the index" modes --speed 350 --conicity 0.17
 svg_has "modes: roll marked" "roll " modes --speed 250 --conicity 0.05
 svg_has "contact: the conicity panel" "equivalent conicity" contact --wheel "$SRC/profiles/en15302/RUIC519A.dat" --rail "$SRC/profiles/en15302/SUIC519A.dat" --rail-gmp -32.5
+svg_has "wear: a panel per result, the profiles named" "RUIC519I.dat" wear "$tmp/wear.ini" --wheels "$P/RUIC519A.dat,$P/RUIC519I.dat"
+svg_has "wear: the critical speed panel" "linear critical speed" wear "$tmp/wear.ini" --wheels "$P/RUIC519A.dat,$P/RUIC519I.dat"
 svg_has "ride: the Sperling weighting" "Sperling weighting (right)" ride --speed 300 --conicity 0.2
 svg_has "validate: the spread band" "2 sigma of a Welch bin" validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256
 svg_has "map: the zero contour" "index = 0" map --speeds 200:600:4 --conicities 0.05:0.5:4
