@@ -43,18 +43,13 @@ typedef struct wear_row {
 static int wear_one(const cli_common *c, const wear_args *a, const char *wheel, wear_row *w)
 {
   rr_vehicle v = c->veh;
-  rr_wheel_rail *wr = &v.wheel_rail;
   snprintf(w->wheel, sizeof w->wheel, "%s", wheel);
-  snprintf(wr->wheel[0], sizeof wr->wheel[0], "%s", wheel);
-  wr->wheel[1][0] = 0;
-  if (a->rail) {
-    snprintf(wr->rail[0], sizeof wr->rail[0], "%s", a->rail);
-    wr->rail[1][0] = 0;
-  }
-  if (!wr->rail[0][0]) return cli_bad("wear: a rail is needed (--rail, or [contact] rail)");
+  if (!a->rail && !v.wheel_rail.rail[0][0])
+    return cli_bad("wear: a rail is needed (--rail, or [contact] rail)");
+  rr_error e;
+  if (rr_vehicle_set_profiles(&v, wheel, a->rail, &e)) return cli_bad("--wheels: %s", e.msg);
   double amps[WEAR_NAMP];
   for (int k = 0; k < WEAR_NAMP; k++) amps[k] = 1.0 + 0.5 * k;
-  rr_error e;
   rr_model *m = NULL;
   rr_modal_ws *ws = NULL;
   int st = rr_vehicle_profile_conicity(&v, &w->tg3, NULL, 0, &e);

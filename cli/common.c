@@ -176,15 +176,11 @@ int cli_profile_conicity(cli_common *c, unsigned reads)
     const char *comma = strchr(c->profiles, ',');
     snprintf(w, sizeof w, "%.*s", comma ? (int)(comma - c->profiles) : (int)strlen(c->profiles),
              c->profiles);
-    rr_wheel_rail *wr = &c->veh.wheel_rail;
-    snprintf(wr->wheel[0], sizeof wr->wheel[0], "%s", w);
-    wr->wheel[1][0] = 0;
-    if (comma) {
-      snprintf(wr->rail[0], sizeof wr->rail[0], "%s", comma + 1);
-      wr->rail[1][0] = 0;
-    }
-    if (!wr->rail[0][0])
+    if (!comma && !c->veh.wheel_rail.rail[0][0])
       return cli_bad("--profiles: a rail is needed (--profiles WHEEL,RAIL, or [contact] rail)");
+    rr_error e;
+    if (rr_vehicle_set_profiles(&c->veh, w, comma ? comma + 1 : NULL, &e))
+      return cli_bad("--profiles: %s", e.msg);
   }
   int profiled = rr_vehicle_has_profiles(&c->veh);
   if (c->have_conicity) {

@@ -430,6 +430,24 @@ static void test_vehicle_profiles(void)
   CHECK_OK(rr_vehicle_profile_conicity(&veh, &lam, src, sizeof src, &e), e);
   CHECK_CLOSE(lam, 0.05, 0, 1e-12, "a cone on a knife edge through a vehicle file");
   CHECK(!strcmp(src, "profiles cone.dat/knife.dat at 3 mm"), "the source: %s", src);
+  /* another wheel named in code: the rail and placement stay; a path too
+     long or no rail at all is refused with the vehicle unchanged */
+  char cone2[RR_PROFILE_PATH_MAX + 8];
+  snprintf(cone2, sizeof cone2, "%s", check_write_file("cone2.dat", "-70 -7\n0 0\n65 6.5\n"));
+  CHECK_OK(rr_vehicle_set_profiles(&veh, cone2, NULL, &e), e);
+  CHECK_OK(rr_vehicle_profile_conicity(&veh, &lam, NULL, 0, &e), e);
+  CHECK_CLOSE(lam, 0.1, 0, 1e-12, "rr_vehicle_set_profiles: a cone of slope 0.1");
+  rr_vehicle keep = veh;
+  memset(cone2, 'a', sizeof cone2 - 1);
+  cone2[sizeof cone2 - 1] = 0;
+  CHECK(rr_vehicle_set_profiles(&veh, cone2, NULL, &e) == RR_EINVAL &&
+            !memcmp(&veh, &keep, sizeof veh),
+        "a path too long is refused, the vehicle unchanged: %s", e.msg);
+  rr_vehicle bare;
+  rr_vehicle_default(&bare);
+  CHECK(rr_vehicle_set_profiles(&bare, "cone.dat", NULL, &e) == RR_EINVAL &&
+            strstr(e.msg, "rail") && !rr_vehicle_has_profiles(&bare),
+        "no rail: refused: %s", e.msg);
   v = check_write_file("v2.ini", "[vehicle]\nbase = type1\n[contact]\nwheel = nosuch.dat\n"
                                  "rail = knife.dat\n");
   CHECK_OK(rr_vehicle_open(v, &veh, &e), e);

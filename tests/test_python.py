@@ -164,6 +164,28 @@ check(close(cg["dr_mm"], cj["dr_mm"]) and close(cg["tan_gamma_e"], nan(cj["tan_g
       and close(cg["y0_mm"], cj["y0_mm"]) and close(cg["tan_gamma_e_3mm"], cj["tan_gamma_e_3mm"]),
       "contact() equals contact --json")
 check(abs(cg["y0_mm"] + 2.4939) < 1e-4 and abs(cg["tan_gamma_e_3mm"] - 0.26960) < 1e-5, "contact(): Annex E case E7")
+# the wear study as numpy arrays: the numbers of railride wear --json, and Annex E's conicities
+wini = os.path.join(tempfile.mkdtemp(), "wear.ini")
+with open(wini, "w") as f:
+    f.write("[vehicle]\nbase = type1\n[contact]\nrail = %s\ninclination = 0\ngauge_point = -32.5 mm\n"
+            % os.path.join(P, "SUIC519A.dat"))
+ww = [os.path.join(P, n) for n in ("RUIC519B.dat", "RUIC519I.dat")]
+wp = railride.wear(ww, vehicle=wini, speed_kmh=300)
+wj = json.loads(subprocess.run([cli, "wear", wini, "--wheels", ",".join(ww), "--speed", "300", "--json"],
+                               capture_output=True, check=True, text=True).stdout)["profiles"]
+check(close(wp["tan_gamma_e_3mm"], [p["tan_gamma_e_3mm"] for p in wj])
+      and close(wp["tan_gamma_e"], [nan(p["tan_gamma_e"]) for p in wj])
+      and close(wp["stability_index"], nan([p["stability_index"] for p in wj]))
+      and close(wp["zeta_max"], [p["zeta_max"] for p in wj])
+      and close(wp["critical_speed_kmh"], nan([p["critical_speed_kmh"] for p in wj]))
+      and np.allclose(wp["sperling"], [p["sperling"] for p in wj], rtol=1e-12)
+      and list(wp["stable"]) == [p["stable"] for p in wj], "wear() equals wear --json")
+check(np.allclose(wp["tan_gamma_e_3mm"], [0.03228, 0.49305], atol=1e-5), "wear(): Annex E cases E2 and E8")
+try:
+    railride.wear(ww)  # the built-in vehicle names no rail
+    check(False, "wear() without a rail is refused")
+except railride.RailrideError as e:
+    check("rail" in str(e), "wear() without a rail is refused: %s" % e)
 # handles shared by threads: the same answers as one thread, and closing a
 # handle another thread is using is an error, never a crash
 import threading  # noqa: E402

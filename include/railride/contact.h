@@ -134,6 +134,11 @@ RR_API void rr_conicity_eval(rr_conicity_plan *p, double amplitude_mm, double e0
 
 /* The vehicle's [contact] profiles (rr_wheel_rail): 1 when it names a wheel. */
 RR_API int rr_vehicle_has_profiles(const rr_vehicle *v);
+/* Names the vehicle's profiles: wheel on both sides, and rail on both sides
+ * when given (else the vehicle's own rail stays); the placement keys stay.
+ * RR_EINVAL for a path that does not fit or no rail at all (v unchanged). */
+RR_API int rr_vehicle_set_profiles(rr_vehicle *v, const char *wheel, const char *rail,
+                                   rr_error *err);
 /* The linear model's conicity from them: tan_gamma_e by EN 15302's method at
  * the section's amplitude, on the grid -10:10:0.01 mm, with the vehicle's
  * rolling radius; source (n bytes) says where it came from, e.g. "profiles

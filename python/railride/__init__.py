@@ -20,7 +20,7 @@ import os
 
 import numpy as np
 
-__all__ = ["Design", "Vehicle", "RailrideError", "library", "__version__"]
+__all__ = ["Design", "Vehicle", "RailrideError", "contact", "wear", "library", "__version__"]
 __version__ = "0.1.0"
 
 
@@ -195,4 +195,4 @@ class Design:
 
 
 from ._model import Vehicle  # noqa: E402  (needs RailrideError and library above)
-from ._contact import contact  # noqa: E402
+from ._contact import contact, wear  # noqa: E402

@@ -141,3 +141,58 @@ def contact(wheel, rail, wheel_left=None, rail_left=None, gauge=1435.0, flange_b
         lib.rr_contact_plan_free(plan)
         for p in loaded:  # each file was read into its own polyline
             lib.rr_polyline_free(ctypes.byref(p))
+
+
+_WEAR_AMPS = np.arange(1.0, 7.5 + 1e-9, 0.5)  # the conicity function's amplitudes (mm), as `railride wear`
+
+
+def _declare_vehicle(lib):
+    P, E = ctypes.c_void_p, ctypes.c_void_p
+    sig = {"rr_vehicle_set_profiles": (ctypes.c_int, [P, ctypes.c_char_p, ctypes.c_char_p, E]),
+           "rr_vehicle_profile_conicity": (ctypes.c_int, [P, c_double_p, ctypes.c_char_p, ctypes.c_size_t, E]),
+           "rr_vehicle_profile_conicity_function": (ctypes.c_int, [P, c_double_p, ctypes.c_int, c_double_p, E]),
+           "rr_vehicle_key_find": (P, [ctypes.c_char_p]), "rr_vehicle_field": (c_double_p, [P, P])}
+    for name, (res, args) in sig.items():
+        f = getattr(lib, name)
+        f.restype, f.argtypes = res, args
+
+
+def wear(wheels, rail=None, vehicle="type1", speed_kmh=350.0, spectrum="wuhan-guangzhou"):
+    """The wear study of `railride wear`: each wheel profile (the wear stages,
+    in order) on the rail (or the vehicle file's [contact] rail, with its
+    placement keys), as numpy arrays over the profiles: tan_gamma_e_3mm, the
+    conicity function tan_gamma_e (profiles x amplitude_mm, NaN where
+    undefined), stability_index (NaN where undefined), zeta_max, stable,
+    critical_speed_kmh (NaN when none up to 600 km/h) and sperling (profiles x
+    the floor points +L, 0, -L); wheel names the files."""
+    from . import library, RailrideError
+    from ._model import Vehicle, _Error
+    lib = library()
+    if not getattr(lib, "_wear_declared", False):
+        _declare_vehicle(lib)
+        lib._wear_declared = True
+    wheels = [str(w) for w in ([wheels] if isinstance(wheels, (str, bytes)) else wheels)]
+    n, na = len(wheels), _WEAR_AMPS.size
+    out = {"wheel": wheels, "amplitude_mm": _WEAR_AMPS.copy(), "tan_gamma_e_3mm": np.empty(n),
+           "tan_gamma_e": np.empty((n, na)), "stability_index": np.empty(n), "zeta_max": np.empty(n),
+           "stable": np.empty(n, dtype=bool), "critical_speed_kmh": np.empty(n), "sperling": np.empty((n, 3))}
+    err = _Error()
+    with Vehicle(vehicle) as v:
+        def call(name, *args):
+            if getattr(lib, name)(*args, ctypes.byref(err)):
+                raise RailrideError(err.msg.decode())
+        L = lib.rr_vehicle_field(v._veh, lib.rr_vehicle_key_find(b"layout.bogie_half_spacing"))[0]
+        amps = np.ascontiguousarray(_WEAR_AMPS)
+        for i, w in enumerate(wheels):
+            call("rr_vehicle_set_profiles", v._veh, w.encode(), None if rail is None else str(rail).encode())
+            tg3, tg = ctypes.c_double(), np.empty(na)
+            call("rr_vehicle_profile_conicity", v._veh, ctypes.byref(tg3), None, 0)
+            call("rr_vehicle_profile_conicity_function", v._veh, amps.ctypes.data_as(c_double_p), na,
+                 tg.ctypes.data_as(c_double_p))
+            out["tan_gamma_e_3mm"][i], out["tan_gamma_e"][i] = tg3.value, tg
+            out["stability_index"][i] = v.map([speed_kmh], [tg3.value])[0, 0]
+            out["zeta_max"][i] = v.map([speed_kmh], [tg3.value], what="zeta_max")[0, 0]
+            out["stable"][i] = out["zeta_max"][i] < 0  # rr_modal_stable
+            out["critical_speed_kmh"][i] = v.critical_speed(tg3.value)
+            out["sperling"][i] = v.ride(speed_kmh, tg3.value, spectrum=spectrum, points=(L, 0.0, -L))["sperling"]
+    return out

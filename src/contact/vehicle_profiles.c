@@ -13,6 +13,33 @@
 
 int rr_vehicle_has_profiles(const rr_vehicle *v) { return v->wheel_rail.wheel[0][0] != 0; }
 
+/* A path that fits a profile slot. */
+static int path_fits(const char *path, const char *what, rr_error *err)
+{
+  if (strlen(path) < RR_PROFILE_PATH_MAX) return RR_OK;
+  return rr_seterr(err, RR_EINVAL, "the %s profile's path is longer than %d bytes", what,
+                   RR_PROFILE_PATH_MAX - 1);
+}
+
+int rr_vehicle_set_profiles(rr_vehicle *v, const char *wheel, const char *rail, rr_error *err)
+{
+  rr_wheel_rail *w = &v->wheel_rail;
+  int has_rail = rail && rail[0];
+  if (!wheel || !wheel[0]) return rr_seterr(err, RR_EINVAL, "no wheel profile given");
+  if (!has_rail && !w->rail[0][0])
+    return rr_seterr(err, RR_EINVAL, "a rail profile is needed (none given, none in [contact])");
+  int rc = path_fits(wheel, "wheel", err);
+  if (!rc && has_rail) rc = path_fits(rail, "rail", err);
+  if (rc) return rc; /* checked first: v is unchanged on error */
+  memcpy(w->wheel[0], wheel, strlen(wheel) + 1);
+  w->wheel[1][0] = 0;
+  if (has_rail) {
+    memcpy(w->rail[0], rail, strlen(rail) + 1);
+    w->rail[1][0] = 0;
+  }
+  return RR_OK;
+}
+
 static const char *base_name(const char *path)
 {
   const char *b = strrchr(path, '/');
