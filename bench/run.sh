@@ -36,5 +36,10 @@ echo "== validation: 600 s at 350 km/h simulated and analysed =="
 "$B/railride" validate --speed 350 --conicity 0.2 | tail -1
 echo "== contact geometry and equivalent conicity (EN 15302 wheel A on rail A, 2001 y, 66 amplitudes) =="
 taskset -c 1 "$B/bench/bench_contact"
+echo "== numpy, the contact search alone of the same case (vectorised over y; dr checked against railride's) =="
+grid=$(mktemp)
+"$B/railride" contact --wheel profiles/en15302/RUIC519A.dat --rail profiles/en15302/SUIC519A.dat --rail-gmp -32.5 --grid "$grid" > /dev/null
+taskset -c 1 $PY bench/numpy_contact.py "$grid"
+rm -f "$grid"
 echo "== nonlinear model: simulation, bifurcation diagram by continuation and by the scan =="
 OMP_NUM_THREADS=1 taskset -c 1 "$B/bench/bench_nonlinear"
