@@ -98,7 +98,7 @@ typedef struct rr_branch_opts {
 int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
                     double *z_out, int *n, int *end, rr_error *err);
 
-/* The nonlinear vehicle as an orbit system (bifurcation.c): amplitude y_w1,
+/* The nonlinear vehicle as an rr_orbit_sys, for bifurcation.c: amplitude y_w1,
    phase dy_w1/dt = 0; *atol allocated (free it). */
 struct rr_nonlinear;
 int rr_nonlinear_orbit_sys(struct rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_error *err);
