@@ -15,6 +15,11 @@
 #define WEAR_VMAX_KMH 600 /* rr_critical_speed's default upper end */
 #define WEAR_NAMP 14      /* the conicity function at 1.0, 1.5 .. 7.5 mm */
 
+static void wear_amplitudes(double amp_mm[WEAR_NAMP])
+{
+  for (int k = 0; k < WEAR_NAMP; k++) amp_mm[k] = 1.0 + 0.5 * k;
+}
+
 typedef struct wear_args {
   const char *wheels, *rail, *plot_data;
   int csv;
@@ -49,7 +54,7 @@ static int wear_one(const cli_common *c, const wear_args *a, const char *wheel, 
   rr_error e;
   if (rr_vehicle_set_profiles(&v, wheel, a->rail, &e)) return cli_bad("--wheels: %s", e.msg);
   double amps[WEAR_NAMP];
-  for (int k = 0; k < WEAR_NAMP; k++) amps[k] = 1.0 + 0.5 * k;
+  wear_amplitudes(amps);
   rr_model *m = NULL;
   rr_modal_ws *ws = NULL;
   int st = rr_vehicle_profile_conicity(&v, &w->tg3, NULL, 0, &e);
@@ -113,7 +118,7 @@ static void wear_json(const cli_common *c, const wear_row *w, int n)
   cJSON_AddStringToObject(root, "vehicle", c->veh.name);
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
   double amps[WEAR_NAMP];
-  for (int k = 0; k < WEAR_NAMP; k++) amps[k] = 1.0 + 0.5 * k;
+  wear_amplitudes(amps);
   cJSON_AddItemToObject(root, "amplitude_mm", cJSON_CreateDoubleArray(amps, WEAR_NAMP));
   for (int i = 0; i < n; i++) {
     cJSON *o = cJSON_CreateObject();
@@ -146,6 +151,8 @@ static int wear_plot_data(const cli_common *c, const wear_row *w, int n, const c
   int rc = cli_out_open(&out, path, "--plot-data");
   if (rc) return rc;
   FILE *fp = out.fp;
+  double amps[WEAR_NAMP];
+  wear_amplitudes(amps);
   fprintf(fp, "# %s at %g km/h: wheel profiles on their rail\n", c->veh.name, c->speed_kmh);
   for (int i = 0; i < n; i++) { /* a control character would end the comment */
     fprintf(fp, "# profile %d: ", i + 1);
@@ -154,7 +161,7 @@ static int wear_plot_data(const cli_common *c, const wear_row *w, int n, const c
     fputc('\n', fp);
   }
   for (int k = 0; k < WEAR_NAMP; k++) {
-    fprintf(fp, "%.6g", 1.0 + 0.5 * k);
+    fprintf(fp, "%.6g", amps[k]);
     for (int i = 0; i < n; i++) fprintf(fp, " %.8g", w[i].tg[k]);
     fputc('\n', fp);
   }
