@@ -14,19 +14,11 @@ import tempfile
 
 import pandas as pd
 
+from pycheck import check, done  # tests/pycheck.py
+
 cli = os.environ["RR_CLI"]
 src = os.environ["RR_SOURCE_DIR"]
-passed = failed = 0
 tmp = tempfile.mkdtemp(prefix="rr_csv_")
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what, file=sys.stderr)
 
 
 def run(*args):
@@ -100,5 +92,4 @@ run("optimise", prob)
 objs = ["index@350,0.17", "sperling@350,0.17,8.6875"]
 check_csv("optimise pareto", open(os.path.join(tmp, "opt-pareto.csv")).read(), ["yaw_damper.series_stiffness_n_per_m"] + objs, objs)
 check_csv("optimise history", open(os.path.join(tmp, "opt-history.csv")).read(), ["generation", "hypervolume"])
-print("csv: %d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+done("csv")

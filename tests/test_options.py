@@ -9,8 +9,9 @@ import subprocess
 import sys
 import tempfile
 
+from pycheck import check, done  # tests/pycheck.py
+
 cli = os.environ["RR_CLI"]
-passed = failed = 0
 
 # a plausible value for each option that takes one (the test is of the
 # option's acceptance, not of the value)
@@ -27,15 +28,6 @@ VALUES = {"speed": "350", "conicity": "0.17", "fmax": "10", "wmin": "0.001", "rm
           "flange-back": "1360", "wheel-origin": "70", "gmp-depth": "14", "lateral-offset": "0", "e0": "750",
           "grid": "g.csv", "wheel": "w.dat", "wheel-left": "w.dat", "wheel-right": "w.dat", "rail": "r.dat",
           "rail-left": "r.dat", "rail-right": "r.dat", "wheels": "w.dat", "plot-data": "p.dat"}
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what, file=sys.stderr)
 
 
 scratch = tempfile.mkdtemp(prefix="rr_opts_")  # the commands' working folder: nothing may appear in it
@@ -106,5 +98,4 @@ for cmd in commands:
               % (cmd, opt, rc, out.strip()[-200:]))
 left = os.listdir(scratch)
 check(not left, "an option tried with --help wrote files: %s" % left)
-print("options: %d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+done("options")

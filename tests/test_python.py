@@ -8,18 +8,9 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.environ["RR_SOURCE_DIR"], "python"))
 import railride  # noqa: E402
+from pycheck import check, done  # tests/pycheck.py
 
 cli = os.environ["RR_CLI"]
-passed = failed = 0
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what, file=sys.stderr)
 
 
 d = railride.Design("type1", ["yaw_damper.series_stiffness"], ["zeta_low", "zeta_high", "std_zeta", "index@300,0.3"])
@@ -242,5 +233,4 @@ try:
 except railride.RailrideError:
     check(True, "a closed Design raises")
 
-print("python: %d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+done("python")
