@@ -227,6 +227,28 @@ enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
   }
 /* Handles one of them: 0 taken, 1 error (printed), -1 not one of them. */
 int ride_setup_option(ride_setup *r, int opt, const char *arg);
+
+/* --direction: which model a ride-type command runs. */
+enum cli_direction { CLI_DIR_LATERAL = 0, CLI_DIR_VERTICAL = 1, CLI_DIR_BOTH = 2 };
+/* Finds --direction in argv before parsing (it decides which shared options
+   the command reads): the direction, or -1 after a message. */
+int cli_direction_scan(const char *cmd, int argc, char **argv);
+/* The vertical side of ride, frf and modes (cmd_vertical.c). */
+typedef struct vertical_setup {
+  int direction;         /* enum cli_direction */
+  const char *spectrum;  /* --vertical-spectrum (default tbt3352-vertical) */
+  int outside;           /* -1: the file's; 0 extend; 1 zero */
+  double window_s;       /* --window (5 s) */
+  double ax_p95, ax_p50; /* --ax-p95, --ax-p50: longitudinal Wd 5 s RMS percentiles (0) */
+  int dofs;              /* frf --dofs: every coordinate's FRF too */
+  const char *plot;      /* --plot FILE.png */
+} vertical_setup;
+void vertical_setup_default(vertical_setup *v);
+/* ride --direction vertical|both (conicity: the lateral side's, both only) */
+int ride_vertical(const cli_common *c, const ride_setup *rs, const vertical_setup *vs,
+                  double conicity, const char *psd_path);
+int frf_vertical(const cli_common *c, const ride_setup *rs, const vertical_setup *vs);
+int modes_vertical(const cli_common *c);
 /* After parsing: the floor points default to +L, 0, -L of the vehicle loaded
    (the defaults set before parsing were the built-in vehicle's). */
 void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv);

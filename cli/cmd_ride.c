@@ -130,11 +130,42 @@ out:
 
 typedef struct ride_args {
   ride_setup rs;
+  vertical_setup vs;
   double conicities[64];
   int ncon;
   const char *psd_path;
+  unsigned lateral_only, vertical_only; /* options given that belong to one side (bits) */
+  const char *lateral_default;          /* the default --spectrum (to see one given) */
 } ride_args;
 enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON, OPT_CMP_CSV };
+/* The vertical side's options (ride, frf). */
+enum {
+  OPT_DIRECTION = 3200,
+  OPT_VSPECTRUM,
+  OPT_WINDOW,
+  OPT_OUTSIDE,
+  OPT_AXP95,
+  OPT_AXP50,
+  OPT_DOFS
+};
+#define VERTICAL_OPTIONS                                                                           \
+  {"direction", required_argument, 0, OPT_DIRECTION},                                              \
+      {"vertical-spectrum", required_argument, 0, OPT_VSPECTRUM},                                  \
+      {"window", required_argument, 0, OPT_WINDOW},                                                \
+      {"outside", required_argument, 0, OPT_OUTSIDE}, {"ax-p95", required_argument, 0, OPT_AXP95}, \
+  {                                                                                                \
+    "ax-p50", required_argument, 0, OPT_AXP50                                                      \
+  }
+#define VERTICAL_HELP                                                                              \
+  "  --direction D        lateral (default), vertical (the vertical model: bounce, pitch, first\n" \
+  "                       bending; floor vertical PSD, RMS, Sperling, Wk, Wb and the 5 s Wb RMS\n" \
+  "                       percentiles), or both (adds EN 12299 N_MV, N_VD, N_VA per point from\n"  \
+  "                       the lateral Wd and vertical Wb percentiles; one conicity)\n"             \
+  "  --vertical-spectrum S  vertical track spectrum (default tbt3352-vertical)\n"                  \
+  "  --outside extend|zero  the vertical spectrum beyond its valid range (default: the file's)\n"  \
+  "  --window T           EN 12299 RMS window, s (default 5)\n"                                    \
+  "  --ax-p95 A, --ax-p50 A  longitudinal Wd 5 s RMS percentiles, m/s^2, for N_MV/N_VD/N_VA\n"     \
+  "                       (default 0: longitudinal motion is not modelled)\n"
 
 int ride_setup_option(ride_setup *r, int opt, const char *arg)
 {
@@ -154,11 +185,43 @@ int ride_setup_option(ride_setup *r, int opt, const char *arg)
   return -1;
 }
 
+/* The vertical options: 0 taken, 1 error (printed), -1 not one of them. */
+static int vertical_option(ride_args *a, int opt, const char *arg)
+{
+  vertical_setup *v = &a->vs;
+  switch (opt) {
+  case OPT_DIRECTION: return 0; /* read before parsing (cli_direction_scan) */
+  case OPT_VSPECTRUM: v->spectrum = arg; break;
+  case OPT_WINDOW:
+    if (cli_number_in("window", arg, "s", 0.01, 3600, &v->window_s)) return 1;
+    break;
+  case OPT_OUTSIDE:
+    if (strcmp(arg, "extend") && strcmp(arg, "zero"))
+      return cli_bad("--outside: extend or zero expected, got '%s'", arg);
+    v->outside = !strcmp(arg, "zero");
+    break;
+  case OPT_AXP95:
+  case OPT_AXP50:
+    if (cli_number_in(opt == OPT_AXP95 ? "ax-p95" : "ax-p50", arg, "m/s2", 0, 100,
+                      opt == OPT_AXP95 ? &v->ax_p95 : &v->ax_p50))
+      return 1;
+    break;
+  case OPT_DOFS: v->dofs = 1; break;
+  default: return -1;
+  }
+  a->vertical_only |= 1u << (opt - OPT_DIRECTION);
+  return 0;
+}
+
 static int ride_cb(int opt, const char *arg, void *u)
 {
   ride_args *a = u;
   int r = ride_setup_option(&a->rs, opt, arg);
-  if (r >= 0) return r;
+  if (r >= 0) {
+    if (opt == OPT_HEIGHT || opt == OPT_ROLLG) a->lateral_only |= 1u << (opt - OPT_SPECTRUM);
+    return r;
+  }
+  if ((r = vertical_option(a, opt, arg)) >= 0) return r;
   switch (opt) {
   case OPT_BAND:
     if (cli_range("band", arg, "Hz", &a->rs.f_lo, &a->rs.f_hi, &a->rs.nfreq)) return 1;
@@ -169,6 +232,7 @@ static int ride_cb(int opt, const char *arg, void *u)
     return 0;
   case OPT_PSD: a->psd_path = arg; return 0;
   case OPT_METHOD:
+    a->lateral_only |= 1u << 8;
     if (!strcmp(arg, "modal"))
       a->rs.method = RR_FRF_MODAL;
     else if (!strcmp(arg, "direct"))
@@ -208,22 +272,47 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
   "  --method M           modal (default: modal expansion + SMW) or direct (a solve per "          \
   "frequency)\n"
 
+/* An option that belongs to the other direction: its message, or 0. */
+static int direction_mismatch(const ride_args *a)
+{
+  static const char *const vnames[] = {
+      "--direction", "--vertical-spectrum", "--window", "--outside", "--ax-p95", "--ax-p50",
+      "--dofs"};
+  int dir = a->vs.direction;
+  for (int b = 0; dir == CLI_DIR_LATERAL && b < 7; b++)
+    if (a->vertical_only & (1u << b))
+      return cli_bad("%s: only with --direction vertical or both", vnames[b]);
+  if (dir != CLI_DIR_VERTICAL) return 0;
+  if (a->lateral_only & (1u << (OPT_HEIGHT - OPT_SPECTRUM)))
+    return cli_bad("--floor-height: the lateral model's (not with --direction vertical)");
+  if (a->lateral_only & (1u << (OPT_ROLLG - OPT_SPECTRUM)))
+    return cli_bad("--roll-gravity: the lateral model's (not with --direction vertical)");
+  if (a->lateral_only & (1u << 8))
+    return cli_bad("--method: the lateral model's (not with --direction vertical)");
+  if (a->rs.spectrum != a->lateral_default)
+    return cli_bad("--spectrum is the lateral track input: with --direction vertical give "
+                   "--vertical-spectrum");
+  return 0;
+}
+
 static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
                       const struct option *extra, const char *help, int conicity_list)
 {
+  int dir = cli_direction_scan(argc > 0 ? argv[0] : "ride", argc, argv);
+  if (dir < 0) return EXIT_BADINPUT;
   memset(a, 0, sizeof *a);
   rr_vehicle tmp;
   rr_vehicle_default(&tmp);
   ride_setup_default(&a->rs, &tmp);
-  int r = conicity_list
-              ? cli_parse_list(argc, argv, c,
-                               CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON |
-                                   CLI_READS_GRAVITY,
-                               extra, ride_cb, a, help)
-              : cli_parse(argc, argv, c,
-                          CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_GRAVITY,
-                          extra, ride_cb, a, help);
+  vertical_setup_default(&a->vs);
+  a->vs.direction = dir;
+  a->lateral_default = a->rs.spectrum;
+  unsigned reads = CLI_READS_SPEED | CLI_READS_JSON;
+  if (dir != CLI_DIR_VERTICAL) reads |= CLI_READS_CONICITY | CLI_READS_GRAVITY;
+  int r = conicity_list ? cli_parse_list(argc, argv, c, reads, extra, ride_cb, a, help)
+                        : cli_parse(argc, argv, c, reads, extra, ride_cb, a, help);
   if (r) return r;
+  if ((r = direction_mismatch(a))) return r;
   ride_setup_points(&a->rs, &c->veh, argc, argv);
   return 0;
 }
@@ -325,22 +414,35 @@ int cmd_ride(int argc, char **argv)
   static const char help[] =
       "usage: railride ride [VEHICLE] --speed KMH --conicity L[,L2,...] [--spectrum NAME|FILE] "
       "[--json] [--psd FILE.csv]\n"
+      "       railride ride [VEHICLE] --speed KMH --direction vertical [--vertical-spectrum S]\n"
+      "       railride ride [VEHICLE] --speed KMH --conicity L --direction both\n"
       "Carbody floor lateral acceleration by the pseudo-excitation method (PEM): the track\n"
       "alignment PSD drives each wheelset with its time lag; complex responses over the band,\n"
       "then the one-sided acceleration PSD, RMS, Sperling (filter and GB/T 5599 line methods)\n"
       "and the Wd-weighted RMS at each floor point. The yaw damper SDF, when on, is taken at\n"
-      "each frequency (paper mode: real k_sdf(f); physical: complex).\n" CLI_COMMON_HELP RIDE_HELP
+      "each frequency (paper mode: real k_sdf(f); physical: complex). --direction vertical\n"
+      "runs the vertical model instead (its vertical profile under each wheelset with its\n"
+      "delay); both adds EN 12299's mean comfort per point.\n" CLI_COMMON_HELP RIDE_HELP
+          VERTICAL_HELP
       "  --psd FILE.csv       write f_hz, each (conicity, point) PSD ((m/s^2)^2/Hz) and "
       "sperling_weight,\n"
-      "                       the lateral Sperling weighting |B(f)|^2 applied to the PSDs\n";
+      "                       the lateral Sperling weighting |B(f)|^2 applied to the PSDs; "
+      "vertical:\n"
+      "                       f_hz, the track PSD, each point's PSD and the weightings "
+      "|W(f)|^2\n";
   static const struct option extra[] = {
-      RIDE_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
+      RIDE_OPTIONS, VERTICAL_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
   int r = ride_parse(argc, argv, &c, &a, extra, help, 1);
   if (r) return r == CLI_HELP_SHOWN ? 0 : r;
   if (!c.have_speed) return cli_bad("--speed is required");
+  if (a.vs.direction == CLI_DIR_VERTICAL) return ride_vertical(&c, &a.rs, &a.vs, 0, a.psd_path);
   if (!c.ncon) return cli_bad("--conicity is required (one value or a comma list)");
+  if (a.vs.direction == CLI_DIR_BOTH) {
+    if (c.ncon != 1) return cli_bad("--conicity: one value with --direction both");
+    return ride_vertical(&c, &a.rs, &a.vs, c.conicities[0], a.psd_path);
+  }
   a.ncon = c.ncon;
   memcpy(a.conicities, c.conicities, sizeof(double) * (size_t)c.ncon);
   cli_outfile psd = {0}; /* opened before the run: a folder that cannot be written fails first */
@@ -370,12 +472,25 @@ int cmd_frf(int argc, char **argv)
       "Complex FRF of carbody floor lateral acceleration per unit track alignment at each\n"
       "wheelset (input 1..4, no time lag) and the lagged sum over the four (input 'sum').\n"
       "CSV columns: f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg ((m/s^2)/m = "
-      "1/s^2).\n" CLI_COMMON_HELP FRF_HELP;
-  static const struct option extra[] = {FRF_OPTIONS, {0, 0, 0, 0}};
+      "1/s^2).\n"
+      "--direction vertical: the vertical model's floor vertical acceleration per m of track\n"
+      "profile at the leading wheelset, the others delayed (CSV f_hz,x_m,output,re,im,magnitude,\n"
+      "phase_deg; JSON f_hz[], points[]{x, re[], im[], abs[]}).\n" CLI_COMMON_HELP FRF_HELP
+      "  --direction D        lateral (default) or vertical\n"
+      "  --dofs               vertical: every coordinate's FRF too (m, rad or m sqrt(kg) per m)\n";
+  static const struct option extra[] = {FRF_OPTIONS,
+                                        {"direction", required_argument, 0, OPT_DIRECTION},
+                                        {"dofs", no_argument, 0, OPT_DOFS},
+                                        {0, 0, 0, 0}};
   cli_common c;
   ride_args a;
   int r = ride_parse(argc, argv, &c, &a, extra, help, 0);
   if (r) return r == CLI_HELP_SHOWN ? 0 : r;
+  if (a.vs.direction == CLI_DIR_BOTH) return cli_bad("frf: --direction lateral or vertical");
+  if (a.vs.direction == CLI_DIR_VERTICAL) {
+    if (!c.have_speed) return cli_bad("--speed is required");
+    return frf_vertical(&c, &a.rs, &a.vs);
+  }
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;
   int n = rr_model_ndof(m), np = a.rs.npoints, ni = rr_model_ninputs(m);

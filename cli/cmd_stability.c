@@ -213,11 +213,12 @@ static void modes_table(const cli_common *c, const rr_modal_result *res, int pap
 typedef struct modes_args {
   const char *shape_data;
 } modes_args;
-enum { OPT_SHAPES = 2050 };
+enum { OPT_SHAPES = 2050, OPT_MODES_DIRECTION };
 
 static int modes_cb(int opt, const char *arg, void *u)
 {
   modes_args *a = u;
+  if (opt == OPT_MODES_DIRECTION) return 0; /* read before parsing */
   if (opt != OPT_SHAPES) return 1;
   a->shape_data = arg;
   return 0;
@@ -319,16 +320,30 @@ int cmd_modes(int argc, char **argv)
       "each mode's shape (amplitude and phase per DOF; unit norm, largest component real).\n"
       "--plot FILE draws the hunting-related modes below fmax (and the one that sets the\n"
       "index) in plan view, one panel each: the seven bodies displaced in lateral and yaw,\n"
-      "at phase 0 and a quarter period later, roll marked.\n" CLI_COMMON_HELP
-      "  --shape-data FILE    write those panels' body outlines (gnuplot data) to FILE\n";
+      "at phase 0 and a quarter period later, roll marked.\n"
+      "--direction vertical: the vertical model's modes (no speed or conicity): frequency,\n"
+      "natural frequency, damping ratio (positive when stable), energy shares, "
+      "names.\n" CLI_COMMON_HELP
+      "  --shape-data FILE    write those panels' body outlines (gnuplot data) to FILE\n"
+      "  --direction D        lateral (default) or vertical\n";
   static const struct option extra[] = {{"shape-data", required_argument, 0, OPT_SHAPES},
+                                        {"direction", required_argument, 0, OPT_MODES_DIRECTION},
                                         {0, 0, 0, 0}};
   cli_common c;
   rr_model *m;
   modes_args a = {0};
-  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX |
-                CLI_READS_GRAVITY,
+  int dir = cli_direction_scan("modes", argc, argv);
+  if (dir < 0) return EXIT_BADINPUT;
+  if (dir == CLI_DIR_BOTH) return cli_bad("modes: --direction lateral or vertical");
+  RUN_PARSE(dir == CLI_DIR_VERTICAL ? CLI_READS_JSON
+                                    : CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON |
+                                          CLI_READS_INDEX | CLI_READS_GRAVITY,
             extra, modes_cb, &a, help);
+  if (dir == CLI_DIR_VERTICAL) {
+    if (a.shape_data)
+      return cli_bad("--shape-data: the lateral modes' (not with --direction vertical)");
+    return modes_vertical(&c);
+  }
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   rr_modal_result res;

@@ -24,7 +24,7 @@ command_not_found_handle() { bad "command not found: $1"; return 127; }
 
 # JSON shape checks, in Python's json module (independent of cJSON).
 json_check() {  # json_check NAME PYTHON-EXPRESSION < json
-  if python3 -c "import json,sys; d=json.load(sys.stdin); sys.exit(0 if ($2) else 1)"; then ok; else bad "$1"; fi
+  if python3 -c "import json,math,sys; d=json.load(sys.stdin); sys.exit(0 if ($2) else 1)"; then ok; else bad "$1"; fi
 }
 
 "$RR" matrices --speed 350 --conicity 0.17 --json > "$tmp/m.json" || bad "matrices exit"
@@ -369,6 +369,47 @@ assert len(keys) == len(set(keys)), 'duplicates on the front'
 d = json.load(open(sys.argv[2]))
 assert len(d['front']) == len(rows) and all(f['feasible'] for f in d['front'])
 PY
+
+# the vertical model: ride (keys as docs/vertical.md), its PSD file, both directions' EN 12299, modes, frf
+"$RR" ride --speed 350 --direction vertical --json --psd "$tmp/vpsd.csv" > "$tmp/v.json" || bad "ride vertical exit"
+json_check "ride vertical keys" "d['direction']=='vertical' and d['spectrum']=='tbt3352-vertical' and d['window_s']==5 and len(d['points'])==3 and all(set(p)>={'x','rms','sperling','sperling_gb','wk_rms','wb_rms','wb_iso8041_rms','wb_5s','n_mv_vertical','lateral','n_mv','n_vd','n_va_rigid_seat'} and set(p['wb_5s'])>={'shape_k','dof','p50','p95','mean'} and p['n_mv'] is None and abs(p['n_mv_vertical']-6*p['wb_5s']['p95'])<1e-12 for p in d['points'])" < "$tmp/v.json"
+json_check "ride vertical: the rear point's P95 (docs/vertical.md table)" "abs(d['points'][2]['wb_5s']['p95']-0.04607)<5e-6 and abs(d['points'][0]['x']-8.6875)<1e-12" < "$tmp/v.json"
+python3 - "$tmp/vpsd.csv" "$tmp/v.json" <<'PY' && ok || bad "vertical psd csv integrates to rms and wb_rms"
+import csv, json, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+pts = json.load(open(sys.argv[2]))['points']
+f = [float(r['f_hz']) for r in rows]
+for p in pts:
+    col = 'psd_x%gm_m2s-4_per_hz' % p['x']
+    g = [float(r[col]) for r in rows]
+    wb = [float(r['wb_en12299_weight2']) * x for r, x in zip(rows, g)]
+    tz = lambda y: sum(0.5 * (y[i] + y[i + 1]) * (f[i + 1] - f[i]) for i in range(len(f) - 1))
+    assert abs(math.sqrt(tz(g)) / p['rms'] - 1) < 1e-8 and abs(math.sqrt(tz(wb)) / p['wb_rms'] - 1) < 1e-8
+PY
+"$RR" ride --speed 350 --conicity 0.17 --direction both --json > "$tmp/vb.json" || bad "ride both exit"
+json_check "ride both: N_MV from the two directions' P95" "all(abs(p['n_mv']-6*math.hypot(p['lateral']['wd_p95'],p['wb_5s']['p95']))<1e-12 and p['comfort']=='very comfortable' and p['n_vd']>0 and p['n_va_rigid_seat']>0 for p in d['points']) and d['conicity']==0.17" < "$tmp/vb.json"
+"$RR" ride --speed 350 --conicity 0.17 --direction both | grep -q "very comfortable" && ok || bad "ride both: the comfort scale in text"
+"$RR" modes --direction vertical --json > "$tmp/vm.json" || bad "modes vertical exit"
+json_check "modes vertical" "len(d['modes'])==7 and len(d['undamped_hz'])==7 and abs(d['phi_unit_centre']-1.2156444588)<1e-9 and all(abs(sum(m['energy'].values())-1)<1e-12 and 0<m['damping_ratio']<1 for m in d['modes']) and len({m['name'] for m in d['modes']})==7 and d['modes'][-1]['name']=='carbody first bending'" < "$tmp/vm.json"
+"$RR" frf --speed 350 --direction vertical --dofs --json > "$tmp/vf.json" || bad "frf vertical exit"
+json_check "frf vertical" "len(d['f_hz'])==400 and len(d['points'])==3 and all(abs(a-math.hypot(r,i))<=1e-12*max(a,1) for p in d['points'] for r,i,a in zip(p['re'],p['im'],p['abs'])) and set(d['dofs'])=={'z_c','theta_c','q_b','z_f1','theta_f1','z_f2','theta_f2'}" < "$tmp/vf.json"
+"$RR" sweep --x speed=250:350:2 --objective "n_mv@350,0.17,-8.6875" > "$tmp/nmv.csv" || bad "sweep n_mv exit"
+python3 - "$tmp/nmv.csv" "$tmp/vb.json" <<'PY' && ok || bad "sweep n_mv at 350 km/h = ride both's"
+import csv, json, sys
+rows = list(csv.reader(open(sys.argv[1])))
+assert abs(float(rows[2][1]) - json.load(open(sys.argv[2]))['points'][2]['n_mv']) < 1e-9
+PY
+expect2 "direction unknown" "--direction: lateral, vertical or both" "$RR" ride --speed 350 --direction sideways
+expect2 "vertical takes no --spectrum" "--vertical-spectrum" "$RR" ride --speed 350 --direction vertical --spectrum wuhan-guangzhou
+expect2 "lateral takes no --window" "--window: only with --direction" "$RR" ride --speed 350 --conicity 0.1 --window 5
+expect2 "both takes one conicity" "one value with --direction both" "$RR" ride --speed 350 --conicity 0.1,0.2 --direction both
+expect2 "vertical input must be vertical" "a lateral spectrum, not vertical" "$RR" ride --speed 350 --direction vertical --vertical-spectrum wuhan-guangzhou
+expect2 "vertical takes no --conicity" "conicity" "$RR" ride --speed 350 --direction vertical --conicity 0.2
+printf '[vehicle]\nbase = type1\n[carbody]\nlength = 17 m\n' > "$tmp/short.ini"
+expect2 "pivots off the carbody" "\[carbody\] length" "$RR" ride "$tmp/short.ini" --speed 350 --direction vertical
+printf '[vehicle]\nbase = type1\n[carbody]\nbending_frequency = 500 Hz\n' > "$tmp/bf.ini"
+expect2 "bending frequency range" "bf.ini.*bending_frequency" "$RR" modes "$tmp/bf.ini" --direction vertical
+expect2 "modes both" "--direction lateral or vertical" "$RR" modes --direction both
 
 # docs/cli.md is the commands' --help, regenerated; bash completion offers commands and a command's options
 sh "$SRC/tools/gen-cli-docs" "$(dirname "$RR")" | diff -q - "$SRC/docs/cli.md" > /dev/null && ok || bad "docs/cli.md is stale: tools/gen-cli-docs build > docs/cli.md"

@@ -87,6 +87,29 @@ check(all(abs(rd["sperling"][i] - pts[i]["sperling"]) < 1e-12 and abs(rd["wd_rms
       "Vehicle.ride equals ride --json")
 f, H = v.frf(350, 0.17, points=(0.0,))
 check(H.shape == (400, 1, 4) and H.dtype == np.complex128 and np.all(np.isfinite(H)), "Vehicle.frf shape")
+# the vertical model: ride, modes, FRF and matrices as the CLI gives them; the PSD integrates to the RMS
+vj = json.loads(subprocess.run([cli, "ride", "--speed", "350", "--conicity", "0.17", "--direction", "both", "--json"],
+                               capture_output=True, check=True, text=True).stdout)["points"]
+vr = v.vertical_ride(350, lateral=0.17)
+check(all(abs(vr["wb_p95"][i] - vj[i]["wb_5s"]["p95"]) < 1e-15 and abs(vr["n_mv"][i] - vj[i]["n_mv"]) < 1e-14
+          and abs(vr["sperling"][i] - vj[i]["sperling"]) < 1e-14 and abs(vr["wd_p95"][i] - vj[i]["lateral"]["wd_p95"]) < 1e-15
+          for i in range(3)), "Vehicle.vertical_ride equals ride --direction both --json")
+fz, Gz = vr["f"], vr["psd"]
+check(np.allclose(np.sqrt(np.sum(0.5 * (Gz[1:] + Gz[:-1]) * np.diff(fz)[:, None], axis=0)), vr["rms"], rtol=1e-12),
+      "vertical PSD integrates to the RMS")
+mj = json.loads(subprocess.run([cli, "modes", "--direction", "vertical", "--json"], capture_output=True, check=True,
+                               text=True).stdout)
+vm = v.vertical_modes()
+check(np.allclose(vm["freq_hz"], [m["freq_hz"] for m in mj["modes"]], rtol=1e-14) and vm["name"] == [m["name"] for m in mj["modes"]]
+      and vm["energy"].shape == (7, 7), "Vehicle.vertical_modes equals modes --direction vertical")
+fv, Hv, Qv = v.vertical_frf(350)
+mats = v.vertical_matrices()
+w = 2 * np.pi * fv[17]
+D = mats["K"] + 1j * w * mats["C"] - w * w * mats["M"]
+e = np.exp(-1j * w * (mats["x_wheelsets"][0] - mats["x_wheelsets"]) / (350 / 3.6))
+check(np.allclose(np.linalg.solve(D, (mats["BK"] + 1j * w * mats["BC"]) @ e), Qv[17], rtol=1e-11, atol=0),
+      "Vehicle.vertical_frf's coordinates solve the 7x7 system from vertical_matrices")
+check(Hv.shape == (400, 3) and Qv.shape == (400, 7), "vertical FRF shapes")
 v.close()
 try:
     v.modes(350, 0.17)

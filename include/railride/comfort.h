@@ -12,7 +12,16 @@ extern "C" {
 #endif
 
 enum rr_axis { RR_AXIS_LATERAL = 0, RR_AXIS_VERTICAL = 1 };
-enum rr_iso_weighting { RR_ISO_WB = 0, RR_ISO_WC = 1, RR_ISO_WD = 2, RR_ISO_WK = 3 };
+/* ISO 8041 weightings; RR_EN_WB is EN 12299's Wb (its own Q4, Q5, Q6), RR_ISO_WB
+   ISO 8041's / ISO 2631-4's. */
+enum rr_iso_weighting {
+  RR_ISO_WB = 0,
+  RR_ISO_WC = 1,
+  RR_ISO_WD = 2,
+  RR_ISO_WK = 3,
+  RR_EN_WB = 4,
+  RR_EN_WP = 5
+};
 
 /* Sperling weighting filter |B(f)|: B_s vertical, 1.25 B_s lateral. */
 RR_API double rr_sperling_filter(double f_hz, enum rr_axis axis);
@@ -61,6 +70,45 @@ RR_API int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int str
  * percentile of 5 s RMS values of a stationary Gaussian process is taken as
  * its RMS: this model has no 5 s scatter). */
 RR_API double rr_en12299_comfort(double awd);
+
+/* The 5 s RMS of a stationary Gaussian process (docs/vertical.md, "5 s RMS"):
+ * the gamma law with the window mean square's exact mean and variance. */
+typedef struct rr_window_stats {
+  double rms;            /* sqrt of the (weighted) PSD's integral */
+  double shape_k;        /* gamma shape sigma^4 / Var m */
+  double dof;            /* 2 k */
+  double p50, p95, mean; /* of the 5 s RMS */
+} rr_window_stats;
+
+typedef struct rr_window_plan rr_window_plan;
+/* A plan for the n frequencies f (Hz, increasing, spacing below 1/window
+ * for the line-process variance to be the continuous one) and a window of
+ * window_s seconds: the kernel sinc^2((f_i - f_j) T) + sinc^2((f_i + f_j) T)
+ * (n x n) and the trapezoid weights, for up to maxcols columns at once. */
+RR_API int rr_window_plan_new(const double *f, int n, double window_s, int maxcols,
+                              rr_window_plan **out, rr_error *err);
+RR_API void rr_window_plan_free(rr_window_plan *p);
+/* The statistics of ncols PSD columns G[k * stride + c] ((m/s^2)^2/Hz),
+ * each weighted by W2[k] (|W|^2; NULL: unweighted), into out[ncols]. One
+ * pass over the kernel for all columns; allocation-free. */
+RR_API int rr_window_execute(rr_window_plan *p, const double *G, int stride, int ncols,
+                             const double *W2, rr_window_stats *out, rr_error *err);
+/* The regularised lower incomplete gamma P(a, x) and its inverse in x
+ * (Halley's method from the Wilson-Hilferty start, 1e-13 relative). */
+RR_API double rr_gamma_p(double a, double x);
+RR_API int rr_gamma_p_inv(double a, double p, double *x, rr_error *err);
+
+/* EN 12299 mean comfort from 5 s RMS percentiles (m/s^2): X, Y Wd-weighted,
+ * Z Wb; seat pan and back taken as the floor (a rigid seat). */
+typedef struct rr_en12299_inputs {
+  double ax50, ax95, ay50, ay95, az50, az95;
+} rr_en12299_inputs;
+typedef struct rr_en12299 {
+  double n_mv, n_vd, n_va_rigid_seat;
+} rr_en12299;
+RR_API rr_en12299 rr_en12299_indices(const rr_en12299_inputs *a);
+/* The comfort scale's words for N: "very comfortable" (< 1) .. "very uncomfortable" (>= 5). */
+RR_API const char *rr_en12299_scale(double n);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,7 @@
 #include "railride/error.h"
 #include "railride/sdf.h"
 #include "railride/vehicle.h"
+#include "railride/vertical.h"
 #include "railride/system.h"
 #include "railride/model.h"
 #include "railride/modal.h"

@@ -33,8 +33,12 @@ typedef struct rr_vehicle {
   char name[64];
   /* [carbody] */
   double carbody_mass, carbody_roll_inertia, carbody_yaw_inertia, carbody_cg_height;
+  /* [carbody], the vertical model: pitch inertia (kg m^2), length (m), the
+     first free-free vertical bending mode's frequency (Hz) and damping ratio */
+  double carbody_pitch_inertia, carbody_length, carbody_bending_frequency, carbody_bending_damping;
   /* [frame] */
   double frame_mass, frame_roll_inertia, frame_yaw_inertia, frame_cg_height;
+  double frame_pitch_inertia; /* the vertical model */
   /* [wheelset] */
   double wheelset_mass, wheelset_yaw_inertia, rolling_radius, contact_half_spacing;
   /* [layout]: L (bogie centre to car centre), b (half wheelbase) */
@@ -76,6 +80,17 @@ RR_API void rr_vehicle_default(rr_vehicle *veh);
 #define RR_CONICITY_HOLD_DEFAULT 12e-3
 /* Sets those defaults in veh (the other fields untouched). */
 RR_API void rr_vehicle_contact_defaults(rr_vehicle *veh);
+/* The vertical model's assumptions (docs/vertical.md, "Vehicle"): carbody
+ * pitch inertia 2.0e6 kg m^2 (a uniform 25 m beam's m L^2/12, rounded),
+ * length 25 m, first bending 10 Hz with damping ratio 0.02; frame pitch
+ * inertia 2000 kg m^2. */
+#define RR_CARBODY_PITCH_INERTIA_DEFAULT 2.0e6
+#define RR_CARBODY_LENGTH_DEFAULT 25.0
+#define RR_CARBODY_BENDING_FREQUENCY_DEFAULT 10.0
+#define RR_CARBODY_BENDING_DAMPING_DEFAULT 0.02
+#define RR_FRAME_PITCH_INERTIA_DEFAULT 2000.0
+/* Sets those defaults in veh (the other fields untouched). */
+RR_API void rr_vehicle_vertical_defaults(rr_vehicle *veh);
 /* Loads an INI vehicle file (with `base =` inheritance). */
 RR_API int rr_vehicle_load(const char *path, rr_vehicle *veh, rr_error *err);
 /* Loads a built-in name if `spec` is one, otherwise a file. NULL -> default. */

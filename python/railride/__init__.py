@@ -47,8 +47,8 @@ def _check_layout(lib, mirrors=None):
     """The ctypes copies of the library's structs against the library's own
     layout (sizes and every field's offset and size): a C change cannot
     silently misread memory."""
-    from . import _model, _contact
-    mirrors = mirrors or {"rr_error": _model._Error, "rr_modal_opts": _model._ModalOpts, "rr_mode": _model._Mode,
+    from . import _model, _contact, _vertical
+    mirrors = mirrors or {**_vertical.MIRRORS, "rr_error": _model._Error, "rr_modal_opts": _model._ModalOpts, "rr_mode": _model._Mode,
                "rr_modal_result": _model._ModalResult, "rr_stability": _model._Stability,
                "rr_robust_opts": _model._RobustOpts, "rr_robust": _model._Robust,
                "rr_critical_opts": _model._CriticalOpts, "rr_critical": _model._Critical,
@@ -87,7 +87,9 @@ def library():
                                                  ctypes.POINTER(ctypes.c_int), ctypes.POINTER(_Error)]
         lib.rr_design_evaluate_batch.restype = ctypes.c_int
         from ._model import declare
+        from ._vertical import declare as declare_vertical
         declare(lib)
+        declare_vertical(lib)
         _check_layout(lib)
         lib.rr_version.restype = ctypes.c_char_p
         if lib.rr_version().decode() != __version__:

@@ -311,6 +311,38 @@ class Vehicle:
             self._lib.rr_comfort_plan_free(plan)
         return out
 
+    def vertical_matrices(self):
+        """The vertical model's M, C, K, BK, BC (DOF order z_c, theta_c, q_b,
+        z_f1, theta_f1, z_f2, theta_f2; wheelsets front to rear)."""
+        from . import _vertical
+        with self._lock:
+            return _vertical.matrices(self)
+
+    def vertical_modes(self):
+        """The vertical model's modes: freq_hz, natural_hz, damping_ratio
+        (positive when stable), eigenvalue, energy (n x 7), name, undamped_hz."""
+        from . import _vertical
+        with self._lock:
+            return _vertical.modes(self)
+
+    def vertical_frf(self, speed_kmh, points=None, nfreq=400, f_lo=0.3, f_hi=30.0):
+        """f (Hz), H (nfreq x points: floor vertical acceleration per m of track
+        at the leading wheelset) and Q (nfreq x 7: every coordinate's).
+        points None: +L, 0, -L."""
+        from . import _vertical
+        with self._lock:
+            return _vertical.frf(self, speed_kmh, points, nfreq, f_lo, f_hi)
+
+    def vertical_ride(self, speed_kmh, spectrum="tbt3352-vertical", points=None, window=5.0, lateral=None):
+        """The vertical ride at each floor point (None: +L, 0, -L): f, track_psd,
+        psd, x, rms, sperling, sperling_gb, wk_rms, wb_rms, wb_iso8041_rms,
+        wb_shape_k, wb_p50, wb_p95, wb_mean, n_mv_vertical. lateral=conicity or
+        (conicity, spectrum) adds lateral_psd, wd_p50, wd_p95 and EN 12299's
+        n_mv, n_vd, n_va_rigid_seat (longitudinal 0, rigid seat)."""
+        from . import _vertical
+        with self._lock:
+            return _vertical.ride(self, speed_kmh, spectrum, points, window, lateral)
+
     def close(self):
         def free():
             if getattr(self, "_veh", None):

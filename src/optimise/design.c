@@ -14,6 +14,7 @@
 #include "railride/stability.h"
 #include "railride/pem.h"
 #include "railride/spectrum.h"
+#include "railride/vertical.h"
 #include "model_impl.h"
 #include "internal.h"
 
@@ -31,7 +32,15 @@ enum obj_kind {
   OBJ_SPERLING,
   OBJ_SPERLING_GB,
   OBJ_WD_RMS,
-  OBJ_RMS
+  OBJ_RMS,
+  OBJ_N_MV, /* EN 12299 N_MV: the lateral and the vertical model */
+  /* the vertical model alone */
+  OBJ_SPERLING_Z,
+  OBJ_SPERLING_GB_Z,
+  OBJ_WB_RMS,
+  OBJ_WB_P95,
+  OBJ_RMS_Z,
+  OBJ_N_MV_Z
 };
 
 typedef struct objective {
@@ -49,6 +58,10 @@ typedef struct objective {
   rr_comfort_plan *cplan;
   rr_spectrum sp;
   double *G;
+  /* the vertical model's */
+  char vspectrum[64];
+  rr_spectrum vsp;
+  rr_vertical_plan *vplan;
 } objective;
 
 struct rr_design {
@@ -82,6 +95,15 @@ static const rr_objective_info objective_docs[] = {
     {"sperling_gb", "KMH,L[,X]", "1", "Sperling index, GB/T 5599 line method"},
     {"wd_rms", "KMH,L[,X]", "m/s^2", "ISO 2631-1 / EN 12299 Wd-weighted lateral acceleration RMS"},
     {"rms", "KMH,L[,X]", "m/s^2", "unweighted lateral acceleration RMS, 0.3-30 Hz"},
+    {"n_mv", "KMH,L[,X]", "1",
+     "EN 12299 mean comfort N_MV at floor point X: the lateral Wd and vertical Wb 5 s RMS P95 "
+     "(longitudinal 0)"},
+    {"sperling_z", "KMH[,X]", "1", "vertical Sperling index (weighting filter), vertical model"},
+    {"sperling_gb_z", "KMH[,X]", "1", "vertical Sperling index, GB/T 5599 line method"},
+    {"wb_rms", "KMH[,X]", "m/s^2", "EN 12299 Wb-weighted vertical acceleration RMS"},
+    {"wb_p95", "KMH[,X]", "m/s^2", "95th percentile of the 5 s Wb-weighted vertical RMS"},
+    {"rms_z", "KMH[,X]", "m/s^2", "unweighted vertical acceleration RMS, 0.3-30 Hz"},
+    {"n_mv_z", "KMH[,X]", "1", "N_MV's vertical term 6 a_ZP95"},
 };
 
 const rr_objective_info *rr_objectives(int *n)
@@ -103,10 +125,21 @@ static const struct objective_name {
     {"sperling_gb", OBJ_SPERLING_GB, 2, 3},
     {"wd_rms", OBJ_WD_RMS, 2, 3},
     {"rms", OBJ_RMS, 2, 3},
+    {"n_mv", OBJ_N_MV, 2, 3},
+    {"sperling_z", OBJ_SPERLING_Z, 1, 2},
+    {"sperling_gb_z", OBJ_SPERLING_GB_Z, 1, 2},
+    {"wb_rms", OBJ_WB_RMS, 1, 2},
+    {"wb_p95", OBJ_WB_P95, 1, 2},
+    {"rms_z", OBJ_RMS_Z, 1, 2},
+    {"n_mv_z", OBJ_N_MV_Z, 1, 2},
 };
 #define NOBJ_NAMES (int)(sizeof objective_names / sizeof objective_names[0])
 
 static int is_ride(int kind) { return kind >= OBJ_SPERLING; }
+/* the objectives that run the lateral PEM, and those that run the vertical */
+static int is_lateral_ride(int kind) { return kind >= OBJ_SPERLING && kind <= OBJ_N_MV; }
+static int is_vertical(int kind) { return kind >= OBJ_N_MV; }
+static int is_vertical_only(int kind) { return kind > OBJ_N_MV; }
 /* What objectives' arguments accept: a floor point within 100 m of the car
    centre (as the command line's --points), the index band 1 mHz .. 1 MHz. */
 #define OBJ_X_MAX_M 100.0
@@ -147,12 +180,16 @@ static int parse_args(char *at, const struct objective_name *nm, objective *o, r
                      o->text, nm->nargs_min, nm->nargs_max);
   if (o->kind == OBJ_CRITICAL)
     o->conicity = a[0];
-  else if (na >= 2) {
+  else if (is_vertical_only(o->kind)) {
+    o->speed_ms = a[0] / RR_KMH;
+    o->x = na == 2 ? a[1] : 0;
+  } else if (na >= 2) {
     o->speed_ms = a[0] / RR_KMH;
     o->conicity = a[1];
     o->x = na == 3 ? a[2] : 0;
   }
-  if (na >= 2 && !(o->speed_ms > 0 && o->speed_ms <= RR_SPEED_MAX_MS))
+  if ((na >= 2 || is_vertical_only(o->kind)) &&
+      !(o->speed_ms > 0 && o->speed_ms <= RR_SPEED_MAX_MS))
     return rr_seterr(err, RR_EINVAL, "objective '%s': speed must be within (0, %g] km/h", o->text,
                      RR_SPEED_MAX_MS * RR_KMH);
   if (!(o->conicity >= 0 && o->conicity <= RR_CONICITY_MAX))
@@ -203,8 +240,12 @@ static int parse_option(const char *t, objective *o, rr_error *err)
                        o->text);
     return RR_OK;
   }
-  if (!strncmp(t, "spectrum=", 9) && is_ride(o->kind)) {
+  if (!strncmp(t, "spectrum=", 9) && is_lateral_ride(o->kind)) {
     snprintf(o->spectrum, sizeof o->spectrum, "%s", t + 9);
+    return RR_OK;
+  }
+  if (!strncmp(t, "vspectrum=", 10) && is_vertical(o->kind)) {
+    snprintf(o->vspectrum, sizeof o->vspectrum, "%s", t + 10);
     return RR_OK;
   }
   if (!strcmp(t, "index_modes") && o->kind == OBJ_CRITICAL) {
@@ -238,6 +279,7 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
   *o = (objective){.sdf = -1, .mo = rr_modal_opts_default(), .freq_hz = NAN};
   snprintf(o->text, sizeof o->text, "%s", text);
   snprintf(o->spectrum, sizeof o->spectrum, "wuhan-guangzhou");
+  snprintf(o->vspectrum, sizeof o->vspectrum, "%s", RR_VERTICAL_SPECTRUM_DEFAULT);
   if (strlen(text) >= sizeof o->text)
     return rr_seterr(err, RR_EINVAL, "objective '%.40s...': too long", text);
   char buf[128], *at, *opts;
@@ -261,6 +303,21 @@ static int parse_objective(const char *text, objective *o, rr_error *err)
   return st;
 }
 
+/* rr_objective_at for a vertical objective NAME@KMH[,X] */
+static int objective_at_vertical(const char *name, const double *a, int na, const char *opts,
+                                 double speed_kmh, char *out, size_t n, rr_error *err)
+{
+  double v = isfinite(speed_kmh) ? speed_kmh : a[0];
+  if (isnan(v)) return rr_seterr(err, RR_EINVAL, "objective '%s': no speed given (NAME@KMH)", name);
+  int len = na == 2 ? snprintf(out, n, "%s@%.10g,%.17g%s%s", name, v, a[1], opts ? ";" : "",
+                               opts ? opts : "")
+                    : snprintf(out, n, "%s@%.10g%s%s", name, v, opts ? ";" : "", opts ? opts : "");
+  if (len < 0 || (size_t)len >= n)
+    return rr_seterr(err, RR_EINVAL, "objective '%s': too long at this point", name);
+  objective o;
+  return parse_objective(out, &o, err);
+}
+
 int rr_objective_at(const char *text, double speed_kmh, double conicity, char *out, size_t n,
                     rr_error *err)
 {
@@ -268,14 +325,17 @@ int rr_objective_at(const char *text, double speed_kmh, double conicity, char *o
   if (strlen(text) >= sizeof buf)
     return rr_seterr(err, RR_EINVAL, "objective '%.40s...': too long", text);
   const struct objective_name *nm = split_objective(text, buf, sizeof buf, &at, &opts);
-  if (!nm || nm->nargs_min != 2)
+  int vonly = nm && is_vertical_only(nm->kind);
+  if (!nm || (nm->nargs_min != 2 && !vonly))
     return rr_seterr(err, RR_EINVAL,
                      "objective '%s': not one at an operating point (index, sperling, "
-                     "sperling_gb, wd_rms, rms)",
+                     "sperling_gb, wd_rms, rms, n_mv, and the vertical ones)",
                      text);
   double a[3] = {NAN, NAN, 0};
   int na, st = read_args(at, text, a, &na, err);
   if (st) return st;
+  if (vonly) /* KMH[,X]: as NAME@KMH,L[,X] with the conicity not used */
+    return objective_at_vertical(buf, a, na, opts, speed_kmh, out, n, err);
   if (isfinite(speed_kmh)) a[0] = speed_kmh;
   if (isfinite(conicity)) a[1] = conicity;
   if (isnan(a[0]) || isnan(a[1]))
@@ -305,6 +365,8 @@ void rr_design_free(rr_design *d)
     rr_comfort_plan_free(d->obj[i].cplan);
     rr_spectrum_close(&d->obj[i].sp);
     free(d->obj[i].G);
+    rr_spectrum_close(&d->obj[i].vsp);
+    rr_vertical_plan_free(d->obj[i].vplan);
   }
   for (int i = 0; i < d->nmodels; i++) {
     rr_model_free(d->model[i]);
@@ -345,6 +407,16 @@ static int model_slot(rr_design *d, int sdf, const char *text, int *slot, rr_err
   return RR_OK;
 }
 
+/* The vertical model's plan: one floor point, the default grid (the lateral
+   PEM's, so that N_MV combines the two on one grid) and window. */
+static int vertical_plan(objective *o, rr_error *err)
+{
+  rr_vertical_opts vo = rr_vertical_opts_default();
+  vo.npoints = 1;
+  vo.x_points[0] = o->x;
+  return rr_vertical_plan_new(&vo, &o->vplan, err);
+}
+
 /* Models, workspaces and frequency-response plans for the parsed objectives
    (the spectra are already in them). */
 static int build(rr_design *d, rr_error *err)
@@ -354,7 +426,8 @@ static int build(rr_design *d, rr_error *err)
   for (int i = 0; i < d->nobj; i++) {
     objective *o = &d->obj[i];
     if ((st = model_slot(d, o->sdf, o->text, &o->model, err))) return st;
-    if (!is_ride(o->kind)) continue;
+    if (is_vertical(o->kind) && (st = vertical_plan(o, err))) return st;
+    if (!is_lateral_ride(o->kind)) continue;
     double row[RR_SYS_MAX_DOF], pt[1] = {o->x};
     rr_model *mm = d->model[o->model];
     if ((st =
@@ -413,8 +486,12 @@ int rr_design_new(const rr_vehicle *base, int nvar, const char *const *var_keys,
   for (int i = 0; i < nobj && !st; i++) {
     snprintf(d->objtext[i], sizeof d->objtext[i], "%s", objectives[i]);
     if ((st = parse_objective(objectives[i], &d->obj[i], err))) break;
-    if (is_ride(d->obj[i].kind) && !(st = rr_spectrum_open(d->obj[i].spectrum, &d->obj[i].sp, err)))
+    if (is_lateral_ride(d->obj[i].kind) &&
+        !(st = rr_spectrum_open(d->obj[i].spectrum, &d->obj[i].sp, err)))
       st = rr_spectrum_require(&d->obj[i].sp, "lateral", "the lateral track input", err);
+    if (!st && is_vertical(d->obj[i].kind) &&
+        !(st = rr_spectrum_open(d->obj[i].vspectrum, &d->obj[i].vsp, err)))
+      st = rr_spectrum_require(&d->obj[i].vsp, "vertical", "the vertical track input", err);
   }
   if (!st) st = build(d, err);
   if (st) {
@@ -441,7 +518,9 @@ int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
       c->obj[i].plan = NULL;
       c->obj[i].cplan = NULL;
       c->obj[i].G = NULL;
+      c->obj[i].vplan = NULL;
       st = rr_spectrum_copy(&d->obj[i].sp, &c->obj[i].sp, err);
+      if (!st) st = rr_spectrum_copy(&d->obj[i].vsp, &c->obj[i].vsp, err);
     }
     st = build(c, err);
   }
@@ -527,6 +606,34 @@ static int ride_value(objective *o, rr_model *m, double *f, rr_error *err)
   return RR_OK;
 }
 
+/* The vertical objectives; N_MV adds the lateral PEM's Wd 5 s percentile
+   on the same grid (the longitudinal term 0). */
+static int vertical_value(rr_design *d, objective *o, rr_model *m, double *f, rr_error *err)
+{
+  rr_vertical_model vm;
+  rr_vertical_point p;
+  int st = rr_vertical_model_build(&d->cur, &vm, err);
+  if (!st) st = rr_vertical_ride_execute(o->vplan, &vm, o->speed_ms, &o->vsp, &p, err);
+  if (st) return st;
+  switch (o->kind) {
+  case OBJ_SPERLING_Z: *f = p.sperling; return RR_OK;
+  case OBJ_SPERLING_GB_Z: *f = p.sperling_gb; return RR_OK;
+  case OBJ_WB_RMS: *f = p.wb_rms; return RR_OK;
+  case OBJ_WB_P95: *f = p.wb_5s.p95; return RR_OK;
+  case OBJ_RMS_Z: *f = p.rms; return RR_OK;
+  case OBJ_N_MV_Z: *f = p.n_mv_vertical; return RR_OK;
+  default: break;
+  }
+  rr_window_stats wd;
+  if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
+  if ((st = rr_frf_plan_execute(o->plan, m, err))) return st;
+  if ((st = rr_pem_psd(o->plan, m, &o->sp, o->G, err))) return st;
+  if ((st = rr_vertical_window_stats(o->vplan, o->G, 1, 1, RR_ISO_WD, &wd, err))) return st;
+  rr_en12299_inputs in = {.ay50 = wd.p50, .ay95 = wd.p95, .az50 = p.wb_5s.p50, .az95 = p.wb_5s.p95};
+  *f = rr_en12299_indices(&in).n_mv;
+  return RR_OK;
+}
+
 static int objective_value(rr_design *d, objective *o, robust_cache *rc, double *f, rr_error *err)
 {
   rr_model *m = d->model[o->model];
@@ -555,7 +662,7 @@ static int objective_value(rr_design *d, objective *o, robust_cache *rc, double 
     o->freq_hz = cr.found ? cr.mode.freq_hz : NAN;
     return RR_OK;
   }
-  default: return ride_value(o, m, f, err);
+  default: return is_vertical(o->kind) ? vertical_value(d, o, m, f, err) : ride_value(o, m, f, err);
   }
 }
 

@@ -74,21 +74,27 @@ double rr_sperling_gb_factor(double f, enum rr_axis axis)
   return 1;
 }
 
-/* ISO 8041 parameters: f1, f2, f3, f4, Q4, f5, Q5, f6, Q6, K (f5 = 0: no step). */
-static const double iso[4][10] = {
+/* ISO 8041 parameters: f1, f2, f3, f4, Q4, f5, Q5, f6, Q6, K (f1 = 0: no
+   high-pass; f5 = 0: no step). EN 12299's Wb and Wp as EN 12299:2009 gives
+   them (its Wb's K 0.4 times a step normalised to 1 below f5 is 1.024 in
+   this form). */
+static const double iso[6][10] = {
     {0.4, 100, 16, 16, 0.55, 2.5, 0.9, 4, 0.95, 1.024},      /* Wb */
     {0.4, 100, 8, 8, 0.63, 0, 0, 0, 0, 1},                   /* Wc */
     {0.4, 100, 2, 2, 0.63, 0, 0, 0, 0, 1},                   /* Wd */
     {0.4, 100, 12.5, 12.5, 0.63, 2.37, 0.91, 3.35, 0.91, 1}, /* Wk */
+    {0.4, 100, 16, 16, 0.63, 2.5, 0.8, 4, 0.8, 1.024},       /* Wb, EN 12299 */
+    {0, 100, 2, 2, 0.63, 0, 0, 0, 0, 1},                     /* Wp, EN 12299 */
 };
 
 double complex rr_iso8041_weight(enum rr_iso_weighting wt, double f)
 {
+  if (wt < RR_ISO_WB || wt > RR_EN_WP) return NAN;
   const double *P = iso[wt];
   double complex s = I * 2 * RR_PI * f;
   double w1 = 2 * RR_PI * P[0], w2 = 2 * RR_PI * P[1], w3 = 2 * RR_PI * P[2], w4 = 2 * RR_PI * P[3];
   const double Q = 1 / sqrt(2.0);
-  double complex Hh = s * s / (s * s + w1 * s / Q + w1 * w1);
+  double complex Hh = P[0] > 0 ? s * s / (s * s + w1 * s / Q + w1 * w1) : 1;
   double complex Hl = w2 * w2 / (s * s + w2 * s / Q + w2 * w2);
   double complex Ht = P[9] * (1 + s / w3) / (1 + s / (P[4] * w4) + s * s / (w4 * w4));
   double complex Hs = 1;
@@ -214,7 +220,7 @@ static double iso2(double f, int wt)
 int rr_weighted_rms(const double *f, const double *G, int n, int stride, enum rr_iso_weighting wt,
                     double *aw, rr_error *err)
 {
-  if (wt < RR_ISO_WB || wt > RR_ISO_WK)
+  if (wt < RR_ISO_WB || wt > RR_EN_WP)
     return rr_seterr(err, RR_EINVAL, "comfort: unknown ISO weighting");
   int st = check_grid(f, n, err);
   if (st) return st;

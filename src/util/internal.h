@@ -22,6 +22,12 @@
 #define RR_CLONES
 #define RR_HAVE_V4 0
 #endif
+/* The same with an AVX-512 copy too, for loops that run 8 lanes wide. */
+#if RR_HAVE_V4
+#define RR_CLONES_V4 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define RR_CLONES_V4 RR_CLONES
+#endif
 #if defined(__GNUC__)
 #define RR_INLINE static inline __attribute__((always_inline))
 #else

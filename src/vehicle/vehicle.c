@@ -29,6 +29,14 @@ static const rr_vehicle_key keys[] = {
      "carbody yaw inertia I_cz about z"},
     {"carbody", "cg_height", "m", OFF(carbody_cg_height), N, 0, 10,
      "height h_c of the carbody's centre of gravity above rail"},
+    {"carbody", "pitch_inertia", "kg.m2", OFF(carbody_pitch_inertia), P | OPT, 1000, 1e+09,
+     "carbody pitch inertia I_cy about y (vertical model; default 2.0e6)"},
+    {"carbody", "length", "m", OFF(carbody_length), P | OPT, 1, 100,
+     "carbody length L_cb, the bending beam's (vertical model; default 25 m)"},
+    {"carbody", "bending_frequency", "Hz", OFF(carbody_bending_frequency), P | OPT, 0.1, 200,
+     "first free-free vertical bending frequency of the carbody alone (vertical model; 10 Hz)"},
+    {"carbody", "bending_damping", "1", OFF(carbody_bending_damping), N | OPT, 0, 0.99,
+     "modal damping ratio of that bending mode (vertical model; default 0.02)"},
     {"frame", "mass", "kg", OFF(frame_mass), P, 10, 100000, "bogie frame mass m_f (each)"},
     {"frame", "roll_inertia", "kg.m2", OFF(frame_roll_inertia), P, 1, 1e+07,
      "frame roll inertia I_fx"},
@@ -36,6 +44,8 @@ static const rr_vehicle_key keys[] = {
      "frame yaw inertia I_fz"},
     {"frame", "cg_height", "m", OFF(frame_cg_height), N, 0, 10,
      "height h_f of the frame's centre of gravity above rail"},
+    {"frame", "pitch_inertia", "kg.m2", OFF(frame_pitch_inertia), P | OPT, 1, 1e+07,
+     "frame pitch inertia I_fy about y (vertical model; default 2000)"},
     {"wheelset", "mass", "kg", OFF(wheelset_mass), P, 10, 100000, "wheelset mass m_w (each)"},
     {"wheelset", "yaw_inertia", "kg.m2", OFF(wheelset_yaw_inertia), P, 1, 1e+06,
      "wheelset yaw inertia I_wz"},
@@ -211,6 +221,16 @@ void rr_vehicle_default(rr_vehicle *v)
   v->f22 = 1e7;
   v->gravity_stiffness = 0;
   rr_vehicle_contact_defaults(v);
+  rr_vehicle_vertical_defaults(v);
+}
+
+void rr_vehicle_vertical_defaults(rr_vehicle *v)
+{
+  v->carbody_pitch_inertia = RR_CARBODY_PITCH_INERTIA_DEFAULT;
+  v->carbody_length = RR_CARBODY_LENGTH_DEFAULT;
+  v->carbody_bending_frequency = RR_CARBODY_BENDING_FREQUENCY_DEFAULT;
+  v->carbody_bending_damping = RR_CARBODY_BENDING_DAMPING_DEFAULT;
+  v->frame_pitch_inertia = RR_FRAME_PITCH_INERTIA_DEFAULT;
 }
 
 void rr_vehicle_contact_defaults(rr_vehicle *v)

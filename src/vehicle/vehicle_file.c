@@ -378,7 +378,8 @@ static int read_keys(parse_ctx *c, rr_vehicle *veh, int depth)
     if ((st = load_base(c, veh, c->err, depth))) return st;
   } else {
     memset(veh, 0, sizeof *veh);
-    rr_vehicle_contact_defaults(veh); /* the optional nonlinear-model keys */
+    rr_vehicle_contact_defaults(veh);  /* the optional nonlinear-model keys */
+    rr_vehicle_vertical_defaults(veh); /* and the vertical model's */
   }
   const char *slash = strrchr(c->path, '/');
   snprintf(veh->name, sizeof veh->name, "%s", c->name[0] ? c->name : slash ? slash + 1 : c->path);

@@ -1,0 +1,126 @@
+/* railride: the vertical ride model (docs/vertical.md): carbody bounce, pitch
+ * and first free-free bending, two frames in bounce and pitch, four wheelsets
+ * following the track's vertical profile; modes; the pseudo-excitation method
+ * with the wheelsets' delays; every vertical ride index and the 5 s RMS
+ * percentiles of EN 12299 at floor points.
+ * Plan/execute as the lateral PEM: a plan fixes the grid, the window and the
+ * floor points (by default +L, 0, -L of the model it is executed on) and
+ * owns all workspace and the weightings; executing it on a model, a speed and
+ * a spectrum allocates nothing. SI throughout (speeds in m/s). */
+#ifndef RAILRIDE_VERTICAL_H
+#define RAILRIDE_VERTICAL_H
+
+#include "railride/common.h"
+#include "railride/comfort.h"
+#include "railride/error.h"
+#include "railride/spectrum.h"
+#include "railride/vehicle.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Coordinates, in the order of every matrix and output. */
+enum rr_vdof {
+  RR_V_ZC = 0,  /* carbody bounce, m */
+  RR_V_THC = 1, /* carbody pitch, rad (positive lowers the front) */
+  RR_V_QB = 2,  /* carbody first bending, modal coordinate m sqrt(kg) */
+  RR_V_ZF1 = 3, /* front frame bounce, m */
+  RR_V_THF1 = 4,
+  RR_V_ZF2 = 5, /* rear frame bounce, m */
+  RR_V_THF2 = 6
+};
+#define RR_VDOF 7
+#define RR_VINPUTS 4 /* wheelsets, front to rear */
+/* beta L of the free-free beam's first elastic mode: cos(bL) cosh(bL) = 1 */
+#define RR_BEAM_BETA_L 4.730040744862704
+
+/* The assembled model: M q'' + C q' + K q = BK z_w + BC z_w', row-major. */
+typedef struct rr_vertical_model {
+  double M[RR_VDOF]; /* diagonal */
+  double K[RR_VDOF * RR_VDOF], C[RR_VDOF * RR_VDOF];
+  double BK[RR_VDOF * RR_VINPUTS], BC[RR_VDOF * RR_VINPUTS];
+  double x_frames[2];             /* +L, -L */
+  double x_wheelsets[RR_VINPUTS]; /* L+b, L-b, -L+b, -L-b */
+  double d_wheelsets[RR_VINPUTS]; /* distance behind the leading wheelset */
+  double phi_pivots[2];           /* phi(x_frames), 1/sqrt(kg) */
+  double carbody_length, carbody_mass;
+} rr_vertical_model;
+
+/* Assembles the model of a vehicle (its values checked, b < L < L_cb/2). */
+RR_API int rr_vertical_model_build(const rr_vehicle *veh, rr_vertical_model *m, rr_error *err);
+/* The beam's first free-free shape W(x), x from the centre of a beam of
+ * length len: (1/len) integral W^2 = 1, W(0) > 0, W(+-len/2) = -2. */
+RR_API double rr_beam_shape(double x, double len);
+/* The mass-normalised shape phi(x) = W(x)/sqrt(m_c) of the model's carbody. */
+RR_API double rr_vertical_phi(const rr_vertical_model *m, double x);
+/* The floor's vertical displacement row at x: w(x) = row . q. */
+RR_API void rr_vertical_floor_row(const rr_vertical_model *m, double x, double row[RR_VDOF]);
+
+/* Modes of the 14-state system, oscillatory ones (Im > 1e-6 |lambda|) by
+ * frequency. energy: kinetic-energy shares per coordinate (sum 1). */
+typedef struct rr_vertical_mode {
+  double freq_hz, natural_hz, damping_ratio; /* damping ratio -Re/|lambda| */
+  double re, im;                             /* lambda, 1/s */
+  double energy[RR_VDOF];
+  char name[64];
+} rr_vertical_mode;
+typedef struct rr_vertical_modes {
+  int nmodes, nreal;
+  rr_vertical_mode mode[RR_VDOF];
+  double real[2 * RR_VDOF];    /* the non-oscillatory eigenvalues, 1/s */
+  double undamped_hz[RR_VDOF]; /* sqrt(eig(M^-1 K)) / 2 pi, increasing */
+} rr_vertical_modes;
+RR_API int rr_vertical_modes_compute(const rr_vertical_model *m, rr_vertical_modes *out,
+                                     rr_error *err);
+
+/* The ride evaluation's settings, each default named. */
+#define RR_VERTICAL_WINDOW_DEFAULT 5.0 /* s: EN 12299's RMS window */
+#define RR_VERTICAL_POINTS_MAX 16
+#define RR_VERTICAL_SPECTRUM_DEFAULT "tbt3352-vertical"
+typedef struct rr_vertical_opts {
+  int nfreq;                               /* 400 */
+  double f_lo_hz, f_hi_hz;                 /* 0.3, 30 */
+  int npoints;                             /* 0: +L, 0, -L of the model executed on */
+  double x_points[RR_VERTICAL_POINTS_MAX]; /* m, |x| <= L_cb/2 */
+  double window_s;                         /* 5 */
+} rr_vertical_opts;
+RR_API rr_vertical_opts rr_vertical_opts_default(void);
+
+/* One floor point's vertical indices (m/s^2 unless said). */
+typedef struct rr_vertical_point {
+  double x; /* m */
+  double rms, sperling, sperling_gb, wk_rms, wb_rms, wb_iso8041_rms;
+  rr_window_stats wb_5s; /* EN 12299 Wb */
+  double n_mv_vertical;  /* 6 a_ZP95 */
+} rr_vertical_point;
+
+typedef struct rr_vertical_plan rr_vertical_plan;
+RR_API int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_error *err);
+RR_API void rr_vertical_plan_free(rr_vertical_plan *p);
+RR_API int rr_vertical_nfreq(const rr_vertical_plan *p);
+RR_API const double *rr_vertical_freqs(const rr_vertical_plan *p);
+/* The floor points of the last execute (npoints, x in m). */
+RR_API int rr_vertical_npoints(const rr_vertical_plan *p);
+RR_API const double *rr_vertical_points(const rr_vertical_plan *p);
+/* FRFs at speed v (m/s): H[f * npoints + p] floor acceleration (m/s^2) per m
+ * of track at the leading wheelset; Q[f * RR_VDOF + d] every coordinate's. */
+RR_API int rr_vertical_frf_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v_ms,
+                                   rr_error *err);
+RR_API const rr_complex *rr_vertical_frf_H(const rr_vertical_plan *p);
+RR_API const rr_complex *rr_vertical_frf_Q(const rr_vertical_plan *p);
+/* The FRFs, the floor PSDs G[f * npoints + p] ((m/s^2)^2/Hz) for the
+ * vertical spectrum sp, and every index of every point into out[npoints]. */
+RR_API int rr_vertical_ride_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v_ms,
+                                    const rr_spectrum *sp, rr_vertical_point *out, rr_error *err);
+RR_API const double *rr_vertical_psd(const rr_vertical_plan *p);
+RR_API const double *rr_vertical_track_psd(const rr_vertical_plan *p); /* G_t(f), m^2/Hz */
+/* The plan's 5 s statistics of ncols PSD columns G[f * stride + c] on its
+ * grid (lateral floor PSDs, say) weighted by w, into out[ncols]. */
+RR_API int rr_vertical_window_stats(rr_vertical_plan *p, const double *G, int stride, int ncols,
+                                    enum rr_iso_weighting w, rr_window_stats *out, rr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,204 @@
+/* The vertical pseudo-excitation method and ride indices (docs/vertical.md,
+ * "Pseudo-excitation method", "Ride indices", "5 s RMS"). The plan owns the
+ * grid, the weightings, the window kernel and every buffer; executing it
+ * solves, per frequency, the symmetric (bounce, bending, frames together) and
+ * antisymmetric (pitch, frames opposed) 3x3 and 2x2 systems the floor sees,
+ * and each frame's decoupled pitch, instead of the 7x7 system. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "railride/pem.h"
+#include "railride/vertical.h"
+#include "internal.h"
+#include "vertical_impl.h"
+
+rr_vertical_opts rr_vertical_opts_default(void)
+{
+  return (rr_vertical_opts){.nfreq = RR_FRF_NFREQ_DEFAULT,
+                            .f_lo_hz = RR_FRF_F_LO_DEFAULT,
+                            .f_hi_hz = RR_FRF_F_HI_DEFAULT,
+                            .window_s = RR_VERTICAL_WINDOW_DEFAULT};
+}
+
+void rr_vertical_plan_free(rr_vertical_plan *p)
+{
+  if (!p) return;
+  free(p->f);
+  free(p->wk2);
+  free(p->wb2);
+  free(p->wd2);
+  free(p->wc2);
+  free(p->trap);
+  free(p->H);
+  free(p->Q);
+  free(p->G);
+  free(p->Gt);
+  free(p->Er);
+  free(p->Qr);
+  rr_comfort_plan_free(p->comfort);
+  rr_window_plan_free(p->window);
+  free(p);
+}
+
+static int check_opts(const rr_vertical_opts *o, rr_error *err)
+{
+  if (o->nfreq < 2 || o->nfreq > 20000)
+    return rr_seterr(err, RR_EINVAL, "vertical: %d frequencies (need 2 .. 20000)", o->nfreq);
+  if (!(o->f_lo_hz > 0 && o->f_hi_hz > o->f_lo_hz && isfinite(o->f_hi_hz)))
+    return rr_seterr(err, RR_EINVAL, "vertical: band %g .. %g Hz (need 0 < lo < hi)", o->f_lo_hz,
+                     o->f_hi_hz);
+  if (o->npoints < 0 || o->npoints > RR_VERTICAL_POINTS_MAX)
+    return rr_seterr(err, RR_EINVAL, "vertical: %d floor points (at most %d)", o->npoints,
+                     RR_VERTICAL_POINTS_MAX);
+  for (int i = 0; i < o->npoints; i++)
+    if (!isfinite(o->x_points[i]))
+      return rr_seterr(err, RR_EINVAL, "vertical: floor point %d is not finite", i + 1);
+  if (!(o->window_s > 0 && o->window_s <= 3600))
+    return rr_seterr(err, RR_EINVAL, "vertical: window %g s (need 0 < T <= 3600 s)", o->window_s);
+  return RR_OK;
+}
+
+static double weight2(enum rr_iso_weighting w, double f)
+{
+  rr_complex h = rr_iso8041_weight(w, f);
+  return creal(h * conj(h));
+}
+
+static int plan_weights(rr_vertical_plan *p, rr_error *err)
+{
+  int n = p->n;
+  for (int i = 0; i < n; i++) {
+    double f = p->f[i];
+    p->wk2[i] = weight2(RR_ISO_WK, f);
+    p->wb2[i] = weight2(RR_EN_WB, f);
+    p->wd2[i] = weight2(RR_ISO_WD, f);
+    p->wc2[i] = weight2(RR_ISO_WC, f);
+    p->trap[i] = 0.5 * ((i + 1 < n ? p->f[i + 1] : f) - (i > 0 ? p->f[i - 1] : f));
+  }
+  int st = rr_comfort_plan_new(p->f, n, RR_AXIS_VERTICAL, &p->comfort, err);
+  if (!st) st = rr_window_plan_new(p->f, n, p->o.window_s, RR_VERTICAL_POINTS_MAX, &p->window, err);
+  return st;
+}
+
+int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_error *err)
+{
+  *out = NULL;
+  int st = check_opts(o, err);
+  if (st) return st;
+  rr_vertical_plan *p = calloc(1, sizeof *p);
+  if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  size_t n = (size_t)o->nfreq, pm = RR_VERTICAL_POINTS_MAX;
+  p->o = *o;
+  p->n = o->nfreq;
+  p->f = malloc(sizeof(double) * n);
+  p->wk2 = malloc(sizeof(double) * n);
+  p->wb2 = malloc(sizeof(double) * n);
+  p->wd2 = malloc(sizeof(double) * n);
+  p->wc2 = malloc(sizeof(double) * n);
+  p->trap = malloc(sizeof(double) * n);
+  p->Gt = malloc(sizeof(double) * n);
+  p->G = malloc(sizeof(double) * n * pm);
+  p->H = malloc(sizeof(rr_complex) * n * pm);
+  p->Q = malloc(sizeof(rr_complex) * n * RR_VDOF);
+  p->Er = malloc(sizeof(double) * n * 2 * RR_VINPUTS);
+  p->Ei = p->Er ? p->Er + n * RR_VINPUTS : NULL;
+  p->Qr = malloc(sizeof(double) * n * 2 * RR_VDOF);
+  p->Qi = p->Qr ? p->Qr + n * RR_VDOF : NULL;
+  if (!p->Er || !p->Qr || !p->f || !p->wk2 || !p->wb2 || !p->wd2 || !p->wc2 || !p->trap || !p->Gt ||
+      !p->G || !p->H || !p->Q) {
+    rr_vertical_plan_free(p);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
+  for (int i = 0; i < p->n; i++) /* log-spaced, both ends exact */
+    p->f[i] = i == p->n - 1 ? o->f_hi_hz
+                            : o->f_lo_hz * pow(o->f_hi_hz / o->f_lo_hz, (double)i / (p->n - 1));
+  if ((st = plan_weights(p, err))) {
+    rr_vertical_plan_free(p);
+    return st;
+  }
+  *out = p;
+  return RR_OK;
+}
+
+int rr_vertical_nfreq(const rr_vertical_plan *p) { return p->n; }
+const double *rr_vertical_freqs(const rr_vertical_plan *p) { return p->f; }
+int rr_vertical_npoints(const rr_vertical_plan *p) { return p->np; }
+const double *rr_vertical_points(const rr_vertical_plan *p) { return p->x; }
+const rr_complex *rr_vertical_frf_H(const rr_vertical_plan *p) { return p->H; }
+const rr_complex *rr_vertical_frf_Q(const rr_vertical_plan *p) { return p->Q; }
+const double *rr_vertical_psd(const rr_vertical_plan *p) { return p->G; }
+const double *rr_vertical_track_psd(const rr_vertical_plan *p) { return p->Gt; }
+
+/* ---- indices ---- */
+
+static double weighted_rms(const rr_vertical_plan *p, const double *G, int stride, const double *W2)
+{
+  double s = 0;
+  for (int k = 0; k < p->n; k++) s += p->trap[k] * W2[k] * G[(size_t)k * (size_t)stride];
+  return sqrt(s);
+}
+
+static const double *weights_of(const rr_vertical_plan *p, enum rr_iso_weighting w)
+{
+  switch (w) {
+  case RR_ISO_WK: return p->wk2;
+  case RR_EN_WB: return p->wb2;
+  case RR_ISO_WD: return p->wd2;
+  case RR_ISO_WC: return p->wc2;
+  default: return NULL;
+  }
+}
+
+int rr_vertical_window_stats(rr_vertical_plan *p, const double *G, int stride, int ncols,
+                             enum rr_iso_weighting w, rr_window_stats *out, rr_error *err)
+{
+  const double *W2 = weights_of(p, w);
+  if (!W2) return rr_seterr(err, RR_EINVAL, "vertical: weighting %d is not planned", (int)w);
+  return rr_window_execute(p->window, G, stride, ncols, W2, out, err);
+}
+
+static int point_indices(rr_vertical_plan *p, const rr_window_stats *wb, int i,
+                         rr_vertical_point *o, rr_error *err)
+{
+  rr_comfort c;
+  const double *G = p->G + i;
+  int st = rr_comfort_execute(p->comfort, G, p->np, &c, err);
+  if (st) return st;
+  *o = (rr_vertical_point){.x = p->x[i],
+                           .rms = c.rms,
+                           .sperling = c.sperling,
+                           .sperling_gb = c.sperling_gb,
+                           .wk_rms = weighted_rms(p, G, p->np, p->wk2),
+                           .wb_rms = weighted_rms(p, G, p->np, p->wb2),
+                           .wb_iso8041_rms = c.wd_rms,
+                           .wb_5s = *wb,
+                           .n_mv_vertical = 6 * wb->p95};
+  double all[] = {o->rms,    o->sperling,  o->sperling_gb, o->wk_rms,
+                  o->wb_rms, o->wb_5s.p95, o->wb_5s.p50,   o->wb_5s.mean};
+  for (size_t k = 0; k < sizeof all / sizeof all[0]; k++)
+    if (!isfinite(all[k]))
+      return rr_seterr(err, RR_EINVAL, "vertical: an index at x = %g m is not finite", o->x);
+  return RR_OK;
+}
+
+int rr_vertical_ride_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v,
+                             const rr_spectrum *sp, rr_vertical_point *out, rr_error *err)
+{
+  int st = rr_vertical_frf_execute(p, m, v, err);
+  if (st) return st;
+  for (int k = 0; k < p->n; k++) {
+    double gt = rr_spectrum_eval(sp, p->f[k] / v) / v;
+    if (!(gt >= 0 && isfinite(gt)))
+      return rr_seterr(err, RR_EINVAL, "vertical: the track PSD at %g Hz is not finite", p->f[k]);
+    p->Gt[k] = gt;
+    for (int i = 0; i < p->np; i++) {
+      size_t at = (size_t)k * (size_t)p->np + (size_t)i;
+      rr_complex h = p->H[at];
+      p->G[at] = gt * (creal(h) * creal(h) + cimag(h) * cimag(h));
+    }
+  }
+  rr_window_stats wb[RR_VERTICAL_POINTS_MAX];
+  if ((st = rr_window_execute(p->window, p->G, p->np, p->np, p->wb2, wb, err))) return st;
+  for (int i = 0; i < p->np && !st; i++) st = point_indices(p, wb + i, i, out + i, err);
+  return st;
+}
