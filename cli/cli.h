@@ -249,6 +249,8 @@ int ride_vertical(const cli_common *c, const ride_setup *rs, const vertical_setu
                   double conicity, const char *psd_path);
 int frf_vertical(const cli_common *c, const ride_setup *rs, const vertical_setup *vs);
 int modes_vertical(const cli_common *c);
+/* validate --direction vertical (cmd_validate_vertical.c) */
+int validate_vertical(int argc, char **argv);
 /* After parsing: the floor points default to +L, 0, -L of the vehicle loaded
    (the defaults set before parsing were the built-in vehicle's). */
 void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv);

@@ -165,7 +165,7 @@ static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, 
   if ((st = rr_spectrum_open(a->spectrum, &sp, &e))) return cli_fail(&e, st);
   rr_validate_opts vo = rr_validate_opts_default();
   if (!(st = rr_spectrum_require(&sp, "lateral", "--spectrum: the lateral track input", &e)))
-    st = rr_track_realise(&sp, v, x, ni, a->fs, ns, vo.f_lo_hz, vo.f_hi_hz,
+    st = rr_track_realise(&sp, v, x, ni, a->fs, ns, vo.f_lo_hz, vo.f_hi_hz, RR_TRACK_FIXED,
                           a->have_seed ? a->seed : vo.seed, *u, *du, &e);
   rr_spectrum_close(&sp);
   return st ? cli_fail(&e, st) : 0;

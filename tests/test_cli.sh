@@ -95,10 +95,12 @@ json_check "compare rows" "len(d['rows'])==4 and {r['vehicle'] for r in d['rows'
 json_check "summary ride table" "len(d['ride'])==6 and {r['yaw_series'] for r in d['ride']}=={'constant','sdf'}" < "$tmp/sum.json"
 
 "$RR" validate --speed 350 --conicity 0.2 --duration 32 --fs 128 --nseg 512 --json --psd "$tmp/v.csv" > "$tmp/val.json" || bad "validate exit"
-json_check "validate verdict" "d['verdict']=='PASS' and d['tolerances']['rms_and_sperling_relative']==0.01" < "$tmp/val.json"
+json_check "validate verdict" "d['verdict']=='PASS' and d['tolerances']['z']==4 and 0<d['tolerances']['sperling_gb_relative']<0.2" < "$tmp/val.json"
+"$RR" validate --speed 350 --conicity 0.2 --duration 32 --fs 128 --nseg 512 --track-amplitudes fixed --json > "$tmp/valf.json" || bad "validate fixed exit"
+json_check "validate, fixed amplitudes: deterministic agreement" "d['track_amplitudes']=='fixed' and abs(d['rms_time']/d['rms_pem']-1)<2e-3 and abs(d['sperling_time']/d['sperling_pem']-1)<1e-3" < "$tmp/valf.json"
 "$RR" critical-speed --conicity 0.05,0.4,0.6 --json > "$tmp/crits.json" || bad "critical-speed list exit"
 json_check "critical-speed over a conicity list" "[r['conicity'] for r in d['results']]==[0.05,0.4,0.6] and d['results'][0]['critical_speed_kmh'] is None and abs(d['results'][1]['critical_speed_kmh']-524.7)<0.05 and abs(d['results'][2]['critical_speed_kmh']-422.1)<0.05" < "$tmp/crits.json"
-json_check "validate keys" "all(isinstance(d[k],float) for k in ('sperling_pem','sperling_time','rms_pem','rms_time','psd_band_error_max')) and len(d['points'])==3 and abs(d['rms_time']/d['rms_pem']-1)<2e-3 and abs(d['sperling_time']/d['sperling_pem']-1)<1e-3 and d['psd_band_z_max']<4" < "$tmp/val.json"
+json_check "validate keys" "all(isinstance(d[k],float) for k in ('sperling_pem','sperling_time','rms_pem','rms_time','psd_band_error_max')) and len(d['points'])==3 and all(abs(p['rms_z'])<4 and abs(p['sperling_z'])<4 for p in d['points']) and d['psd_band_z_max']<4" < "$tmp/val.json"
 head -1 "$tmp/v.csv" | grep -q '^f_hz,welch_x8.6875m_m2s-4_per_hz,welch_x0m_m2s-4_per_hz,welch_x-8.6875m_m2s-4_per_hz,pem_x8.6875m_m2s-4_per_hz,.*,welch_sigma_rel$' && ok || bad "validate psd csv"
 expect2 "validate paper mode" "paper-mode SDF has no time-domain form" "$RR" validate --speed 300 --conicity 0.2 --sdf paper --duration 16
 printf '[vehicle]\nbase = type1\n[yaw_damper]\ndamping = 0\n[lateral_damper]\ndamping = 0\n' > "$tmp/nod.ini"
@@ -399,6 +401,14 @@ import csv, json, sys
 rows = list(csv.reader(open(sys.argv[1])))
 assert abs(float(rows[2][1]) - json.load(open(sys.argv[2]))['points'][2]['n_mv']) < 1e-9
 PY
+"$RR" validate --speed 350 --direction vertical --json --psd "$tmp/vval.csv" > "$tmp/vval.json" || bad "validate vertical exit"
+json_check "validate vertical" "d['verdict']=='PASS' and d['track_amplitudes']=='gaussian' and len(d['points'])==3 and all(p['frf_line_error_max']<1e-3 and abs(p['rms_z'])<4 and len(p['bands'])==17 and p['windows']==120 for p in d['points'])" < "$tmp/vval.json"
+head -1 "$tmp/vval.csv" | grep -q "^f_hz,welch_x8.6875m_m2s-4_per_hz" && ok || bad "validate vertical --psd header"
+"$RR" validate --speed 350 --conicity 0.2 --json > "$tmp/lval.json" || bad "validate lateral exit"
+json_check "validate lateral: Gaussian track, z-scores" "d['track_amplitudes']=='gaussian' and d['verdict']=='PASS' and all(abs(p['rms_z'])<4 and abs(p['sperling_z'])<4 and p['rms_rel_std']>0 for p in d['points'])" < "$tmp/lval.json"
+expect2 "validate vertical needs speed" "--speed is required" "$RR" validate --direction vertical
+expect2 "validate vertical takes no conicity" "conicity" "$RR" validate --speed 350 --direction vertical --conicity 0.2
+expect2 "validate amplitudes" "--track-amplitudes: gaussian or fixed" "$RR" validate --speed 350 --conicity 0.2 --track-amplitudes big
 expect2 "direction unknown" "--direction: lateral, vertical or both" "$RR" ride --speed 350 --direction sideways
 expect2 "vertical takes no --spectrum" "--vertical-spectrum" "$RR" ride --speed 350 --direction vertical --spectrum wuhan-guangzhou
 expect2 "lateral takes no --window" "--window: only with --direction" "$RR" ride --speed 350 --conicity 0.1 --window 5

@@ -2,6 +2,7 @@
 /* Time-domain validation pieces against closed forms, and a short
  * validation run against the PEM. */
 #define _POSIX_C_SOURCE 200809L
+#include <fftw3.h> /* before complex.h: fftw_complex as double[2] */
 #include <complex.h>
 #include <stdlib.h>
 #include <string.h>
@@ -95,7 +96,7 @@ static void test_track_and_welch(void)
   double v = 80, fs = 64, x[2] = {0, -2.5}; /* second input 2.5 m behind: lag 2 samples */
   int ns = 8192;
   double *u = malloc(sizeof(double) * 2 * ns), *du = malloc(sizeof(double) * 2 * ns);
-  CHECK_OK(rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 20, 7, u, du, &e), e);
+  CHECK_OK(rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u, du, &e), e);
   /* mean square over the period = the sum of line powers = integral of G_t over the band */
   double ms = 0, T = ns / fs, want = 0;
   for (int k = 0; k < ns; k++) ms += u[k] * u[k] / ns;
@@ -110,7 +111,7 @@ static void test_track_and_welch(void)
   CHECK(lagerr < 1e-12 * sqrt(ms) * 100, "lag: %g", lagerr);
   /* the derivative against a 4th-order central difference, on a band where
      the difference itself is accurate (w h <= 0.4) */
-  rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 4, 7, u, du, &e);
+  rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 4, RR_TRACK_FIXED, 7, u, du, &e);
   double derr = 0, dmax = 0;
   for (int k = 2; k < ns - 2; k++) {
     double fd = (-u[k + 2] + 8 * u[k + 1] - 8 * u[k - 1] + u[k - 2]) * fs / 12;
@@ -118,13 +119,44 @@ static void test_track_and_welch(void)
     dmax = fmax(dmax, fabs(du[k]));
   }
   CHECK(derr < 2e-3 * dmax, "derivative vs finite difference: %g of %g", derr, dmax);
-  rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 20, 7, u, du, &e);
+  rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u, du, &e);
   /* same seed, same track; another seed, another */
   double *u2 = malloc(sizeof(double) * ns);
-  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, 7, u2, NULL, &e);
+  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u2, NULL, &e);
   CHECK(maxdiff(u, u2, ns) == 0, "reproducible");
-  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, 8, u2, NULL, &e);
+  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_FIXED, 8, u2, NULL, &e);
   CHECK(maxdiff(u, u2, ns) > 1e-4, "seed matters");
+  /* Gaussian lines: the fixed draw's phases, Rayleigh amplitudes of mean
+     square 1 (each line's power exponential: P(ratio^2 > 1) = 1/e) */
+  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_GAUSSIAN, 7, u2, NULL, &e);
+  fftw_complex *Uf = fftw_malloc(sizeof(fftw_complex) * (ns / 2 + 1)),
+               *Ug = fftw_malloc(sizeof(fftw_complex) * (ns / 2 + 1));
+  fftw_plan pf = fftw_plan_dft_r2c_1d(ns, u, Uf, FFTW_ESTIMATE),
+            pg = fftw_plan_dft_r2c_1d(ns, u2, Ug, FFTW_ESTIMATE);
+  fftw_execute(pf);
+  fftw_execute(pg);
+  double sum = 0, phase_err = 0;
+  int nl = 0, above = 0;
+  for (int k = 1; k < ns / 2; k++) {
+    double af = hypot(Uf[k][0], Uf[k][1]);
+    if (af < 1e-300 || k / T < 0.5 || k / T > 20) continue;
+    double r2 = (Ug[k][0] * Ug[k][0] + Ug[k][1] * Ug[k][1]) / (af * af);
+    double cross =
+        atan2(Ug[k][1] * Uf[k][0] - Ug[k][0] * Uf[k][1], Ug[k][0] * Uf[k][0] + Ug[k][1] * Uf[k][1]);
+    phase_err = fmax(phase_err, fabs(cross));
+    sum += r2;
+    above += r2 > 1;
+    nl++;
+  }
+  CHECK(nl > 2000 && fabs(sum / nl - 1) < 5 / sqrt(nl),
+        "Gaussian lines' mean square ratio %g over %d lines", sum / nl, nl);
+  CHECK(fabs((double)above / nl - exp(-1)) < 5 * sqrt(exp(-1) * (1 - exp(-1)) / nl),
+        "exponential line powers: %g above 1", (double)above / nl);
+  CHECK(phase_err < 1e-9, "the Gaussian draw keeps the phases (%g rad)", phase_err);
+  fftw_destroy_plan(pf);
+  fftw_destroy_plan(pg);
+  fftw_free(Uf);
+  fftw_free(Ug);
   /* Welch: a sinusoid of amplitude A on a bin integrates to A^2/2 */
   int n = 16384, nseg = 1024, navg;
   double *s = malloc(sizeof(double) * n), f[513], P[513], Amp = 0.7, f0 = 10 * fs / nseg;
@@ -176,18 +208,37 @@ static void test_validation_run(void)
   o.nseg = 1024;
   o.npoints = 3;
   o.rows = rows;
+  o.amplitudes = RR_TRACK_FIXED;
   rr_validate_result r;
   CHECK_OK(rr_validate(m, &sp, &o, &r, &e), e);
   CHECK(r.navg == 15, "averages %d", r.navg);
   for (int q = 0; q < 3; q++) {
     const rr_validate_point *p = &r.points[q];
-    /* over a whole period the mean square is the line sum of the PEM integrand:
-       deterministic, so the tolerance is the integration rule's, not statistics' */
+    /* fixed amplitudes: over a whole period the mean square is the line sum of
+       the PEM integrand, deterministic: the tolerance is the integration
+       rule's (log grid) or the hold's (the lines), not statistics' */
     CHECK_CLOSE(p->rms_time, p->rms_pem, 1e-3, 0, "RMS time vs PEM");
+    CHECK_CLOSE(p->rms_time, p->rms_lines, 5e-5, 0,
+                "RMS time vs the lines' sum (the hold at fs 128 Hz)");
     CHECK_CLOSE(p->sperling_time, p->sperling_pem, 3e-4, 0, "Sperling by time filtering vs PEM");
+    CHECK_CLOSE(p->sperling_time, p->sperling_lines, 2e-5, 0, "Sperling time vs the lines'");
     /* band powers: within 4 sigma of the spread expected from K averages */
     CHECK(p->band_z_max < 4, "point %d: band z %.2f", q, p->band_z_max);
     CHECK(p->nbands == 19, "bands %d", p->nbands);
+  }
+  rr_validate_result_free(&r);
+  /* Gaussian amplitudes (the default): the RMS and Sperling scatter about the
+     lines' expectation by their predicted spread */
+  o.amplitudes = RR_TRACK_GAUSSIAN;
+  CHECK_OK(rr_validate(m, &sp, &o, &r, &e), e);
+  for (int q = 0; q < 3; q++) {
+    const rr_validate_point *p = &r.points[q];
+    CHECK(fabs(p->rms_z) < 4 && fabs(p->sperling_z) < 4 && p->band_z_max < 4.5,
+          "Gaussian track, point %d: z rms %.2f, Sperling %.2f, bands %.2f", q, p->rms_z,
+          p->sperling_z, p->band_z_max);
+    CHECK(p->rms_rel_std > 0.01 && p->rms_rel_std < 0.5, "RMS spread %g", p->rms_rel_std);
+    CHECK(fabs(p->rms_time / p->rms_lines - 1) > 1e-4,
+          "the Gaussian run's RMS is not the expectation's");
   }
   rr_validate_result_free(&r);
   /* paper mode has no time form */

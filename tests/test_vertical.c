@@ -468,6 +468,45 @@ static void test_en12299(void)
         "the comfort scale");
 }
 
+/* The PEM against a time-domain run (Gaussian track) and, with fixed line
+   amplitudes, the run's mean square against the lines' sum exactly. */
+static void test_validate(void)
+{
+  rr_vertical_model m = default_model();
+  rr_spectrum sp;
+  rr_error e;
+  rr_vertical_validate_result r;
+  rr_vertical_validate_opts o = rr_vertical_validate_opts_default();
+  CHECK_OK(rr_spectrum_open("german-low-vertical", &sp, &e), e);
+  CHECK_OK(rr_vertical_validate(&m, 250 / 3.6, &sp, &o, &r, &e), e);
+  CHECK(r.npoints == 3 && r.navg > 10, "points %d, averages %d", r.npoints, r.navg);
+  for (int q = 0; q < r.npoints; q++) {
+    const rr_vertical_validate_point *p = &r.points[q];
+    CHECK(p->frf_line_error_max < 1e-4, "line FRF error %.3g", p->frf_line_error_max);
+    CHECK(fabs(p->rms_z) < 4 && fabs(p->sperling_z) < 4 && fabs(p->wb_p95_z) < 4 &&
+              p->band_z_max < 4,
+          "point %d z: rms %.2f, Sperling %.2f, P95 %.2f, bands %.2f", q, p->rms_z, p->sperling_z,
+          p->wb_p95_z, p->band_z_max);
+    CHECK_CLOSE(p->rms_lines, p->rms_pem, 2e-4, 0, "the lines' RMS against the log grid's");
+    CHECK(p->windows == 120, "windows %d", p->windows);
+  }
+  rr_vertical_validate_result_free(&r);
+  o.amplitudes = RR_TRACK_FIXED;
+  o.duration_s = 120;
+  CHECK_OK(rr_vertical_validate(&m, 250 / 3.6, &sp, &o, &r, &e), e);
+  for (int q = 0; q < r.npoints; q++) {
+    CHECK_CLOSE(r.points[q].rms_time, r.points[q].rms_lines, 1e-6, 0,
+                "fixed amplitudes: the run's RMS");
+    CHECK_CLOSE(r.points[q].sperling_time, r.points[q].sperling_lines, 1e-6, 0,
+                "fixed amplitudes: Sperling");
+  }
+  rr_vertical_validate_result_free(&r);
+  o.fs_hz = 50;
+  CHECK(rr_vertical_validate(&m, 250 / 3.6, &sp, &o, &r, &e) == RR_EINVAL,
+        "fs below twice 30 Hz refused");
+  rr_spectrum_close(&sp);
+}
+
 int main(void)
 {
   check_spectra_env();
@@ -481,5 +520,6 @@ int main(void)
   test_expected();
   test_window_monte_carlo();
   test_en12299();
+  test_validate();
   return check_done("test_vertical");
 }

@@ -16,13 +16,19 @@
 extern "C" {
 #endif
 
-/* Track alignment seen by each input over one period of nsamples at fs_hz:
+/* How a realisation's lines are drawn: fixed amplitudes sqrt(2 G_s(n_k) dn)
+ * with uniform phases, or Gaussian (random complex coefficients: the same
+ * phases, Rayleigh amplitudes of that mean square), a Gaussian process whose
+ * mean-square and band powers scatter as a measured track's would. */
+typedef enum rr_track_amplitudes { RR_TRACK_GAUSSIAN = 0, RR_TRACK_FIXED = 1 } rr_track_amplitudes;
+/* Track profile seen by each input over one period of nsamples at fs_hz:
  * y_t(v t + x_i), with lines at f_k = k fs / nsamples kept in [f_lo, f_hi],
- * amplitudes sqrt(2 G_s(n_k) dn), phases uniform from the seed. u and du
- * (time derivative, exact) are ninputs x nsamples, row-major. */
+ * drawn from the seed as amp says. u and du (time derivative, exact) are
+ * ninputs x nsamples, row-major. */
 RR_API int rr_track_realise(const rr_spectrum *sp, double speed, const double *x_inputs,
                             int ninputs, double fs_hz, int nsamples, double f_lo, double f_hi,
-                            uint64_t seed, double *u, double *du, rr_error *err);
+                            rr_track_amplitudes amp, uint64_t seed, double *u, double *du,
+                            rr_error *err);
 
 /* A measured alignment record: distance_m (rising), alignment_m. */
 typedef struct rr_track_record {
@@ -67,12 +73,13 @@ RR_API int rr_welch_psd(const double *x, int n, double fs_hz, int nseg, double *
 
 /* Validation of the PEM against a time-domain run. */
 typedef struct rr_validate_opts {
-  double duration_s;       /* record length = one period of the realisation (600) */
-  double fs_hz;            /* sample rate (256) */
-  int nseg;                /* Welch segment (4096) */
-  uint64_t seed;           /* (1) */
-  double f_lo_hz, f_hi_hz; /* band of the track content and the PEM (0.3, 30) */
-  int nfreq;               /* PEM grid (400, log-spaced) */
+  double duration_s;              /* record length = one period of the realisation (600) */
+  double fs_hz;                   /* sample rate (256) */
+  int nseg;                       /* Welch segment (4096) */
+  uint64_t seed;                  /* (1) */
+  rr_track_amplitudes amplitudes; /* the realisation's lines (Gaussian) */
+  double f_lo_hz, f_hi_hz;        /* band of the track content and the PEM (0.3, 30) */
+  int nfreq;                      /* PEM grid (400, log-spaced) */
   int npoints;
   const double *rows, *rows0; /* floor points as in rr_frf_opts */
   rr_progress progress;       /* steps: the track, the time run, each point, the PEM lines (none);
@@ -93,6 +100,12 @@ typedef struct rr_validate_point {
       band_sigma[RR_NBANDS_MAX];
   double band_error_max; /* max |time - pem| / pem over the bands */
   double band_z_max;     /* max |time - pem| / (sigma pem) */
+  /* the realisation's expectation on its own lines (PEM at f_l = l / T,
+     power G(f_l) / T each) and the run's scatter about it: the RMS and the
+     Sperling index (filter method) with their relative standard deviations
+     (a Gaussian track's line powers are exponential) and z-scores */
+  double rms_lines, rms_rel_std, rms_z;
+  double sperling_lines, sperling_rel_std, sperling_z;
 } rr_validate_point;
 
 typedef struct rr_validate_result {

@@ -14,6 +14,7 @@
 #include "railride/comfort.h"
 #include "railride/error.h"
 #include "railride/spectrum.h"
+#include "railride/timesim.h"
 #include "railride/vehicle.h"
 
 #ifdef __cplusplus
@@ -83,7 +84,8 @@ typedef struct rr_vertical_opts {
   double f_lo_hz, f_hi_hz;                 /* 0.3, 30 */
   int npoints;                             /* 0: +L, 0, -L of the model executed on */
   double x_points[RR_VERTICAL_POINTS_MAX]; /* m, |x| <= L_cb/2 */
-  double window_s;                         /* 5 */
+  double window_s;                         /* 5; 0: no 5 s statistics (wb_5s holds the RMS only) */
+  const double *freqs_hz; /* an explicit grid (nfreq, increasing), or NULL: log-spaced */
 } rr_vertical_opts;
 RR_API rr_vertical_opts rr_vertical_opts_default(void);
 
@@ -119,6 +121,48 @@ RR_API const double *rr_vertical_track_psd(const rr_vertical_plan *p); /* G_t(f)
  * grid (lateral floor PSDs, say) weighted by w, into out[ncols]. */
 RR_API int rr_vertical_window_stats(rr_vertical_plan *p, const double *G, int stride, int ncols,
                                     enum rr_iso_weighting w, rr_window_stats *out, rr_error *err);
+
+/* Validation against a time-domain run (docs/vertical.md, "Validation"): a
+ * seeded Gaussian track realisation (random complex line coefficients, each
+ * wheelset with its exact delay), the 14-state system discretised exactly
+ * for a cubic Hermite hold of the profile, its periodic steady state, and at
+ * each floor point: the record's line FRF against the PEM's, the RMS, the
+ * Sperling index and 1/3-octave band powers against their expectation on
+ * the realisation's lines with the realisation's own spread (z-scores), and
+ * the 5 s Wb RMS percentiles of the record against the gamma law's. */
+typedef struct rr_vertical_validate_opts {
+  double duration_s;              /* one period of the realisation (600) */
+  double fs_hz;                   /* (256) */
+  int nseg;                       /* Welch segment (4096) */
+  uint64_t seed;                  /* (1) */
+  rr_track_amplitudes amplitudes; /* (Gaussian) */
+  double window_s;                /* (5) */
+  int npoints;                    /* 0: +L, 0, -L */
+  double x_points[RR_VERTICAL_POINTS_MAX];
+} rr_vertical_validate_opts;
+RR_API rr_vertical_validate_opts rr_vertical_validate_opts_default(void);
+#define RR_VERTICAL_BANDS 17 /* 1/3-octave centres 0.5 .. 20 Hz */
+typedef struct rr_vertical_validate_point {
+  double x;
+  double rms_pem, rms_lines, rms_time, rms_rel_std, rms_z;
+  double sperling_pem, sperling_lines, sperling_time, sperling_rel_std, sperling_z;
+  double wb_p50_est, wb_p95_est, wb_p50_time, wb_p95_time, wb_p95_z;
+  int windows;
+  double frf_line_error_max; /* max |H_time - H_pem| / max |H_pem| over the lines */
+  double band_fc[RR_VERTICAL_BANDS], band_pem[RR_VERTICAL_BANDS], band_time[RR_VERTICAL_BANDS],
+      band_rel_std[RR_VERTICAL_BANDS], band_z[RR_VERTICAL_BANDS];
+  double band_z_max;
+} rr_vertical_validate_point;
+typedef struct rr_vertical_validate_result {
+  int npoints, nwelch, navg;
+  double *welch_f, *welch_P, *pem_P; /* nwelch; npoints x nwelch (PEM: 0 outside the band) */
+  rr_vertical_validate_point points[RR_VERTICAL_POINTS_MAX];
+  double seconds_simulated;
+} rr_vertical_validate_result;
+RR_API int rr_vertical_validate(const rr_vertical_model *m, double v_ms, const rr_spectrum *sp,
+                                const rr_vertical_validate_opts *o, rr_vertical_validate_result *r,
+                                rr_error *err);
+RR_API void rr_vertical_validate_result_free(rr_vertical_validate_result *r);
 
 #ifdef __cplusplus
 }

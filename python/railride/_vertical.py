@@ -34,7 +34,7 @@ class _VModes(ctypes.Structure):
 class _VOpts(ctypes.Structure):
     _fields_ = [("nfreq", ctypes.c_int), ("f_lo_hz", ctypes.c_double), ("f_hi_hz", ctypes.c_double),
                 ("npoints", ctypes.c_int), ("x_points", ctypes.c_double * POINTS_MAX),
-                ("window_s", ctypes.c_double)]
+                ("window_s", ctypes.c_double), ("freqs_hz", c_double_p)]
 
 
 class _WindowStats(ctypes.Structure):

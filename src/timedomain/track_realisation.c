@@ -8,7 +8,8 @@
 #include "internal.h"
 
 int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, double fs, int ns,
-                     double f_lo, double f_hi, uint64_t seed, double *u, double *du, rr_error *err)
+                     double f_lo, double f_hi, rr_track_amplitudes how, uint64_t seed, double *u,
+                     double *du, rr_error *err)
 {
   if (!(v > 0 && fs > 0 && ns >= 4 && ni >= 1 && f_hi > f_lo && f_lo >= 0))
     return rr_seterr(err, RR_EINVAL,
@@ -23,14 +24,17 @@ int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, d
     st = rr_seterr(err, RR_ENOMEM, "out of memory");
     goto done;
   }
-  /* phases first, one per line whatever the band, so a band change keeps them */
-  rr_rng rng;
+  /* phases first, one per line whatever the band, so a band change keeps
+     them; the Gaussian draw's Rayleigh factors from a second stream, so that
+     both draws share their phases */
+  rr_rng rng, rng_amp;
   rr_rng_seed(&rng, seed);
+  rr_rng_seed(&rng_amp, seed ^ 0x5deece66dULL);
   for (int k = 0; k < nh; k++) {
     phase[k] = 2 * RR_PI * rr_rng_uniform(&rng);
-    double f = k / T, n = f / v;
+    double f = k / T, n = f / v, ray = sqrt(-log(1 - rr_rng_uniform(&rng_amp))); /* E ray^2 = 1 */
     int in = k > 0 && 2 * k < ns && f >= f_lo * (1 - 1e-12) && f <= f_hi * (1 + 1e-12);
-    amp[k] = in ? sqrt(2 * rr_spectrum_eval(sp, n) * dn) : 0;
+    amp[k] = in ? sqrt(2 * rr_spectrum_eval(sp, n) * dn) * (how == RR_TRACK_FIXED ? 1 : ray) : 0;
   }
   fftw_plan plan = fftw_plan_dft_c2r_1d(ns, Y, out, FFTW_ESTIMATE);
   if (!plan) {

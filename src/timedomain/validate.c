@@ -83,7 +83,8 @@ static int results_finite(const rr_validate_result *r, rr_error *err)
     const rr_validate_point *p = &r->points[q];
     double v[] = {p->rms_pem,        p->rms_time,        p->sperling_pem,      p->sperling_time,
                   p->sperling_welch, p->sperling_gb_pem, p->sperling_gb_welch, p->wd_rms_pem,
-                  p->wd_rms_welch,   p->band_error_max,  p->band_z_max};
+                  p->wd_rms_welch,   p->band_error_max,  p->band_z_max,        p->rms_z,
+                  p->sperling_z};
     for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
       if (!isfinite(v[i]))
         return rr_seterr(err, RR_ENOCONV, "validate: a result at point %d is not finite", q + 1);
@@ -256,7 +257,7 @@ static int time_run(const rr_model *m, const rr_spectrum *sp, const rr_validate_
   double xin[RR_SYS_MAX_INPUTS];
   for (int i = 0; i < w->ni; i++) xin[i] = m->contacts[i].x;
   int st = rr_track_realise(sp, m->speed, xin, w->ni, o->fs_hz, w->ns, o->f_lo_hz, o->f_hi_hz,
-                            o->seed, w->u, w->du, err);
+                            o->amplitudes, o->seed, w->u, w->du, err);
   if (st || (st = rr_progress_step(&o->progress, ++w->step, w->nsteps, err))) return st;
   if ((st = rr_lti_discretise(w->N, w->ni, w->A, w->Bs, w->dt, &w->dv, err))) return st;
   st = rr_lti_periodic(&w->dv, w->ns, w->u, w->du, w->ny, w->C, w->D, w->E, w->y, err);
@@ -314,6 +315,28 @@ static int point_indices(const rr_validate_opts *o, vwork *w, rr_validate_result
   return rr_progress_step(&o->progress, ++w->step, w->nsteps, err);
 }
 
+/* The realisation's expected mean squares on its lines (each line's power
+   G / T, exponentially distributed for a Gaussian track: its variance the
+   square of its mean) and the run's z-scores about them. */
+static void line_statistics(const double *G, int stride, const double *fl, int nl, double T,
+                            rr_validate_point *pt)
+{
+  double ms = 0, var = 0, msw = 0, varw = 0;
+  for (int l = 0; l < nl; l++) {
+    double P = G[(size_t)l * (size_t)stride] / T, B = rr_sperling_filter(fl[l], RR_AXIS_LATERAL);
+    ms += P;
+    var += P * P;
+    msw += B * B * P;
+    varw += (B * B * P) * (B * B * P);
+  }
+  pt->rms_lines = sqrt(ms);
+  pt->rms_rel_std = 0.5 * sqrt(var) / ms; /* d(rms)/rms = d(ms)/(2 ms) */
+  pt->rms_z = (pt->rms_time / pt->rms_lines - 1) / pt->rms_rel_std;
+  pt->sperling_lines = rr_sperling_from_weighted_rms(sqrt(msw));
+  pt->sperling_rel_std = 0.15 * sqrt(varw) / msw; /* W = 4.42 ms^0.15 */
+  pt->sperling_z = (pt->sperling_time / pt->sperling_lines - 1) / pt->sperling_rel_std;
+}
+
 /* The Welch estimator's expectation under the PEM spectrum: each line of the
    realisation (f_l = l / T, power G_pem(f_l) / T) seen through the Hann
    window's spectral kernel |W(f_l - f_k)|^2 / (fs sum w^2). Comparing with
@@ -340,6 +363,7 @@ static int welch_expectation(const rr_model *m, const rr_spectrum *sp, const rr_
     double wj = 0.5 * (1 - cos(2 * RR_PI * j / o->nseg));
     wss += wj * wj;
   }
+  for (int q = 0; q < np && !st; q++) line_statistics(Gl + q, np, fl, nl, T, &r->points[q]);
   double dfb = o->fs_hz / o->nseg;
   int reach = (int)ceil(32 * dfb * T); /* lines within 32 bins of a bin */
   for (int k = w->kb0; k <= w->kb1 && !st; k++) {

@@ -176,6 +176,7 @@ static const layout_entry layout[] = {
     FIELD(rr_vertical_opts, npoints),
     FIELD(rr_vertical_opts, x_points),
     FIELD(rr_vertical_opts, window_s),
+    FIELD(rr_vertical_opts, freqs_hz),
     TYPE(rr_window_stats),
     FIELD(rr_window_stats, rms),
     FIELD(rr_window_stats, shape_k),

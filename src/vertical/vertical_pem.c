@@ -40,11 +40,22 @@ void rr_vertical_plan_free(rr_vertical_plan *p)
   free(p);
 }
 
+/* Grids: the window kernel is n x n, so n is bounded with it. */
+#define VERTICAL_NFREQ_WINDOW_MAX 20000
+#define VERTICAL_NFREQ_MAX 4000000
+
 static int check_opts(const rr_vertical_opts *o, rr_error *err)
 {
-  if (o->nfreq < 2 || o->nfreq > 20000)
-    return rr_seterr(err, RR_EINVAL, "vertical: %d frequencies (need 2 .. 20000)", o->nfreq);
-  if (!(o->f_lo_hz > 0 && o->f_hi_hz > o->f_lo_hz && isfinite(o->f_hi_hz)))
+  int nmax = o->window_s > 0 ? VERTICAL_NFREQ_WINDOW_MAX : VERTICAL_NFREQ_MAX;
+  if (o->nfreq < 2 || o->nfreq > nmax)
+    return rr_seterr(err, RR_EINVAL, "vertical: %d frequencies (need 2 .. %d%s)", o->nfreq, nmax,
+                     o->window_s > 0 ? " with a 5 s window" : "");
+  if (o->freqs_hz) {
+    for (int i = 0; i < o->nfreq; i++)
+      if (!(o->freqs_hz[i] > 0 && isfinite(o->freqs_hz[i]) &&
+            (i == 0 || o->freqs_hz[i] > o->freqs_hz[i - 1])))
+        return rr_seterr(err, RR_EINVAL, "vertical: the grid must be positive and increasing");
+  } else if (!(o->f_lo_hz > 0 && o->f_hi_hz > o->f_lo_hz && isfinite(o->f_hi_hz)))
     return rr_seterr(err, RR_EINVAL, "vertical: band %g .. %g Hz (need 0 < lo < hi)", o->f_lo_hz,
                      o->f_hi_hz);
   if (o->npoints < 0 || o->npoints > RR_VERTICAL_POINTS_MAX)
@@ -53,8 +64,8 @@ static int check_opts(const rr_vertical_opts *o, rr_error *err)
   for (int i = 0; i < o->npoints; i++)
     if (!isfinite(o->x_points[i]))
       return rr_seterr(err, RR_EINVAL, "vertical: floor point %d is not finite", i + 1);
-  if (!(o->window_s > 0 && o->window_s <= 3600))
-    return rr_seterr(err, RR_EINVAL, "vertical: window %g s (need 0 < T <= 3600 s)", o->window_s);
+  if (!(o->window_s >= 0 && o->window_s <= 3600))
+    return rr_seterr(err, RR_EINVAL, "vertical: window %g s (need 0 <= T <= 3600 s)", o->window_s);
   return RR_OK;
 }
 
@@ -76,7 +87,8 @@ static int plan_weights(rr_vertical_plan *p, rr_error *err)
     p->trap[i] = 0.5 * ((i + 1 < n ? p->f[i + 1] : f) - (i > 0 ? p->f[i - 1] : f));
   }
   int st = rr_comfort_plan_new(p->f, n, RR_AXIS_VERTICAL, &p->comfort, err);
-  if (!st) st = rr_window_plan_new(p->f, n, p->o.window_s, RR_VERTICAL_POINTS_MAX, &p->window, err);
+  if (!st && p->o.window_s > 0)
+    st = rr_window_plan_new(p->f, n, p->o.window_s, RR_VERTICAL_POINTS_MAX, &p->window, err);
   return st;
 }
 
@@ -109,9 +121,11 @@ int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_e
     rr_vertical_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
-  for (int i = 0; i < p->n; i++) /* log-spaced, both ends exact */
-    p->f[i] = i == p->n - 1 ? o->f_hi_hz
-                            : o->f_lo_hz * pow(o->f_hi_hz / o->f_lo_hz, (double)i / (p->n - 1));
+  for (int i = 0; i < p->n; i++) /* given, or log-spaced with both ends exact */
+    p->f[i] = o->freqs_hz     ? o->freqs_hz[i]
+              : i == p->n - 1 ? o->f_hi_hz
+                              : o->f_lo_hz * pow(o->f_hi_hz / o->f_lo_hz, (double)i / (p->n - 1));
+  p->o.freqs_hz = NULL; /* the caller's array is not kept */
   if ((st = plan_weights(p, err))) {
     rr_vertical_plan_free(p);
     return st;
@@ -154,6 +168,7 @@ int rr_vertical_window_stats(rr_vertical_plan *p, const double *G, int stride, i
 {
   const double *W2 = weights_of(p, w);
   if (!W2) return rr_seterr(err, RR_EINVAL, "vertical: weighting %d is not planned", (int)w);
+  if (!p->window) return rr_seterr(err, RR_EUNSUP, "vertical: the plan has no 5 s window");
   return rr_window_execute(p->window, G, stride, ncols, W2, out, err);
 }
 
@@ -198,7 +213,12 @@ int rr_vertical_ride_execute(rr_vertical_plan *p, const rr_vertical_model *m, do
     }
   }
   rr_window_stats wb[RR_VERTICAL_POINTS_MAX];
-  if ((st = rr_window_execute(p->window, p->G, p->np, p->np, p->wb2, wb, err))) return st;
+  if (p->window)
+    st = rr_window_execute(p->window, p->G, p->np, p->np, p->wb2, wb, err);
+  else /* no window: the Wb RMS alone */
+    for (int i = 0; i < p->np; i++)
+      wb[i] = (rr_window_stats){.rms = weighted_rms(p, p->G + i, p->np, p->wb2)};
+  if (st) return st;
   for (int i = 0; i < p->np && !st; i++) st = point_indices(p, wb + i, i, out + i, err);
   return st;
 }
