@@ -248,6 +248,18 @@ void vertical_setup_default(vertical_setup *v);
 int ride_vertical(const cli_common *c, const ride_setup *rs, const vertical_setup *vs,
                   double conicity, const char *psd_path);
 int frf_vertical(const cli_common *c, const ride_setup *rs, const vertical_setup *vs);
+/* One floor point's vertical indices and, with the lateral side, its Wd 5 s
+   statistics and EN 12299 indices. */
+typedef struct vertical_both {
+  ride_point lat; /* the lateral PEM's indices */
+  rr_vertical_point z;
+  rr_window_stats wd;
+  rr_en12299 en;
+} vertical_both;
+/* The vertical ride at rs's points and, when conicity is not NaN, the
+   lateral side too (summary, compare). out: rs->npoints. */
+int vertical_eval(const rr_vehicle *veh, double speed_kmh, const ride_setup *rs,
+                  const vertical_setup *vs, double conicity, vertical_both *out, rr_error *e);
 int modes_vertical(const cli_common *c);
 /* validate --direction vertical (cmd_validate_vertical.c) */
 int validate_vertical(int argc, char **argv);

@@ -599,21 +599,28 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
            base->sdf.k3 / 1e6);
     printf("at %g km/h, spectrum %s; Sperling W (filter method), max over floor points +L, 0, -L\n",
            c->speed_kmh, rs.spectrum);
-    printf("%9s %12s %12s %10s %10s\n", "conicity", "zeta_const", "zeta_sdf", "W_const", "W_sdf");
+    printf("N_MV: EN 12299 mean comfort with the vertical model (tbt3352-vertical), max over the "
+           "points\n");
+    printf("%9s %12s %12s %10s %10s %9s %9s\n", "conicity", "zeta_const", "zeta_sdf", "W_const",
+           "W_sdf", "NMV_const", "NMV_sdf");
   }
   for (int i = 0; i < a->c_n && !st; i++) {
     double lam = a->c_n == 1 ? a->c_from : a->c_from + (a->c_to - a->c_from) * i / (a->c_n - 1);
     double zc, zs;
-    ride_point pc[3], ps[3];
+    vertical_both pc[3], ps[3]; /* the lateral ride and EN 12299 with the vertical model */
+    vertical_setup vdef;
+    vertical_setup_default(&vdef);
     st = rr_model_set_operating(mc, c->speed_kmh / RR_KMH, lam, &e);
     if (!st) st = rr_model_set_operating(ms, c->speed_kmh / RR_KMH, lam, &e);
     if (!st) st = rr_modal_stability_index(mc, &c->mo, wc, &zc, &e);
     if (!st) st = rr_modal_stability_index(ms, &c->mo, wsd, &zs, &e);
-    if (!st) st = ride_eval(&vc, c->speed_kmh, lam, &rs, pc, NULL, NULL, &e);
-    if (!st) st = ride_eval(&vs, c->speed_kmh, lam, &rs, ps, NULL, NULL, &e);
+    if (!st) st = vertical_eval(&vc, c->speed_kmh, &rs, &vdef, lam, pc, &e);
+    if (!st) st = vertical_eval(&vs, c->speed_kmh, &rs, &vdef, lam, ps, &e);
     if (st) break;
-    double wcmax = fmax(pc[0].sperling, fmax(pc[1].sperling, pc[2].sperling));
-    double wsmax = fmax(ps[0].sperling, fmax(ps[1].sperling, ps[2].sperling));
+    double wcmax = fmax(pc[0].lat.sperling, fmax(pc[1].lat.sperling, pc[2].lat.sperling));
+    double wsmax = fmax(ps[0].lat.sperling, fmax(ps[1].lat.sperling, ps[2].lat.sperling));
+    double nc = fmax(pc[0].en.n_mv, fmax(pc[1].en.n_mv, pc[2].en.n_mv));
+    double ns = fmax(ps[0].en.n_mv, fmax(ps[1].en.n_mv, ps[2].en.n_mv));
     if (jarr) {
       cJSON *o = cJSON_CreateObject();
       cJSON_AddStringToObject(o, "vehicle", base->name);
@@ -622,17 +629,19 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
       cJSON_AddNumberToObject(o, "stability_index_sdf", zs);
       cJSON_AddNumberToObject(o, "sperling_const", wcmax);
       cJSON_AddNumberToObject(o, "sperling_sdf", wsmax);
+      cJSON_AddNumberToObject(o, "n_mv_const", nc);
+      cJSON_AddNumberToObject(o, "n_mv_sdf", ns);
       cJSON_AddItemToArray(jarr, o);
     } else if (a->csv) { /* an undefined index: an empty cell */
       cli_csv_field(stdout, base->name, ',');
       printf("%.10g,", lam);
       cli_csv_num(stdout, zc, ',');
       cli_csv_num(stdout, zs, ',');
-      printf("%.10g,%.10g\n", wcmax, wsmax);
+      printf("%.10g,%.10g,%.10g,%.10g\n", wcmax, wsmax, nc, ns);
     } else {
       char b1[32], b2[32];
-      printf("%9.4f %12s %12s %10.4f %10.4f\n", lam, cli_num_or_none(b1, sizeof b1, zc),
-             cli_num_or_none(b2, sizeof b2, zs), wcmax, wsmax);
+      printf("%9.4f %12s %12s %10.4f %10.4f %9.4f %9.4f\n", lam, cli_num_or_none(b1, sizeof b1, zc),
+             cli_num_or_none(b2, sizeof b2, zs), wcmax, wsmax, nc, ns);
     }
   }
   rr_modal_ws_free(wc);
@@ -654,7 +663,8 @@ int cmd_compare(int argc, char **argv)
       "The SDF mode defaults to paper (self-consistent modes; k_sdf(f) in the frequency "
       "domain).\n" CLI_COMMON_HELP RIDE_HELP "  --conicities FROM:TO:N  conicity grid\n"
       "  --csv                "
-      "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n";
+      "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf,"
+      "n_mv_const,n_mv_sdf\n";
   static const struct option extra[] = {RIDE_OPTIONS,
                                         {"conicities", required_argument, 0, OPT_CMP_CON},
                                         {"csv", no_argument, 0, OPT_CMP_CSV},
@@ -676,8 +686,8 @@ int cmd_compare(int argc, char **argv)
   if (!c.have_speed) c.speed_kmh = 350;
   if (a.csv && c.json) return cli_bad("compare: --json or --csv, not both");
   if (a.csv)
-    printf(
-        "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf\n");
+    printf("vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf,"
+           "n_mv_const,n_mv_sdf\n");
   int mode = c.sdf_override > 0 ? c.sdf_override : RR_SDF_PAPER;
   cJSON *root = c.json ? cJSON_CreateObject() : NULL,
         *arr = root ? cJSON_AddArrayToObject(root, "rows") : NULL;

@@ -17,7 +17,9 @@ typedef struct summary {
   rr_vehicle vr[2]; /* constant series stiffness, SDF */
   ride_point rp[2][NLAMS][3];
   ride_setup rs;
-  cli_progress pr; /* a step per analysis: modes, robust, each critical speed and ride point */
+  vertical_setup vs;
+  vertical_both vb[3]; /* the vertical model and EN 12299 at the operating point */
+  cli_progress pr;     /* a step per analysis: modes, robust, each critical speed and ride point */
 } summary;
 
 static int stability_part(cli_common *c, summary *s, rr_error *e)
@@ -55,7 +57,49 @@ static int ride_part(const cli_common *c, summary *s, rr_error *e)
       st = ride_eval(&s->vr[k], c->speed_kmh, lams[i], &s->rs, s->rp[k][i], NULL, NULL, e);
       cli_progress_step(&s->pr, 1);
     }
+  vertical_setup_default(&s->vs);
+  if (!st) st = vertical_eval(&c->veh, c->speed_kmh, &s->rs, &s->vs, c->conicity, s->vb, e);
+  cli_progress_step(&s->pr, 1);
   return st;
+}
+
+static cJSON *vertical_json(const cli_common *c, const summary *s)
+{
+  cJSON *v = cJSON_CreateObject(), *pa = cJSON_AddArrayToObject(v, "points");
+  cJSON_AddStringToObject(v, "spectrum", s->vs.spectrum);
+  cJSON_AddStringToObject(v, "lateral_spectrum", s->rs.spectrum);
+  cJSON_AddNumberToObject(v, "conicity", c->conicity);
+  for (int q = 0; q < 3; q++) {
+    const vertical_both *b = &s->vb[q];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "x", b->z.x);
+    cJSON_AddNumberToObject(o, "sperling", b->z.sperling);
+    cJSON_AddNumberToObject(o, "sperling_gb", b->z.sperling_gb);
+    cJSON_AddNumberToObject(o, "wb_rms", b->z.wb_rms);
+    cJSON_AddNumberToObject(o, "wb_p95", b->z.wb_5s.p95);
+    cJSON_AddNumberToObject(o, "wd_p95", b->wd.p95);
+    cJSON_AddNumberToObject(o, "n_mv", b->en.n_mv);
+    cJSON_AddNumberToObject(o, "n_vd", b->en.n_vd);
+    cJSON_AddNumberToObject(o, "n_va_rigid_seat", b->en.n_va_rigid_seat);
+    cJSON_AddStringToObject(o, "comfort", rr_en12299_scale(b->en.n_mv));
+    cJSON_AddItemToArray(pa, o);
+  }
+  return v;
+}
+
+static void vertical_text(const cli_common *c, const summary *s)
+{
+  printf("\nVertical ride and EN 12299 mean comfort at %g km/h (vertical %s; lateral %s at "
+         "conicity %g; longitudinal 0, rigid seat):\n",
+         c->speed_kmh, s->vs.spectrum, s->rs.spectrum, c->conicity);
+  printf("  %8s %7s %7s %10s %10s %7s %7s %7s  %s\n", "x_m", "Wz", "Wz_gb", "az_p95", "ay_p95",
+         "N_MV", "N_VD", "N_VA", "comfort (N_MV)");
+  for (int q = 0; q < 3; q++) {
+    const vertical_both *b = &s->vb[q];
+    printf("  %8.4g %7.3f %7.3f %10.5f %10.5f %7.3f %7.3f %7.3f  %s\n", b->z.x, b->z.sperling,
+           b->z.sperling_gb, b->z.wb_5s.p95, b->wd.p95, b->en.n_mv, b->en.n_vd,
+           b->en.n_va_rigid_seat, rr_en12299_scale(b->en.n_mv));
+  }
 }
 
 static const char *sdf_name(int mode)
@@ -111,6 +155,7 @@ static void summary_json(const cli_common *c, const summary *s)
       }
       cJSON_AddItemToArray(ride, o);
     }
+  cJSON_AddItemToObject(root, "vertical", vertical_json(c, s));
   cli_json_print(root);
 }
 
@@ -192,7 +237,8 @@ int cmd_summary(int argc, char **argv)
       "Stability summary: modes at the operating point (default 350 km/h, 0.17), robust\n"
       "indices, critical speeds at conicities 0.05, 0.17, 0.40; ride comfort (PEM,\n"
       "wuhan-guangzhou spectrum) at those conicities with and without the yaw damper "
-      "SDF.\n" CLI_COMMON_HELP;
+      "SDF;\nthe vertical ride (tbt3352-vertical) and EN 12299's N_MV, N_VD, N_VA at the floor "
+      "points.\n" CLI_COMMON_HELP;
   cli_common c;
   int r = cli_parse(argc, argv, &c,
                     CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX |
@@ -207,7 +253,7 @@ int cmd_summary(int argc, char **argv)
   if (!s) return cli_bad("out of memory");
   rr_error e;
   s->have_curve = c.veh.sdf.kind != RR_CURVE_UNSET;
-  cli_progress_start(&s->pr, "summary", 2 + NLAMS + NLAMS * (s->have_curve ? 2 : 1), c.progress);
+  cli_progress_start(&s->pr, "summary", 3 + NLAMS + NLAMS * (s->have_curve ? 2 : 1), c.progress);
   int st = stability_part(&c, s, &e);
   if (st < 0) {
     free(s);
@@ -222,6 +268,7 @@ int cmd_summary(int argc, char **argv)
     modes_text(&c, &s->res);
     stability_text(s);
     ride_text(&c, s);
+    vertical_text(&c, s);
   }
   rr_modal_result_free(&s->res);
   free(s);

@@ -70,7 +70,7 @@ static int open_spectrum(vertical_run *r, const vertical_setup *vs, rr_error *e)
   return st;
 }
 
-static int plan_run(vertical_run *r, const cli_common *c, const ride_setup *rs,
+static int plan_run(vertical_run *r, const rr_vehicle *veh, const ride_setup *rs,
                     const vertical_setup *vs, rr_error *e)
 {
   rr_vertical_opts o = rr_vertical_opts_default();
@@ -82,15 +82,16 @@ static int plan_run(vertical_run *r, const cli_common *c, const ride_setup *rs,
   memcpy(o.x_points, rs->x, sizeof(double) * (size_t)rs->npoints);
   r->np = rs->npoints;
   r->nf = rs->nfreq;
-  int st = rr_vertical_model_build(&c->veh, &r->m, e);
+  int st = rr_vertical_model_build(veh, &r->m, e);
   if (!st) st = rr_vertical_plan_new(&o, &r->plan, e);
   return st;
 }
 
 /* The lateral PEM on the same grid and points, its Wd 5 s percentiles, and
    EN 12299's indices per point. */
-static int lateral_side(vertical_run *r, const cli_common *c, const ride_setup *rs,
-                        const vertical_setup *vs, double conicity, rr_error *e)
+static int lateral_side(vertical_run *r, const rr_vehicle *veh, double speed_kmh,
+                        const ride_setup *rs, const vertical_setup *vs, double conicity,
+                        rr_error *e)
 {
   r->lat_psd = malloc(sizeof(double) * (size_t)r->nf * (size_t)r->np);
   r->lat_f = malloc(sizeof(double) * (size_t)r->nf);
@@ -98,7 +99,7 @@ static int lateral_side(vertical_run *r, const cli_common *c, const ride_setup *
     snprintf(e->msg, sizeof e->msg, "out of memory");
     return RR_ENOMEM;
   }
-  int st = ride_eval(&c->veh, c->speed_kmh, conicity, rs, r->lat, r->lat_psd, r->lat_f, e);
+  int st = ride_eval(veh, speed_kmh, conicity, rs, r->lat, r->lat_psd, r->lat_f, e);
   if (st) return st;
   const double *f = rr_vertical_freqs(r->plan);
   for (int k = 0; k < r->nf; k++)
@@ -116,6 +117,28 @@ static int lateral_side(vertical_run *r, const cli_common *c, const ride_setup *
                             .az95 = r->pt[q].wb_5s.p95};
     r->en[q] = rr_en12299_indices(&in);
   }
+  return st;
+}
+
+/* The vertical run and, with a conicity (not NaN), the lateral side. */
+static int run_eval(vertical_run *r, const rr_vehicle *veh, double speed_kmh, const ride_setup *rs,
+                    const vertical_setup *vs, double conicity, rr_error *e)
+{
+  int st = open_spectrum(r, vs, e);
+  if (!st) st = plan_run(r, veh, rs, vs, e);
+  if (!st) st = rr_vertical_ride_execute(r->plan, &r->m, speed_kmh / RR_KMH, &r->sp, r->pt, e);
+  if (!st && !isnan(conicity)) st = lateral_side(r, veh, speed_kmh, rs, vs, conicity, e);
+  return st;
+}
+
+int vertical_eval(const rr_vehicle *veh, double speed_kmh, const ride_setup *rs,
+                  const vertical_setup *vs, double conicity, vertical_both *out, rr_error *e)
+{
+  vertical_run r = {0};
+  int st = run_eval(&r, veh, speed_kmh, rs, vs, conicity, e);
+  for (int q = 0; q < rs->npoints && !st; q++)
+    out[q] = (vertical_both){.lat = r.lat[q], .z = r.pt[q], .wd = r.wd[q], .en = r.en[q]};
+  run_free(&r);
   return st;
 }
 
@@ -282,10 +305,7 @@ int ride_vertical(const cli_common *c, const ride_setup *rs, const vertical_setu
   cli_outfile psd = {0};
   int st, both = vs->direction == CLI_DIR_BOTH, ret;
   if (psd_path && (ret = cli_out_open(&psd, psd_path, "--psd"))) return ret;
-  st = open_spectrum(&r, vs, &e);
-  if (!st) st = plan_run(&r, c, rs, vs, &e);
-  if (!st) st = rr_vertical_ride_execute(r.plan, &r.m, c->speed_kmh / RR_KMH, &r.sp, r.pt, &e);
-  if (!st && both) st = lateral_side(&r, c, rs, vs, conicity, &e);
+  st = run_eval(&r, &c->veh, c->speed_kmh, rs, vs, both ? conicity : NAN, &e);
   if (st) {
     cli_out_abort(&psd);
     run_free(&r);
@@ -362,7 +382,7 @@ int frf_vertical(const cli_common *c, const ride_setup *rs, const vertical_setup
 {
   vertical_run r = {0};
   rr_error e = {0};
-  int st = plan_run(&r, c, rs, vs, &e);
+  int st = plan_run(&r, &c->veh, rs, vs, &e);
   if (!st) st = rr_vertical_frf_execute(r.plan, &r.m, c->speed_kmh / RR_KMH, &e);
   if (st) {
     run_free(&r);

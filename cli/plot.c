@@ -173,10 +173,34 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
 
 /* The PSDs (columns 2 .. n-1) and, on the right axis, the Sperling
    weighting |B(f)|^2 (the last column) that the index applies to them. */
+/* ride --direction vertical|both: the PSD file's last three (four) columns
+   are weightings, its second the track's; the EN 12299 Wb on the right */
+static void script_psd_vertical(FILE *gp, const char *d, int nweights)
+{
+  fprintf(gp,
+          "set title 'Carbody floor acceleration PSDs (PEM) and the EN 12299 Wb weighting'\n"
+          "set datafile separator ','\n"
+          "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
+          "format y '%%.0e'\n"
+          "set logscale y2; set y2label 'weighting |Wb(f)|^2'; set y2tics; set ytics nomirror; "
+          "set key below\n"
+          "stats '%s' skip 1 nooutput; n = STATS_columns; w = n - %d\n"
+          "top = 0; do for [i=3:w] { stats '%s' u i nooutput; top = STATS_max > top ? STATS_max : "
+          "top }\n"
+          "set yrange [top * 1e-6:top * 3]  # the filters' exact zeros would take the axis down 10 "
+          "decades\n"
+          "plot for [i=3:w] '%s' u 1:i w l lw 2 t columnhead(i), "
+          "'' u 1:(column(w + 3)) axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'EN 12299 Wb (right)'\n",
+          d, nweights, d, d);
+}
+
 static void script_psd(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc;
-  (void)argv;
+  const char *dir = arg_after(argc, argv, "--direction");
+  if (dir && strcmp(dir, "lateral")) {
+    script_psd_vertical(gp, d, strcmp(dir, "both") ? 3 : 4);
+    return;
+  }
   fprintf(gp,
           "set title 'Carbody floor lateral acceleration PSD (PEM) and the Sperling weighting'\n"
           "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
@@ -217,7 +241,7 @@ static void script_compare(FILE *gp, const char *d, int argc, char **argv)
   (void)argv;
   fprintf(
       gp,
-      "set datafile separator ','\nset multiplot layout 1,2 title 'Yaw damper: SDF against "
+      "set datafile separator ','\nset multiplot layout 1,3 title 'Yaw damper: SDF against "
       "constant series stiffness'\n"
       "set xlabel 'conicity'; set ylabel 'stability index'; set key bottom\n"
       "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):3 w lp lw 2 t v.' "
@@ -227,8 +251,12 @@ static void script_compare(FILE *gp, const char *d, int argc, char **argv)
       "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):5 w lp lw 2 t v.' "
       "constant', "
       "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):6 w lp lw 2 dt 2 t v.' SDF'\n"
+      "set ylabel 'EN 12299 N_MV (with the vertical model)'; set key top left\n"
+      "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):7 w lp lw 2 t v.' "
+      "constant', "
+      "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):8 w lp lw 2 dt 2 t v.' SDF'\n"
       "unset multiplot\n",
-      d, d);
+      d, d, d);
 }
 
 static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)

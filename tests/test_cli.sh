@@ -90,9 +90,10 @@ sys.exit(0 if all(abs(p[k]-q[k])<=1e-9*abs(q[k]) for p,q in zip(a,b) for k in ('
 "$RR" frf --speed 350 --conicity 0.2 --band 1:10:3 > "$tmp/frf.csv" || bad "frf exit"
 [ "$(head -1 "$tmp/frf.csv")" = "f_hz,x_m,input,re_per_s2,im_per_s2,magnitude_per_s2,phase_deg" ] && [ "$(wc -l < "$tmp/frf.csv")" -eq 46 ] && ok || bad "frf csv shape"
 "$RR" compare --conicities 0.1:0.3:2 --json > "$tmp/cmp.json" || bad "compare exit"
-json_check "compare rows" "len(d['rows'])==4 and {r['vehicle'] for r in d['rows']}=={'type1','type2'} and all(set(r)>={'conicity','stability_index_const','stability_index_sdf','sperling_const','sperling_sdf'} for r in d['rows'])" < "$tmp/cmp.json"
+json_check "compare rows" "len(d['rows'])==4 and {r['vehicle'] for r in d['rows']}=={'type1','type2'} and all(set(r)>={'conicity','stability_index_const','stability_index_sdf','sperling_const','sperling_sdf','n_mv_const','n_mv_sdf'} and 0<r['n_mv_sdf']<5 for r in d['rows'])" < "$tmp/cmp.json"
 "$RR" summary --json > "$tmp/sum.json" || bad "summary json"
 json_check "summary ride table" "len(d['ride'])==6 and {r['yaw_series'] for r in d['ride']}=={'constant','sdf'}" < "$tmp/sum.json"
+json_check "summary vertical and EN 12299" "len(d['vertical']['points'])==3 and all(abs(p['n_mv']-6*math.hypot(p['wd_p95'],p['wb_p95']))<1e-12 for p in d['vertical']['points']) and d['vertical']['spectrum']=='tbt3352-vertical'" < "$tmp/sum.json"
 
 "$RR" validate --speed 350 --conicity 0.2 --duration 32 --fs 128 --nseg 512 --json --psd "$tmp/v.csv" > "$tmp/val.json" || bad "validate exit"
 json_check "validate verdict" "d['verdict']=='PASS' and d['tolerances']['z']==4 and 0<d['tolerances']['sperling_gb_relative']<0.2" < "$tmp/val.json"
@@ -219,7 +220,7 @@ timeout -s INT --preserve-status 3 "$RR" optimise "$SRC/examples/paper-optimisat
   && [ "$(wc -l < "$tmp/int-history.csv")" -gt 1 ] && ok || bad "optimise interrupted: exit $st, $(tail -2 "$tmp/int.out")"
 head -1 "$tmp/int-history.csv" | grep -q '^generation,evaluations,seconds,front_size,hypervolume$' && ok || bad "history header"
 # locus, validate, summary: progress on request; a stopped locus writes the points done
-"$RR" summary --progress 2> "$tmp/sp.err" > /dev/null && grep -q "summary: 11/11 in" "$tmp/sp.err" && ok || bad "summary --progress"
+"$RR" summary --progress 2> "$tmp/sp.err" > /dev/null && grep -q "summary: 12/12 in" "$tmp/sp.err" && ok || bad "summary --progress"
 "$RR" validate --speed 350 --conicity 0.2 --duration 32 --fs 128 --nseg 512 --progress 2> "$tmp/vp.err" > /dev/null \
   && grep -q "validate: 6/6 in" "$tmp/vp.err" && ok || bad "validate --progress"
 timeout -s INT --preserve-status 2 "$RR" locus --range 20:500:100000 --limit 1e6 --progress > "$tmp/lint.csv" 2> "$tmp/lint.err"; st=$?

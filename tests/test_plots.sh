@@ -28,6 +28,7 @@ png locus locus --over conicity --range 0.05:0.6:12 --speed 300
 png map map --speeds 200:500:4 --conicities 0.05:0.5:4
 png sweep sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:4" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:4" --objective "index@350,0.17"
 png ride ride --speed 300 --conicity 0.1,0.4
+png ride_vertical ride --speed 350 --direction both --conicity 0.17
 png compare compare --conicities 0.05:0.5:3
 png validate validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256
 png bifurcation bifurcation --profile worn --speeds 100:560
@@ -47,6 +48,8 @@ svg_has "contact: the conicity panel" "equivalent conicity" contact --wheel "$SR
 svg_has "wear: a panel per result, the profiles named" "RUIC519I.dat" wear "$tmp/wear.ini" --wheels "$P/RUIC519A.dat,$P/RUIC519I.dat"
 svg_has "wear: the critical speed panel" "linear critical speed" wear "$tmp/wear.ini" --wheels "$P/RUIC519A.dat,$P/RUIC519I.dat"
 svg_has "ride: the Sperling weighting" "Sperling weighting (right)" ride --speed 300 --conicity 0.2
+svg_has "ride vertical: the Wb weighting" "EN 12299 Wb (right)" ride --speed 300 --direction vertical
+svg_has "compare: the N_MV panel" "EN 12299 N_MV" compare --conicities 0.05:0.4:2
 svg_has "validate: the spread band" "2 sigma of a Welch bin" validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256
 svg_has "map: the zero contour" "index = 0" map --speeds 200:600:4 --conicities 0.05:0.5:4
 # the data still reaches standard output where the command prints CSV
