@@ -28,10 +28,10 @@ def run(*args):
 
 
 # a unit at the end of the name ...
-UNIT = re.compile(r"_(hz|m|rad|n|nm|kmh|s|deg|per_s|per_s2|rad_per_s|n_per_m|n_s_per_m|kg|kg_m2|n_m_per_rad|m2s-4_per_hz)$", re.IGNORECASE)
+UNIT = re.compile(r"_(hz|m|rad|n|nm|kmh|s|deg|per_s|per_s2|rad_per_s|n_per_m|n_s_per_m|kg|kg_m2|n_m_per_rad|m2s-4_per_hz|m2_per_hz)$", re.IGNORECASE)
 # ... or a dimensionless quantity (shares, indices, flags, counts, names)
 DIMENSIONLESS = re.compile(r"^(branch|conicity|stability_index(_const|_sdf)?|zeta_max|stable|mac|e_(carbody|frames|wheelsets)|"
-                           r"(frame_)?roll_share|hunting_related|index_source|dissipation|input|vehicle|sperling_(const|sdf|weight)|sweep|"
+                           r"(frame_)?roll_share|hunting_related|index_source|dissipation|input|vehicle|sperling_(const|sdf|weight|weight2)|(wk|wd|wb_en12299)_weight2|n_mv_(const|sdf)|sweep|"
                            r"max_floquet_modulus|symmetric|residual|welch_sigma_rel|generation|evaluations|seconds|front_size|"
                            r"hypervolume|feasible|violation|objective:.*)$")
 
@@ -75,6 +75,13 @@ check_csv("frf", run("frf", "--speed", "350", "--conicity", "0.17", "--band", "1
 check_csv("damper", run("damper"), ["freq_hz"])
 run("ride", "--speed", "350", "--conicity", "0.17,0.2", "--psd", os.path.join(tmp, "psd.csv"))
 check_csv("ride --psd", open(os.path.join(tmp, "psd.csv")).read(), ["f_hz", "psd_c0.2_x0m_m2s-4_per_hz", "sperling_weight"])
+run("ride", "--speed", "350", "--conicity", "0.2", "--direction", "both", "--psd", os.path.join(tmp, "vpsd.csv"))
+check_csv("ride --direction both --psd", open(os.path.join(tmp, "vpsd.csv")).read(),
+          ["f_hz", "track_psd_m2_per_hz", "psd_x0m_m2s-4_per_hz", "lateral_psd_x0m_m2s-4_per_hz", "wb_en12299_weight2"])
+run("validate", "--speed", "350", "--direction", "vertical", "--duration", "60", "--nseg", "1024", "--psd",
+    os.path.join(tmp, "vval.csv"))
+check_csv("validate --direction vertical --psd", open(os.path.join(tmp, "vval.csv")).read(),
+          ["f_hz", "welch_x0m_m2s-4_per_hz", "pem_x0m_m2s-4_per_hz"])
 run("validate", "--speed", "350", "--conicity", "0.2", "--duration", "64", "--psd", os.path.join(tmp, "val.csv"))
 check_csv("validate --psd", open(os.path.join(tmp, "val.csv")).read(), ["f_hz", "pem_x0m_m2s-4_per_hz", "welch_sigma_rel"])
 check_csv("compare", run("compare", "--conicities", "0.1:0.3:2", "--csv"), ["stability_index_sdf"])
