@@ -124,11 +124,14 @@ def cramer_blocks(w, e):
     return zc, qb, thc
 
 
-def evaluate(p):
+def evaluate(p, Gt=None):
+    """One evaluation; Gt given: the track's PSD set once (an optimiser's
+    designs at one speed, as railride's rr_vertical_ride_design)."""
     e = p["e"]
     zc, qb, thc = cramer_blocks(w, e)
     H = -(w**2)[:, None] * (zc[:, None] - xs[None] * thc[:, None] + phix[None] * qb[:, None])
-    Gt = spectrum(f / v) / v
+    if Gt is None:
+        Gt = spectrum(f / v) / v
     G = Gt[:, None] * (H.real ** 2 + H.imag ** 2)
     tw = p["tw"][:, None]
     out = {"rms": np.sqrt((tw * G).sum(0)), "sperling": 4.42 * np.sqrt((tw * p["S2"][:, None] * G).sum(0)) ** 0.3,
@@ -197,5 +200,7 @@ for q, pt in enumerate(ref):
         worst = max(worst, abs(out[k][q] / pt["wb_5s"][k] - 1))
 print("numpy_vertical_indices p95 %s sperling %s; largest relative difference from railride %.2e" % (
     np.round(out["p95"], 5), np.round(out["sperling"], 4), worst))
+Gt0 = spectrum(f / v) / v
 print("numpy_vertical_evaluation_us %.1f  (with the plan: %.1f us; the 7x7 stack solve alone %.1f us)" % (
     timeit(lambda: evaluate(p), 200), timeit(lambda: evaluate(plan()), 20), timeit(lambda: evaluate_7x7(p), 200)))
+print("numpy_vertical_design_us %.1f  (the track's PSD set once)" % timeit(lambda: evaluate(p, Gt0), 200))

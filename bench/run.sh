@@ -27,6 +27,25 @@ done > "$pairs"
 med=$(awk '{print $1 / $2}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
 best=$(awk '{if (!n || $1 < n) n = $1; if (!c || $2 < c) c = $2} END {printf "%.1f", n / c}' "$pairs")
 echo "ride_vs_numpy_median_ratio $med (6 pairs, us: $(tr '\n' ' ' < "$pairs")); best against best $best"
+echo "== vertical ride evaluation (C): 400 frequencies, 3 points, every index and the 5 s Wb percentiles; ride --direction both =="
+taskset -c 1 "$B/bench/bench_vertical"
+echo "== numpy, the same vertical evaluation written from docs/vertical.md (checked against railride's numbers) =="
+"$B/railride" ride --speed 350 --direction vertical --json > "$pairs.json"
+taskset -c 1 $PY bench/numpy_vertical.py < "$pairs.json"
+echo "== vertical ride against numpy in alternating pairs =="
+for i in 1 2 3 4 5 6; do
+  out=$(taskset -c 1 $PY bench/numpy_vertical.py < "$pairs.json")
+  a=$(echo "$out" | awk '/^numpy_vertical_evaluation_us/ {print $2}')
+  ad=$(echo "$out" | awk '/^numpy_vertical_design_us/ {print $2}')
+  c=$(taskset -c 1 "$B/bench/bench_vertical")
+  b=$(echo "$c" | awk '/^vertical_ride_us/ {print $2}')
+  bd=$(echo "$c" | awk '/^vertical_ride_design_us/ {print $2}')
+  echo "$a $b $ad $bd"
+done > "$pairs"
+r1=$(awk '{print $1 / $2}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
+r2=$(awk '{print $3 / $4}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
+echo "vertical_vs_numpy_median_ratio $r1 (one evaluation), design path $r2"
+echo "  pairs (us: numpy, C, numpy design, C design): $(tr '\n' ';' < "$pairs")"
 rm -f "$pairs" "$pairs.json"
 echo "== design batches (paper objectives: 9 eigen-solves a design) =="
 "$B/bench/bench_batch"

@@ -175,6 +175,17 @@ static void test_frf(void)
       worst = fmax(worst, cabs(q[d] - Q[k * 7 + d]) / fmax(cabs(q[d]), 1e-300));
   }
   CHECK(worst < 1e-11, "split solve = dense 7x7 solve (worst rel %.3g)", worst);
+  /* the ride's floor-only solve (one adjugate column) against the full one's H */
+  rr_complex Hfull[1200];
+  memcpy(Hfull, H, sizeof Hfull);
+  rr_spectrum sp0;
+  rr_vertical_point pt0[3];
+  CHECK_OK(rr_spectrum_open("tbt3352-vertical", &sp0, &e), e);
+  CHECK_OK(rr_vertical_ride_execute(p, &m, v, &sp0, pt0, &e), e);
+  double hworst = 0;
+  for (int k = 0; k < 1200; k++) hworst = fmax(hworst, cabs(H[k] - Hfull[k]) / cabs(Hfull[k]));
+  CHECK(hworst < 1e-12, "floor-only solve = full solve (worst rel %.3g)", hworst);
+  rr_spectrum_close(&sp0);
   for (int k = 0; k < 1200; k++) hmax = fmax(hmax, cabs(H[k]));
   rr_vertical_opts oz = o;
   double b = 1.25, L = 8.6875;

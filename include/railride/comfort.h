@@ -66,6 +66,11 @@ RR_API void rr_comfort_plan_free(rr_comfort_plan *p);
 RR_API int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride,
                               rr_comfort *out, rr_error *err);
 
+/* The GB/T 5599 index alone (the plan's bands), for callers that form the
+ * weighted integrals themselves. */
+RR_API int rr_comfort_gb(const rr_comfort_plan *p, const double *G, int stride, double *W,
+                         rr_error *err);
+
 /* EN 12299 mean-comfort figure from one axis' Wd RMS: N = 6 a_wd (the 95th
  * percentile of 5 s RMS values of a stationary Gaussian process is taken as
  * its RMS: this model has no 5 s scatter). */

@@ -106,15 +106,24 @@ RR_API const double *rr_vertical_freqs(const rr_vertical_plan *p);
 RR_API int rr_vertical_npoints(const rr_vertical_plan *p);
 RR_API const double *rr_vertical_points(const rr_vertical_plan *p);
 /* FRFs at speed v (m/s): H[f * npoints + p] floor acceleration (m/s^2) per m
- * of track at the leading wheelset; Q[f * RR_VDOF + d] every coordinate's. */
+ * of track at the leading wheelset (also after a ride evaluation);
+ * Q[f * RR_VDOF + d] every coordinate's (after rr_vertical_frf_execute). */
 RR_API int rr_vertical_frf_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v_ms,
                                    rr_error *err);
 RR_API const rr_complex *rr_vertical_frf_H(const rr_vertical_plan *p);
 RR_API const rr_complex *rr_vertical_frf_Q(const rr_vertical_plan *p);
 /* The FRFs, the floor PSDs G[f * npoints + p] ((m/s^2)^2/Hz) for the
- * vertical spectrum sp, and every index of every point into out[npoints]. */
+ * vertical spectrum sp, and every index of every point into out[npoints]:
+ * rr_vertical_plan_set_track, then rr_vertical_ride_design. */
 RR_API int rr_vertical_ride_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v_ms,
                                     const rr_spectrum *sp, rr_vertical_point *out, rr_error *err);
+/* For many designs at one speed on one track (an optimiser's loop): the
+ * track's temporal PSD G_t(f) = S(f/v)/v on the plan's grid, computed once
+ * (the plan keeps no pointer to sp), then each design's evaluation. */
+RR_API int rr_vertical_plan_set_track(rr_vertical_plan *p, const rr_spectrum *sp, double v_ms,
+                                      rr_error *err);
+RR_API int rr_vertical_ride_design(rr_vertical_plan *p, const rr_vertical_model *m,
+                                   rr_vertical_point *out, rr_error *err);
 RR_API const double *rr_vertical_psd(const rr_vertical_plan *p);
 RR_API const double *rr_vertical_track_psd(const rr_vertical_plan *p); /* G_t(f), m^2/Hz */
 /* The plan's 5 s statistics of ncols PSD columns G[f * stride + c] on its

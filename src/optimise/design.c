@@ -414,7 +414,8 @@ static int vertical_plan(objective *o, rr_error *err)
   rr_vertical_opts vo = rr_vertical_opts_default();
   vo.npoints = 1;
   vo.x_points[0] = o->x;
-  return rr_vertical_plan_new(&vo, &o->vplan, err);
+  int st = rr_vertical_plan_new(&vo, &o->vplan, err);
+  return st ? st : rr_vertical_plan_set_track(o->vplan, &o->vsp, o->speed_ms, err);
 }
 
 /* Models, workspaces and frequency-response plans for the parsed objectives
@@ -613,7 +614,7 @@ static int vertical_value(rr_design *d, objective *o, rr_model *m, double *f, rr
   rr_vertical_model vm;
   rr_vertical_point p;
   int st = rr_vertical_model_build(&d->cur, &vm, err);
-  if (!st) st = rr_vertical_ride_execute(o->vplan, &vm, o->speed_ms, &o->vsp, &p, err);
+  if (!st) st = rr_vertical_ride_design(o->vplan, &vm, &p, err);
   if (st) return st;
   switch (o->kind) {
   case OBJ_SPERLING_Z: *f = p.sperling; return RR_OK;

@@ -300,15 +300,26 @@ static double trapz_tab(const double *f, const double *G, int n, int stride, con
   return s;
 }
 
-int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride, rr_comfort *out,
-                       rr_error *err)
+static double gb_plan_index(const rr_comfort_plan *p, const double *G, int stride)
 {
   double sum = 0;
   for (int k = 0; k < p->nb; k++) sum += gb_term(&p->band[k], G, stride);
+  return SPERLING_GB_FACTOR * pow(sum, SPERLING_GB_EXPONENT);
+}
+
+int rr_comfort_gb(const rr_comfort_plan *p, const double *G, int stride, double *W, rr_error *err)
+{
+  *W = gb_plan_index(p, G, stride);
+  return isfinite(*W) ? RR_OK : rr_seterr(err, RR_EINVAL, "comfort: the PSD is not finite");
+}
+
+int rr_comfort_execute(const rr_comfort_plan *p, const double *G, int stride, rr_comfort *out,
+                       rr_error *err)
+{
   *out = (rr_comfort){
       .rms = sqrt(trapz_tab(p->f, G, p->n, stride, NULL)),
       .sperling = rr_sperling_from_weighted_rms(sqrt(trapz_tab(p->f, G, p->n, stride, p->gs))),
-      .sperling_gb = SPERLING_GB_FACTOR * pow(sum, SPERLING_GB_EXPONENT),
+      .sperling_gb = gb_plan_index(p, G, stride),
       .wd_rms = sqrt(trapz_tab(p->f, G, p->n, stride, p->gw))};
   if (isfinite(out->rms) && isfinite(out->sperling) && isfinite(out->sperling_gb) &&
       isfinite(out->wd_rms))

@@ -16,14 +16,22 @@
 
 #define WINDOW_ALIGN 8 /* doubles: rows start on 64-byte lines */
 
+/* The kernel above its diagonal, by pairs of rows (i, i + 1), i even: each
+   pair's block holds both rows from the aligned column j0 = i rounded down
+   to WINDOW_ALIGN (zeros at and below the diagonal), row i then row i + 1,
+   each ld - j0 long; the blocks follow each other, so that a pass over the
+   kernel is one sequential stream (what the prefetchers follow best). */
 struct rr_window_plan {
   int n, ld, maxcols; /* ld: n rounded up to WINDOW_ALIGN */
   double *w;          /* trapezoid weights */
-  double *upper;      /* the kernel above its diagonal, n x ld, zero elsewhere, aligned */
-  double *diag;       /* its diagonal */
+  double *pairs;      /* the blocks, aligned */
+  size_t *at;         /* each pair's block's start in pairs */
+  double *diag;       /* the kernel's diagonal */
   double *u;          /* maxcols x ld workspace, aligned */
   double *zero;       /* ld zeros: the unused columns of a pass */
 };
+
+static int pair_j0(int i) { return i / WINDOW_ALIGN * WINDOW_ALIGN; }
 
 /* An aligned, zeroed block of n doubles (n a multiple of WINDOW_ALIGN). */
 static double *aligned_zeros(size_t n)
@@ -44,7 +52,8 @@ void rr_window_plan_free(rr_window_plan *p)
 {
   if (!p) return;
   free(p->w);
-  free(p->upper);
+  free(p->pairs);
+  free(p->at);
   free(p->diag);
   free(p->u);
   free(p->zero);
@@ -68,21 +77,28 @@ int rr_window_plan_new(const double *f, int n, double T, int maxcols, rr_window_
   p->n = n;
   p->ld = (int)ld;
   p->maxcols = maxcols;
+  size_t npairs = (nn + 1) / 2, total = 0;
+  p->at = malloc(sizeof(size_t) * npairs);
+  for (size_t q = 0; p->at && q < npairs; q++) {
+    p->at[q] = total;
+    total += 2 * (ld - (size_t)pair_j0((int)(2 * q)));
+  }
   p->w = malloc(sizeof(double) * nn);
   p->diag = malloc(sizeof(double) * nn);
-  p->upper = aligned_zeros(nn * ld);
+  p->pairs = p->at ? aligned_zeros(total) : NULL;
   p->u = aligned_zeros(ld * (size_t)maxcols);
   p->zero = aligned_zeros(ld);
-  if (!p->w || !p->diag || !p->upper || !p->u || !p->zero) {
+  if (!p->w || !p->diag || !p->pairs || !p->at || !p->u || !p->zero) {
     rr_window_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
   for (int i = 0; i < n; i++)
     p->w[i] = 0.5 * ((i + 1 < n ? f[i + 1] : f[i]) - (i > 0 ? f[i - 1] : f[i]));
   for (int i = 0; i < n; i++) {
+    int j0 = pair_j0(i - i % 2);
+    double *row = p->pairs + p->at[i / 2] + (size_t)(i % 2) * (ld - (size_t)j0) - (size_t)j0;
     p->diag[i] = 1 + sinc2(2 * f[i] * T);
-    for (int j = i + 1; j < n; j++)
-      p->upper[(size_t)i * ld + (size_t)j] = sinc2((f[i] - f[j]) * T) + sinc2((f[i] + f[j]) * T);
+    for (int j = i + 1; j < n; j++) row[j] = sinc2((f[i] - f[j]) * T) + sinc2((f[i] + f[j]) * T);
   }
   *out = p;
   return RR_OK;
@@ -103,11 +119,11 @@ RR_CLONES_V4 static void quadratic_forms3(const rr_window_plan *p, const double 
   const double *u0 = u[0], *u1 = u[1], *u2 = u[2];
   double v[QF_COLS] = {0, 0, 0};
   for (; i < n; i += 2) {
-    const double *k0 = p->upper + (size_t)i * (size_t)ld, *k1 = k0 + ld;
-    int j0 = i / WINDOW_ALIGN * WINDOW_ALIGN, two = i + 1 < n;
+    int j0 = pair_j0(i), two = i + 1 < n;
+    const double *k0 = p->pairs + p->at[i / 2] - j0, *k1 = k0 + (ld - j0);
     double a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
     if (!two) k1 = p->zero;
-#pragma omp simd reduction(+ : a0, a1, a2, b0, b1, b2)
+#pragma omp simd simdlen(16) reduction(+ : a0, a1, a2, b0, b1, b2)
     for (int j = j0; j < n; j++) {
       a0 = __builtin_fma(k0[j], u0[j], a0);
       a1 = __builtin_fma(k0[j], u1[j], a1);

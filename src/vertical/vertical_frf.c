@@ -209,28 +209,68 @@ RR_CLONES_V4 static void frf_kernel(const vblocks *B, int n, const double *f, co
   }
 }
 
-/* the floor accelerations H[k * np + p] = -w^2 row . q and Q[k][7] */
-static void frf_outputs(rr_vertical_plan *p)
+/* The floor's coordinates alone (z_c, q_b, theta_c) when the carbody takes
+   no input directly (the model's primary acts on the frames: always so for
+   the car docs/vertical.md describes): then only the frames' rows of the
+   blocks' right-hand sides are nonzero, one adjugate column each. */
+RR_CLONES_V4 static void floor_kernel(const vblocks *B, int n, const double *f, const double *er,
+                                      const double *ei, double *restrict qr, double *restrict qi)
+{
+  const double *K = B->Ks, *C = B->Cs, *Ka = B->Ka, *Ca = B->Ca;
+#pragma omp simd
+  for (int k = 0; k < n; k++) {
+    double w = 2 * RR_PI * f[k];
+    cx r2 = input(B, 2, w, er, ei, n, k), r4 = input(B, 4, w, er, ei, n, k);
+    cx a = dyn(K[0], C[0], B->Ms[0], w), b = dyn(K[1], C[1], 0, w), c = dyn(K[2], C[2], 0, w);
+    cx d = dyn(K[4], C[4], B->Ms[1], w), e = dyn(K[5], C[5], 0, w),
+       g = dyn(K[8], C[8], B->Ms[2], w);
+    cx c00 = csub(cmul(d, g), cmul(e, e)), c01 = csub(cmul(c, e), cmul(b, g));
+    cx c02 = csub(cmul(b, e), cmul(c, d)), c12 = csub(cmul(b, c), cmul(a, e));
+    cx f2 = cmul(r2, cinv(cadd(cadd(cmul(a, c00), cmul(b, c01)), cmul(c, c02))));
+    cx A = dyn(Ka[0], Ca[0], B->Ma[0], w), Bb = dyn(Ka[1], Ca[1], 0, w),
+       D = dyn(Ka[3], Ca[3], B->Ma[1], w);
+    cx thc = cmul(cmul(Bb, r4), cinv(csub(cmul(Bb, Bb), cmul(A, D)))); /* -B r / (A D - B^2) */
+    cx zc = cmul(c02, f2), qb = cmul(c12, f2);
+    qr[RR_V_ZC * n + k] = zc.r;
+    qi[RR_V_ZC * n + k] = zc.i;
+    qr[RR_V_QB * n + k] = qb.r;
+    qi[RR_V_QB * n + k] = qb.i;
+    qr[RR_V_THC * n + k] = thc.r;
+    qi[RR_V_THC * n + k] = thc.i;
+  }
+}
+
+/* the carbody's input rows are all zero */
+static int carbody_unforced(const vblocks *b)
+{
+  static const int rows[] = {0, 1, 3}; /* r_zc, r_qb, r_thc */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < RR_VINPUTS; j++)
+      if (b->bk[rows[i]][j] != 0 || b->bc[rows[i]][j] != 0) return 0;
+  return 1;
+}
+
+/* the floor accelerations H[k * np + p] = -w^2 row . q */
+static void floor_outputs(rr_vertical_plan *p)
 {
   int n = p->n, np = p->np;
   const double *qr = p->Qr, *qi = p->Qi;
-  for (int k = 0; k < n; k++) {
-    double w2 = -(2 * RR_PI * p->f[k]) * (2 * RR_PI * p->f[k]);
-    for (int d = 0; d < RR_VDOF; d++)
-      p->Q[(size_t)k * RR_VDOF + (size_t)d] = qr[d * n + k] + I * qi[d * n + k];
-    for (int i = 0; i < np; i++) {
-      const double *row = p->rows + i * RR_VDOF;
-      double re = row[RR_V_ZC] * qr[RR_V_ZC * n + k] + row[RR_V_THC] * qr[RR_V_THC * n + k] +
-                  row[RR_V_QB] * qr[RR_V_QB * n + k];
-      double im = row[RR_V_ZC] * qi[RR_V_ZC * n + k] + row[RR_V_THC] * qi[RR_V_THC * n + k] +
-                  row[RR_V_QB] * qi[RR_V_QB * n + k];
+  for (int i = 0; i < np; i++) {
+    const double *row = p->rows + i * RR_VDOF;
+    double a = row[RR_V_ZC], b = row[RR_V_THC], c = row[RR_V_QB];
+    for (int k = 0; k < n; k++) {
+      double w2 = -(2 * RR_PI * p->f[k]) * (2 * RR_PI * p->f[k]);
+      double re = a * qr[RR_V_ZC * n + k] + b * qr[RR_V_THC * n + k] + c * qr[RR_V_QB * n + k];
+      double im = a * qi[RR_V_ZC * n + k] + b * qi[RR_V_THC * n + k] + c * qi[RR_V_QB * n + k];
       p->H[(size_t)k * (size_t)np + (size_t)i] = w2 * re + I * (w2 * im);
     }
   }
 }
 
-int rr_vertical_frf_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v,
-                            rr_error *err)
+/* q of every coordinate (all = 1) or of the floor's (all = 0); H too
+   unless the caller forms it (outputs = 0) */
+static int response(rr_vertical_plan *p, const rr_vertical_model *m, double v, int all, int outputs,
+                    rr_error *err)
 {
   if (!(v > 0 && v < 1e3))
     return rr_seterr(err, RR_EINVAL, "vertical: speed %g m/s (need 0 < v < 1000)", v);
@@ -239,7 +279,26 @@ int rr_vertical_frf_execute(rr_vertical_plan *p, const rr_vertical_model *m, dou
   if (!st) st = rr_vertical_set_points(p, m, err);
   if (st) return st;
   delays(p, m, v);
-  frf_kernel(&b, p->n, p->f, p->Er, p->Ei, p->Qr, p->Qi);
-  frf_outputs(p);
+  if (all || !carbody_unforced(&b))
+    frf_kernel(&b, p->n, p->f, p->Er, p->Ei, p->Qr, p->Qi);
+  else
+    floor_kernel(&b, p->n, p->f, p->Er, p->Ei, p->Qr, p->Qi);
+  if (outputs) floor_outputs(p);
   return RR_OK;
+}
+
+int rr_vertical_floor_response(rr_vertical_plan *p, const rr_vertical_model *m, double v,
+                               int outputs, rr_error *err)
+{
+  return response(p, m, v, 0, outputs, err);
+}
+
+int rr_vertical_frf_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v,
+                            rr_error *err)
+{
+  int st = response(p, m, v, 1, 1, err);
+  for (int k = 0; k < p->n && !st; k++)
+    for (int d = 0; d < RR_VDOF; d++)
+      p->Q[(size_t)k * RR_VDOF + (size_t)d] = p->Qr[d * p->n + k] + I * p->Qi[d * p->n + k];
+  return st;
 }

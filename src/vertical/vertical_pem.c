@@ -28,6 +28,8 @@ void rr_vertical_plan_free(rr_vertical_plan *p)
   free(p->wb2);
   free(p->wd2);
   free(p->wc2);
+  free(p->wbi2);
+  free(p->bs2);
   free(p->trap);
   free(p->H);
   free(p->Q);
@@ -84,6 +86,8 @@ static int plan_weights(rr_vertical_plan *p, rr_error *err)
     p->wb2[i] = weight2(RR_EN_WB, f);
     p->wd2[i] = weight2(RR_ISO_WD, f);
     p->wc2[i] = weight2(RR_ISO_WC, f);
+    p->wbi2[i] = weight2(RR_ISO_WB, f);
+    p->bs2[i] = rr_sperling_filter(f, RR_AXIS_VERTICAL) * rr_sperling_filter(f, RR_AXIS_VERTICAL);
     p->trap[i] = 0.5 * ((i + 1 < n ? p->f[i + 1] : f) - (i > 0 ? p->f[i - 1] : f));
   }
   int st = rr_comfort_plan_new(p->f, n, RR_AXIS_VERTICAL, &p->comfort, err);
@@ -107,6 +111,8 @@ int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_e
   p->wb2 = malloc(sizeof(double) * n);
   p->wd2 = malloc(sizeof(double) * n);
   p->wc2 = malloc(sizeof(double) * n);
+  p->wbi2 = malloc(sizeof(double) * n);
+  p->bs2 = malloc(sizeof(double) * n);
   p->trap = malloc(sizeof(double) * n);
   p->Gt = malloc(sizeof(double) * n);
   p->G = malloc(sizeof(double) * n * pm);
@@ -116,8 +122,8 @@ int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_e
   p->Ei = p->Er ? p->Er + n * RR_VINPUTS : NULL;
   p->Qr = malloc(sizeof(double) * n * 2 * RR_VDOF);
   p->Qi = p->Qr ? p->Qr + n * RR_VDOF : NULL;
-  if (!p->Er || !p->Qr || !p->f || !p->wk2 || !p->wb2 || !p->wd2 || !p->wc2 || !p->trap || !p->Gt ||
-      !p->G || !p->H || !p->Q) {
+  if (!p->Er || !p->Qr || !p->wbi2 || !p->bs2 || !p->f || !p->wk2 || !p->wb2 || !p->wd2 ||
+      !p->wc2 || !p->trap || !p->Gt || !p->G || !p->H || !p->Q) {
     rr_vertical_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
@@ -145,13 +151,6 @@ const double *rr_vertical_track_psd(const rr_vertical_plan *p) { return p->Gt; }
 
 /* ---- indices ---- */
 
-static double weighted_rms(const rr_vertical_plan *p, const double *G, int stride, const double *W2)
-{
-  double s = 0;
-  for (int k = 0; k < p->n; k++) s += p->trap[k] * W2[k] * G[(size_t)k * (size_t)stride];
-  return sqrt(s);
-}
-
 static const double *weights_of(const rr_vertical_plan *p, enum rr_iso_weighting w)
 {
   switch (w) {
@@ -172,20 +171,39 @@ int rr_vertical_window_stats(rr_vertical_plan *p, const double *G, int stride, i
   return rr_window_execute(p->window, G, stride, ncols, W2, out, err);
 }
 
-static int point_indices(rr_vertical_plan *p, const rr_window_stats *wb, int i,
+/* Point i's PSD G = G_t |H|^2 and its weighted integrals in one pass:
+   s[0..4] = integral of G times 1, |B_s|^2, |Wk|^2, |Wb EN|^2, |Wb ISO|^2. */
+static void psd_and_sums(rr_vertical_plan *p, int i, double s[5])
+{
+  int np = p->np;
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0;
+  for (int k = 0; k < p->n; k++) {
+    size_t at = (size_t)k * (size_t)np + (size_t)i;
+    rr_complex h = p->H[at];
+    double g = p->Gt[k] * (creal(h) * creal(h) + cimag(h) * cimag(h)), t = p->trap[k] * g;
+    p->G[at] = g;
+    s0 += t;
+    s1 += p->bs2[k] * t;
+    s2 += p->wk2[k] * t;
+    s3 += p->wb2[k] * t;
+    s4 += p->wbi2[k] * t;
+  }
+  s[0] = s0, s[1] = s1, s[2] = s2, s[3] = s3, s[4] = s4;
+}
+
+static int point_indices(rr_vertical_plan *p, const double s[5], const rr_window_stats *wb, int i,
                          rr_vertical_point *o, rr_error *err)
 {
-  rr_comfort c;
-  const double *G = p->G + i;
-  int st = rr_comfort_execute(p->comfort, G, p->np, &c, err);
+  double gb;
+  int st = rr_comfort_gb(p->comfort, p->G + i, p->np, &gb, err);
   if (st) return st;
   *o = (rr_vertical_point){.x = p->x[i],
-                           .rms = c.rms,
-                           .sperling = c.sperling,
-                           .sperling_gb = c.sperling_gb,
-                           .wk_rms = weighted_rms(p, G, p->np, p->wk2),
-                           .wb_rms = weighted_rms(p, G, p->np, p->wb2),
-                           .wb_iso8041_rms = c.wd_rms,
+                           .rms = sqrt(s[0]),
+                           .sperling = rr_sperling_from_weighted_rms(sqrt(s[1])),
+                           .sperling_gb = gb,
+                           .wk_rms = sqrt(s[2]),
+                           .wb_rms = sqrt(s[3]),
+                           .wb_iso8041_rms = sqrt(s[4]),
                            .wb_5s = *wb,
                            .n_mv_vertical = 6 * wb->p95};
   double all[] = {o->rms,    o->sperling,  o->sperling_gb, o->wk_rms,
@@ -196,29 +214,41 @@ static int point_indices(rr_vertical_plan *p, const rr_window_stats *wb, int i,
   return RR_OK;
 }
 
-int rr_vertical_ride_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v,
-                             const rr_spectrum *sp, rr_vertical_point *out, rr_error *err)
+int rr_vertical_plan_set_track(rr_vertical_plan *p, const rr_spectrum *sp, double v, rr_error *err)
 {
-  int st = rr_vertical_frf_execute(p, m, v, err);
-  if (st) return st;
+  if (!(v > 0 && v < 1e3))
+    return rr_seterr(err, RR_EINVAL, "vertical: speed %g m/s (need 0 < v < 1000)", v);
   for (int k = 0; k < p->n; k++) {
     double gt = rr_spectrum_eval(sp, p->f[k] / v) / v;
     if (!(gt >= 0 && isfinite(gt)))
       return rr_seterr(err, RR_EINVAL, "vertical: the track PSD at %g Hz is not finite", p->f[k]);
     p->Gt[k] = gt;
-    for (int i = 0; i < p->np; i++) {
-      size_t at = (size_t)k * (size_t)p->np + (size_t)i;
-      rr_complex h = p->H[at];
-      p->G[at] = gt * (creal(h) * creal(h) + cimag(h) * cimag(h));
-    }
   }
+  p->track_v = v;
+  return RR_OK;
+}
+
+int rr_vertical_ride_design(rr_vertical_plan *p, const rr_vertical_model *m, rr_vertical_point *out,
+                            rr_error *err)
+{
+  if (!(p->track_v > 0))
+    return rr_seterr(err, RR_EINVAL, "vertical: no track set (rr_vertical_plan_set_track)");
+  int st = rr_vertical_floor_response(p, m, p->track_v, 1, err);
+  if (st) return st;
+  double s[RR_VERTICAL_POINTS_MAX][5];
+  for (int i = 0; i < p->np; i++) psd_and_sums(p, i, s[i]);
   rr_window_stats wb[RR_VERTICAL_POINTS_MAX];
   if (p->window)
     st = rr_window_execute(p->window, p->G, p->np, p->np, p->wb2, wb, err);
   else /* no window: the Wb RMS alone */
-    for (int i = 0; i < p->np; i++)
-      wb[i] = (rr_window_stats){.rms = weighted_rms(p, p->G + i, p->np, p->wb2)};
-  if (st) return st;
-  for (int i = 0; i < p->np && !st; i++) st = point_indices(p, wb + i, i, out + i, err);
+    for (int i = 0; i < p->np; i++) wb[i] = (rr_window_stats){.rms = sqrt(s[i][3])};
+  for (int i = 0; i < p->np && !st; i++) st = point_indices(p, s[i], wb + i, i, out + i, err);
   return st;
+}
+
+int rr_vertical_ride_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v,
+                             const rr_spectrum *sp, rr_vertical_point *out, rr_error *err)
+{
+  int st = rr_vertical_plan_set_track(p, sp, v, err);
+  return st ? st : rr_vertical_ride_design(p, m, out, err);
 }
