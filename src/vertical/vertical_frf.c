@@ -149,32 +149,62 @@ RR_INLINE cx input(const vblocks *b, int c, double w, const double *er, const do
   return cadd(r, cmul((cx){bk[3], w * bc[3]}, (cx){er[3 * n + k], ei[3 * n + k]}));
 }
 
-/* the symmetric block: adjugate of [[a, b, c], [b, d, e], [c, e, f]] */
 typedef struct cx3 {
   cx a, b, c;
 } cx3;
-RR_INLINE cx3 solve3(const vblocks *B, double w, cx r0, cx r1, cx r2)
+
+/* The symmetric block [[a, b, c], [b, d, e], [c, e, f]] at w: its entries,
+   its adjugate's first row and the inverse of its determinant. */
+typedef struct sym3 {
+  cx a, b, c, d, e, f, c00, c01, c02, inv;
+} sym3;
+RR_INLINE sym3 sym_block(const vblocks *B, double w)
 {
   const double *K = B->Ks, *C = B->Cs;
-  cx a = dyn(K[0], C[0], B->Ms[0], w), b = dyn(K[1], C[1], 0, w), c = dyn(K[2], C[2], 0, w);
-  cx d = dyn(K[4], C[4], B->Ms[1], w), e = dyn(K[5], C[5], 0, w), f = dyn(K[8], C[8], B->Ms[2], w);
-  cx c00 = csub(cmul(d, f), cmul(e, e)), c01 = csub(cmul(c, e), cmul(b, f));
-  cx c02 = csub(cmul(b, e), cmul(c, d)), c11 = csub(cmul(a, f), cmul(c, c));
-  cx c12 = csub(cmul(b, c), cmul(a, e)), c22 = csub(cmul(a, d), cmul(b, b));
-  cx inv = cinv(cadd(cadd(cmul(a, c00), cmul(b, c01)), cmul(c, c02)));
-  return (cx3){cmul(inv, cadd(cadd(cmul(c00, r0), cmul(c01, r1)), cmul(c02, r2))),
-               cmul(inv, cadd(cadd(cmul(c01, r0), cmul(c11, r1)), cmul(c12, r2))),
-               cmul(inv, cadd(cadd(cmul(c02, r0), cmul(c12, r1)), cmul(c22, r2)))};
+  sym3 s = {.a = dyn(K[0], C[0], B->Ms[0], w),
+            .b = dyn(K[1], C[1], 0, w),
+            .c = dyn(K[2], C[2], 0, w),
+            .d = dyn(K[4], C[4], B->Ms[1], w),
+            .e = dyn(K[5], C[5], 0, w),
+            .f = dyn(K[8], C[8], B->Ms[2], w)};
+  s.c00 = csub(cmul(s.d, s.f), cmul(s.e, s.e));
+  s.c01 = csub(cmul(s.c, s.e), cmul(s.b, s.f));
+  s.c02 = csub(cmul(s.b, s.e), cmul(s.c, s.d));
+  s.inv = cinv(cadd(cadd(cmul(s.a, s.c00), cmul(s.b, s.c01)), cmul(s.c, s.c02)));
+  return s;
 }
 
-/* the antisymmetric block [[a, b], [b, d]] */
-RR_INLINE cx3 solve2(const vblocks *B, double w, cx r0, cx r1)
+/* the symmetric block solved by its adjugate */
+RR_INLINE cx3 solve3(const vblocks *B, double w, cx r0, cx r1, cx r2)
+{
+  sym3 s = sym_block(B, w);
+  cx c11 = csub(cmul(s.a, s.f), cmul(s.c, s.c)), c12 = csub(cmul(s.b, s.c), cmul(s.a, s.e));
+  cx c22 = csub(cmul(s.a, s.d), cmul(s.b, s.b));
+  return (cx3){cmul(s.inv, cadd(cadd(cmul(s.c00, r0), cmul(s.c01, r1)), cmul(s.c02, r2))),
+               cmul(s.inv, cadd(cadd(cmul(s.c01, r0), cmul(c11, r1)), cmul(c12, r2))),
+               cmul(s.inv, cadd(cadd(cmul(s.c02, r0), cmul(c12, r1)), cmul(c22, r2)))};
+}
+
+/* the antisymmetric block [[a, b], [b, d]]: its entries and inverse determinant */
+typedef struct anti2 {
+  cx a, b, d, inv;
+} anti2;
+RR_INLINE anti2 anti_block(const vblocks *B, double w)
 {
   const double *K = B->Ka, *C = B->Ca;
-  cx a = dyn(K[0], C[0], B->Ma[0], w), b = dyn(K[1], C[1], 0, w), d = dyn(K[3], C[3], B->Ma[1], w);
-  cx inv = cinv(csub(cmul(a, d), cmul(b, b)));
-  return (cx3){
-      cmul(inv, csub(cmul(d, r0), cmul(b, r1))), cmul(inv, csub(cmul(a, r1), cmul(b, r0))), {0, 0}};
+  anti2 m = {.a = dyn(K[0], C[0], B->Ma[0], w),
+             .b = dyn(K[1], C[1], 0, w),
+             .d = dyn(K[3], C[3], B->Ma[1], w)};
+  m.inv = cinv(csub(cmul(m.a, m.d), cmul(m.b, m.b)));
+  return m;
+}
+
+RR_INLINE cx3 solve2(const vblocks *B, double w, cx r0, cx r1)
+{
+  anti2 m = anti_block(B, w);
+  return (cx3){cmul(m.inv, csub(cmul(m.d, r0), cmul(m.b, r1))),
+               cmul(m.inv, csub(cmul(m.a, r1), cmul(m.b, r0))),
+               {0, 0}};
 }
 
 /* Every frequency's q: qr[d * n + k], qi[d * n + k] (one simd loop, no
@@ -216,21 +246,15 @@ RR_CLONES_V4 static void frf_kernel(const vblocks *B, int n, const double *f, co
 RR_CLONES_V4 static void floor_kernel(const vblocks *B, int n, const double *f, const double *er,
                                       const double *ei, double *restrict qr, double *restrict qi)
 {
-  const double *K = B->Ks, *C = B->Cs, *Ka = B->Ka, *Ca = B->Ca;
 #pragma omp simd
   for (int k = 0; k < n; k++) {
     double w = 2 * RR_PI * f[k];
     cx r2 = input(B, 2, w, er, ei, n, k), r4 = input(B, 4, w, er, ei, n, k);
-    cx a = dyn(K[0], C[0], B->Ms[0], w), b = dyn(K[1], C[1], 0, w), c = dyn(K[2], C[2], 0, w);
-    cx d = dyn(K[4], C[4], B->Ms[1], w), e = dyn(K[5], C[5], 0, w),
-       g = dyn(K[8], C[8], B->Ms[2], w);
-    cx c00 = csub(cmul(d, g), cmul(e, e)), c01 = csub(cmul(c, e), cmul(b, g));
-    cx c02 = csub(cmul(b, e), cmul(c, d)), c12 = csub(cmul(b, c), cmul(a, e));
-    cx f2 = cmul(r2, cinv(cadd(cadd(cmul(a, c00), cmul(b, c01)), cmul(c, c02))));
-    cx A = dyn(Ka[0], Ca[0], B->Ma[0], w), Bb = dyn(Ka[1], Ca[1], 0, w),
-       D = dyn(Ka[3], Ca[3], B->Ma[1], w);
-    cx thc = cmul(cmul(Bb, r4), cinv(csub(cmul(Bb, Bb), cmul(A, D)))); /* -B r / (A D - B^2) */
-    cx zc = cmul(c02, f2), qb = cmul(c12, f2);
+    sym3 s = sym_block(B, w);
+    anti2 m = anti_block(B, w);
+    cx f2 = cmul(r2, s.inv), c12 = csub(cmul(s.b, s.c), cmul(s.a, s.e));
+    cx zc = cmul(s.c02, f2), qb = cmul(c12, f2), thc = cmul(cmul(m.b, r4), m.inv);
+    thc = (cx){-thc.r, -thc.i}; /* -b r / (a d - b^2) */
     qr[RR_V_ZC * n + k] = zc.r;
     qi[RR_V_ZC * n + k] = zc.i;
     qr[RR_V_QB * n + k] = qb.r;
