@@ -240,8 +240,13 @@ typedef struct vertical_setup {
   int outside;           /* -1: the file's; 0 extend; 1 zero */
   double window_s;       /* --window (5 s) */
   double ax_p95, ax_p50; /* --ax-p95, --ax-p50: longitudinal Wd 5 s RMS percentiles (0) */
-  int dofs;              /* frf --dofs: every coordinate's FRF too */
-  const char *plot;      /* --plot FILE.png */
+  int ax_pitch;          /* --ax-pitch: those from carbody pitch at floor height hp instead */
+  double hp;             /* --hp (1.2 m) */
+  int lateral_given;     /* --lateral-wd-p95 (1) or --lateral-wd-rms (2): a_Y given, no PEM */
+  double lateral[16];    /* the given values: one for every point, or one each */
+  int nlateral;
+  int dofs;         /* frf --dofs: every coordinate's FRF too */
+  const char *plot; /* --plot FILE.png */
 } vertical_setup;
 void vertical_setup_default(vertical_setup *v);
 /* ride --direction vertical|both (conicity: the lateral side's, both only) */
@@ -261,6 +266,7 @@ typedef struct vertical_both {
 int vertical_eval(const rr_vehicle *veh, double speed_kmh, const ride_setup *rs,
                   const vertical_setup *vs, double conicity, vertical_both *out, rr_error *e);
 int modes_vertical(const cli_common *c);
+int matrices_vertical(const cli_common *c);
 /* validate --direction vertical (cmd_validate_vertical.c) */
 int validate_vertical(int argc, char **argv);
 /* After parsing: the floor points default to +L, 0, -L of the vehicle loaded

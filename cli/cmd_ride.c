@@ -146,15 +146,21 @@ enum {
   OPT_OUTSIDE,
   OPT_AXP95,
   OPT_AXP50,
-  OPT_DOFS
+  OPT_DOFS,
+  OPT_AXPITCH,
+  OPT_HP,
+  OPT_LATP95,
+  OPT_LATRMS
 };
 #define VERTICAL_OPTIONS                                                                           \
   {"direction", required_argument, 0, OPT_DIRECTION},                                              \
       {"vertical-spectrum", required_argument, 0, OPT_VSPECTRUM},                                  \
       {"window", required_argument, 0, OPT_WINDOW},                                                \
       {"outside", required_argument, 0, OPT_OUTSIDE}, {"ax-p95", required_argument, 0, OPT_AXP95}, \
+      {"ax-p50", required_argument, 0, OPT_AXP50}, {"ax-pitch", no_argument, 0, OPT_AXPITCH},      \
+      {"hp", required_argument, 0, OPT_HP}, {"lateral-wd-p95", required_argument, 0, OPT_LATP95},  \
   {                                                                                                \
-    "ax-p50", required_argument, 0, OPT_AXP50                                                      \
+    "lateral-wd-rms", required_argument, 0, OPT_LATRMS                                             \
   }
 #define VERTICAL_HELP                                                                              \
   "  --direction D        lateral (default), vertical (the vertical model: bounce, pitch, first\n" \
@@ -165,7 +171,12 @@ enum {
   "  --outside extend|zero  the vertical spectrum beyond its valid range (default: the file's)\n"  \
   "  --window T           EN 12299 RMS window, s (default 5)\n"                                    \
   "  --ax-p95 A, --ax-p50 A  longitudinal Wd 5 s RMS percentiles, m/s^2, for N_MV/N_VD/N_VA\n"     \
-  "                       (default 0: longitudinal motion is not modelled)\n"
+  "                       (default 0: longitudinal motion is not modelled)\n"                      \
+  "  --ax-pitch           instead, the longitudinal floor acceleration of carbody pitch alone\n"   \
+  "                       at floor height --hp H (default 1.2 m): (H - h_c) theta'' - g theta\n"   \
+  "  --lateral-wd-p95 A[,A..]  vertical: EN 12299 with the lateral Wd P95 given (P50 = P95),\n"    \
+  "                       one value or one per point, m/s^2\n"                                     \
+  "  --lateral-wd-rms A[,A..]  the same with the stationary Wd RMS for both percentiles\n"
 
 int ride_setup_option(ride_setup *r, int opt, const char *arg)
 {
@@ -207,6 +218,21 @@ static int vertical_option(ride_args *a, int opt, const char *arg)
       return 1;
     break;
   case OPT_DOFS: v->dofs = 1; break;
+  case OPT_AXPITCH: v->ax_pitch = 1; break;
+  case OPT_HP:
+    if (cli_number_in("hp", arg, "m", 0, CLI_FLOOR_H_MAX, &v->hp)) return 1;
+    break;
+  case OPT_LATP95:
+  case OPT_LATRMS: {
+    const char *nm = opt == OPT_LATP95 ? "lateral-wd-p95" : "lateral-wd-rms";
+    if (v->lateral_given) return cli_bad("--lateral-wd-p95 and --lateral-wd-rms: one of them");
+    if (cli_list(nm, arg, "m/s2", v->lateral, 16, &v->nlateral)) return 1;
+    for (int i = 0; i < v->nlateral; i++)
+      if (!(v->lateral[i] >= 0 && v->lateral[i] <= 100))
+        return cli_bad("--%s: %g m/s^2 outside 0 .. 100", nm, v->lateral[i]);
+    v->lateral_given = opt == OPT_LATP95 ? 1 : 2;
+    break;
+  }
   default: return -1;
   }
   a->vertical_only |= 1u << (opt - OPT_DIRECTION);
@@ -275,11 +301,24 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
 /* An option that belongs to the other direction: its message, or 0. */
 static int direction_mismatch(const ride_args *a)
 {
-  static const char *const vnames[] = {
-      "--direction", "--vertical-spectrum", "--window", "--outside", "--ax-p95", "--ax-p50",
-      "--dofs"};
+  static const char *const vnames[] = {"--direction",
+                                       "--vertical-spectrum",
+                                       "--window",
+                                       "--outside",
+                                       "--ax-p95",
+                                       "--ax-p50",
+                                       "--dofs",
+                                       "--ax-pitch",
+                                       "--hp",
+                                       "--lateral-wd-p95",
+                                       "--lateral-wd-rms"};
   int dir = a->vs.direction;
-  for (int b = 0; dir == CLI_DIR_LATERAL && b < 7; b++)
+  if (dir == CLI_DIR_BOTH && a->vs.lateral_given)
+    return cli_bad("--lateral-wd-%s: with --direction vertical (both computes the lateral side)",
+                   a->vs.lateral_given == 1 ? "p95" : "rms");
+  if (a->vs.ax_pitch && (a->vertical_only & (3u << (OPT_AXP95 - OPT_DIRECTION))))
+    return cli_bad("--ax-pitch: not with --ax-p95 or --ax-p50");
+  for (int b = 0; dir == CLI_DIR_LATERAL && b < 11; b++)
     if (a->vertical_only & (1u << b))
       return cli_bad("%s: only with --direction vertical or both", vnames[b]);
   if (dir != CLI_DIR_VERTICAL) return 0;

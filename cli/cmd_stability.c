@@ -16,16 +16,39 @@
 
 static const char *energy_names[RR_NGROUPS] = {"carbody", "frames", "wheelsets"};
 
+enum { OPT_SHAPES = 2050, OPT_MODES_DIRECTION };
+
+/* --direction (read before parsing) and nothing else */
+static int direction_only_cb(int opt, const char *arg, void *u)
+{
+  (void)arg;
+  (void)u;
+  return opt == OPT_MODES_DIRECTION ? 0 : 1;
+}
+
 int cmd_matrices(int argc, char **argv)
 {
   static const char help[] =
       "usage: railride matrices [VEHICLE] --speed KMH --conicity L [--json]\n"
+      "       railride matrices [VEHICLE] --direction vertical [--speed KMH] [--json]\n"
       "Prints M, C, K (17x17), B (17x4), the Maxwell elements and the state matrix A.\n"
-      "In paper SDF mode A is taken at the curve's lowest stiffness.\n" CLI_COMMON_HELP;
+      "In paper SDF mode A is taken at the curve's lowest stiffness. --direction vertical:\n"
+      "the vertical model's M, C, K (7x7), BK, BC (7x4), the wheelsets' positions and\n"
+      "distances, phi at the pivots, the floor rows at +L, 0, -L, A (14x14) and, with a\n"
+      "speed, the wheelsets' delays.\n" CLI_COMMON_HELP
+      "  --direction D        lateral (default) or vertical\n";
+  static const struct option extra[] = {{"direction", required_argument, 0, OPT_MODES_DIRECTION},
+                                        {0, 0, 0, 0}};
   cli_common c;
   rr_model *m;
-  RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_GRAVITY, NULL, NULL,
-            NULL, help);
+  int dir = cli_direction_scan("matrices", argc, argv);
+  if (dir < 0) return EXIT_BADINPUT;
+  if (dir == CLI_DIR_BOTH) return cli_bad("matrices: --direction lateral or vertical");
+  RUN_PARSE(dir == CLI_DIR_VERTICAL
+                ? CLI_READS_SPEED | CLI_READS_JSON
+                : CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_GRAVITY,
+            extra, direction_only_cb, NULL, help);
+  if (dir == CLI_DIR_VERTICAL) return matrices_vertical(&c);
   int r = cli_model(&c, &m, 1, 1);
   if (r) return r;
   int n = rr_model_ndof(m), ni = rr_model_ninputs(m), N = rr_model_state_size(m);
@@ -213,8 +236,6 @@ static void modes_table(const cli_common *c, const rr_modal_result *res, int pap
 typedef struct modes_args {
   const char *shape_data;
 } modes_args;
-enum { OPT_SHAPES = 2050, OPT_MODES_DIRECTION };
-
 static int modes_cb(int opt, const char *arg, void *u)
 {
   modes_args *a = u;

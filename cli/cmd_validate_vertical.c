@@ -147,6 +147,8 @@ static cJSON *vval_point_json(const rr_vertical_validate_point *p)
            {"wb_p95_z", p->wb_p95_z},
            {"windows", p->windows},
            {"frf_line_error_max", p->frf_line_error_max},
+           {"psd_band_error_max", p->band_error_max},
+           {"psd_band_welch_error_max", p->band_welch_error_max},
            {"psd_band_z_max", p->band_z_max}};
   for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) cJSON_AddNumberToObject(o, f[i].k, f[i].v);
   ba = cJSON_AddArrayToObject(o, "bands");
@@ -155,6 +157,7 @@ static cJSON *vval_point_json(const rr_vertical_validate_point *p)
     cJSON_AddNumberToObject(bo, "fc", p->band_fc[b]);
     cJSON_AddNumberToObject(bo, "pem", p->band_pem[b]);
     cJSON_AddNumberToObject(bo, "time_lines", p->band_time[b]);
+    cJSON_AddNumberToObject(bo, "welch", p->band_welch[b]);
     cJSON_AddNumberToObject(bo, "rel_std", p->band_rel_std[b]);
     cJSON_AddNumberToObject(bo, "z", p->band_z[b]);
     cJSON_AddItemToArray(ba, bo);

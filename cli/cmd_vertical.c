@@ -12,7 +12,8 @@ void vertical_setup_default(vertical_setup *v)
   *v = (vertical_setup){.direction = CLI_DIR_LATERAL,
                         .spectrum = RR_VERTICAL_SPECTRUM_DEFAULT,
                         .outside = -1,
-                        .window_s = RR_VERTICAL_WINDOW_DEFAULT};
+                        .window_s = RR_VERTICAL_WINDOW_DEFAULT,
+                        .hp = RR_FLOOR_HEIGHT_DEFAULT};
 }
 
 int cli_direction_scan(const char *cmd, int argc, char **argv)
@@ -48,6 +49,8 @@ typedef struct vertical_run {
   ride_point lat[RR_VERTICAL_POINTS_MAX];
   rr_window_stats wd[RR_VERTICAL_POINTS_MAX];
   rr_en12299 en[RR_VERTICAL_POINTS_MAX];
+  int have_en;             /* a lateral side (PEM or given): EN 12299's indices */
+  rr_window_stats ax, axc; /* --ax-pitch: pitch's longitudinal a_x, Wd and Wc */
   double *lat_psd, *lat_f;
 } vertical_run;
 
@@ -107,17 +110,40 @@ static int lateral_side(vertical_run *r, const rr_vehicle *veh, double speed_kmh
       snprintf(e->msg, sizeof e->msg, "the lateral and vertical grids differ at %g Hz", f[k]);
       return RR_EINVAL;
     }
-  st = rr_vertical_window_stats(r->plan, r->lat_psd, r->np, r->np, RR_ISO_WD, r->wd, e);
-  for (int q = 0; q < r->np && !st; q++) {
-    rr_en12299_inputs in = {.ax50 = vs->ax_p50,
-                            .ax95 = vs->ax_p95,
+  return rr_vertical_window_stats(r->plan, r->lat_psd, r->np, r->np, RR_ISO_WD, r->wd, e);
+}
+
+/* --lateral-wd-p95 / --lateral-wd-rms: the given value(s) as both percentiles */
+static int lateral_given(vertical_run *r, const vertical_setup *vs, rr_error *e)
+{
+  if (vs->nlateral != 1 && vs->nlateral != r->np) {
+    snprintf(e->msg, sizeof e->msg, "--lateral-wd-%s: one value or one per floor point (%d)",
+             vs->lateral_given == 1 ? "p95" : "rms", r->np);
+    return RR_EINVAL;
+  }
+  for (int q = 0; q < r->np; q++) {
+    double a = vs->lateral[vs->nlateral == 1 ? 0 : q];
+    r->wd[q] = (rr_window_stats){.rms = vs->lateral_given == 2 ? a : NAN, .p50 = a, .p95 = a};
+  }
+  return RR_OK;
+}
+
+/* EN 12299's indices per point from the Z, Y and X percentiles */
+static void combine(vertical_run *r, const vertical_setup *vs)
+{
+  double ax50 = vs->ax_pitch ? r->ax.p50 : vs->ax_p50, ax95 = vs->ax_pitch ? r->ax.p95 : vs->ax_p95;
+  double axd95 = vs->ax_pitch ? r->axc.p95 : ax95; /* a rigid seat's back: the floor's */
+  for (int q = 0; q < r->np; q++) {
+    rr_en12299_inputs in = {.ax50 = ax50,
+                            .ax95 = ax95,
+                            .axd95 = axd95,
                             .ay50 = r->wd[q].p50,
                             .ay95 = r->wd[q].p95,
                             .az50 = r->pt[q].wb_5s.p50,
                             .az95 = r->pt[q].wb_5s.p95};
     r->en[q] = rr_en12299_indices(&in);
   }
-  return st;
+  r->have_en = 1;
 }
 
 /* The vertical run and, with a conicity (not NaN), the lateral side. */
@@ -127,7 +153,14 @@ static int run_eval(vertical_run *r, const rr_vehicle *veh, double speed_kmh, co
   int st = open_spectrum(r, vs, e);
   if (!st) st = plan_run(r, veh, rs, vs, e);
   if (!st) st = rr_vertical_ride_execute(r->plan, &r->m, speed_kmh / RR_KMH, &r->sp, r->pt, e);
-  if (!st && !isnan(conicity)) st = lateral_side(r, veh, speed_kmh, rs, vs, conicity, e);
+  if (!st && vs->ax_pitch)
+    st =
+        rr_vertical_pitch_longitudinal(r->plan, vs->hp, veh->carbody_cg_height, &r->ax, &r->axc, e);
+  if (!st && !isnan(conicity))
+    st = lateral_side(r, veh, speed_kmh, rs, vs, conicity, e);
+  else if (!st && vs->lateral_given)
+    st = lateral_given(r, vs, e);
+  if (!st && (!isnan(conicity) || vs->lateral_given)) combine(r, vs);
   return st;
 }
 
@@ -200,7 +233,41 @@ static cJSON *methods_json(void)
   return m;
 }
 
-static cJSON *point_json(const vertical_run *r, int q, int both, const vertical_setup *vs)
+/* the longitudinal term: given numbers (0 by default) or pitch's a_x */
+static cJSON *longitudinal_json(const vertical_run *r, const vertical_setup *vs)
+{
+  cJSON *x = cJSON_CreateObject();
+  if (vs->ax_pitch) {
+    cJSON_AddStringToObject(x, "source", "carbody pitch at the floor height (--ax-pitch)");
+    cJSON_AddNumberToObject(x, "wd_rms", r->ax.rms);
+    cJSON_AddNumberToObject(x, "wd_p50", r->ax.p50);
+    cJSON_AddNumberToObject(x, "wd_p95", r->ax.p95);
+    cJSON_AddNumberToObject(x, "wc_p95", r->axc.p95);
+    return x;
+  }
+  cJSON_AddStringToObject(x, "source", "given (--ax-p95, --ax-p50; default 0: not modelled)");
+  cJSON_AddNullToObject(x, "wd_rms");
+  cJSON_AddNumberToObject(x, "wd_p50", vs->ax_p50);
+  cJSON_AddNumberToObject(x, "wd_p95", vs->ax_p95);
+  cJSON_AddNumberToObject(x, "wc_p95", vs->ax_p95); /* a rigid seat: the floor's */
+  return x;
+}
+
+static cJSON *lateral_json(const vertical_run *r, int q, const vertical_setup *vs)
+{
+  cJSON *l = cJSON_CreateObject();
+  cJSON_AddStringToObject(l, "source",
+                          vs->lateral_given == 1   ? "given (--lateral-wd-p95)"
+                          : vs->lateral_given == 2 ? "given (--lateral-wd-rms)"
+                                                   : "lateral PEM (Wd, 5 s gamma law)");
+  cJSON_AddNumberToObject(l, "wd_rms", r->wd[q].rms); /* NaN (not known): null */
+  cJSON_AddNumberToObject(l, "wd_p50", r->wd[q].p50);
+  cJSON_AddNumberToObject(l, "wd_p95", r->wd[q].p95);
+  if (!vs->lateral_given) cJSON_AddNumberToObject(l, "sperling", r->lat[q].sperling);
+  return l;
+}
+
+static cJSON *point_json(const vertical_run *r, int q, const vertical_setup *vs)
 {
   const rr_vertical_point *p = &r->pt[q];
   cJSON *o = cJSON_CreateObject();
@@ -213,22 +280,15 @@ static cJSON *point_json(const vertical_run *r, int q, int both, const vertical_
   cJSON_AddNumberToObject(o, "wb_iso8041_rms", p->wb_iso8041_rms);
   cJSON_AddItemToObject(o, "wb_5s", stats_json(&p->wb_5s));
   cJSON_AddNumberToObject(o, "n_mv_vertical", p->n_mv_vertical);
-  if (!both) {
+  cJSON_AddItemToObject(o, "longitudinal", longitudinal_json(r, vs));
+  if (!r->have_en) {
     cJSON_AddNullToObject(o, "lateral");
     cJSON_AddNullToObject(o, "n_mv");
     cJSON_AddNullToObject(o, "n_vd");
     cJSON_AddNullToObject(o, "n_va_rigid_seat");
     return o;
   }
-  cJSON *l = cJSON_AddObjectToObject(o, "lateral"), *x = cJSON_AddObjectToObject(o, "longitudinal");
-  cJSON_AddStringToObject(l, "source", "lateral PEM (Wd, 5 s gamma law)");
-  cJSON_AddNumberToObject(l, "wd_rms", r->wd[q].rms);
-  cJSON_AddNumberToObject(l, "wd_p50", r->wd[q].p50);
-  cJSON_AddNumberToObject(l, "wd_p95", r->wd[q].p95);
-  cJSON_AddNumberToObject(l, "sperling", r->lat[q].sperling);
-  cJSON_AddStringToObject(x, "source", "given (--ax-p95, --ax-p50; default 0: not modelled)");
-  cJSON_AddNumberToObject(x, "wd_p50", vs->ax_p50);
-  cJSON_AddNumberToObject(x, "wd_p95", vs->ax_p95);
+  cJSON_AddItemToObject(o, "lateral", lateral_json(r, q, vs));
   cJSON_AddNumberToObject(o, "n_mv", r->en[q].n_mv);
   cJSON_AddNumberToObject(o, "n_vd", r->en[q].n_vd);
   cJSON_AddNumberToObject(o, "n_va_rigid_seat", r->en[q].n_va_rigid_seat);
@@ -259,10 +319,13 @@ static void ride_json_out(const cli_common *c, const ride_setup *rs, const verti
   cJSON_AddNumberToObject(root, "window_s", vs->window_s);
   cJSON_AddNumberToObject(root, "ax_p95", vs->ax_p95);
   cJSON_AddNumberToObject(root, "ax_p50", vs->ax_p50);
+  cJSON_AddBoolToObject(root, "ax_pitch", vs->ax_pitch);
+  cJSON_AddNumberToObject(root, "hp", vs->hp);
+  cJSON_AddItemToObject(root, "ignored_keys", cJSON_CreateArray()); /* unknown keys are errors */
   cJSON_AddStringToObject(root, "p95_method", "gamma");
   cJSON_AddItemToObject(root, "methods", methods_json());
   cJSON *pa = cJSON_AddArrayToObject(root, "points");
-  for (int q = 0; q < r->np; q++) cJSON_AddItemToArray(pa, point_json(r, q, both, vs));
+  for (int q = 0; q < r->np; q++) cJSON_AddItemToArray(pa, point_json(r, q, vs));
   cli_json_print(root);
 }
 
@@ -283,10 +346,20 @@ static void ride_text_out(const cli_common *c, const ride_setup *rs, const verti
            p->sperling, p->sperling_gb, p->wk_rms, p->wb_rms, p->wb_5s.p50, p->wb_5s.p95,
            p->wb_5s.shape_k, p->n_mv_vertical);
   }
-  if (vs->direction != CLI_DIR_BOTH) return;
-  printf("\nEN 12299 mean comfort: lateral from the lateral PEM (conicity %g, spectrum %s, Wd), "
-         "longitudinal given (P95 %g, P50 %g m/s2), rigid seat\n",
-         conicity, rs->spectrum, vs->ax_p95, vs->ax_p50);
+  if (!r->have_en) return;
+  char lat[160], lon[160];
+  if (vs->lateral_given)
+    snprintf(lat, sizeof lat, "lateral given (--lateral-wd-%s)",
+             vs->lateral_given == 1 ? "p95" : "rms");
+  else
+    snprintf(lat, sizeof lat, "lateral from the lateral PEM (conicity %g, spectrum %s, Wd)",
+             conicity, rs->spectrum);
+  if (vs->ax_pitch)
+    snprintf(lon, sizeof lon, "longitudinal from carbody pitch at %g m (P95 %.4g, P50 %.4g m/s2)",
+             vs->hp, r->ax.p95, r->ax.p50);
+  else
+    snprintf(lon, sizeof lon, "longitudinal given (P95 %g, P50 %g m/s2)", vs->ax_p95, vs->ax_p50);
+  printf("\nEN 12299 mean comfort: %s, %s, rigid seat\n", lat, lon);
   printf("%9s %11s %11s %11s %11s %7s %7s %7s  %s\n", "x_m", "ay_p50", "ay_p95", "az_p50", "az_p95",
          "N_MV", "N_VD", "N_VA", "comfort (N_MV)");
   for (int q = 0; q < r->np; q++)
@@ -457,5 +530,64 @@ int modes_vertical(const cli_common *c)
     modes_json_out(c, &m, &md);
   else
     modes_text_out(c, &md);
+  return 0;
+}
+
+/* ---- matrices --direction vertical ---- */
+
+static void matrix_text(const char *name, const double *A, int rows, int cols)
+{
+  printf("%s (%d x %d)\n", name, rows, cols);
+  for (int i = 0; i < rows; i++) {
+    for (int j = 0; j < cols; j++) printf(" %14.7g", A[i * cols + j]);
+    putchar('\n');
+  }
+  putchar('\n');
+}
+
+int matrices_vertical(const cli_common *c)
+{
+  rr_vertical_model m;
+  rr_error e = {0};
+  int st = rr_vertical_model_build(&c->veh, &m, &e);
+  if (st) return cli_fail(&e, st);
+  double M[RR_VDOF * RR_VDOF] = {0}, A[4 * RR_VDOF * RR_VDOF], rows[3 * RR_VDOF];
+  for (int i = 0; i < RR_VDOF; i++) M[i * RR_VDOF + i] = m.M[i];
+  rr_vertical_state_matrix(&m, A);
+  double x[3] = {m.x_frames[0], 0, m.x_frames[1]};
+  for (int q = 0; q < 3; q++) rr_vertical_floor_row(&m, x[q], rows + q * RR_VDOF);
+  if (!c->json) {
+    printf("%s: the vertical model, rows/columns z_c theta_c q_b z_f1 theta_f1 z_f2 theta_f2; "
+           "inputs the wheelsets front to rear\n\n",
+           c->veh.name);
+    matrix_text("M", M, RR_VDOF, RR_VDOF);
+    matrix_text("C", m.C, RR_VDOF, RR_VDOF);
+    matrix_text("K", m.K, RR_VDOF, RR_VDOF);
+    matrix_text("BK", m.BK, RR_VDOF, RR_VINPUTS);
+    matrix_text("BC", m.BC, RR_VDOF, RR_VINPUTS);
+    printf("phi(+-L) = %.10g, %.10g 1/sqrt(kg); state matrix A: 14 x 14 (--json)\n",
+           m.phi_pivots[0], m.phi_pivots[1]);
+    return 0;
+  }
+  cJSON *root = cJSON_CreateObject(), *d = cJSON_AddArrayToObject(root, "dofs");
+  for (int i = 0; i < RR_VDOF; i++) cJSON_AddItemToArray(d, cJSON_CreateString(vdof_names[i]));
+  cJSON_AddItemToObject(root, "M", cli_json_matrix(M, RR_VDOF, RR_VDOF));
+  cJSON_AddItemToObject(root, "C", cli_json_matrix(m.C, RR_VDOF, RR_VDOF));
+  cJSON_AddItemToObject(root, "K", cli_json_matrix(m.K, RR_VDOF, RR_VDOF));
+  cJSON_AddItemToObject(root, "BK", cli_json_matrix(m.BK, RR_VDOF, RR_VINPUTS));
+  cJSON_AddItemToObject(root, "BC", cli_json_matrix(m.BC, RR_VDOF, RR_VINPUTS));
+  cJSON_AddItemToObject(root, "x_frames", cJSON_CreateDoubleArray(m.x_frames, 2));
+  cJSON_AddItemToObject(root, "x_wheelsets", cJSON_CreateDoubleArray(m.x_wheelsets, RR_VINPUTS));
+  cJSON_AddItemToObject(root, "d_wheelsets", cJSON_CreateDoubleArray(m.d_wheelsets, RR_VINPUTS));
+  cJSON_AddNumberToObject(root, "beta_l", RR_BEAM_BETA_L);
+  cJSON_AddItemToObject(root, "phi_pivots", cJSON_CreateDoubleArray(m.phi_pivots, 2));
+  cJSON_AddItemToObject(root, "floor_rows", cli_json_matrix(rows, 3, RR_VDOF));
+  cJSON_AddItemToObject(root, "A", cli_json_matrix(A, 2 * RR_VDOF, 2 * RR_VDOF));
+  if (c->have_speed) {
+    double tau[RR_VINPUTS];
+    for (int j = 0; j < RR_VINPUTS; j++) tau[j] = m.d_wheelsets[j] / (c->speed_kmh / RR_KMH);
+    cJSON_AddItemToObject(root, "delays_s", cJSON_CreateDoubleArray(tau, RR_VINPUTS));
+  }
+  cli_json_print(root);
   return 0;
 }

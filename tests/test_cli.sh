@@ -410,6 +410,15 @@ json_check "validate lateral: Gaussian track, z-scores" "d['track_amplitudes']==
 expect2 "validate vertical needs speed" "--speed is required" "$RR" validate --direction vertical
 expect2 "validate vertical takes no conicity" "conicity" "$RR" validate --speed 350 --direction vertical --conicity 0.2
 expect2 "validate amplitudes" "--track-amplitudes: gaussian or fixed" "$RR" validate --speed 350 --conicity 0.2 --track-amplitudes big
+"$RR" ride --speed 350 --direction both --conicity 0.17 --ax-pitch --json > "$tmp/vax.json" || bad "ride --ax-pitch exit"
+json_check "ax-pitch: pitch's longitudinal Wd RMS (docs/vertical.md: 0.74e-3 m/s2)" "abs(d['points'][0]['longitudinal']['wd_rms']-0.742e-3)<5e-6 and d['ax_pitch'] is True and d['hp']==1.2 and all(p['longitudinal']['wc_p95']>0 for p in d['points'])" < "$tmp/vax.json"
+"$RR" ride --speed 350 --direction vertical --lateral-wd-p95 0.08,0.02,0.09 --json > "$tmp/vlat.json" || bad "ride --lateral-wd-p95 exit"
+json_check "lateral-wd-p95: N_MV from the given lateral P95" "all(abs(p['n_mv']-6*math.hypot(a,p['wb_5s']['p95']))<1e-12 and p['lateral']['wd_rms'] is None for p,a in zip(d['points'],(0.08,0.02,0.09)))" < "$tmp/vlat.json"
+expect2 "ax-pitch with given ax" "--ax-pitch: not with" "$RR" ride --speed 350 --direction vertical --ax-pitch --ax-p95 0.01
+expect2 "lateral given with both" "--lateral-wd-p95: with --direction vertical" "$RR" ride --speed 350 --conicity 0.2 --direction both --lateral-wd-p95 0.1
+expect2 "lateral given: count" "one value or one per floor point" "$RR" ride --speed 350 --direction vertical --lateral-wd-rms 0.1,0.2
+"$RR" matrices --direction vertical --speed 350 --json > "$tmp/vmat.json" || bad "matrices vertical exit"
+json_check "matrices vertical" "len(d['K'])==7 and len(d['BK'][0])==4 and len(d['A'])==14 and abs(d['K'][2][2]-3955.287)<1e-3 and abs(d['delays_s'][3]-(2*8.6875+2.5)/(350/3.6))<1e-15 and d['dofs'][2]=='q_b'" < "$tmp/vmat.json"
 expect2 "direction unknown" "--direction: lateral, vertical or both" "$RR" ride --speed 350 --direction sideways
 expect2 "vertical takes no --spectrum" "--vertical-spectrum" "$RR" ride --speed 350 --direction vertical --spectrum wuhan-guangzhou
 expect2 "lateral takes no --window" "--window: only with --direction" "$RR" ride --speed 350 --conicity 0.1 --window 5

@@ -29,7 +29,8 @@ VALUES = {"speed": "350", "conicity": "0.17", "fmax": "10", "wmin": "0.001", "rm
           "grid": "g.csv", "wheel": "w.dat", "wheel-left": "w.dat", "wheel-right": "w.dat", "rail": "r.dat",
           "rail-left": "r.dat", "rail-right": "r.dat", "wheels": "w.dat", "plot-data": "p.dat",
           "direction": "lateral", "outside": "extend", "vertical-spectrum": "tbt3352-vertical", "window": "5",
-          "ax-p95": "0", "ax-p50": "0", "track-amplitudes": "gaussian"}
+          "ax-p95": "0", "ax-p50": "0", "track-amplitudes": "gaussian", "hp": "1.2", "lateral-wd-p95": "0.1",
+          "lateral-wd-rms": "0.1"}
 
 
 scratch = tempfile.mkdtemp(prefix="rr_opts_")  # the commands' working folder: nothing may appear in it

@@ -465,8 +465,13 @@ static void test_expected(void)
 
 static void test_en12299(void)
 {
-  rr_en12299_inputs a = {
-      .ax50 = 0.01, .ax95 = 0.02, .ay50 = 0.03, .ay95 = 0.05, .az50 = 0.04, .az95 = 0.06};
+  rr_en12299_inputs a = {.ax50 = 0.01,
+                         .ax95 = 0.02,
+                         .ay50 = 0.03,
+                         .ay95 = 0.05,
+                         .az50 = 0.04,
+                         .az95 = 0.06,
+                         .axd95 = 0.02};
   rr_en12299 n = rr_en12299_indices(&a);
   CHECK_CLOSE(n.n_mv, 6 * sqrt(0.0004 + 0.0025 + 0.0036), 1e-15, 0, "N_MV");
   CHECK_CLOSE(n.n_vd, 3 * sqrt(16e-4 + 4 * 9e-4 + 16e-4) + 5 * 0.05, 1e-15, 0, "N_VD");

@@ -107,6 +107,7 @@ RR_API int rr_gamma_p_inv(double a, double p, double *x, rr_error *err);
  * Z Wb; seat pan and back taken as the floor (a rigid seat). */
 typedef struct rr_en12299_inputs {
   double ax50, ax95, ay50, ay95, az50, az95;
+  double axd95; /* the seat back's X (Wc); a rigid seat's: the floor's ax95 */
 } rr_en12299_inputs;
 typedef struct rr_en12299 {
   double n_mv, n_vd, n_va_rigid_seat;

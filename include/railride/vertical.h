@@ -74,6 +74,8 @@ typedef struct rr_vertical_modes {
 } rr_vertical_modes;
 RR_API int rr_vertical_modes_compute(const rr_vertical_model *m, rr_vertical_modes *out,
                                      rr_error *err);
+/* The state matrix A = [[0, I], [-M^-1 K, -M^-1 C]] (14 x 14, row-major). */
+RR_API void rr_vertical_state_matrix(const rr_vertical_model *m, double *A);
 
 /* The ride evaluation's settings, each default named. */
 #define RR_VERTICAL_WINDOW_DEFAULT 5.0 /* s: EN 12299's RMS window */
@@ -124,6 +126,14 @@ RR_API int rr_vertical_plan_set_track(rr_vertical_plan *p, const rr_spectrum *sp
                                       rr_error *err);
 RR_API int rr_vertical_ride_design(rr_vertical_plan *p, const rr_vertical_model *m,
                                    rr_vertical_point *out, rr_error *err);
+/* After a ride evaluation: the longitudinal floor acceleration that carbody
+ * pitch alone makes at floor height h_p (m; centre of gravity h_c),
+ * a_x = (h_p - h_c) theta_c'' - g theta_c (the same at every x), and its
+ * 5 s statistics weighted by Wd (a_XP50, a_XP95) and by Wc (the rigid seat
+ * back's a_XD95). No longitudinal suspension or traction rods: a bound on
+ * what pitch adds, not a longitudinal model. */
+RR_API int rr_vertical_pitch_longitudinal(rr_vertical_plan *p, double h_p, double h_c,
+                                          rr_window_stats *wd, rr_window_stats *wc, rr_error *err);
 RR_API const double *rr_vertical_psd(const rr_vertical_plan *p);
 RR_API const double *rr_vertical_track_psd(const rr_vertical_plan *p); /* G_t(f), m^2/Hz */
 /* The plan's 5 s statistics of ncols PSD columns G[f * stride + c] on its
@@ -160,7 +170,9 @@ typedef struct rr_vertical_validate_point {
   double frf_line_error_max; /* max |H_time - H_pem| / max |H_pem| over the lines */
   double band_fc[RR_VERTICAL_BANDS], band_pem[RR_VERTICAL_BANDS], band_time[RR_VERTICAL_BANDS],
       band_rel_std[RR_VERTICAL_BANDS], band_z[RR_VERTICAL_BANDS];
+  double band_welch[RR_VERTICAL_BANDS]; /* the Welch PSD's power in the band */
   double band_z_max;
+  double band_error_max, band_welch_error_max; /* max |time / pem - 1|, |welch / pem - 1| */
 } rr_vertical_validate_point;
 typedef struct rr_vertical_validate_result {
   int npoints, nwelch, navg;

@@ -49,7 +49,7 @@ class _VPoint(ctypes.Structure):
 
 
 class _ENInputs(ctypes.Structure):
-    _fields_ = [(k, ctypes.c_double) for k in ("ax50", "ax95", "ay50", "ay95", "az50", "az95")]
+    _fields_ = [(k, ctypes.c_double) for k in ("ax50", "ax95", "ay50", "ay95", "az50", "az95", "axd95")]
 
 
 class _EN(ctypes.Structure):

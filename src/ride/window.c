@@ -207,7 +207,7 @@ rr_en12299 rr_en12299_indices(const rr_en12299_inputs *a)
       .n_mv = 6 * sqrt(ax95 * ax95 + ay95 * ay95 + az95 * az95),
       .n_vd =
           3 * sqrt(16 * a->ax50 * a->ax50 + 4 * a->ay50 * a->ay50 + a->az50 * a->az50) + 5 * ay95,
-      .n_va_rigid_seat = 4 * az95 + 2 * sqrt(ay95 * ay95 + az95 * az95) + 4 * ax95};
+      .n_va_rigid_seat = 4 * az95 + 2 * sqrt(ay95 * ay95 + az95 * az95) + 4 * a->axd95};
 }
 
 const char *rr_en12299_scale(double n)

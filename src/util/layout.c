@@ -191,6 +191,7 @@ static const layout_entry layout[] = {
     FIELD(rr_en12299_inputs, ay95),
     FIELD(rr_en12299_inputs, az50),
     FIELD(rr_en12299_inputs, az95),
+    FIELD(rr_en12299_inputs, axd95),
     TYPE(rr_en12299),
     FIELD(rr_en12299, n_mv),
     FIELD(rr_en12299, n_vd),

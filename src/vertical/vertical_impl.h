@@ -14,6 +14,7 @@ struct rr_vertical_plan {
   double *wbi2, *bs2; /* ISO 8041 Wb, Sperling's vertical B_s: |.|^2 on the grid */
   rr_complex *H, *Q;
   double *G, *Gt;
+  double *Gx;                          /* pitch's longitudinal floor PSD */
   double *Qr, *Qi;                     /* q by coordinate: [d * n + k] */
   double *Er, *Ei;                     /* delay factors e^{-jw tau_j}: [j * n + k] */
   double delay_v, delay_d[RR_VINPUTS]; /* what they were made for (v 0: nothing yet) */

@@ -12,7 +12,7 @@
 #define NS (2 * RR_VDOF)
 #define OSC_TOL 1e-6 /* oscillatory: Im > 1e-6 |lambda| (as the lateral modes) */
 
-static void state_matrix(const rr_vertical_model *m, double *A)
+void rr_vertical_state_matrix(const rr_vertical_model *m, double *A)
 {
   memset(A, 0, sizeof(double) * NS * NS);
   for (int i = 0; i < RR_VDOF; i++) {
@@ -106,7 +106,7 @@ static void sort_modes(rr_vertical_modes *o)
 int rr_vertical_modes_compute(const rr_vertical_model *m, rr_vertical_modes *o, rr_error *err)
 {
   double A[NS * NS], wr[NS], wi[NS], vr[NS * NS];
-  state_matrix(m, A);
+  rr_vertical_state_matrix(m, A);
   if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', NS, A, NS, wr, wi, NULL, NS, vr, NS))
     return rr_seterr(err, RR_ELAPACK, "vertical modes: dgeev failed");
   memset(o, 0, sizeof *o);

@@ -35,6 +35,7 @@ void rr_vertical_plan_free(rr_vertical_plan *p)
   free(p->Q);
   free(p->G);
   free(p->Gt);
+  free(p->Gx);
   free(p->Er);
   free(p->Qr);
   rr_comfort_plan_free(p->comfort);
@@ -115,6 +116,7 @@ int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_e
   p->bs2 = malloc(sizeof(double) * n);
   p->trap = malloc(sizeof(double) * n);
   p->Gt = malloc(sizeof(double) * n);
+  p->Gx = malloc(sizeof(double) * n);
   p->G = malloc(sizeof(double) * n * pm);
   p->H = malloc(sizeof(rr_complex) * n * pm);
   p->Q = malloc(sizeof(rr_complex) * n * RR_VDOF);
@@ -122,7 +124,7 @@ int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_e
   p->Ei = p->Er ? p->Er + n * RR_VINPUTS : NULL;
   p->Qr = malloc(sizeof(double) * n * 2 * RR_VDOF);
   p->Qi = p->Qr ? p->Qr + n * RR_VDOF : NULL;
-  if (!p->Er || !p->Qr || !p->wbi2 || !p->bs2 || !p->f || !p->wk2 || !p->wb2 || !p->wd2 ||
+  if (!p->Er || !p->Qr || !p->Gx || !p->wbi2 || !p->bs2 || !p->f || !p->wk2 || !p->wb2 || !p->wd2 ||
       !p->wc2 || !p->trap || !p->Gt || !p->G || !p->H || !p->Q) {
     rr_vertical_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
@@ -244,6 +246,22 @@ int rr_vertical_ride_design(rr_vertical_plan *p, const rr_vertical_model *m, rr_
     for (int i = 0; i < p->np; i++) wb[i] = (rr_window_stats){.rms = sqrt(s[i][3])};
   for (int i = 0; i < p->np && !st; i++) st = point_indices(p, s[i], wb + i, i, out + i, err);
   return st;
+}
+
+int rr_vertical_pitch_longitudinal(rr_vertical_plan *p, double h_p, double h_c, rr_window_stats *wd,
+                                   rr_window_stats *wc, rr_error *err)
+{
+  if (!(p->track_v > 0) || !p->window)
+    return rr_seterr(err, RR_EINVAL, "vertical: pitch a_x needs a ride evaluation with a window");
+  if (!(isfinite(h_p) && isfinite(h_c)))
+    return rr_seterr(err, RR_EINVAL, "vertical: pitch a_x: heights must be finite");
+  for (int k = 0; k < p->n; k++) {
+    double w = 2 * RR_PI * p->f[k], c = -w * w * (h_p - h_c) - RR_G;
+    double tr = p->Qr[RR_V_THC * p->n + k], ti = p->Qi[RR_V_THC * p->n + k];
+    p->Gx[k] = p->Gt[k] * c * c * (tr * tr + ti * ti);
+  }
+  int st = rr_window_execute(p->window, p->Gx, 1, 1, p->wd2, wd, err);
+  return st ? st : rr_window_execute(p->window, p->Gx, 1, 1, p->wc2, wc, err);
 }
 
 int rr_vertical_ride_execute(rr_vertical_plan *p, const rr_vertical_model *m, double v,

@@ -38,16 +38,10 @@ void rr_vertical_validate_result_free(rr_vertical_validate_result *r)
 /* x' = A x + B z; MBC = M^-1 BC */
 static void state_space(const rr_vertical_model *m, double *A, double *B, double *MBC)
 {
-  memset(A, 0, sizeof(double) * NST * NST);
-  for (int i = 0; i < RR_VDOF; i++) {
-    A[i * NST + RR_VDOF + i] = 1;
-    for (int j = 0; j < RR_VDOF; j++) {
-      A[(RR_VDOF + i) * NST + j] = -m->K[i * RR_VDOF + j] / m->M[i];
-      A[(RR_VDOF + i) * NST + RR_VDOF + j] = -m->C[i * RR_VDOF + j] / m->M[i];
-    }
+  rr_vertical_state_matrix(m, A);
+  for (int i = 0; i < RR_VDOF; i++)
     for (int j = 0; j < RR_VINPUTS; j++)
       MBC[i * RR_VINPUTS + j] = m->BC[i * RR_VINPUTS + j] / m->M[i];
-  }
   for (int i = 0; i < RR_VDOF; i++)
     for (int j = 0; j < RR_VINPUTS; j++) {
       double cmb = 0;
@@ -252,12 +246,13 @@ static void line_checks(vrun *w, int q, const double *G, const rr_complex *H, in
   pt->sperling_time = rr_sperling_from_weighted_rms(sqrt(mswt));
   pt->sperling_rel_std = 0.15 * sqrt(varw) / msw; /* W = 4.42 ms^0.15 */
   pt->sperling_z = (pt->sperling_time / pt->sperling_lines - 1) / pt->sperling_rel_std;
-  pt->band_z_max = 0;
+  pt->band_z_max = pt->band_error_max = 0;
   for (int b = 0; b < RR_VERTICAL_BANDS; b++) {
     pt->band_fc[b] = pow(10, (b - 3) / 10.0);
     pt->band_rel_std[b] = sqrt(pt->band_rel_std[b]) / pt->band_pem[b];
     pt->band_z[b] = (pt->band_time[b] / pt->band_pem[b] - 1) / pt->band_rel_std[b];
     pt->band_z_max = fmax(pt->band_z_max, fabs(pt->band_z[b]));
+    pt->band_error_max = fmax(pt->band_error_max, fabs(pt->band_time[b] / pt->band_pem[b] - 1));
   }
 }
 
@@ -287,6 +282,19 @@ static int welch_of(const rr_vertical_model *m, double v, const rr_spectrum *sp,
       r->pem_P[(size_t)q * (size_t)nh + (size_t)k] =
           rr_vertical_psd(pl)[(size_t)(k - k0) * (size_t)np + (size_t)q];
   rr_vertical_plan_free(pl);
+  double df = o->fs_hz / o->nseg; /* each point's Welch power in the bands */
+  for (int q = 0; q < np && !st; q++) {
+    rr_vertical_validate_point *pt = &r->points[q];
+    pt->band_welch_error_max = 0;
+    for (int b = 0; b < RR_VERTICAL_BANDS; b++) {
+      double fc = pt->band_fc[b], lo = fc * pow(10, -0.05), hi = fc * pow(10, 0.05), s = 0;
+      for (int k = 0; k < nh; k++)
+        if (r->welch_f[k] >= lo && r->welch_f[k] < hi)
+          s += r->welch_P[(size_t)q * (size_t)nh + (size_t)k] * df;
+      pt->band_welch[b] = s;
+      pt->band_welch_error_max = fmax(pt->band_welch_error_max, fabs(s / pt->band_pem[b] - 1));
+    }
+  }
   return st;
 }
 
