@@ -233,6 +233,8 @@ enum cli_direction { CLI_DIR_LATERAL = 0, CLI_DIR_VERTICAL = 1, CLI_DIR_BOTH = 2
 /* Finds --direction in argv before parsing (it decides which shared options
    the command reads): the direction, or -1 after a message. */
 int cli_direction_scan(const char *cmd, int argc, char **argv);
+/* The same for commands of one model at a time: both is refused. */
+int cli_direction_one(const char *cmd, int argc, char **argv);
 /* The vertical side of ride, frf and modes (cmd_vertical.c). */
 typedef struct vertical_setup {
   int direction;         /* enum cli_direction */

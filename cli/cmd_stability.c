@@ -41,9 +41,8 @@ int cmd_matrices(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   rr_model *m;
-  int dir = cli_direction_scan("matrices", argc, argv);
+  int dir = cli_direction_one("matrices", argc, argv);
   if (dir < 0) return EXIT_BADINPUT;
-  if (dir == CLI_DIR_BOTH) return cli_bad("matrices: --direction lateral or vertical");
   RUN_PARSE(dir == CLI_DIR_VERTICAL
                 ? CLI_READS_SPEED | CLI_READS_JSON
                 : CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_GRAVITY,
@@ -353,9 +352,8 @@ int cmd_modes(int argc, char **argv)
   cli_common c;
   rr_model *m;
   modes_args a = {0};
-  int dir = cli_direction_scan("modes", argc, argv);
+  int dir = cli_direction_one("modes", argc, argv);
   if (dir < 0) return EXIT_BADINPUT;
-  if (dir == CLI_DIR_BOTH) return cli_bad("modes: --direction lateral or vertical");
   RUN_PARSE(dir == CLI_DIR_VERTICAL ? CLI_READS_JSON
                                     : CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON |
                                           CLI_READS_INDEX | CLI_READS_GRAVITY,

@@ -284,9 +284,8 @@ int cmd_validate(int argc, char **argv)
                                         {"direction", required_argument, 0, OPT_VDIR},
                                         RIDE_SETUP_OPTIONS,
                                         {0, 0, 0, 0}};
-  int dir = cli_direction_scan("validate", argc, argv);
+  int dir = cli_direction_one("validate", argc, argv);
   if (dir < 0) return EXIT_BADINPUT;
-  if (dir == CLI_DIR_BOTH) return cli_bad("validate: --direction lateral or vertical");
   if (dir == CLI_DIR_VERTICAL) return validate_vertical(argc, argv);
   cli_common c;
   val_args a = {.vo = rr_validate_opts_default(), .limit = CLI_LIMIT_SAMPLES};

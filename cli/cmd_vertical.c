@@ -37,6 +37,13 @@ int cli_direction_scan(const char *cmd, int argc, char **argv)
   return dir;
 }
 
+int cli_direction_one(const char *cmd, int argc, char **argv)
+{
+  int dir = cli_direction_scan(cmd, argc, argv);
+  if (dir == CLI_DIR_BOTH) return cli_bad("%s: --direction lateral or vertical", cmd), -1;
+  return dir;
+}
+
 /* ---- the evaluation ---- */
 
 typedef struct vertical_run {
