@@ -333,9 +333,43 @@ static void test_angle_units(void)
   CHECK(rr_units_parse(NULL, "5 ppm kg", "kg", 0, &x, "m", &e) == RR_EUNIT, "5 ppm kg: %g", x);
 }
 
+/* Every key of the table set in one file (the parser keeps a line per key:
+   the last keys of the table must not run past its room), and each value
+   read back; the vertical model's keys among them. */
+static void test_every_key(void)
+{
+  int nk;
+  const rr_vehicle_key *keys = rr_vehicle_keys(&nk);
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  char text[16384] = "[vehicle]\nbase = type1\n", last[32] = "";
+  size_t at = strlen(text);
+  for (int i = 0; i < nk; i++) {
+    if (keys[i].offset == (size_t)-1) continue;
+    const double *x = (const double *)((const char *)&v + keys[i].offset);
+    if (strcmp(last, keys[i].section))
+      at += (size_t)snprintf(text + at, sizeof text - at, "[%s]\n", keys[i].section);
+    snprintf(last, sizeof last, "%s", keys[i].section);
+    double val = isnan(*x) ? 0.46 : *x * 1.01 + (*x == 0 ? keys[i].min + 1e-3 : 0);
+    if (val > keys[i].max) val = keys[i].max;
+    at += (size_t)snprintf(text + at, sizeof text - at, "%s = %.17g\n", keys[i].key, val);
+  }
+  const char *path = write_file("every.ini", text);
+  rr_vehicle got;
+  rr_error e;
+  int st = rr_vehicle_load(path, &got, &e);
+  CHECK(st == RR_OK, "every numeric key in one file: %s", e.msg);
+  if (st) return;
+  CHECK(got.carbody_bending_frequency == v.carbody_bending_frequency * 1.01 &&
+            got.frame_pitch_inertia == v.frame_pitch_inertia * 1.01 &&
+            got.wheel_rail.amplitude == v.wheel_rail.amplitude * 1.01,
+        "the vertical and the last keys read back");
+}
+
 int main(void)
 {
   if (check_tmpdir("vf")) return 1;
+  test_every_key();
   test_angle_units();
   test_units();
   test_examples();

@@ -14,7 +14,7 @@
 #include "textfile.h"
 
 #define MAX_BASE_DEPTH 8
-#define NKEYS_MAX 64
+#define NKEYS_MAX 128 /* room for the key table (checked at each load) */
 
 typedef struct parse_ctx {
   const char *path;
@@ -398,6 +398,11 @@ static int load_depth(const char *path, rr_vehicle *veh, rr_error *err, int dept
   if (depth > MAX_BASE_DEPTH)
     return rr_seterr(err, RR_EPARSE, "%s: base chain deeper than %d (a cycle?)", path,
                      MAX_BASE_DEPTH);
+  int nk;
+  rr_vehicle_keys(&nk);
+  if (nk > NKEYS_MAX) /* a key table grown past the parser's room: a build error, told */
+    return rr_seterr(err, RR_EUNSUP, "vehicle files: %d keys, the parser has room for %d", nk,
+                     NKEYS_MAX);
   parse_ctx *c = calloc(1, sizeof *c);
   if (!c) return rr_seterr(err, RR_ENOMEM, "out of memory");
   c->path = path;
