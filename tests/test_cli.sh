@@ -419,6 +419,10 @@ expect2 "lateral given with both" "--lateral-wd-p95: with --direction vertical" 
 expect2 "lateral given: count" "one value or one per floor point" "$RR" ride --speed 350 --direction vertical --lateral-wd-rms 0.1,0.2
 "$RR" matrices --direction vertical --speed 350 --json > "$tmp/vmat.json" || bad "matrices vertical exit"
 json_check "matrices vertical" "len(d['K'])==7 and len(d['BK'][0])==4 and len(d['A'])==14 and abs(d['K'][2][2]-3955.287)<1e-3 and abs(d['delays_s'][3]-(2*8.6875+2.5)/(350/3.6))<1e-15 and d['dofs'][2]=='q_b'" < "$tmp/vmat.json"
+printf '{"name": "car-b", "base": "type1", "carbody": {"mass": 40000, "length": "26 m"}}\n' > "$tmp/carb.json"
+"$RR" modes "$tmp/carb.json" --direction vertical --json | python3 -c "import json,sys; d=json.load(sys.stdin); sys.exit(0 if d['vehicle']=='car-b' and len(d['modes'])==7 else 1)" && ok || bad "a JSON vehicle file"
+printf '{\n "carbody": {\n  "mass": "4 kg"}}\n' > "$tmp/badj.json"
+expect2 "JSON vehicle: the key's line" "badj.json:3: \[carbody\] mass" "$RR" ride "$tmp/badj.json" --speed 350 --direction vertical
 expect2 "direction unknown" "--direction: lateral, vertical or both" "$RR" ride --speed 350 --direction sideways
 expect2 "vertical takes no --spectrum" "--vertical-spectrum" "$RR" ride --speed 350 --direction vertical --spectrum wuhan-guangzhou
 expect2 "lateral takes no --window" "--window: only with --direction" "$RR" ride --speed 350 --conicity 0.1 --window 5

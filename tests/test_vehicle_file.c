@@ -366,9 +366,40 @@ static void test_every_key(void)
         "the vertical and the last keys read back");
 }
 
+/* A JSON vehicle file: the same keys as INI, each error at its line. */
+static void test_json(void)
+{
+  const char *ini =
+      write_file("j.ini", "[vehicle]\nbase = type1\nname = j\n[carbody]\nmass = 40000\n"
+                          "pitch_inertia = 2.2e6 kg.m2\n[yaw_damper]\nsdf = paper\n"
+                          "[contact]\nconicity_poly = 0.1 0.02\ngravity_stiffness = yes\n");
+  rr_vehicle a, b;
+  rr_error e;
+  CHECK_OK(rr_vehicle_load(ini, &a, &e), e);
+  const char *js = write_file(
+      "j.json", "{\"base\": \"type1\", \"name\": \"j\",\n"
+                " \"carbody\": {\"mass\": 40000, \"pitch_inertia\": \"2.2e6 kg.m2\"},\n"
+                " \"yaw_damper\": {\"sdf\": \"paper\"},\n"
+                " \"contact\": {\"conicity_poly\": [0.1, 0.02], \"gravity_stiffness\": true}}\n");
+  CHECK_OK(rr_vehicle_load(js, &b, &e), e);
+  CHECK(a.carbody_mass == b.carbody_mass && a.carbody_pitch_inertia == b.carbody_pitch_inertia &&
+            a.sdf_mode == b.sdf_mode && a.gravity_stiffness == b.gravity_stiffness &&
+            !strcmp(a.name, b.name) && a.profile.kind == b.profile.kind,
+        "a JSON file reads as its INI twin");
+  const char *bad = write_file("bad.json", "{\n \"carbody\": {\n  \"mass\": 4}\n}\n");
+  CHECK(rr_vehicle_load(bad, &b, &e) == RR_EINVAL && strstr(e.msg, "bad.json:3: [carbody] mass"),
+        "a JSON value out of range named at its line: %s", e.msg);
+  const char *bad2 = write_file("bad2.json", "{\"carbody\": {\"mass\": [1, \"x\"]}}");
+  CHECK(rr_vehicle_load(bad2, &b, &e) == RR_EPARSE, "a list of text refused: %s", e.msg);
+  const char *bad3 = write_file("bad3.json", "{\n\"carbody\": {\n");
+  CHECK(rr_vehicle_load(bad3, &b, &e) == RR_EPARSE && strstr(e.msg, "malformed JSON"),
+        "malformed JSON: %s", e.msg);
+}
+
 int main(void)
 {
   if (check_tmpdir("vf")) return 1;
+  test_json();
   test_every_key();
   test_angle_units();
   test_units();

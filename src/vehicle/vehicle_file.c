@@ -12,6 +12,7 @@
 #include "railride/vehicle.h"
 #include "internal.h"
 #include "textfile.h"
+#include "vehicle_json.h"
 
 #define MAX_BASE_DEPTH 8
 #define NKEYS_MAX 128 /* room for the key table (checked at each load) */
@@ -280,8 +281,24 @@ static int handler(void *user, const char *section, const char *name, const char
   return k->flags & RR_KEY_SPECIAL ? special_key(c, k, val) : number_key(c, k, val);
 }
 
+static int is_json(const char *path)
+{
+  size_t n = strlen(path);
+  return n > 5 && !strcmp(path + n - 5, ".json");
+}
+
+/* A JSON file's keys through the same handler, each at its line. */
+static int run_pass_json(parse_ctx *c, int pass)
+{
+  c->pass = pass;
+  int st = rr_vehicle_json_walk(c->path, handler, c, &c->rs.line, c->err);
+  if (c->status) return c->status;
+  return st;
+}
+
 static int run_pass(parse_ctx *c, int pass)
 {
+  if (is_json(c->path)) return run_pass_json(c, pass);
   int st = rr_lines_open(&c->rs, c->path, RR_INI_LINE_MAX, c->err);
   if (st) return st;
   c->pass = pass;
