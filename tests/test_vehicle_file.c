@@ -394,6 +394,10 @@ static void test_json(void)
   const char *bad3 = write_file("bad3.json", "{\n\"carbody\": {\n");
   CHECK(rr_vehicle_load(bad3, &b, &e) == RR_EPARSE && strstr(e.msg, "malformed JSON"),
         "malformed JSON: %s", e.msg);
+  /* a key with a newline (found by the fuzzer): refused, the message one line */
+  const char *bad4 = write_file("bad4.json", "{\"car\\nbody\": {\"mass\": 1}}");
+  CHECK(rr_vehicle_load(bad4, &b, &e) == RR_EPARSE && !strchr(e.msg, '\n'),
+        "a key with a control character: %s", e.msg);
 }
 
 int main(void)

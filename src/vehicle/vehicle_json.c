@@ -64,6 +64,15 @@ static int value_text(const cJSON *v, char *out, size_t n)
   return at < n;
 }
 
+/* No control characters (a JSON string may hold newlines; an INI line
+   cannot, and messages quote keys and values on one line). */
+static int plain(const char *s)
+{
+  for (; *s; s++)
+    if ((unsigned char)*s < 0x20 || *s == 0x7f) return 0;
+  return 1;
+}
+
 static int walk(const char *path, const char *text, const cJSON *root, rr_json_key_fn fn,
                 void *user, int *line, rr_error *err)
 {
@@ -71,8 +80,13 @@ static int walk(const char *path, const char *text, const cJSON *root, rr_json_k
   char val[4096];
   for (const cJSON *s = root->child; s; s = s->next) {
     int sline = line_of(text, s->string, &from);
+    if (!plain(s->string))
+      return rr_seterr(err, RR_EPARSE, "%s:%d: a name with control characters", path, sline);
     if (!cJSON_IsObject(s)) { /* name, base: the [vehicle] section's */
       *line = sline;
+      if (cJSON_IsString(s) && !plain(s->valuestring))
+        return rr_seterr(err, RR_EPARSE, "%s:%d: \"%s\": a value with control characters", path,
+                         sline, s->string);
       if (!value_text(s, val, sizeof val))
         return rr_seterr(err, RR_EPARSE, "%s:%d: \"%s\": a number, text or list expected", path,
                          sline, s->string);
@@ -81,6 +95,9 @@ static int walk(const char *path, const char *text, const cJSON *root, rr_json_k
     }
     for (const cJSON *k = s->child; k; k = k->next) {
       *line = line_of(text, k->string, &from);
+      if (!plain(k->string) || (cJSON_IsString(k) && !plain(k->valuestring)))
+        return rr_seterr(err, RR_EPARSE, "%s:%d: [%s]: a key or value with control characters",
+                         path, *line, s->string);
       if (!value_text(k, val, sizeof val))
         return rr_seterr(err, RR_EPARSE, "%s:%d: [%s] %s: a number, text or list expected", path,
                          *line, s->string, k->string);
