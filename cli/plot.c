@@ -680,7 +680,7 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
     fflush(stdout);
     dup2(saved, STDOUT_FILENO);
     close(saved);
-    if (!k->extra) replay(data);
+    replay(data); /* the command's CSV still reaches standard output */
   }
   char grid[PATH_MAX + 8], front[PATH_MAX], copy[PATH_MAX];
   const char *src = file_data ? file_data : data;

@@ -54,6 +54,7 @@ svg_has "validate: the spread band" "2 sigma of a Welch bin" validate --speed 30
 svg_has "map: the zero contour" "index = 0" map --speeds 200:600:4 --conicities 0.05:0.5:4
 # the data still reaches standard output where the command prints CSV
 head -1 "$tmp/map.out" | grep -q '^speed_kmh,conicity,stability_index' && ok || bad "map --plot: the CSV still printed"
+"$RR" compare --conicities 0.1:0.2:2 --csv --plot "$tmp/cc.png" | head -1 | grep -q '^vehicle,conicity,stability_index_const' && ok || bad "compare --csv --plot: the CSV still printed"
 # SVG and PDF by extension
 "$RR" damper --plot "$tmp/d.svg" > /dev/null && grep -q '<svg' "$tmp/d.svg" && ok || bad "svg"
 "$RR" damper --plot "$tmp/d.pdf" > /dev/null && head -c 5 "$tmp/d.pdf" | grep -q '%PDF' && ok || bad "pdf"
