@@ -123,7 +123,7 @@ RR_CLONES_V4 static void quadratic_forms3(const rr_window_plan *p, const double 
     const double *k0 = p->pairs + p->at[i / 2] - j0, *k1 = k0 + (ld - j0);
     double a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
     if (!two) k1 = p->zero;
-#pragma omp simd simdlen(16) reduction(+ : a0, a1, a2, b0, b1, b2)
+#pragma omp simd reduction(+ : a0, a1, a2, b0, b1, b2)
     for (int j = j0; j < n; j++) {
       a0 = __builtin_fma(k0[j], u0[j], a0);
       a1 = __builtin_fma(k0[j], u1[j], a1);
