@@ -192,7 +192,7 @@ static void write_psd(FILE *fp, const vertical_run *r, int both)
   for (int q = 0; q < r->np; q++) fprintf(fp, ",psd_x%gm_m2s-4_per_hz", r->pt[q].x);
   if (both)
     for (int q = 0; q < r->np; q++) fprintf(fp, ",lateral_psd_x%gm_m2s-4_per_hz", r->pt[q].x);
-  fprintf(fp, ",sperling_weight2,wk_weight2,wb_en12299_weight2%s\n", both ? ",wd_weight2" : "");
+  fprintf(fp, ",sperling_weight2,wb_en12299_weight2,wk_weight2%s\n", both ? ",wd_weight2" : "");
   for (int k = 0; k < r->nf; k++) {
     fprintf(fp, "%.10g,%.10g", f[k], Gt[k]);
     for (int q = 0; q < r->np; q++) fprintf(fp, ",%.10g", G[(size_t)k * (size_t)r->np + (size_t)q]);
@@ -201,7 +201,7 @@ static void write_psd(FILE *fp, const vertical_run *r, int both)
         fprintf(fp, ",%.10g", r->lat_psd[(size_t)k * (size_t)r->np + (size_t)q]);
     double b = rr_sperling_filter(f[k], RR_AXIS_VERTICAL);
     double complex wk = rr_iso8041_weight(RR_ISO_WK, f[k]), wb = rr_iso8041_weight(RR_EN_WB, f[k]);
-    fprintf(fp, ",%.10g,%.10g,%.10g", b * b, creal(wk * conj(wk)), creal(wb * conj(wb)));
+    fprintf(fp, ",%.10g,%.10g,%.10g", b * b, creal(wb * conj(wb)), creal(wk * conj(wk)));
     if (both) {
       double complex wd = rr_iso8041_weight(RR_ISO_WD, f[k]);
       fprintf(fp, ",%.10g", creal(wd * conj(wd)));

@@ -190,7 +190,7 @@ static void script_psd_vertical(FILE *gp, const char *d, int nweights)
           "set yrange [top * 1e-6:top * 3]  # the filters' exact zeros would take the axis down 10 "
           "decades\n"
           "plot for [i=3:w] '%s' u 1:i w l lw 2 t columnhead(i), "
-          "'' u 1:(column(w + 3)) axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'EN 12299 Wb (right)'\n",
+          "'' u 1:(column(w + 2)) axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'EN 12299 Wb (right)'\n",
           d, nweights, d, d);
 }
 
