@@ -1,7 +1,10 @@
 /* The calls the headers call allocation-free make no heap allocation once
  * warmed up: malloc and its kin are replaced in this program (glibc lets a
  * program define them; every library's calls then come here), counting while
- * a call runs. Under a sanitizer, which replaces them itself, it is skipped. */
+ * a call runs. And the open and plan calls fail cleanly: each of their
+ * allocations made to fail in turn, the call returns RR_ENOMEM and frees
+ * what it had taken. Under a sanitizer, which replaces them itself, it is
+ * skipped. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -24,9 +27,10 @@ extern void *__libc_malloc(size_t);
 extern void *__libc_calloc(size_t, size_t);
 extern void *__libc_realloc(void *, size_t);
 extern void *__libc_memalign(size_t, size_t);
+extern void __libc_free(void *);
 
 static volatile int counting; /* volatile: the compiler takes malloc for the builtin */
-static volatile long nalloc;
+static volatile long nalloc, nfree, fail_at; /* fail_at > 0: that allocation returns NULL */
 
 /* A breakpoint for finding an allocation: gdb -ex 'break alloc_seen'. */
 __attribute__((noinline)) static void alloc_seen(void) { __asm__ volatile(""); }
@@ -44,8 +48,18 @@ static int from_openblas(void *caller)
     if (counting && !from_openblas(__builtin_return_address(0))) {                                 \
       nalloc++;                                                                                    \
       alloc_seen();                                                                                \
+      if (nalloc == fail_at) {                                                                     \
+        errno = ENOMEM;                                                                            \
+        return NULL;                                                                               \
+      }                                                                                            \
     }                                                                                              \
   } while (0)
+
+void free(void *p)
+{
+  if (counting && p) nfree++;
+  __libc_free(p);
+}
 
 void *malloc(size_t n)
 {
@@ -62,7 +76,9 @@ void *calloc(size_t a, size_t b)
 void *realloc(void *p, size_t n)
 {
   COUNT();
-  return __libc_realloc(p, n);
+  void *q = __libc_realloc(p, n);
+  if (counting && p && q) nfree++; /* the old block is released: one taken, one given back */
+  return q;
 }
 
 void *aligned_alloc(size_t al, size_t n)
@@ -79,7 +95,10 @@ void *memalign(size_t al, size_t n)
 
 int posix_memalign(void **p, size_t al, size_t n)
 {
-  COUNT();
+  if (counting && !from_openblas(__builtin_return_address(0))) {
+    nalloc++;
+    if (nalloc == fail_at) return ENOMEM;
+  }
   *p = __libc_memalign(al, n);
   return *p ? 0 : ENOMEM;
 }
@@ -195,6 +214,96 @@ static void nonlinear(void)
   CHECK(n == 0, "nonlinear_rhs: %ld allocations", n);
   rr_nonlinear_free(nl);
 }
+
+static void vertical(void)
+{
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  rr_vertical_model m;
+  rr_vertical_plan *p;
+  rr_spectrum sp;
+  rr_error e;
+  rr_vertical_opts o = rr_vertical_opts_default();
+  CHECK_OK(rr_vertical_model_build(&v, &m, &e), e);
+  CHECK_OK(rr_vertical_plan_new(&o, &p, &e), e);
+  CHECK_OK(rr_spectrum_open("tbt3352-vertical", &sp, &e), e);
+  rr_vertical_point pt[3];
+  rr_window_stats ax, axc;
+  long n;
+  int st = 0;
+  ALLOCS(st |= rr_vertical_ride_execute(p, &m, 350 / RR_KMH, &sp, pt, &e), n);
+  CHECK(n == 0 && !st, "vertical_ride_execute: %ld allocations", n);
+  ALLOCS(st |= rr_vertical_ride_design(p, &m, pt, &e), n);
+  CHECK(n == 0 && !st, "vertical_ride_design: %ld allocations", n);
+  ALLOCS(st |= rr_vertical_frf_execute(p, &m, 300 / RR_KMH, &e), n);
+  CHECK(n == 0 && !st, "vertical_frf_execute: %ld allocations", n);
+  ALLOCS(st |= rr_vertical_pitch_longitudinal(p, 1.2, 1.62, &ax, &axc, &e), n);
+  CHECK(n == 0 && !st, "vertical_pitch_longitudinal: %ld allocations", n);
+  rr_vertical_plan_free(p);
+  rr_spectrum_close(&sp);
+}
+
+/* Each allocation of call failing in turn: RR_ENOMEM, no leak (the frees
+   while counting match the allocations that succeeded), until the call has
+   all it needs; cleanup(obj) frees a success. */
+#define FAILS(name, call, cleanup)                                                                 \
+  do {                                                                                             \
+    long k = 1, leaks = 0, wrong = 0;                                                              \
+    for (;; k++) {                                                                                 \
+      nalloc = nfree = 0;                                                                          \
+      fail_at = k;                                                                                 \
+      counting = 1;                                                                                \
+      int st_ = (call);                                                                            \
+      counting = 0;                                                                                \
+      long ok_allocs = nalloc >= k ? nalloc - 1 : nalloc, freed = nfree;                           \
+      fail_at = 0;                                                                                 \
+      if (nalloc < k) { /* every allocation succeeded: done */                                     \
+        CHECK(st_ == RR_OK, "%s: status %d with every allocation granted", name, st_);             \
+        cleanup;                                                                                   \
+        break;                                                                                     \
+      }                                                                                            \
+      wrong += st_ != RR_ENOMEM;                                                                   \
+      leaks += ok_allocs != freed;                                                                 \
+      if (st_ == RR_OK) cleanup;                                                                   \
+    }                                                                                              \
+    CHECK(k > 1 && !wrong && !leaks, "%s: %ld allocations tried; %ld not RR_ENOMEM, %ld leaked",   \
+          name, k - 1, wrong, leaks);                                                              \
+  } while (0)
+
+static void failures(void)
+{
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  rr_error e;
+  rr_vertical_plan *vp = NULL;
+  rr_vertical_opts vo = rr_vertical_opts_default();
+  vo.nfreq = 60;
+  FAILS("vertical_plan_new", rr_vertical_plan_new(&vo, &vp, &e), rr_vertical_plan_free(vp));
+  double f[50];
+  for (int i = 0; i < 50; i++) f[i] = 0.5 + 0.1 * i;
+  rr_window_plan *wp = NULL;
+  FAILS("window_plan_new", rr_window_plan_new(f, 50, 5, 3, &wp, &e), rr_window_plan_free(wp));
+  rr_comfort_plan *cp = NULL;
+  FAILS("comfort_plan_new", rr_comfort_plan_new(f, 50, RR_AXIS_VERTICAL, &cp, &e),
+        rr_comfort_plan_free(cp));
+  rr_model *m = NULL;
+  FAILS("model_from_vehicle", rr_model_from_vehicle(&v, &m, &e), rr_model_free(m));
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
+  double xs[1] = {0}, rows[17];
+  CHECK_OK(rr_vehicle_floor_rows(m, &v, xs, 1, 1.2, 0, rows, NULL, &e), e);
+  rr_frf_opts fo = rr_frf_opts_default();
+  fo.npoints = 1;
+  fo.rows = rows;
+  fo.nfreq = 40;
+  rr_frf_plan *fp = NULL;
+  FAILS("frf_plan_new", rr_frf_plan_new(m, &fo, &fp, &e), rr_frf_plan_free(fp));
+  rr_modal_ws *ws = NULL;
+  FAILS("modal_ws_new", rr_modal_ws_new(m, &ws, &e), rr_modal_ws_free(ws));
+  rr_model_free(m);
+  /* not rr_spectrum_open: udunits2's unit scanner exits the process when an
+     allocation fails (ut_scan_bytes), a dependency's behaviour */
+}
 #endif
 
 int main(void)
@@ -216,6 +325,8 @@ int main(void)
   stability("../examples/type1-sdf-paper.ini");
   design();
   nonlinear();
+  vertical();
+  failures();
   return check_done("alloc");
 #endif
 }
