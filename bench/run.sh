@@ -14,7 +14,7 @@ echo "== numpy/scipy: the paper-mode SDF index by the reference tracking (type1,
 "$B/railride" matrices examples/type1-sdf-paper.ini --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_sdf.py 1.5 8e6 6e6
 echo "== ride evaluation (C) =="
 taskset -c 1 "$B/bench/bench_ride"
-echo "== numpy, the same evaluation (D built, 400 batched 17x17 solves, PEM, the three indices at 3 points) =="
+echo "== numpy, the same evaluation (D as one product of stacked coefficients, one batched solve of the lagged input sum, the indices as products) =="
 "$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_ride.py
 echo "== ride evaluation against numpy in alternating pairs (this VM's speed changes within a run) =="
 pairs=$(mktemp)
