@@ -56,6 +56,83 @@ static void *worker(void *arg)
   return NULL;
 }
 
+/* The vertical model in each thread: its own plan, the vertical ride and
+   an N_MV objective (lateral PEM, window kernel, gamma quantiles), against
+   the single-threaded answers. */
+static const char *vobjs = "n_mv@350,0.17,-8.6875\nwb_p95@300";
+static double vexpect[2], vp95[3];
+
+static void *vertical_worker(void *arg)
+{
+  job *j = arg;
+  rr_vehicle v;
+  rr_vertical_model m;
+  rr_vertical_plan *p = NULL;
+  rr_spectrum sp = {0}; /* closing a zeroed or failed spectrum is safe */
+  rr_error e;
+  rr_vertical_opts o = rr_vertical_opts_default();
+  rr_vertical_point pt[3];
+  rr_design *d = NULL;
+  double x[1] = {10e6}, f[2];
+  rr_vehicle_default(&v);
+  int st = rr_vertical_model_build(&v, &m, &e);
+  if (!st) st = rr_vertical_plan_new(&o, &p, &e);
+  if (!st) st = rr_spectrum_open("german-low-vertical", &sp, &e);
+  for (int r = 0; r < 20 && !st; r++) {
+    st = rr_vertical_ride_execute(p, &m, (250 + 10 * (r % 2)) / RR_KMH, &sp, pt, &e);
+    if (!st && r % 2 == 0)
+      for (int q = 0; q < 3; q++)
+        if (pt[q].wb_5s.p95 != vp95[q])
+          st = -1, snprintf(e.msg, sizeof e.msg, "vertical P95 differs");
+  }
+  if (!st) st = rr_design_open("type1", "yaw_damper.series_stiffness", vobjs, &d, &e);
+  if (!st) st = rr_design_evaluate(d, x, f, &e);
+  if (!st && (f[0] != vexpect[0] || f[1] != vexpect[1]))
+    st = -1, snprintf(e.msg, sizeof e.msg, "vertical objectives differ");
+  if (st) {
+    j->bad = 1;
+    snprintf(j->msg, sizeof j->msg, "%s", e.msg);
+  }
+  rr_design_free(d);
+  rr_vertical_plan_free(p);
+  rr_spectrum_close(&sp);
+  return NULL;
+}
+
+static void vertical_threads(void)
+{
+  rr_vehicle v;
+  rr_vertical_model m;
+  rr_vertical_plan *p;
+  rr_spectrum sp;
+  rr_error e;
+  rr_vertical_opts o = rr_vertical_opts_default();
+  rr_vertical_point pt[3];
+  rr_design *d;
+  double x[1] = {10e6};
+  rr_vehicle_default(&v);
+  CHECK_OK(rr_vertical_model_build(&v, &m, &e), e);
+  CHECK_OK(rr_vertical_plan_new(&o, &p, &e), e);
+  CHECK_OK(rr_spectrum_open("german-low-vertical", &sp, &e), e);
+  CHECK_OK(rr_vertical_ride_execute(p, &m, 250 / RR_KMH, &sp, pt, &e), e);
+  for (int q = 0; q < 3; q++) vp95[q] = pt[q].wb_5s.p95;
+  rr_vertical_plan_free(p);
+  rr_spectrum_close(&sp);
+  CHECK_OK(rr_design_open("type1", "yaw_damper.series_stiffness", vobjs, &d, &e), e);
+  CHECK_OK(rr_design_evaluate(d, x, vexpect, &e), e);
+  rr_design_free(d);
+  pthread_t t[NTHREADS];
+  job jobs[NTHREADS];
+  for (int i = 0; i < NTHREADS; i++) {
+    jobs[i] = (job){.id = i};
+    pthread_create(&t[i], NULL, vertical_worker, &jobs[i]);
+  }
+  for (int i = 0; i < NTHREADS; i++) {
+    pthread_join(t[i], NULL);
+    CHECK(!jobs[i].bad, "vertical thread %d: %s", i, jobs[i].msg);
+  }
+}
+
 int main(void)
 {
   check_spectra_env();
@@ -88,6 +165,8 @@ int main(void)
     CHECK(!jobs[i].bad, "thread %d: %s", i, jobs[i].msg);
   }
   printf("  %d threads x %d rounds of open, clone, evaluate\n", NTHREADS, reps);
+  vertical_threads();
+  printf("  %d threads: vertical plans and N_MV objectives\n", NTHREADS);
   check_cleanup();
   return check_done("threads");
 }
