@@ -119,6 +119,9 @@ int cli_getopt_error(const char *cmd, int opt, const char *word);
 #define CLI_LIMIT_SAMPLES 4194304 /* validate: duration x fs */
 int cli_limit(const char *arg, double *limit);
 int cli_over_limit(const char *cmd, double work, double limit, const char *unit);
+/* --seed: a whole number 0 .. 2^64 - 1 into *seed; EXIT_BADINPUT after the
+   message, or 0. */
+int cli_seed(const char *arg, unsigned long long *seed);
 /* Parses FROM:TO:N. */
 int cli_range(const char *opt, const char *arg, const char *unit, double *from, double *to, int *n);
 /* Parses a comma list of numbers (max cap). */

@@ -66,11 +66,9 @@ static int nl_cb(int opt, const char *arg, void *u)
     return cli_number_in("disturbance", arg, "m", -0.05, 0.05, &a->disturbance) ? 1 : 0;
   case OPT_NSPEC: a->spectrum = arg; return 0;
   case OPT_NSEED: {
-    char *end;
-    errno = 0;
-    a->seed = strtoull(arg, &end, 10);
-    if (*end || !*arg || !isdigit((unsigned char)arg[0]) || errno == ERANGE)
-      return cli_bad("--seed: a whole number from 0 to %llu expected, got '%s'", ULLONG_MAX, arg);
+    unsigned long long s;
+    if (cli_seed(arg, &s)) return 1;
+    a->seed = s;
     a->have_seed = 1;
     return 0;
   }

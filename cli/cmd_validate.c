@@ -32,10 +32,8 @@ static int val_cb(int opt, const char *arg, void *u)
   switch (opt) {
   case OPT_DURATION: return cli_number_in("duration", arg, "s", 1, 1e6, &a->vo.duration_s) ? 1 : 0;
   case OPT_SEED: {
-    errno = 0;
-    unsigned long long s = strtoull(arg, &end, 10);
-    if (*end || !*arg || !isdigit((unsigned char)arg[0]) || errno == ERANGE)
-      return cli_bad("--seed: a whole number from 0 to %llu expected, got '%s'", ULLONG_MAX, arg);
+    unsigned long long s;
+    if (cli_seed(arg, &s)) return 1;
     a->vo.seed = s;
     return 0;
   }

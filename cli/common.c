@@ -2,6 +2,7 @@
 /* Option parsing, vehicle loading and output helpers shared by the commands. */
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -81,6 +82,17 @@ int cli_range(const char *opt, const char *arg, const char *unit, double *from, 
     cli_bad("--%s: N = 1 is one value: FROM and TO must be equal, got '%s'", opt, arg);
     return -1;
   }
+  return 0;
+}
+
+int cli_seed(const char *arg, unsigned long long *seed)
+{
+  char *end;
+  errno = 0;
+  unsigned long long s = strtoull(arg, &end, 10);
+  if (*end || !*arg || !isdigit((unsigned char)arg[0]) || errno == ERANGE)
+    return cli_bad("--seed: a whole number from 0 to %llu expected, got '%s'", ULLONG_MAX, arg);
+  *seed = s;
   return 0;
 }
 
