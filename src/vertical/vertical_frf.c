@@ -207,6 +207,13 @@ RR_INLINE cx3 solve2(const vblocks *B, double w, cx r0, cx r1)
                {0, 0}};
 }
 
+/* coordinate d's q at frequency k into the real and imaginary planes */
+RR_INLINE void store(double *qr, double *qi, int n, int k, int d, cx q)
+{
+  qr[d * n + k] = q.r;
+  qi[d * n + k] = q.i;
+}
+
 /* Every frequency's q: qr[d * n + k], qi[d * n + k] (one simd loop, no
    branch: the blocks' adjugates). */
 RR_CLONES_V4 static void frf_kernel(const vblocks *B, int n, const double *f, const double *er,
@@ -222,20 +229,13 @@ RR_CLONES_V4 static void frf_kernel(const vblocks *B, int n, const double *f, co
     cx z1 = cadd(zs, za), z2 = csub(zs, za);
     cx t1 = cmul(input(B, 5, w, er, ei, n, k), cinv(dyn(B->kth[0], B->cth[0], B->mth[0], w)));
     cx t2 = cmul(input(B, 6, w, er, ei, n, k), cinv(dyn(B->kth[1], B->cth[1], B->mth[1], w)));
-    qr[RR_V_ZC * n + k] = zc.r;
-    qi[RR_V_ZC * n + k] = zc.i;
-    qr[RR_V_QB * n + k] = qb.r;
-    qi[RR_V_QB * n + k] = qb.i;
-    qr[RR_V_THC * n + k] = thc.r;
-    qi[RR_V_THC * n + k] = thc.i;
-    qr[RR_V_ZF1 * n + k] = z1.r;
-    qi[RR_V_ZF1 * n + k] = z1.i;
-    qr[RR_V_ZF2 * n + k] = z2.r;
-    qi[RR_V_ZF2 * n + k] = z2.i;
-    qr[RR_V_THF1 * n + k] = t1.r;
-    qi[RR_V_THF1 * n + k] = t1.i;
-    qr[RR_V_THF2 * n + k] = t2.r;
-    qi[RR_V_THF2 * n + k] = t2.i;
+    store(qr, qi, n, k, RR_V_ZC, zc);
+    store(qr, qi, n, k, RR_V_QB, qb);
+    store(qr, qi, n, k, RR_V_THC, thc);
+    store(qr, qi, n, k, RR_V_ZF1, z1);
+    store(qr, qi, n, k, RR_V_ZF2, z2);
+    store(qr, qi, n, k, RR_V_THF1, t1);
+    store(qr, qi, n, k, RR_V_THF2, t2);
   }
 }
 
@@ -255,12 +255,9 @@ RR_CLONES_V4 static void floor_kernel(const vblocks *B, int n, const double *f, 
     cx f2 = cmul(r2, s.inv), c12 = csub(cmul(s.b, s.c), cmul(s.a, s.e));
     cx zc = cmul(s.c02, f2), qb = cmul(c12, f2), thc = cmul(cmul(m.b, r4), m.inv);
     thc = (cx){-thc.r, -thc.i}; /* -b r / (a d - b^2) */
-    qr[RR_V_ZC * n + k] = zc.r;
-    qi[RR_V_ZC * n + k] = zc.i;
-    qr[RR_V_QB * n + k] = qb.r;
-    qi[RR_V_QB * n + k] = qb.i;
-    qr[RR_V_THC * n + k] = thc.r;
-    qi[RR_V_THC * n + k] = thc.i;
+    store(qr, qi, n, k, RR_V_ZC, zc);
+    store(qr, qi, n, k, RR_V_QB, qb);
+    store(qr, qi, n, k, RR_V_THC, thc);
   }
 }
 
