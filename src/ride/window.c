@@ -15,23 +15,27 @@
 #define WINDOW_COLS_MAX 64
 
 #define WINDOW_ALIGN 8 /* doubles: rows start on 64-byte lines */
+#define WINDOW_ROWS 8  /* kernel rows per block: each is read once for 3 columns */
+#define QF_COLS 3      /* columns per pass: the usual three floor points */
 
-/* The kernel above its diagonal, by pairs of rows (i, i + 1), i even: each
-   pair's block holds both rows from the aligned column j0 = i rounded down
-   to WINDOW_ALIGN (zeros at and below the diagonal), row i then row i + 1,
-   each ld - j0 long; the blocks follow each other, so that a pass over the
-   kernel is one sequential stream (what the prefetchers follow best). */
+/* The kernel above its diagonal, by blocks of WINDOW_ROWS rows from
+   i0, a multiple of WINDOW_ROWS: a block covers the columns from
+   j0 = i0 rounded down to WINDOW_ALIGN to ld (zeros at and below the diagonal
+   and past n), in chunks of WINDOW_ALIGN columns, each chunk holding its
+   columns of row i0, then of row i0 + 1, ...; the blocks follow each other,
+   so that a pass over the kernel is one sequential stream. */
 struct rr_window_plan {
   int n, ld, maxcols; /* ld: n rounded up to WINDOW_ALIGN */
   double *w;          /* trapezoid weights */
-  double *pairs;      /* the blocks, aligned */
-  size_t *at;         /* each pair's block's start in pairs */
-  double *diag;       /* the kernel's diagonal */
+  double *rows;       /* the blocks, aligned */
+  size_t *at;         /* each block's start in rows */
+  double *diag;       /* the kernel's diagonal, ld long (zeros past n) */
   double *u;          /* maxcols x ld workspace, aligned */
-  double *zero;       /* ld zeros: the unused columns of a pass */
+  double *y;          /* QF_COLS x ld: the upper triangle times u */
+  double *zero;       /* ld zeros: the rows and columns past the data */
 };
 
-static int pair_j0(int i) { return i / WINDOW_ALIGN * WINDOW_ALIGN; }
+static int block_j0(int i) { return i / WINDOW_ALIGN * WINDOW_ALIGN; }
 
 /* An aligned, zeroed block of n doubles (n a multiple of WINDOW_ALIGN). */
 static double *aligned_zeros(size_t n)
@@ -52,10 +56,11 @@ void rr_window_plan_free(rr_window_plan *p)
 {
   if (!p) return;
   free(p->w);
-  free(p->pairs);
+  free(p->rows);
   free(p->at);
   free(p->diag);
   free(p->u);
+  free(p->y);
   free(p->zero);
   free(p);
 }
@@ -77,72 +82,101 @@ int rr_window_plan_new(const double *f, int n, double T, int maxcols, rr_window_
   p->n = n;
   p->ld = (int)ld;
   p->maxcols = maxcols;
-  size_t npairs = (nn + 1) / 2, total = 0;
-  p->at = malloc(sizeof(size_t) * npairs);
-  for (size_t q = 0; p->at && q < npairs; q++) {
-    p->at[q] = total;
-    total += 2 * (ld - (size_t)pair_j0((int)(2 * q)));
+  size_t nblocks = (nn + WINDOW_ROWS - 1) / WINDOW_ROWS, total = 0;
+  p->at = malloc(sizeof(size_t) * nblocks);
+  for (size_t b = 0; p->at && b < nblocks; b++) {
+    p->at[b] = total;
+    total += WINDOW_ROWS * (ld - (size_t)block_j0((int)(b * WINDOW_ROWS)));
   }
   p->w = malloc(sizeof(double) * nn);
-  p->diag = malloc(sizeof(double) * nn);
-  p->pairs = p->at ? aligned_zeros(total) : NULL;
+  p->diag = aligned_zeros(ld);
+  p->rows = p->at ? aligned_zeros(total) : NULL;
   p->u = aligned_zeros(ld * (size_t)maxcols);
+  p->y = aligned_zeros(ld * QF_COLS);
   p->zero = aligned_zeros(ld);
-  if (!p->w || !p->diag || !p->pairs || !p->at || !p->u || !p->zero) {
+  if (!p->w || !p->diag || !p->rows || !p->at || !p->u || !p->y || !p->zero) {
     rr_window_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
   for (int i = 0; i < n; i++)
     p->w[i] = 0.5 * ((i + 1 < n ? f[i + 1] : f[i]) - (i > 0 ? f[i - 1] : f[i]));
   for (int i = 0; i < n; i++) {
-    int j0 = pair_j0(i - i % 2);
-    double *row = p->pairs + p->at[i / 2] + (size_t)(i % 2) * (ld - (size_t)j0) - (size_t)j0;
+    int j0 = block_j0(i - i % WINDOW_ROWS);
+    double *blk = p->rows + p->at[i / WINDOW_ROWS];
+    size_t r = (size_t)(i % WINDOW_ROWS);
     p->diag[i] = 1 + sinc2(2 * f[i] * T);
-    for (int j = i + 1; j < n; j++) row[j] = sinc2((f[i] - f[j]) * T) + sinc2((f[i] + f[j]) * T);
+    for (int j = i + 1; j < n; j++) {
+      size_t at = (size_t)(j - j0) / WINDOW_ALIGN * WINDOW_ROWS * WINDOW_ALIGN + r * WINDOW_ALIGN +
+                  (size_t)(j - j0) % WINDOW_ALIGN;
+      blk[at] = sinc2((f[i] - f[j]) * T) + sinc2((f[i] + f[j]) * T);
+    }
   }
   *out = p;
   return RR_OK;
 }
 
-#define QF_COLS 3 /* columns per pass: the usual three floor points */
-
-/* sum_ij u_i u_j K_ij of 3 columns u[0..2] (unused ones: the zero row):
-   sum_i u_i (K_ii u_i + 2 sum_{j>i} K_ij u_j), two kernel rows at a time so
-   that each pair is read once for all three columns, from the aligned line
-   at or below the diagonal (the zeros below it count nothing). Fused
-   multiply-adds in every copy (the default one's from libm), so that every
-   processor gets the same bits. */
-RR_CLONES_V4 static void quadratic_forms3(const rr_window_plan *p, const double *const u[QF_COLS],
-                                          double V[QF_COLS])
+/* y_c = U u_c with U the kernel above its diagonal, for 3 columns u_c:
+   each row block is read once, and each y_c[j] gathers its rows' terms in
+   row order by fused multiply-adds (no reductions across lanes), so that
+   every processor and vector width gets the same bits. The rows past n and
+   the columns past n hold zeros and count nothing. */
+RR_CLONES_V4 static void upper_times3(const rr_window_plan *p, const double *const u[QF_COLS],
+                                      double *restrict y0, double *restrict y1, double *restrict y2)
 {
-  int n = p->n, ld = p->ld, i = 0;
-  const double *u0 = u[0], *u1 = u[1], *u2 = u[2];
-  double v[QF_COLS] = {0, 0, 0};
-  for (; i < n; i += 2) {
-    int j0 = pair_j0(i), two = i + 1 < n;
-    const double *k0 = p->pairs + p->at[i / 2] - j0, *k1 = k0 + (ld - j0);
-    double a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
-    if (!two) k1 = p->zero;
-#pragma omp simd reduction(+ : a0, a1, a2, b0, b1, b2)
-    for (int j = j0; j < n; j++) {
-      a0 = __builtin_fma(k0[j], u0[j], a0);
-      a1 = __builtin_fma(k0[j], u1[j], a1);
-      a2 = __builtin_fma(k0[j], u2[j], a2);
-      b0 = __builtin_fma(k1[j], u0[j], b0);
-      b1 = __builtin_fma(k1[j], u1[j], b1);
-      b2 = __builtin_fma(k1[j], u2[j], b2);
+  int n = p->n, ld = p->ld;
+  for (int i = 0; i < n; i += WINDOW_ROWS) {
+    int j0 = block_j0(i);
+    const double *blk = p->rows + p->at[i / WINDOW_ROWS];
+    double s0[WINDOW_ROWS], s1[WINDOW_ROWS], s2[WINDOW_ROWS];
+    for (int r = 0; r < WINDOW_ROWS; r++) {
+      int live = i + r < n;
+      s0[r] = live ? u[0][i + r] : 0;
+      s1[r] = live ? u[1][i + r] : 0;
+      s2[r] = live ? u[2][i + r] : 0;
     }
-    double a[QF_COLS] = {a0, a1, a2}, b[QF_COLS] = {b0, b1, b2};
-    for (int c = 0; c < QF_COLS; c++) {
-      const double *uc = u[c];
-      v[c] += uc[i] * (p->diag[i] * uc[i] + 2 * a[c]);
-      if (two) v[c] += uc[i + 1] * (p->diag[i + 1] * uc[i + 1] + 2 * b[c]);
+    for (int jb = j0; jb < ld; jb += WINDOW_ALIGN) {
+      const double *restrict kb = blk + (size_t)(jb - j0) * WINDOW_ROWS;
+#pragma omp simd aligned(kb : 64)
+      for (int l = 0; l < WINDOW_ALIGN; l++) {
+        double t0 = y0[jb + l], t1 = y1[jb + l], t2 = y2[jb + l];
+        for (int r = 0; r < WINDOW_ROWS; r++) {
+          double kr = kb[r * WINDOW_ALIGN + l];
+          t0 = __builtin_fma(kr, s0[r], t0);
+          t1 = __builtin_fma(kr, s1[r], t1);
+          t2 = __builtin_fma(kr, s2[r], t2);
+        }
+        y0[jb + l] = t0;
+        y1[jb + l] = t1;
+        y2[jb + l] = t2;
+      }
     }
   }
-  for (int c = 0; c < QF_COLS; c++) V[c] = v[c];
 }
 
-static void quadratic_forms(const rr_window_plan *p, int ncols, double *V)
+/* sum_j u_j (K_jj u_j + 2 y_j) in WINDOW_ALIGN fixed lanes, summed in order. */
+RR_CLONES_V4 static double form_sum(const double *restrict u, const double *restrict d,
+                                    const double *restrict y, int ld)
+{
+  double lane[WINDOW_ALIGN] = {0};
+  for (int j = 0; j < ld; j += WINDOW_ALIGN)
+    for (int l = 0; l < WINDOW_ALIGN; l++)
+      lane[l] = __builtin_fma(u[j + l], __builtin_fma(d[j + l], u[j + l], 2 * y[j + l]), lane[l]);
+  double v = 0;
+  for (int l = 0; l < WINDOW_ALIGN; l++) v += lane[l];
+  return v;
+}
+
+/* sum_ij u_i u_j K_ij of 3 columns u[0..2] (unused ones: the zero row). */
+static void quadratic_forms3(rr_window_plan *p, const double *const u[QF_COLS], double V[QF_COLS])
+{
+  size_t ld = (size_t)p->ld;
+  double *y[QF_COLS] = {p->y, p->y + ld, p->y + 2 * ld};
+  memset(p->y, 0, sizeof(double) * ld * QF_COLS);
+  upper_times3(p, u, y[0], y[1], y[2]);
+  for (int c = 0; c < QF_COLS; c++) V[c] = form_sum(u[c], p->diag, y[c], p->ld);
+}
+
+static void quadratic_forms(rr_window_plan *p, int ncols, double *V)
 {
   for (int c = 0; c < ncols; c += QF_COLS) {
     const double *u[QF_COLS];
