@@ -75,8 +75,9 @@ enum {
   CLI_READS_CONICITY = 2,
   CLI_READS_JSON = 4,
   CLI_READS_INDEX = 8,
-  CLI_READS_GRAVITY = 16, /* --gravity-stiffness: the command builds a linear model */
-  CLI_READS_PROGRESS = 32 /* --progress: the command reports progress */
+  CLI_READS_GRAVITY = 16,  /* --gravity-stiffness: the command builds a linear model */
+  CLI_READS_PROGRESS = 32, /* --progress: the command reports progress */
+  CLI_READS_PROFILES = 64  /* --profiles for the nonlinear model's contact functions */
 };
 
 void cli_common_init(cli_common *c);

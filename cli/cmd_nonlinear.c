@@ -87,7 +87,10 @@ static int nl_cb(int opt, const char *arg, void *u)
   return 1;
 }
 
-/* The profile: --profile, else the vehicle's. */
+/* The contact geometry: --profile (a tread law lambda(a)), else the
+   vehicle's wheel and rail profiles (--profiles or [contact] wheel and
+   rail: p->kind RR_PROFILE_NONE, its name "profiles W/R"), else the
+   vehicle's lambda(a). */
 static int nl_profile(const nl_args *a, const rr_vehicle *veh, rr_profile *p)
 {
   rr_error e;
@@ -95,23 +98,51 @@ static int nl_profile(const nl_args *a, const rr_vehicle *veh, rr_profile *p)
     int st = rr_profile_open(a->profile, p, &e);
     return st ? cli_bad("--profile: %s", e.msg) : 0;
   }
+  if (rr_vehicle_has_profiles(veh)) {
+    const char *w = strrchr(veh->wheel_rail.wheel[0], '/'),
+               *r = strrchr(veh->wheel_rail.rail[0], '/');
+    *p = (rr_profile){.kind = RR_PROFILE_NONE};
+    snprintf(p->name, sizeof p->name, "profiles %.25s/%.25s", w ? w + 1 : veh->wheel_rail.wheel[0],
+             r ? r + 1 : veh->wheel_rail.rail[0]);
+    return 0;
+  }
   if (veh->profile.kind == RR_PROFILE_NONE)
-    return cli_bad("no tread profile: give --profile new|worn|FILE.csv or [contact] conicity_poly "
-                   "/ conicity_table");
+    return cli_bad("no tread profile: give --profile new|worn|FILE.csv, --profiles WHEEL[,RAIL], "
+                   "or [contact] wheel and rail, or conicity_poly / conicity_table");
   *p = veh->profile;
   return 0;
+}
+
+/* What the library takes: the tread law, or NULL for the profiles. */
+static const rr_profile *nl_lib(const rr_profile *p)
+{
+  return p->kind == RR_PROFILE_NONE ? NULL : p;
+}
+
+/* One line on the contact geometry in use. */
+static void nl_describe(const rr_profile *p, char *d, size_t n)
+{
+  if (nl_lib(p))
+    rr_profile_describe(p, d, (int)n);
+  else
+    snprintf(d, n,
+             "%s: contact functions dr(y) and contact angles (normal forces, flange from the "
+             "geometry)",
+             p->name);
 }
 
 /* The model's assumptions, echoed in every output. */
 static cJSON *assumptions_json(const rr_vehicle *veh, const rr_profile *p)
 {
   char d[512];
-  rr_profile_describe(p, d, sizeof d);
+  nl_describe(p, d, sizeof d);
   cJSON *o = cJSON_CreateObject();
   cJSON_AddStringToObject(o, "conicity", d);
   cJSON_AddNumberToObject(o, "friction", veh->friction);
-  cJSON_AddNumberToObject(o, "flange_clearance_m", veh->flange_clearance);
-  cJSON_AddNumberToObject(o, "flange_stiffness_n_per_m", veh->flange_stiffness);
+  if (nl_lib(p)) {
+    cJSON_AddNumberToObject(o, "flange_clearance_m", veh->flange_clearance);
+    cJSON_AddNumberToObject(o, "flange_stiffness_n_per_m", veh->flange_stiffness);
+  }
   cJSON_AddStringToObject(o, "creep_saturation",
                           "Shen-Hedrick-Elkins, per wheel, static wheel load");
   cJSON_AddStringToObject(o, "suspension",
@@ -124,13 +155,15 @@ static cJSON *assumptions_json(const rr_vehicle *veh, const rr_profile *p)
 static void assumptions_note(const char *cmd, const rr_vehicle *veh, const rr_profile *p)
 {
   if (cli_par_rank() != 0) return; /* once per job */
-  char d[512];
-  rr_profile_describe(p, d, sizeof d);
-  fprintf(
-      stderr,
-      "railride %s: nonlinear model: %s; friction %g; flange clearance %g mm, stiffness %g kN/mm; "
-      "Shen-Hedrick-Elkins creep saturation; linear suspension\n",
-      cmd, d, veh->friction, veh->flange_clearance * 1e3, veh->flange_stiffness * 1e-6);
+  char d[512], fl[96] = "";
+  nl_describe(p, d, sizeof d);
+  if (nl_lib(p))
+    snprintf(fl, sizeof fl, "; flange clearance %g mm, stiffness %g kN/mm",
+             veh->flange_clearance * 1e3, veh->flange_stiffness * 1e-6);
+  fprintf(stderr,
+          "railride %s: nonlinear model: %s; friction %g%s; Shen-Hedrick-Elkins creep saturation; "
+          "linear suspension\n",
+          cmd, d, veh->friction, fl);
 }
 
 /* ---- simulate ---- */
@@ -210,7 +243,8 @@ static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
   rr_model *m = NULL;
   rr_error e;
   int st = 0;
-  if (!r && (st = rr_nonlinear_from_vehicle(&c->veh, p, NULL, v, &nl, &e))) r = cli_fail(&e, st);
+  if (!r && (st = rr_nonlinear_from_vehicle(&c->veh, nl_lib(p), NULL, v, &nl, &e)))
+    r = cli_fail(&e, st);
   if (!r && (st = rr_model_from_vehicle(&c->veh, &m, &e))) r = cli_fail(&e, st);
   if (!r) {
     int N = rr_nonlinear_size(nl);
@@ -280,7 +314,7 @@ int cmd_simulate(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   nl_args a = {.duration = 10, .fs = SIM_FS_DEFAULT, .limit = CLI_LIMIT_SAMPLES};
-  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED, extra, nl_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_PROFILES, extra, nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) return cli_bad("simulate: --speed is required");
@@ -405,7 +439,7 @@ static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_ar
     return;
   }
   char d[512];
-  rr_profile_describe(p, d, sizeof d);
+  nl_describe(p, d, sizeof d);
   printf("%s, tread %s: %s\n", c->veh.name, p->name, d);
   printf("friction %g, flange clearance %g mm, flange stiffness %g kN/mm\n", c->veh.friction,
          c->veh.flange_clearance * 1e3, c->veh.flange_stiffness * 1e-6);
@@ -440,7 +474,7 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
   rr_bifurcation b;
   rr_error e;
   double t0 = cli_now_s();
-  int st = rr_bifurcation_continue(&c->veh, p, NULL, &o, pts, NULL, o.max_points, &b, &e);
+  int st = rr_bifurcation_continue(&c->veh, nl_lib(p), NULL, &o, pts, NULL, o.max_points, &b, &e);
   if (st) {
     free(pts);
     return cli_par_rank() == 0 ? cli_fail(&e, st) : st; /* every rank failed alike: one message */
@@ -539,7 +573,7 @@ static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
   so.settle_s = a->settle;
   rr_error e;
   double t0 = cli_now_s();
-  int st = rr_bifurcation_scan(&c->veh, p, NULL, vs, nv, &so, up, down, &e);
+  int st = rr_bifurcation_scan(&c->veh, nl_lib(p), NULL, vs, nv, &so, up, down, &e);
   if (!st) bif_print_scan(c, p, a, up, down, nv, cli_now_s() - t0);
   free(vs);
   free(up);
@@ -585,7 +619,7 @@ int cmd_bifurcation(int argc, char **argv)
                .step_kmh = SCAN_STEP_DEFAULT_KMH,
                .settle = rr_scan_opts_default().settle_s,
                .limit = 1e5};
-  int r = cli_parse(argc, argv, &c, CLI_READS_JSON, extra, nl_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_JSON | CLI_READS_PROFILES, extra, nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (a.csv && c.json) return cli_bad("bifurcation: --json or --csv, not both");

@@ -3,7 +3,9 @@
  * profiles: for each wheel profile (design and measured wear stages, in
  * order) on the vehicle's rail, the equivalent conicity at 3 mm and its
  * function, the stability index and verdict at the operating point, the
- * linear critical speed and the Sperling index at the floor points. */
+ * linear critical speed and the Sperling index at the floor points; with
+ * --nonlinear, the nonlinear vehicle on the profiles' contact functions: its
+ * Hopf point, the scan's hunting speeds and the bifurcation's kind. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,8 +14,13 @@
 #include "plot.h"
 
 #define WEAR_MAX 32
-#define WEAR_VMAX_KMH 600 /* rr_critical_speed's default upper end */
-#define WEAR_NAMP 14      /* the conicity function at 1.0, 1.5 .. 7.5 mm */
+#define WEAR_VMAX_KMH 600  /* rr_critical_speed's default upper end */
+#define WEAR_NAMP 14       /* the conicity function at 1.0, 1.5 .. 7.5 mm */
+#define WEAR_NL_V0_KMH 100 /* --nonlinear: the scan's speeds, 100 .. 600 km/h */
+#define WEAR_NL_STEP_KMH 25
+#define WEAR_NL_NV 21
+#define WEAR_NL_SETTLE_S                                                                           \
+  10 /* s of transient at each speed (each starts on the last one's motion) */
 
 static void wear_amplitudes(double amp_mm[WEAR_NAMP])
 {
@@ -22,9 +29,9 @@ static void wear_amplitudes(double amp_mm[WEAR_NAMP])
 
 typedef struct wear_args {
   const char *wheels, *rail, *plot_data;
-  int csv;
+  int csv, nonlinear;
 } wear_args;
-enum { OPT_WHEELS = 6100, OPT_WRAIL, OPT_WCSV, OPT_WPLOTDATA };
+enum { OPT_WHEELS = 6100, OPT_WRAIL, OPT_WCSV, OPT_WPLOTDATA, OPT_WNONLINEAR };
 
 static int wear_cb(int opt, const char *arg, void *u)
 {
@@ -33,7 +40,8 @@ static int wear_cb(int opt, const char *arg, void *u)
   if (opt == OPT_WRAIL) a->rail = arg;
   if (opt == OPT_WCSV) a->csv = 1;
   if (opt == OPT_WPLOTDATA) a->plot_data = arg;
-  return opt == OPT_WHEELS || opt == OPT_WRAIL || opt == OPT_WCSV || opt == OPT_WPLOTDATA ? 0 : 1;
+  if (opt == OPT_WNONLINEAR) a->nonlinear = 1;
+  return opt >= OPT_WHEELS && opt <= OPT_WNONLINEAR ? 0 : 1;
 }
 
 typedef struct wear_row {
@@ -42,7 +50,49 @@ typedef struct wear_row {
   rr_stability s;
   rr_critical cr;
   ride_point rp[3];
+  /* --nonlinear: the Hopf point of the vehicle on the contact functions, the
+     scan's first speed with a cycle on the way up and its lowest on the way
+     down (NaN: none up to 600 km/h), and the kind they show */
+  double hopf_kmh, hopf_hz, onset_kmh, lowest_kmh;
+  const char *kind;
 } wear_row;
+
+/* How the cycles meet the equilibrium: below the speed where it loses
+   stability (the Hopf point, or the scan's onset) by more than a step:
+   subcritical (hysteresis); else supercritical; none without a cycle. */
+static const char *wear_kind(const wear_row *w)
+{
+  if (isnan(w->lowest_kmh)) return "none up to " RR_STR(WEAR_VMAX_KMH) " km/h";
+  double onset = fmin(isnan(w->onset_kmh) ? INFINITY : w->onset_kmh, w->hopf_kmh);
+  return w->lowest_kmh < onset - 0.5 * WEAR_NL_STEP_KMH ? "subcritical" : "supercritical";
+}
+
+/* The nonlinear vehicle on v's profiles: the Hopf point and the scan. */
+static int wear_nonlinear(const rr_vehicle *v, wear_row *w)
+{
+  rr_error e;
+  rr_bifurcation b;
+  double vs[WEAR_NL_NV];
+  rr_scan_point up[WEAR_NL_NV], down[WEAR_NL_NV];
+  for (int k = 0; k < WEAR_NL_NV; k++) vs[k] = (WEAR_NL_V0_KMH + WEAR_NL_STEP_KMH * k) / RR_KMH;
+  int st = rr_bifurcation_hopf(v, NULL, NULL, &b, &e);
+  rr_scan_opts so = rr_scan_opts_default();
+  so.settle_s = WEAR_NL_SETTLE_S;
+  if (!st) st = rr_bifurcation_scan(v, NULL, NULL, vs, WEAR_NL_NV, &so, up, down, &e);
+  if (st) return cli_fail(&e, st);
+  w->hopf_kmh = b.hopf ? b.hopf_speed_ms * RR_KMH : NAN;
+  w->hopf_hz = b.hopf ? b.hopf_freq_hz : NAN;
+  w->onset_kmh = w->lowest_kmh = NAN;
+  for (int k = 0; k < WEAR_NL_NV; k++) {
+    if (isnan(w->onset_kmh) && up[k].amplitude_m > 0) w->onset_kmh = vs[k] * RR_KMH;
+    if (isnan(w->lowest_kmh) && down[k].amplitude_m > 0) w->lowest_kmh = vs[k] * RR_KMH;
+  }
+  if (!(w->lowest_kmh <=
+        w->onset_kmh)) /* a small cycle near onset can read as dying on the way down */
+    w->lowest_kmh = isnan(w->onset_kmh) ? w->lowest_kmh : w->onset_kmh;
+  w->kind = wear_kind(w);
+  return 0;
+}
 
 /* One profile: its conicity, then the linear vehicle at it. */
 static int wear_one(const cli_common *c, const wear_args *a, const char *wheel, wear_row *w)
@@ -71,7 +121,7 @@ static int wear_one(const cli_common *c, const wear_args *a, const char *wheel, 
   ride_setup_default(&rs, &v);
   if ((st = ride_eval(&v, c->speed_kmh, w->tg3, &rs, w->rp, NULL, NULL, &e)))
     return cli_fail(&e, st);
-  return 0;
+  return a->nonlinear ? wear_nonlinear(&v, w) : 0;
 }
 
 /* A profile's file name without its folder, as a plot label. */
@@ -81,7 +131,7 @@ static const char *base_name(const char *path)
   return b ? b + 1 : path;
 }
 
-static void wear_text(const cli_common *c, const wear_row *w, int n)
+static void wear_text(const cli_common *c, const wear_row *w, int n, int nonlinear)
 {
   char b1[32], b2[32];
   printf("%s at %g km/h: wheel profiles on their rail (tan gamma_e by EN 15302 at 3 mm)\n",
@@ -96,23 +146,61 @@ static void wear_text(const cli_common *c, const wear_row *w, int n)
                          : "> " RR_STR(WEAR_VMAX_KMH),
            w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
   }
+  if (!nonlinear) return;
+  printf(
+      "nonlinear vehicle on the profiles' contact functions (scan %d..%d km/h, %d km/h steps):\n",
+      WEAR_NL_V0_KMH, WEAR_VMAX_KMH, WEAR_NL_STEP_KMH);
+  printf("  %-28s %10s %8s %10s %11s  %s\n", "wheel", "hopf_kmh", "hopf_hz", "onset_kmh",
+         "lowest_kmh", "bifurcation");
+  for (int i = 0; i < n; i++) {
+    char b[4][32];
+    double x[4] = {w[i].hopf_kmh, w[i].hopf_hz, w[i].onset_kmh, w[i].lowest_kmh};
+    for (int k = 0; k < 4; k++)
+      snprintf(b[k], sizeof b[k], isfinite(x[k]) ? (k == 1 ? "%.3f" : "%.1f") : "none", x[k]);
+    printf("  %-28s %10s %8s %10s %11s  %s\n", base_name(w[i].wheel), b[0], b[1], b[2], b[3],
+           w[i].kind);
+  }
 }
 
-static void wear_csv(const wear_row *w, int n)
+static void wear_csv(const wear_row *w, int n, int nonlinear)
 {
   printf("wheel,tan_gamma_e_3mm,stability_index,zeta_max,stable,critical_speed_kmh,"
-         "sperling_front,sperling_centre,sperling_rear\n");
+         "sperling_front,sperling_centre,sperling_rear%s\n",
+         nonlinear ? ",hopf_speed_kmh,hopf_freq_hz,onset_kmh,nonlinear_critical_kmh,bifurcation"
+                   : "");
   for (int i = 0; i < n; i++) {
     cli_csv_field(stdout, w[i].wheel, ',');
     printf("%.10g,", w[i].tg3);
     cli_csv_num(stdout, w[i].s.index, ',');
     printf("%.10g,%d,", w[i].s.zeta_max, rr_modal_stable(w[i].s.zeta_max));
     cli_csv_num(stdout, w[i].cr.found ? w[i].cr.speed_ms * RR_KMH : NAN, ',');
-    printf("%.10g,%.10g,%.10g\n", w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
+    printf("%.10g,%.10g,%.10g", w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
+    if (nonlinear) {
+      double x[4] = {w[i].hopf_kmh, w[i].hopf_hz, w[i].onset_kmh, w[i].lowest_kmh};
+      for (int k = 0; k < 4; k++) isfinite(x[k]) ? printf(",%.10g", x[k]) : printf(",");
+      printf(",%s", w[i].kind);
+    }
+    putchar('\n');
   }
 }
 
-static void wear_json(const cli_common *c, const wear_row *w, int n)
+/* The nonlinear results of a row, as JSON. */
+static cJSON *wear_nonlinear_json(const wear_row *w)
+{
+  cJSON *o = cJSON_CreateObject();
+  const char *keys[4] = {"hopf_speed_kmh", "hopf_freq_hz", "onset_kmh", "nonlinear_critical_kmh"};
+  double x[4] = {w->hopf_kmh, w->hopf_hz, w->onset_kmh, w->lowest_kmh};
+  for (int k = 0; k < 4; k++)
+    cJSON_AddItemToObject(o, keys[k],
+                          isfinite(x[k]) ? cJSON_CreateNumber(x[k]) : cJSON_CreateNull());
+  cJSON_AddStringToObject(o, "bifurcation", w->kind);
+  cJSON_AddStringToObject(o, "method",
+                          "contact functions (dr, contact angles); Hopf from the linearisation "
+                          "at rest; scan up and down in speed by direct integration");
+  return o;
+}
+
+static void wear_json(const cli_common *c, const wear_row *w, int n, int nonlinear)
 {
   cJSON *root = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(root, "profiles");
   cJSON_AddStringToObject(root, "vehicle", c->veh.name);
@@ -135,6 +223,7 @@ static void wear_json(const cli_common *c, const wear_row *w, int n)
       cJSON_AddNullToObject(o, "critical_speed_kmh");
     double sp[3] = {w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling};
     cJSON_AddItemToObject(o, "sperling", cJSON_CreateDoubleArray(sp, 3));
+    if (nonlinear) cJSON_AddItemToObject(o, "nonlinear", wear_nonlinear_json(&w[i]));
     cJSON_AddItemToArray(arr, o);
   }
   cli_json_print(root);
@@ -176,7 +265,8 @@ static int wear_plot_data(const cli_common *c, const wear_row *w, int n, const c
 int cmd_wear(int argc, char **argv)
 {
   static const char help[] =
-      "usage: railride wear [VEHICLE] --wheels P1,P2,... [--rail R] [--speed KMH] [--json|--csv]\n"
+      "usage: railride wear [VEHICLE] --wheels P1,P2,... [--rail R] [--speed KMH] [--nonlinear]\n"
+      "                     [--json|--csv]\n"
       "The paper's robust-design question asked of real profiles: for each wheel profile\n"
       "(design and measured wear stages, in order) on the rail (--rail, or the vehicle file's\n"
       "[contact] rail, with its placement keys), the equivalent conicity at 3 mm and its\n"
@@ -186,12 +276,18 @@ int cmd_wear(int argc, char **argv)
       "  --wheels P1,P2,..    wheel profile files (lateral vertical, mm), at most 32\n"
       "  --rail R             the rail profile file\n"
       "  --csv                CSV output\n"
+      "  --nonlinear          also the nonlinear vehicle on each profile's contact functions\n"
+      "                       (dr(y), contact angles): its Hopf point, the speeds with hunting\n"
+      "                       cycles scanning up and down 100-600 km/h (25 km/h steps, 10 s to\n"
+      "                       settle each) and the bifurcation's kind (subcritical: cycles below\n"
+      "                       the speed where rest loses stability); slow: seconds a profile\n"
       "  --plot-data FILE     write what --plot draws (gnuplot data: the conicity functions,\n"
       "                       then a row per profile)\n";
   static const struct option extra[] = {{"wheels", required_argument, 0, OPT_WHEELS},
                                         {"rail", required_argument, 0, OPT_WRAIL},
                                         {"csv", no_argument, 0, OPT_WCSV},
                                         {"plot-data", required_argument, 0, OPT_WPLOTDATA},
+                                        {"nonlinear", no_argument, 0, OPT_WNONLINEAR},
                                         {0, 0, 0, 0}};
   cli_common c;
   wear_args a = {0};
@@ -214,11 +310,11 @@ int cmd_wear(int argc, char **argv)
   }
   if (!r && a.plot_data) r = wear_plot_data(&c, rows, n, a.plot_data);
   if (!r && c.json)
-    wear_json(&c, rows, n);
+    wear_json(&c, rows, n, a.nonlinear);
   else if (!r && a.csv)
-    wear_csv(rows, n);
+    wear_csv(rows, n, a.nonlinear);
   else if (!r)
-    wear_text(&c, rows, n);
+    wear_text(&c, rows, n, a.nonlinear);
   free(rows);
   return r;
 }

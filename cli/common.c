@@ -27,7 +27,9 @@ int cli_bad(const char *fmt, ...)
 int cli_fail(const rr_error *e, int st)
 {
   fprintf(stderr, "railride: %s\n", e->msg);
-  return (st == RR_ELAPACK || st == RR_ENOMEM || st == RR_ENOCONV) ? EXIT_FAIL : EXIT_BADINPUT;
+  return (st == RR_ELAPACK || st == RR_ENOMEM || st == RR_ENOCONV || st == RR_EDERAIL)
+             ? EXIT_FAIL
+             : EXIT_BADINPUT;
 }
 
 void cli_common_init(cli_common *c)
@@ -178,22 +180,28 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
 /* The conicity of a command that reads one: given, or the profiles' (the
    vehicle file's [contact] or --profiles), or the default; the outputs say
    which. */
+/* --profiles WHEEL[,RAIL] named in the vehicle. */
+static int apply_profiles(cli_common *c)
+{
+  char w[RR_PROFILE_PATH_MAX];
+  const char *comma = strchr(c->profiles, ',');
+  snprintf(w, sizeof w, "%.*s", comma ? (int)(comma - c->profiles) : (int)strlen(c->profiles),
+           c->profiles);
+  if (!comma && !c->veh.wheel_rail.rail[0][0])
+    return cli_bad("--profiles: a rail is needed (--profiles WHEEL,RAIL, or [contact] rail)");
+  rr_error e;
+  if (rr_vehicle_set_profiles(&c->veh, w, comma ? comma + 1 : NULL, &e))
+    return cli_bad("--profiles: %s", e.msg);
+  return 0;
+}
+
 int cli_profile_conicity(cli_common *c, unsigned reads)
 {
+  if (c->profiles && !(reads & CLI_READS_CONICITY)) return apply_profiles(c);
   if (!(reads & CLI_READS_CONICITY)) return 0;
   if (c->profiles && c->have_conicity)
     return cli_bad("--profiles gives the conicity: not with --conicity");
-  if (c->profiles) {
-    char w[RR_PROFILE_PATH_MAX];
-    const char *comma = strchr(c->profiles, ',');
-    snprintf(w, sizeof w, "%.*s", comma ? (int)(comma - c->profiles) : (int)strlen(c->profiles),
-             c->profiles);
-    if (!comma && !c->veh.wheel_rail.rail[0][0])
-      return cli_bad("--profiles: a rail is needed (--profiles WHEEL,RAIL, or [contact] rail)");
-    rr_error e;
-    if (rr_vehicle_set_profiles(&c->veh, w, comma ? comma + 1 : NULL, &e))
-      return cli_bad("--profiles: %s", e.msg);
-  }
+  if (c->profiles && apply_profiles(c)) return EXIT_BADINPUT;
   int profiled = rr_vehicle_has_profiles(&c->veh);
   if (c->have_conicity) {
     snprintf(c->conicity_source, sizeof c->conicity_source, "%s",
@@ -301,6 +309,10 @@ static const struct {
      "  --profiles W[,R]     instead: the equivalent conicity of wheel and rail profiles (EN "
      "15302,\n"
      "                       at 3 mm; the rail defaults to the vehicle file's [contact] rail)\n"},
+    {CLI_READS_PROFILES,
+     "  --profiles W[,R]     wheel and rail profiles: the nonlinear model reads their contact\n"
+     "                       functions (dr(y), contact angles) in place of lambda(a) and the\n"
+     "                       flange spring (the rail defaults to the vehicle file's)\n"},
     {CLI_READS_INDEX,
      "  --fmax HZ            highest frequency counted in the stability index (default 10)\n"},
     {CLI_READS_INDEX,
@@ -346,7 +358,7 @@ static unsigned reads_of(int opt)
   case OPT_FMAX:
   case OPT_WMIN:
   case OPT_RMAX: return CLI_READS_INDEX;
-  case OPT_PROFILES: return CLI_READS_CONICITY;
+  case OPT_PROFILES: return CLI_READS_CONICITY | CLI_READS_PROFILES;
   case OPT_GRAVITY: return CLI_READS_GRAVITY;
   case OPT_PROGRESS_ALL: return CLI_READS_PROGRESS;
   }

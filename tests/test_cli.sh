@@ -295,6 +295,25 @@ c=$(cd "$tmp" && "$RR" modes --speed 300 --profiles cone.dat,knife.dat --json | 
 python3 -c 'import sys; a, b, c = (s.split() for s in sys.argv[1:4]); close = lambda x, y: all(abs(float(p) - float(q)) < 1e-9 for p, q in zip(x[:2], y[:2])); sys.exit(0 if close(a, b) and close(c, b) and " ".join(a[2:]) == "profiles cone.dat/knife.dat at 3 mm" else 1)' "$a" "$b" "$c" \
   && ok || bad "profiles as the conicity: '$a' / '$b' / '$c'"
 expect2 "--profiles with --conicity" "not with --conicity" "$RR" modes --speed 300 --conicity 0.1 --profiles "$tmp/cone.dat,$tmp/knife.dat"
+# the nonlinear vehicle on contact functions: a cone of slope 0.4 on a knife edge has the
+# constant conicity's Hopf point (the linear critical speed), and its cycles (creep saturation
+# only) appear where rest loses stability: supercritical; bifurcation takes --profiles too
+printf -- '-70 -28\n0 0\n65 26\n' > "$tmp/cone4.dat"
+"$RR" wear --wheels "$tmp/cone4.dat" --rail "$tmp/knife.dat" --nonlinear --json > "$tmp/wearnl.json" || bad "wear --nonlinear exit"
+python3 - "$tmp/wearnl.json" <<'PY' && ok || bad "wear --nonlinear"
+import json, sys
+p = json.load(open(sys.argv[1]))["profiles"][0]
+n = p["nonlinear"]
+assert abs(n["hopf_speed_kmh"] - p["critical_speed_kmh"]) < 2e-3, (n, p["critical_speed_kmh"])
+assert n["bifurcation"] == "supercritical" and abs(n["onset_kmh"] - 525) < 1e-9, n
+assert n["nonlinear_critical_kmh"] <= n["onset_kmh"], n
+PY
+h=$(cd "$tmp" && "$RR" bifurcation --profiles cone4.dat,knife.dat --speeds 400:560 --json | python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["linear_critical_speed_kmh"], d["profile"])')
+python3 -c 'import json,sys; v, name = sys.argv[1].split(" ", 1); d = json.load(open(sys.argv[2]))["profiles"][0]; sys.exit(0 if abs(float(v) - d["nonlinear"]["hopf_speed_kmh"]) < 1e-6 and name == "profiles cone4.dat/knife.dat" else 1)' "$h" "$tmp/wearnl.json" \
+  && ok || bad "bifurcation --profiles: $h"
+# a wheelset that leaves the contact data ends the run: a derailment indication, exit 1
+out=$(cd "$tmp" && "$RR" simulate --speed 900 --profiles cone4.dat,knife.dat --duration 10 --disturbance 5mm 2>&1 >/dev/null); rc=$?
+[ $rc -eq 1 ] && echo "$out" | grep -q "beyond the contact data.*derailment indication" && ok || bad "derailment: rc $rc $out"
 # the wear study: EN 15302's wheels A, B, H, I on rail A give Annex E's tan gamma_e at 3 mm,
 # and each profile's index is the linear model's at that conicity
 P=$(cd "$SRC/profiles/en15302" && pwd)

@@ -90,7 +90,7 @@ for cmd in commands:
         check(rc == 0 and not REFUSED.search(out), "%s accepts its own %s: %s" % (cmd, opt, out.strip()[-200:]))
         rc, out = run(cmd, *one, *one, "--help")
         check(rc == 2 and "twice" in out, "%s refuses %s given twice: %s" % (cmd, opt, out.strip()[-200:]))
-        if len(opt) > 4:  # a prefix of the name is not taken for it
+        if len(opt) > 4 and opt[:-1] not in per[cmd]:  # a prefix of the name is not taken for it (unless it is an option of its own: --profile, --profiles)
             rc, out = run(cmd, opt[:-1], *one[1:], "--help")
             check(rc == 2 and REFUSED.search(out), "%s refuses %s for %s: %s" % (cmd, opt[:-1], opt, out.strip()[-200:]))
     for opt in allopts:

@@ -24,8 +24,15 @@ typedef struct rr_polyline {
   double *x, *z;
 } rr_polyline;
 /* Two numeric columns (blanks, tab, comma or semicolon); '#' comments; text
- * before the first row is a header; at least 3 points, x strictly rising. */
+ * before the first row is a header; at least 3 points, x strictly rising.
+ * A built-in profile's name (rr_polyline_builtin), or a path ending in one,
+ * gives that profile when no such file exists. */
 RR_API int rr_polyline_load(const char *path, rr_polyline *p, rr_error *err);
+/* A built-in design profile from its published definition: "S1002" (the
+ * EN 13715 wheel, 0.1 mm apart from the flange back, u = -70 .. 60 mm). */
+RR_API int rr_polyline_builtin(const char *name, rr_polyline *p, rr_error *err);
+/* 1 when name is a built-in profile's (rr_polyline_load takes it too). */
+RR_API int rr_polyline_is_builtin(const char *name);
 /* A copy of n points. */
 RR_API int rr_polyline_from(const double *x, const double *z, int n, rr_polyline *p, rr_error *err);
 RR_API void rr_polyline_free(rr_polyline *p);
@@ -150,6 +157,27 @@ RR_API int rr_vehicle_profile_conicity(const rr_vehicle *v, double *conicity, ch
 RR_API int rr_vehicle_profile_conicity_function(const rr_vehicle *v, const double *amp_mm, int namp,
                                                 double *tan_ge, rr_error *err);
 
+/* ---- the contact functions the nonlinear model reads (docs/model.md) ---- */
+/* A wheelset's contact on its track on a uniform grid of the lateral
+ * displacement y_k = y0_m + k dy_m, k = 0 .. n - 1 (m, positive to the right
+ * as above): dr = r_right - r_left (m), the tangents of the right and left
+ * contact angles, and whether both contacts lie within the profiles' data.
+ * Owned arrays (rr_contact_functions_free). */
+#define RR_CONTACT_EDGES_MAX 24
+typedef struct rr_contact_functions {
+  int n;
+  double y0_m, dy_m;
+  double *dr_m, *tan_right, *tan_left;
+  int *valid;
+  int nedges; /* the grid cells of contact jumps (rr_contact_jumps), by their edges' y (m): */
+  double edge_y_m[RR_CONTACT_EDGES_MAX]; /*  where the functions are steepest */
+  char source[160];                      /* where they came from: "profiles WHEEL/RAIL" */
+} rr_contact_functions;
+RR_API void rr_contact_functions_free(rr_contact_functions *cf);
+/* The vehicle's [contact] profiles on the grid -10:10:0.01 mm, with the
+ * vehicle's rolling radius and the section's placement and roll. */
+RR_API int rr_vehicle_contact_functions(const rr_vehicle *v, rr_contact_functions *out,
+                                        rr_error *err);
 #ifdef __cplusplus
 }
 #endif

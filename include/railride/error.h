@@ -22,7 +22,8 @@ enum rr_status {
   RR_ENOCONV = 7,  /* an iteration did not converge */
   RR_EUNSUP = 8,   /* combination of options not supported */
   RR_ESTOPPED = 9, /* stopped by the caller's progress callback (rr_progress) */
-  RR_EUNDEF = 10   /* a result is undefined (a stability index with no hunting-related mode) */
+  RR_EUNDEF = 10,  /* a result is undefined (a stability index with no hunting-related mode) */
+  RR_EDERAIL = 11  /* a wheelset left the contact data (a derailment indication) */
 };
 
 #define RR_ERROR_MSG_MAX 512

@@ -12,6 +12,7 @@
 #include "railride/common.h"
 
 #include <stdint.h>
+#include "railride/contact.h"
 #include "railride/model.h"
 #include "railride/profile.h"
 
@@ -37,6 +38,19 @@ typedef struct rr_nonlinear rr_nonlinear;
  * no time form). Only wheelsets whose contact sits at their reference point. */
 RR_API int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law,
                             rr_nonlinear **out, rr_error *err);
+/* From a model and the contact functions of wheel and rail profiles
+ * (docs/model.md, "Contact geometry from profiles"): dr(y) in the
+ * longitudinal creepages and the normal forces' lateral resultant
+ * -(Q/2)(tan gamma_L - tan gamma_R) in place of lambda(a), the flange spring
+ * and the gravitational terms; read at y = -(y_w - y_t), linear between the
+ * grid's points. law gives the friction and the saturation (its flange keys
+ * are not used). The contact at y = 0 must lie within the data. */
+RR_API int rr_nonlinear_new_contact(const rr_model *m, const rr_contact_functions *cf,
+                                    const rr_contact_law *law, rr_nonlinear **out, rr_error *err);
+/* The range of y_w - y_t (m) around 0 over which every contact lies within
+ * the profiles' data (-inf, inf without contact functions). A state beyond
+ * it ends a simulation with RR_EDERAIL. */
+RR_API void rr_nonlinear_contact_range(const rr_nonlinear *nl, double *lo_m, double *hi_m);
 RR_API void rr_nonlinear_free(rr_nonlinear *nl);
 RR_API int rr_nonlinear_set_speed(rr_nonlinear *nl, double v_ms, rr_error *err);
 RR_API double rr_nonlinear_speed(const rr_nonlinear *nl);
@@ -153,10 +167,19 @@ typedef struct rr_bifurcation {
 } rr_bifurcation;
 
 /* The nonlinear vehicle at speed v_ms: profile and contact law NULL take the
- * vehicle's (its [contact] keys); the model's conicity is lambda(0). */
+ * vehicle's (its [contact] keys): with [contact] wheel and rail profiles,
+ * their contact functions (rr_nonlinear_new_contact), else its lambda(a);
+ * the model's conicity is lambda(0). */
 RR_API int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p,
                                      const rr_contact_law *law, double v_ms, rr_nonlinear **out,
                                      rr_error *err);
+
+/* The Hopf point alone (res's hopf fields; the rest NaN / none): the linear
+ * critical speed at lambda(0), or on contact functions that of the nonlinear
+ * vehicle's own linearisation at rest (their slopes at y = 0 and the normal
+ * forces' stiffness), any oscillatory mode, 10 km/h .. RR_SPEED_MAX. */
+RR_API int rr_bifurcation_hopf(const rr_vehicle *veh, const rr_profile *p,
+                               const rr_contact_law *law, rr_bifurcation *res, rr_error *err);
 
 /* The bifurcation diagram by continuation: the Hopf point (the linear
  * critical speed at lambda(0), any oscillatory mode), then the branch of

@@ -1,10 +1,12 @@
 /* Wheel and rail profiles as polylines: read from two-column text files,
  * copied, freed (docs/contact.md, profile files). */
+#define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "railride/contact.h"
 #include "internal.h"
 #include "textfile.h"
@@ -71,6 +73,10 @@ int rr_polyline_load(const char *path, rr_polyline *p, rr_error *err)
 {
   rr_lines r;
   *p = (rr_polyline){0};
+  const char *base = strrchr(path, '/');
+  base = base ? base + 1 : path;
+  if (rr_polyline_is_builtin(base) && access(path, F_OK) != 0) /* no such file: the built-in */
+    return rr_polyline_builtin(base, p, err);
   int st = rr_lines_open(&r, path, RR_CSV_LINE_MAX, err), got, cap = 0;
   if (st) return st;
   const char *line;

@@ -75,36 +75,110 @@ static int load4(const rr_wheel_rail *w, rr_polyline *p, rr_error *err)
   return RR_OK;
 }
 
-/* The conicity plan of the vehicle's profiles on the grid (caller frees). */
-static int profile_plan(const rr_vehicle *v, rr_conicity_plan **cp, rr_error *err)
+/* The contact of the vehicle's profiles at every y of the grid (y in mm;
+   the caller frees both arrays). */
+static int vehicle_states(const rr_vehicle *v, double **y_out, rr_contact_state **st_out, long *n,
+                          rr_error *err)
 {
-  const rr_wheel_rail *w = &v->wheel_rail;
-  *cp = NULL;
+  *y_out = NULL;
+  *st_out = NULL;
   if (!rr_vehicle_has_profiles(v)) return rr_seterr(err, RR_EINVAL, "the vehicle has no profiles");
   rr_polyline p[4] = {{0}};
   rr_contact_plan *plan = NULL;
   long ny = rr_contact_range(-GRID_MM, GRID_MM, GRID_STEP_MM, NULL, 0);
-  double *y = malloc(sizeof(double) * (size_t)ny), *dr = malloc(sizeof(double) * (size_t)ny);
-  int *valid = malloc(sizeof(int) * (size_t)ny);
+  double *y = malloc(sizeof(double) * (size_t)ny);
   rr_contact_state *st = malloc(sizeof *st * (size_t)ny);
   rr_contact_opts o = opts_of(v);
-  int rc = y && dr && valid && st ? load4(w, p, err) : rr_seterr(err, RR_ENOMEM, "out of memory");
+  int rc = y && st ? load4(&v->wheel_rail, p, err) : rr_seterr(err, RR_ENOMEM, "out of memory");
   if (!rc) {
     rr_contact_range(-GRID_MM, GRID_MM, GRID_STEP_MM, y, ny);
     rc = rr_contact_plan_new(&p[0], &p[1], &p[2], &p[3], &o, &plan, err);
   }
   if (!rc) rc = rr_contact_execute(plan, y, (int)ny, st, err);
+  rr_contact_plan_free(plan);
+  for (int k = 0; k < 4; k++) rr_polyline_free(&p[k]);
+  if (rc) {
+    free(y);
+    free(st);
+    return rc;
+  }
+  *y_out = y;
+  *st_out = st;
+  *n = ny;
+  return RR_OK;
+}
+
+/* The conicity plan of the vehicle's profiles on the grid (caller frees). */
+static int profile_plan(const rr_vehicle *v, rr_conicity_plan **cp, rr_error *err)
+{
+  *cp = NULL;
+  double *y, *dr = NULL;
+  int *valid = NULL;
+  rr_contact_state *st;
+  long ny;
+  int rc = vehicle_states(v, &y, &st, &ny, err);
+  if (rc) return rc;
+  dr = malloc(sizeof(double) * (size_t)ny);
+  valid = malloc(sizeof(int) * (size_t)ny);
+  if (!dr || !valid) rc = rr_seterr(err, RR_ENOMEM, "out of memory");
   for (long i = 0; !rc && i < ny; i++) {
     dr[i] = st[i].dr_mm;
     valid[i] = st[i].valid;
   }
   if (!rc) rc = rr_conicity_plan_new(y, dr, valid, (int)ny, cp, err);
-  rr_contact_plan_free(plan);
-  for (int k = 0; k < 4; k++) rr_polyline_free(&p[k]);
   free(y);
   free(dr);
   free(valid);
   free(st);
+  return rc;
+}
+
+void rr_contact_functions_free(rr_contact_functions *cf)
+{
+  if (!cf) return;
+  free(cf->dr_m);
+  free(cf->tan_right);
+  free(cf->tan_left);
+  free(cf->valid);
+  *cf = (rr_contact_functions){0};
+}
+
+int rr_vehicle_contact_functions(const rr_vehicle *v, rr_contact_functions *out, rr_error *err)
+{
+  *out = (rr_contact_functions){0};
+  double *y;
+  rr_contact_state *st;
+  long ny;
+  int rc = vehicle_states(v, &y, &st, &ny, err);
+  if (rc) return rc;
+  size_t n = (size_t)ny;
+  out->n = (int)ny;
+  out->y0_m = 1e-3 * y[0];
+  out->dy_m = 1e-3 * GRID_STEP_MM;
+  out->dr_m = malloc(sizeof(double) * n);
+  out->tan_right = malloc(sizeof(double) * n);
+  out->tan_left = malloc(sizeof(double) * n);
+  out->valid = malloc(sizeof(int) * n);
+  if (!out->dr_m || !out->tan_right || !out->tan_left || !out->valid)
+    rc = rr_seterr(err, RR_ENOMEM, "out of memory");
+  for (size_t i = 0; !rc && i < n; i++) {
+    out->dr_m[i] = 1e-3 * st[i].dr_mm;
+    out->tan_right[i] = tan(st[i].side[0].gamma_rad);
+    out->tan_left[i] = tan(st[i].side[1].gamma_rad);
+    out->valid[i] = st[i].valid;
+  }
+  rr_contact_jump jumps[RR_CONTACT_EDGES_MAX / 2];
+  int nj = rc ? 0 : rr_contact_jumps(st, (int)ny, jumps, RR_CONTACT_EDGES_MAX / 2);
+  for (int j = 0; j < nj && j < RR_CONTACT_EDGES_MAX / 2; j++) {
+    out->edge_y_m[out->nedges++] = 1e-3 * jumps[j].y_from_mm;
+    out->edge_y_m[out->nedges++] = 1e-3 * jumps[j].y_to_mm;
+  }
+  if (!rc)
+    snprintf(out->source, sizeof out->source, "profiles %s/%s", base_name(v->wheel_rail.wheel[0]),
+             base_name(v->wheel_rail.rail[0]));
+  free(y);
+  free(st);
+  if (rc) rr_contact_functions_free(out);
   return rc;
 }
 

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <lapacke.h>
 #include "railride/nonlinear.h"
 #include "railride/stability.h"
 #include "orbit.h"
@@ -17,10 +18,18 @@ void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z,
 void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m,
                          int dfdv, double *out);
 int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g);
+void rr_nonlinear_jacobian_harmonic_at(const rr_nonlinear *nl, double v, double amp, double *J);
+int rr_nonlinear_is_odd(const rr_nonlinear *nl);
 
 #define AMP_UNIT 1e-3            /* arclength: 1 mm of amplitude ... */
 #define SPEED_UNIT (10 / RR_KMH) /* ... weighs as 10 km/h */
 #define AMP_START 0.02e-3        /* the first cycle's amplitude, m */
+#define NEWTON_MAXIT_TABLE 40    /* shooting's Newton on contact functions (orbit.h) */
+#define NEWTON_TOL_TABLE 5e-5    /* ... and its tolerance: 0.05 um on a 1 mm cycle */
+#define RTOL_TABLE 1e-8          /* ... and the integration's, at least (the floor is Newton's) */
+#define AMP_START_TABLE                                                                            \
+  0.3e-3                         /* ... on contact functions: 30 of their grid steps, so that the  \
+                                    first cycle sees their mean slope, not one segment's */
 #define HOPF_V_MIN (10 / RR_KMH) /* the Hopf point is sought from here to RR_SPEED_MAX_MS */
 #define HOPF_STEP (5 / RR_KMH)   /* in steps of 5 km/h, then bisected */
 #define WINDOW_BEYOND 1.05       /* a Hopf point outside the range is followed this far past it */
@@ -66,6 +75,20 @@ static void sys_kinks(void *u, double p, const double *z, double *g)
   rr_nonlinear_kinks_at(u, p, z, g);
 }
 
+static void sys_start_jac(void *u, double p, double amp, double *J)
+{
+  rr_nonlinear_jacobian_harmonic_at(u, p, amp, J);
+}
+
+static int neutral_speed(const rr_nonlinear *nl, double amp, double *v_out, double *f_out,
+                         rr_error *err);
+
+static int sys_start_p(void *u, double amp, double *p, rr_error *err)
+{
+  double f;
+  return neutral_speed(u, amp, p, &f, err);
+}
+
 /* The vehicle as an orbit system: amplitude y_w1, phase dy_w1/dt = 0. */
 int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_error *err)
 {
@@ -86,7 +109,17 @@ int rr_nonlinear_orbit_sys(rr_nonlinear *nl, rr_orbit_sys *s, double **atol, rr_
                       .amp_unit = AMP_UNIT,
                       .p_unit = SPEED_UNIT,
                       .atol = *atol,
-                      .odd = 1}; /* straight, perfect track: the vehicle is left-right symmetric */
+                      /* straight, perfect track: the vehicle is left-right symmetric (and so
+                         are its contact functions when the profiles are mirrored) */
+                      .odd = rr_nonlinear_is_odd(nl)};
+  double lo, hi;
+  rr_nonlinear_contact_range(nl, &lo, &hi);
+  if (isfinite(lo) || isfinite(hi)) {
+    s->start_jac = sys_start_jac;
+    s->start_p = sys_start_p;
+    s->newton_maxit = NEWTON_MAXIT_TABLE;
+    s->newton_tol = NEWTON_TOL_TABLE;
+  }
   return RR_OK;
 }
 
@@ -165,19 +198,31 @@ static rr_contact_law law_of(const rr_vehicle *veh)
   return l;
 }
 
-/* The tread profile: the one given, else the vehicle's. */
+/* The tread profile: the one given, else NULL when the vehicle has wheel
+   and rail profiles (their contact functions), else the vehicle's lambda(a). */
 static int profile_of(const rr_vehicle *veh, const rr_profile **p, rr_error *err)
 {
-  if (*p) return RR_OK;
+  if (*p || rr_vehicle_has_profiles(veh)) return RR_OK;
   if (veh->profile.kind == RR_PROFILE_NONE)
     return rr_seterr(err, RR_EINVAL,
-                     "no tread profile: give one (new, worn or a table) or [contact] conicity_poly "
-                     "/ conicity_table");
+                     "no tread profile: give one (new, worn or a table), [contact] wheel and rail "
+                     "profiles, or conicity_poly / conicity_table");
   *p = &veh->profile;
   return RR_OK;
 }
 
-/* The model at (v, lambda(0)) and the nonlinear vehicle on it. */
+/* The slope of dr / 2 at y = 0 (the contact functions' conicity there),
+   within the model's range: the model's operating conicity, which the
+   nonlinear vehicle does not read (its contact terms are the tables'). */
+static double table_conicity(const rr_contact_functions *cf)
+{
+  int k = (int)lround(-cf->y0_m / cf->dy_m);
+  double lam = k > 0 && k < cf->n - 1 ? (cf->dr_m[k + 1] - cf->dr_m[k - 1]) / (4 * cf->dy_m) : 0;
+  return isfinite(lam) ? fmin(fmax(lam, 0), RR_CONICITY_MAX) : 0;
+}
+
+/* The model at (v, lambda(0)) and the nonlinear vehicle on it; p NULL: on
+   the vehicle's profiles' contact functions. */
 static int build(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law, double v,
                  rr_model **m, rr_nonlinear **nl, rr_error *err)
 {
@@ -188,9 +233,15 @@ static int build(const rr_vehicle *veh, const rr_profile *p, const rr_contact_la
     def = law_of(veh);
     law = &def;
   }
-  int st = rr_model_from_vehicle(veh, m, err);
-  if (!st) st = rr_model_set_operating(*m, v, rr_profile_conicity(p, 0), err);
-  if (!st) st = rr_nonlinear_new(*m, p, law, nl, err);
+  rr_contact_functions cf = {0};
+  int st = p ? RR_OK : rr_vehicle_contact_functions(veh, &cf, err);
+  if (!st) st = rr_model_from_vehicle(veh, m, err);
+  if (!st)
+    st = rr_model_set_operating(*m, v, p ? rr_profile_conicity(p, 0) : table_conicity(&cf), err);
+  if (!st)
+    st =
+        p ? rr_nonlinear_new(*m, p, law, nl, err) : rr_nonlinear_new_contact(*m, &cf, law, nl, err);
+  rr_contact_functions_free(&cf);
   if (st) {
     rr_model_free(*m);
     *m = NULL;
@@ -210,10 +261,11 @@ int rr_nonlinear_from_vehicle(const rr_vehicle *veh, const rr_profile *p, const 
   return st;
 }
 
-/* Nothing nonlinear left: constant conicity, no saturation, no flange. */
+/* Nothing nonlinear left: constant conicity, no saturation, no flange
+   (contact functions, p NULL, count as nonlinear). */
 static int is_linear(const rr_profile *p, const rr_contact_law *law)
 {
-  if (law->saturation || law->flange_stiffness > 0) return 0;
+  if (!p || law->saturation || law->flange_stiffness > 0) return 0;
   for (int i = 1; i < p->n; i++)
     if (p->kind == RR_PROFILE_POLY ? p->c[i] != 0 : p->lam[i] != p->lam[0]) return 0;
   return 1;
@@ -237,6 +289,93 @@ static int hopf_point(rr_model *m, double lam0, rr_bifurcation *res, rr_error *e
     res->hopf = 1;
     res->hopf_speed_ms = cr.speed_ms;
     res->hopf_freq_hz = cr.mode.freq_hz;
+  }
+  return st;
+}
+
+/* The largest real part of the oscillatory eigenvalues of df/dz at the
+   straight-track equilibrium at speed v (amp > 0: with the contact
+   functions' harmonic slopes at that amplitude), and that eigenvalue's
+   frequency. w: N x N + 2 N scratch. */
+static int equilibrium_rate(const rr_nonlinear *nl, double v, double amp, double *w, double *rate,
+                            double *freq_hz, rr_error *err)
+{
+  int N = rr_nonlinear_size(nl);
+  double *J = w, *wr = J + (size_t)N * (size_t)N, *wi = wr + N;
+  rr_nonlinear_jacobian_harmonic_at(nl, v, amp, J);
+  if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', N, J, N, wr, wi, NULL, 1, NULL, 1))
+    return rr_seterr(err, RR_ELAPACK, "bifurcation: dgeev failed at the equilibrium");
+  *rate = -INFINITY;
+  *freq_hz = NAN;
+  for (int i = 0; i < N; i++)
+    if (wi[i] > 1e-6 * hypot(wr[i], wi[i]) && wr[i] > *rate) {
+      *rate = wr[i];
+      *freq_hz = wi[i] / (2 * RR_PI);
+    }
+  return RR_OK;
+}
+
+/* The lowest speed from HOPF_V_MIN at which an oscillatory eigenvalue of
+   the linearisation at amplitude amp (0: the equilibrium's own, the contact
+   functions' slopes at y = 0 and the normal forces' stiffness included)
+   crosses into the right half-plane, in HOPF_STEP steps, then bisected to
+   HOPF_TOL; NaN when none up to RR_SPEED_MAX_MS. */
+#define HOPF_TOL (1e-6 / RR_KMH)
+static int neutral_speed(const rr_nonlinear *nl, double amp, double *v_out, double *f_out,
+                         rr_error *err)
+{
+  int N = rr_nonlinear_size(nl);
+  double *w = malloc(sizeof(double) * ((size_t)N * (size_t)N + 2 * (size_t)N)), r, f = NAN;
+  if (!w) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  double lo = HOPF_V_MIN, hi = NAN;
+  int st = equilibrium_rate(nl, lo, amp, w, &r, &f, err);
+  if (!st && r >= 0) hi = lo;
+  for (double v = lo + HOPF_STEP; !st && isnan(hi) && v < RR_SPEED_MAX_MS + HOPF_STEP;
+       v += HOPF_STEP) {
+    double vc = fmin(v, RR_SPEED_MAX_MS);
+    if ((st = equilibrium_rate(nl, vc, amp, w, &r, &f, err))) break;
+    if (r >= 0)
+      hi = vc;
+    else
+      lo = vc;
+  }
+  while (!st && isfinite(hi) && hi - lo > HOPF_TOL) {
+    double mid = 0.5 * (lo + hi);
+    if ((st = equilibrium_rate(nl, mid, amp, w, &r, &f, err))) break;
+    if (r >= 0)
+      hi = mid;
+    else
+      lo = mid;
+  }
+  if (!st && isfinite(hi)) st = equilibrium_rate(nl, hi, amp, w, &r, &f, err);
+  *v_out = hi;
+  *f_out = f;
+  free(w);
+  return st;
+}
+
+/* Where the branch on contact functions starts: the speed at which the
+   linearisation a cycle of AMP_START_TABLE sees (the harmonic slopes) has
+   a neutral oscillatory mode. The tables' slopes near y = 0 may differ
+   from their mean over the first cycle (a contact jump within it), so the
+   Hopf point's speed can be far from that cycle's. */
+static int branch_start(const rr_nonlinear *nl, double v_hopf, double *v0, rr_error *err)
+{
+  double f;
+  int st = neutral_speed(nl, AMP_START_TABLE, v0, &f, err);
+  if (!st && !isfinite(*v0)) *v0 = v_hopf;
+  return st;
+}
+
+/* The Hopf point of the vehicle on contact functions. */
+static int jacobian_hopf(const rr_nonlinear *nl, rr_bifurcation *res, rr_error *err)
+{
+  double v, f;
+  int st = neutral_speed(nl, 0, &v, &f, err);
+  if (!st && isfinite(v)) {
+    res->hopf = 1;
+    res->hopf_speed_ms = v;
+    res->hopf_freq_hz = f;
   }
   return st;
 }
@@ -277,6 +416,15 @@ static double lowest_speed(const rr_orbit_sys *s, const rr_orbit_opts *o, const 
   return !st && vf < best ? vf : best;
 }
 
+/* How far a wheelset may move either way within the contact data (inf
+   without contact functions): the branch ends beyond it. */
+static double contact_reach(const rr_nonlinear *nl)
+{
+  double lo, hi;
+  rr_nonlinear_contact_range(nl, &lo, &hi);
+  return fmin(-lo, hi);
+}
+
 static void summarise(const rr_cycle *c, int n, rr_bifurcation *res)
 {
   res->npoints = n;
@@ -285,18 +433,41 @@ static void summarise(const rr_cycle *c, int n, rr_bifurcation *res)
   res->hopf_speed_branch_ms = extrapolate_hopf(c, n < 3 ? n : 3);
 }
 
+/* Nothing found yet. */
+static rr_bifurcation bifurcation_none(void)
+{
+  return (rr_bifurcation){.hopf_speed_ms = NAN,
+                          .hopf_freq_hz = NAN,
+                          .hopf_speed_branch_ms = NAN,
+                          .nonlinear_critical_ms = NAN,
+                          .type = RR_BIF_NONE,
+                          .end = RR_BRANCH_RANGE};
+}
+
+int rr_bifurcation_hopf(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
+                        rr_bifurcation *res, rr_error *err)
+{
+  *res = bifurcation_none();
+  int st = profile_of(veh, &p, err);
+  if (st) return st;
+  rr_contact_law lv = law ? *law : law_of(veh);
+  rr_model *m;
+  rr_nonlinear *nl;
+  st = build(veh, p, &lv, HOPF_V_MIN, &m, &nl, err);
+  if (!st)
+    st = p ? hopf_point(m, rr_profile_conicity(p, 0), res, err) : jacobian_hopf(nl, res, err);
+  rr_nonlinear_free(nl);
+  rr_model_free(m);
+  return st;
+}
+
 int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr_contact_law *law,
                             const rr_orbit_opts *o, rr_cycle *out, double *z_out, int cap,
                             rr_bifurcation *res, rr_error *err)
 {
   rr_orbit_opts def = rr_orbit_opts_default();
   if (!o) o = &def;
-  *res = (rr_bifurcation){.hopf_speed_ms = NAN,
-                          .hopf_freq_hz = NAN,
-                          .hopf_speed_branch_ms = NAN,
-                          .nonlinear_critical_ms = NAN,
-                          .type = RR_BIF_NONE,
-                          .end = RR_BRANCH_RANGE};
+  *res = bifurcation_none();
   if (!(o->v_min_ms > 0 && o->v_max_ms > o->v_min_ms && o->v_max_ms <= RR_SPEED_MAX_MS &&
         o->amp_max_m > 0 && o->ds > 0 && o->rtol > 0 && o->max_points >= 2 && cap >= 2))
     return rr_seterr(
@@ -309,7 +480,8 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
   rr_model *m;
   rr_nonlinear *nl;
   int st = build(veh, p, &lv, o->v_min_ms, &m, &nl, err);
-  if (!st) st = hopf_point(m, rr_profile_conicity(p, 0), res, err);
+  if (!st)
+    st = p ? hopf_point(m, rr_profile_conicity(p, 0), res, err) : jacobian_hopf(nl, res, err);
   if (!st && res->hopf && is_linear(p, &lv)) res->end = RR_BRANCH_LINEAR;
   if (!st && res->hopf && res->end != RR_BRANCH_LINEAR) {
     rr_orbit_sys s;
@@ -317,23 +489,24 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
     rr_orbit *pts = malloc(sizeof *pts * (size_t)cap);
     if (!pts) st = rr_seterr(err, RR_ENOMEM, "out of memory");
     if (!st) st = rr_nonlinear_orbit_sys(nl, &s, &atol, err);
-    double vh = res->hopf_speed_ms;
-    rr_branch_opts bo = {.p_min = fmin(o->v_min_ms, vh / WINDOW_BEYOND),
+    double vh = res->hopf_speed_ms, v0 = vh;
+    if (!st && !p) st = branch_start(nl, vh, &v0, err);
+    rr_branch_opts bo = {.p_min = fmin(o->v_min_ms, fmin(vh, v0) / WINDOW_BEYOND),
                          .p_max = vh <= o->v_max_ms ? o->v_max_ms
                                                     : fmin(vh * WINDOW_BEYOND, RR_SPEED_MAX_MS),
                          /* above the range, only a branch that turns back down can enter it */
-                         .amp_max = o->amp_max_m,
-                         .amp_start = AMP_START,
+                         .amp_max = fmin(o->amp_max_m, contact_reach(nl)),
+                         .amp_start = p ? AMP_START : AMP_START_TABLE,
                          .ds = o->ds,
                          .ds_max = 15 * o->ds,
-                         .rtol = o->rtol,
+                         .rtol = p ? o->rtol : fmax(o->rtol, RTOL_TABLE),
                          .cap = cap < o->max_points ? cap : o->max_points,
                          .runner = o->runner};
     int n = 0;
     double *Z =
         z_out ? z_out : malloc(sizeof(double) * (size_t)cap * (size_t)rr_nonlinear_size(nl));
     if (!st && !Z) st = rr_seterr(err, RR_ENOMEM, "out of memory");
-    if (!st) st = rr_orbit_branch(&s, vh, &bo, pts, Z, &n, &res->end, err);
+    if (!st) st = rr_orbit_branch(&s, v0, &bo, pts, Z, &n, &res->end, err);
     for (int i = 0; i < n; i++) out[i] = cycle_of(&pts[i]);
     summarise(out, n, res);
     if (!st && n) res->nonlinear_critical_ms = lowest_speed(&s, o, pts, Z, n, vh);
@@ -398,9 +571,13 @@ static void measure(const double *u, int stride, int ns, double fs, double *amp,
   *freq = cycle && ncross >= 2 ? (ncross - 1) / (t_last - t_first) : NAN;
 }
 
-/* A fresh start: every wheelset displaced by y_m, the rest at rest. */
+/* A fresh start: every wheelset displaced by y_m (within half the contact
+   data's reach, so that the first swing stays on the data), the rest at
+   rest. */
 static void scan_seed(const rr_nonlinear *nl, double *z, double y_m)
 {
+  double half = 0.5 * contact_reach(nl);
+  if (fabs(y_m) > half) y_m = copysign(half, y_m);
   memset(z, 0, sizeof(double) * (size_t)rr_nonlinear_size(nl));
   for (int w = 0; w < rr_nonlinear_ninputs(nl); w++) z[rr_nonlinear_index_y(nl, w)] = y_m;
 }

@@ -1,9 +1,11 @@
 /* The nonlinear right-hand side (docs/model.md, "Nonlinear model"): the
  * suspension as the linear state matrix without the contact terms, plus per
  * wheelset the contact forces with conicity lambda(|y - y_t|), creep forces
- * saturated per wheel and the flange dead-band spring, with their exact
- * derivatives for the Jacobian. */
+ * saturated per wheel and the flange dead-band spring, or, from wheel and
+ * rail profiles, the tabulated rolling-radius difference and contact angles;
+ * with their derivatives for the Jacobian. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "railride/nonlinear.h"
@@ -11,6 +13,10 @@
 #include "internal.h"
 
 double rr_profile_eval(const rr_profile *p, double a_m, double *dlam_da);
+void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
+                              double *J);
+
+#define RR_NL_MAX_STATES (2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES)
 
 typedef struct wheelset {
   int y, p;                /* DOF indices */
@@ -19,10 +25,24 @@ typedef struct wheelset {
   double im_y, im_p;       /* 1 / m_w, 1 / I_wz */
 } wheelset;
 
+/* Contact functions on s = y_w - y_t (ascending, s_k = s0 + k ds):
+   g = (r_L - r_R) / 2 = -dr(-s) / 2 (lambda s for a cone) and
+   t = tan gamma_L(-s) - tan gamma_R(-s); within [lo, hi] every contact
+   lies within the profiles' data. */
+#define TABLE_EDGES_MAX 12 /* per wheelset: with the saturation's, 4 wheelsets in the orbits' 64   \
+                            */
+typedef struct contact_table {
+  int n, nedges;
+  double s0, ds, lo, hi;
+  double *g, *t;
+  double edge[TABLE_EDGES_MAX]; /* the contact jumps' cells' edges in s: kinks */
+} contact_table;
+
 struct rr_nonlinear {
   int N, n, nw, gravity;
   double v;
   rr_profile prof;
+  contact_table *table; /* NULL: lambda(a) and the flange spring */
   rr_contact_law law;
   wheelset w[RR_SYS_MAX_INPUTS];
   int nnz; /* the suspension's state matrix, sparse by rows */
@@ -39,14 +59,18 @@ rr_contact_law rr_contact_law_default(void)
 void rr_nonlinear_free(rr_nonlinear *nl)
 {
   if (!nl) return;
+  if (nl->table) {
+    free(nl->table->g);
+    free(nl->table->t);
+    free(nl->table);
+  }
   free(nl->row_start);
   free(nl->col);
   free(nl->val);
   free(nl);
 }
 
-static int check_inputs(const rr_model *m, const rr_profile *p, const rr_contact_law *law,
-                        rr_error *err)
+static int check_inputs(const rr_model *m, const rr_contact_law *law, rr_error *err)
 {
   if (m->sdf_mode == RR_SDF_PAPER && m->nsdf)
     return rr_seterr(
@@ -64,7 +88,7 @@ static int check_inputs(const rr_model *m, const rr_profile *p, const rr_contact
     if (m->contacts[i].spec.dx != 0)
       return rr_seterr(err, RR_EUNSUP,
                        "nonlinear model: contacts must sit at their wheelset's reference point");
-  return rr_profile_check(p, err);
+  return RR_OK;
 }
 
 /* The state matrix with the contact terms taken out (C0, K0), as rows of
@@ -102,13 +126,12 @@ static int suspension(rr_nonlinear *nl, const rr_model *m, rr_error *err)
   return st;
 }
 
-int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law,
-                     rr_nonlinear **out, rr_error *err)
+/* The vehicle without its contact geometry (nl->prof, nl->table unset). */
+static int nonlinear_alloc(const rr_model *m, const rr_contact_law *law, rr_nonlinear **out,
+                           rr_error *err)
 {
   *out = NULL;
-  rr_contact_law def = rr_contact_law_default();
-  if (!law) law = &def;
-  int st = check_inputs(m, p, law, err);
+  int st = check_inputs(m, law, err);
   if (st) return st;
   rr_nonlinear *nl = calloc(1, sizeof *nl);
   if (!nl) return rr_seterr(err, RR_ENOMEM, "out of memory");
@@ -117,7 +140,6 @@ int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_la
   nl->nw = m->ni;
   nl->v = m->speed;
   nl->gravity = m->gravity;
-  nl->prof = *p;
   nl->law = *law;
   for (int i = 0; i < m->ni; i++) {
     const rr_contact *c = &m->contacts[i];
@@ -138,6 +160,137 @@ int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_la
   }
   *out = nl;
   return RR_OK;
+}
+
+int rr_nonlinear_new(const rr_model *m, const rr_profile *p, const rr_contact_law *law,
+                     rr_nonlinear **out, rr_error *err)
+{
+  *out = NULL;
+  rr_contact_law def = rr_contact_law_default();
+  int st = rr_profile_check(p, err);
+  if (!st) st = nonlinear_alloc(m, law ? law : &def, out, err);
+  if (!st) (*out)->prof = *p;
+  return st;
+}
+
+/* The run of valid points around y = 0 of cf, as a range of s = -y. */
+static int valid_run(const rr_contact_functions *cf, contact_table *t, rr_error *err)
+{
+  int k0 = (int)lround(-cf->y0_m / cf->dy_m), lo = k0, hi = k0;
+  if (k0 < 0 || k0 >= cf->n || (cf->valid && !cf->valid[k0]))
+    return rr_seterr(err, RR_EINVAL,
+                     "contact functions: y = 0 must lie on the grid, within the profiles' data");
+  while (cf->valid && lo > 0 && cf->valid[lo - 1]) lo--;
+  while (cf->valid && hi < cf->n - 1 && cf->valid[hi + 1]) hi++;
+  if (!cf->valid) lo = 0, hi = cf->n - 1;
+  t->lo = -(cf->y0_m + hi * cf->dy_m);
+  t->hi = -(cf->y0_m + lo * cf->dy_m);
+  return RR_OK;
+}
+
+static int table_from(const rr_contact_functions *cf, contact_table **out, rr_error *err)
+{
+  *out = NULL;
+  if (!(cf && cf->n >= 3 && cf->dy_m > 0 && isfinite(cf->y0_m) && cf->dr_m && cf->tan_right &&
+        cf->tan_left))
+    return rr_seterr(err, RR_EINVAL, "contact functions: need 3 or more points, dy > 0");
+  contact_table *t = calloc(1, sizeof *t);
+  if (!t) return rr_seterr(err, RR_ENOMEM, "out of memory");
+  int n = cf->n, st = valid_run(cf, t, err);
+  t->n = n;
+  t->ds = cf->dy_m;
+  t->s0 = -(cf->y0_m + (n - 1) * cf->dy_m);
+  t->g = malloc(sizeof(double) * (size_t)n);
+  t->t = malloc(sizeof(double) * (size_t)n);
+  if (!st && (!t->g || !t->t)) st = rr_seterr(err, RR_ENOMEM, "out of memory");
+  for (int j = 0; j < cf->nedges && t->nedges < TABLE_EDGES_MAX; j++) {
+    double e = -cf->edge_y_m[j];
+    int dup = 0;
+    for (int i = 0; i < t->nedges; i++) dup |= fabs(t->edge[i] - e) < 1e-3 * t->ds;
+    if (!dup && e >= t->lo && e <= t->hi) t->edge[t->nedges++] = e;
+  }
+  for (int k = 0; k < n && !st; k++) { /* s_k = -y_(n-1-k) */
+    int j = n - 1 - k;
+    t->g[k] = -0.5 * cf->dr_m[j];
+    t->t[k] = cf->tan_left[j] - cf->tan_right[j];
+    if (!isfinite(t->g[k]) || !isfinite(t->t[k]))
+      st = rr_seterr(err, RR_EINVAL, "contact functions: a value that is not finite");
+  }
+  if (st) {
+    free(t->g);
+    free(t->t);
+    free(t);
+    return st;
+  }
+  *out = t;
+  return RR_OK;
+}
+
+int rr_nonlinear_new_contact(const rr_model *m, const rr_contact_functions *cf,
+                             const rr_contact_law *law, rr_nonlinear **out, rr_error *err)
+{
+  *out = NULL;
+  rr_contact_law def = rr_contact_law_default();
+  int st = nonlinear_alloc(m, law ? law : &def, out, err);
+  if (!st) st = table_from(cf, &(*out)->table, err);
+  if (st) {
+    rr_nonlinear_free(*out);
+    *out = NULL;
+    return st;
+  }
+  (*out)->prof = (rr_profile){.kind = RR_PROFILE_NONE};
+  snprintf((*out)->prof.name, sizeof(*out)->prof.name, "%s",
+           cf->source[0] ? cf->source : "profiles");
+  return RR_OK;
+}
+
+static double table_at(const contact_table *T, const double *c, double s, double *slope);
+
+#define HARMONIC_POINTS 256 /* around the circle: the table's segments average out */
+
+/* The harmonic linearisation (1/(pi a)) int_0^2pi c(a sin th) sin th dth of
+   column c at amplitude a (m): the slope a cycle of that amplitude sees. */
+static double harmonic_slope(const contact_table *T, const double *c, double a)
+{
+  double sum = 0, d;
+  for (int k = 0; k < HARMONIC_POINTS; k++) {
+    double sn = sin(2 * RR_PI * (k + 0.5) / HARMONIC_POINTS);
+    sum += table_at(T, c, a * sn, &d) * sn;
+  }
+  return 2 * sum / (HARMONIC_POINTS * a);
+}
+
+void rr_nonlinear_jacobian_harmonic_at(const rr_nonlinear *nl, double v, double amp, double *J)
+{
+  int N = nl->N;
+  double z[RR_NL_MAX_STATES] = {0};
+  rr_nonlinear_jacobian_at(nl, v, z, NULL, J);
+  if (!nl->table || !(amp > 0)) return;
+  const contact_table *T = nl->table;
+  double dg0, dt0;
+  table_at(T, T->g, 0, &dg0);
+  table_at(T, T->t, 0, &dt0);
+  double dg = harmonic_slope(T, T->g, amp) - dg0, dt = harmonic_slope(T, T->t, amp) - dt0;
+  for (int i = 0; i < nl->nw; i++) { /* at rest: eps = 1, so only the geometry's slopes change */
+    const wheelset *w = &nl->w[i];
+    J[(nl->n + w->y) * N + w->y] += -0.5 * w->W * dt * w->im_y;
+    J[(nl->n + w->p) * N + w->y] += -2 * w->l0 * w->f11 * dg / w->r0 * w->im_p;
+  }
+}
+
+int rr_nonlinear_is_odd(const rr_nonlinear *nl)
+{
+  const contact_table *T = nl->table;
+  if (!T) return 1; /* lambda(|d|) d and the flange spring are odd in d */
+  for (int k = 0; k < T->n; k++)
+    if (T->g[k] != -T->g[T->n - 1 - k] || T->t[k] != -T->t[T->n - 1 - k]) return 0;
+  return fabs(T->s0 + 0.5 * (T->n - 1) * T->ds) <= 1e-12 * T->ds * T->n;
+}
+
+void rr_nonlinear_contact_range(const rr_nonlinear *nl, double *lo_m, double *hi_m)
+{
+  *lo_m = nl->table ? nl->table->lo : -INFINITY;
+  *hi_m = nl->table ? nl->table->hi : INFINITY;
 }
 
 int rr_nonlinear_set_speed(rr_nonlinear *nl, double v, rr_error *err)
@@ -169,45 +322,96 @@ static double saturation(double beta, double *deps)
   return 1 / beta;
 }
 
-/* The unsaturated creep forces f11 s and f22 xy of one wheel (N) at
-   conicity lam and lateral offset d from the track: s the left wheel's
-   longitudinal creepage (the right's is -s), xy both wheels' lateral one. */
-static void creep_forces(const wheelset *w, double v, const double *x, double d, double lam,
-                         double *fx, double *fy)
+/* The unsaturated creep forces f11 s and f22 xy of one wheel (N), gd the
+   rolling-radius term (r_L - r_R) / 2 (lambda d for a cone): s the left
+   wheel's longitudinal creepage (the right's is -s), xy both wheels'
+   lateral one. */
+static void creep_forces(const wheelset *w, double v, const double *x, double gd, double *fx,
+                         double *fy)
 {
-  *fx = w->f11 * (w->l0 * x[3] / v + lam * d / w->r0);
+  *fx = w->f11 * (w->l0 * x[3] / v + gd / w->r0);
   *fy = w->f22 * (x[2] / v - x[1]);
 }
 
-/* Forces of one wheelset: F[0] lateral (creep + flange + gravity), F[1] yaw
+/* Linear interpolation of a table's column c at s, and its slope (at a
+   grid point the mean of the two sides'; held beyond the ends, slope 0). */
+static double table_at(const contact_table *T, const double *c, double s, double *slope)
+{
+  double x = (s - T->s0) / T->ds;
+  if (!(x > 0)) {
+    *slope = 0;
+    return c[0];
+  }
+  if (x >= T->n - 1) {
+    *slope = 0;
+    return c[T->n - 1];
+  }
+  int k = (int)x;
+  double u = x - k, d = c[k + 1] - c[k];
+  *slope = (u == 0 && k > 0 ? 0.5 * (c[k + 1] - c[k - 1]) : d) / T->ds;
+  return c[k] + u * d;
+}
+
+/* The geometry's share of one wheelset's contact at d = y_w - y_t: the
+   rolling-radius term gd and d gd / dd, and the lateral force that is not
+   creep (flange spring and gravitational stiffness, or the normal forces'
+   resultant from the profiles) with d/dd; the yaw moment's gravitational
+   term W lambda l0 (per rad of psi) with d/dd. */
+typedef struct contact_geometry {
+  double gd, dgd, fy, dfy, mz_psi, dmz_psi;
+  double flange; /* the flange spring's share of fy, or the normal forces' */
+} contact_geometry;
+
+static contact_geometry geometry(const rr_nonlinear *nl, const wheelset *w, double d)
+{
+  contact_geometry g = {0};
+  if (nl->table) {
+    double dt, t = table_at(nl->table, nl->table->t, d, &dt);
+    g.gd = table_at(nl->table, nl->table->g, d, &g.dgd);
+    g.fy = g.flange = -0.5 * w->W * t;
+    g.dfy = -0.5 * w->W * dt;
+    return g;
+  }
+  const rr_contact_law *law = &nl->law;
+  double a = fabs(d), dl, lam = rr_profile_eval(&nl->prof, a, &dl), sg = d > 0 ? 1 : d < 0 ? -1 : 0;
+  g.gd = lam * d;
+  g.dgd = lam + dl * a; /* d(lambda(|d|) d) / dd */
+  if (law->flange_stiffness > 0 && a > law->flange_clearance) {
+    g.fy = g.flange = -law->flange_stiffness * (a - law->flange_clearance) * sg;
+    g.dfy = -law->flange_stiffness;
+  }
+  if (nl->gravity) { /* K += W lambda / l0 on y, -W lambda l0 on psi, with lambda(|d|) */
+    g.fy -= w->W * g.gd / w->l0;
+    g.dfy -= w->W * g.dgd / w->l0;
+    g.mz_psi = w->W * lam * w->l0;
+    g.dmz_psi = w->W * w->l0 * dl * sg;
+  }
+  return g;
+}
+
+/* Forces of one wheelset: F[0] lateral (creep + geometry), F[1] yaw
    moment; with dF (may be NULL: the right-hand side needs none), their
    derivatives dF[k][0..4] in y, psi, dy/dt, dpsi/dt and the speed v;
-   flange the flange's share of F[0]. x = (y, psi, dy/dt, dpsi/dt). */
+   flange the geometry's share of F[0] (the flange spring's and gravity's,
+   or the normal forces'). x = (y, psi, dy/dt, dpsi/dt). */
 static void contact(const rr_nonlinear *nl, double v, const wheelset *w, const double *x, double yt,
                     double F[2], double dF[2][5], double *flange)
 {
   const rr_contact_law *law = &nl->law;
-  double d = x[0] - yt, a = fabs(d), dl, lam = rr_profile_eval(&nl->prof, a, &dl);
+  contact_geometry g = geometry(nl, w, x[0] - yt);
   double fx, fy, eps = 1, deps = 0, fn = 0;
-  creep_forces(w, v, x, d, lam, &fx, &fy);
+  creep_forces(w, v, x, g.gd, &fx, &fy);
   int sat = law->saturation && w->muN > 0;
   if (sat) { /* |F| < 1e9 N: no overflow to guard against */
     fn = sqrt(fx * fx + fy * fy);
     eps = saturation(fn / w->muN, &deps);
   }
   /* both wheels share |F|, hence eps: F_y = 2 eps (-f22 xy), M_z = 2 eps (-f11 s) l0 */
-  F[0] = -2 * eps * fy;
-  F[1] = -2 * eps * fx * w->l0;
-  int touch = law->flange_stiffness > 0 && a > law->flange_clearance;
-  *flange = touch ? -law->flange_stiffness * (a - law->flange_clearance) * (d > 0 ? 1 : -1) : 0;
-  F[0] += *flange;
-  if (nl->gravity) { /* K += W lambda / l0 on y, -W lambda l0 on psi, with lambda(|d|) */
-    F[0] -= w->W * lam * d / w->l0;
-    F[1] += w->W * lam * w->l0 * x[1];
-  }
+  F[0] = -2 * eps * fy + g.fy;
+  F[1] = -2 * eps * fx * w->l0 + g.mz_psi * x[1];
+  *flange = g.flange;
   if (!dF) return;
-  double dlamd_dd = lam + dl * a; /* d(lambda(|d|) d) / dd */
-  double ds[5] = {dlamd_dd / w->r0, 0, 0, w->l0 / v, -w->l0 * x[3] / (v * v)};
+  double ds[5] = {g.dgd / w->r0, 0, 0, w->l0 / v, -w->l0 * x[3] / (v * v)};
   double dxy[5] = {0, -1, 1 / v, 0, -x[2] / (v * v)}, db[5] = {0, 0, 0, 0, 0};
   for (int k = 0; k < 5 && sat && fn > 0; k++)
     db[k] = (fx * w->f11 * ds[k] + fy * w->f22 * dxy[k]) / (fn * w->muN);
@@ -215,12 +419,9 @@ static void contact(const rr_nonlinear *nl, double v, const wheelset *w, const d
     dF[0][k] = -2 * (eps * w->f22 * dxy[k] + fy * deps * db[k]);
     dF[1][k] = -2 * w->l0 * (eps * w->f11 * ds[k] + fx * deps * db[k]);
   }
-  if (touch) dF[0][0] -= law->flange_stiffness;
-  if (nl->gravity) {
-    dF[0][0] -= w->W * dlamd_dd / w->l0;
-    dF[1][1] += w->W * lam * w->l0;
-    dF[1][0] += w->W * w->l0 * x[1] * dl * (d > 0 ? 1 : d < 0 ? -1 : 0);
-  }
+  dF[0][0] += g.dfy;
+  dF[1][1] += g.mz_psi;
+  dF[1][0] += g.dmz_psi * x[1];
 }
 
 static void wheel_state(const rr_nonlinear *nl, const wheelset *w, const double *z, double x[4])
@@ -275,7 +476,6 @@ void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z,
    added to the last column (the variational equation of the speed's
    sensitivity). Straight, perfect track. Every column's sums run in the
    same order as a single column's would. */
-#define RR_NL_MAX_STATES (2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES)
 
 /* Row i of the suspension's sparse matrix applied to columns c0 .. c0 + B - 1
    of X (rows w apart) into o; B a constant where it is inlined, so that the
@@ -356,9 +556,9 @@ void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, cons
 /* The saturation's argument beta = |F| / (mu N) of wheelset w at speed v. */
 static double beta_of(const rr_nonlinear *nl, double v, const wheelset *w, const double *z)
 {
-  double x[4], dl, fx, fy;
+  double x[4], fx, fy;
   wheel_state(nl, w, z, x);
-  creep_forces(w, v, x, x[0], rr_profile_eval(&nl->prof, fabs(x[0]), &dl), &fx, &fy);
+  creep_forces(w, v, x, geometry(nl, w, x[0]).gd, &fx, &fy);
   return sqrt(fx * fx + fy * fy) / w->muN;
 }
 
@@ -369,18 +569,23 @@ static double beta_of(const rr_nonlinear *nl, double v, const wheelset *w, const
    NULL) gets one value per kink, zero there; the count is returned. */
 int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g)
 {
-  int k = 0;
+  int k = 0, spring = !nl->table && nl->law.flange_stiffness > 0;
   double dl,
-      edge[3] = {0, nl->law.flange_stiffness > 0 ? nl->law.flange_clearance : 0,
+      edge[3] = {0, spring ? nl->law.flange_clearance : 0,
                  nl->prof.kind == RR_PROFILE_POLY && nl->prof.hold_mm > 0 ? nl->prof.hold_mm * 1e-3
                                                                           : 0};
-  rr_profile_eval(&nl->prof, 0, &dl);
+  dl = 0; /* the profiles' tables have a corner at every grid point: none is an event */
+  if (!nl->table) rr_profile_eval(&nl->prof, 0, &dl);
   int corner = dl != 0, sat = nl->law.saturation;
   for (int i = 0; i < nl->nw; i++) {
     const wheelset *w = &nl->w[i];
     double y = z ? z[w->y] : 0;
     if (corner) {
       if (g) g[k] = y;
+      k++;
+    }
+    for (int e = 0; nl->table && e < nl->table->nedges; e++) {
+      if (g) g[k] = y - nl->table->edge[e];
       k++;
     }
     for (int e = 1; e < 3; e++) {

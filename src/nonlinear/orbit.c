@@ -567,9 +567,11 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
   }
   if ((st = residual(s, w, z0, *T, *p, rtol, w->F, &amp, err))) return st;
   res = norm2(w->F, n) / fmax(norm2(z0, n), 1e-300);
-  for (int it = 1; it <= NEWTON_MAXIT; it++) {
+  int maxit = s->newton_maxit > 0 ? s->newton_maxit : NEWTON_MAXIT;
+  double tol = s->newton_tol > 0 ? s->newton_tol : NEWTON_TOL;
+  for (int it = 1; it <= maxit; it++) {
     newton_system(s, w, z0, *p, c);
-    if (res <= NEWTON_TOL && fabs(w->R[n + 1]) <= 1e-9 * (c->kind == 0 ? s->p_unit : 1)) {
+    if (res <= tol && fabs(w->R[n + 1]) <= 1e-9 * (c->kind == 0 ? s->p_unit : 1)) {
       if ((st = refresh(s, w, z0, *T, *p, err))) return st;
       *out = (rr_orbit){.p = *p, .T = *T, .amp = amp, .residual = res, .iterations = it};
       return floquet(w->f.Phi, n, w->half, w->ea, w->wr, w->wi, out, err);
@@ -585,11 +587,11 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     double lam = 1, rn;
     for (int k = 0;; k++) {
       if ((st = trial(s, w, z0, *T, *p, lam, rtol, &rn, &amp, err))) return st;
-      if (rn < merit || rn <= 10 * NEWTON_TOL) break;
+      if (rn < merit || rn <= 10 * tol) break;
       if (!fresh || k >= 4) break;
       lam *= 0.5;
     }
-    if (!(rn < merit || rn <= 10 * NEWTON_TOL)) {
+    if (!(rn < merit || rn <= 10 * tol)) {
       if (fresh) return rr_seterr(err, RR_ENOCONV, "orbit: Newton stalls at residual %.1e", res);
       if ((st = refresh(s, w, z0, *T, *p, err))) return st;
       fresh = 1;
@@ -599,7 +601,7 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     memcpy(z0, w->zt, sizeof(double) * (size_t)n);
     *T += w->dX[n];
     *p += w->dX[n + 1];
-    if (rn > 0.5 * res && !fresh && rn > 10 * NEWTON_TOL) { /* slow: Newton's own rows from here */
+    if (rn > 0.5 * res && !fresh && rn > 10 * tol) { /* slow: Newton's own rows from here */
       if ((st = refresh(s, w, z0, *T, *p, err))) return st;
       fresh = 1;
     } else {
@@ -610,8 +612,7 @@ static int newton_run(const rr_orbit_sys *s, work *w, double *z0, double *T, dou
     res = rn;
   }
   return rr_seterr(err, RR_ENOCONV,
-                   "orbit: Newton did not converge in %d iterations (residual %.1e)", NEWTON_MAXIT,
-                   res);
+                   "orbit: Newton did not converge in %d iterations (residual %.1e)", maxit, res);
 }
 
 static int newton(const rr_orbit_sys *s, work *w, double *z0, double *T, double *p, double rtol,
@@ -761,7 +762,8 @@ int rr_orbit_floquet_vector(const rr_orbit_sys *s, const double *z0, double T, d
   return st;
 }
 
-/* The start at the Hopf point: the critical eigenvector of df/dz(0),
+/* The start at the Hopf point: the critical eigenvector of df/dz(0) (or of
+   the start Jacobian at amp),
    phased so that z[k_phase] = 0 and scaled to z[k_amp] = amp; T = 2 pi / w. */
 static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, double *T,
                       rr_error *err)
@@ -773,7 +775,10 @@ static int hopf_start(const rr_orbit_sys *s, double p, double amp, double *z0, d
   if (!J || !wr || !wi || !V) st = rr_seterr(err, RR_ENOMEM, "out of memory");
   if (!st) {
     memset(z0, 0, sizeof(double) * (size_t)n);
-    s->ode.jac(s->ode.user, 0, p, z0, J);
+    if (s->start_jac)
+      s->start_jac(s->ode.user, p, amp, J);
+    else
+      s->ode.jac(s->ode.user, 0, p, z0, J);
     if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', n, J, n, wr, wi, NULL, 1, V, n))
       st = rr_seterr(err, RR_ELAPACK, "orbit: dgeev failed at the Hopf point");
   }
@@ -925,6 +930,14 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
   w.T_max = PERIOD_GROWTH_MAX * X[n];
   for (int i = 0; i < 2; i++) { /* at amp_start and 3 amp_start: close enough to extrapolate back */
     closure c = {.kind = 1, .amp = o->amp_start * (1 + 2 * i)};
+    if (i == 1 && s->start_p) { /* the second from its own describing function too */
+      double p1;
+      if ((st = s->start_p(s->ode.user, c.amp, &p1, err))) goto done;
+      if (isfinite(p1)) {
+        X[n + 1] = p1;
+        if ((st = hopf_start(s, p1, c.amp, X, &X[n], err))) goto done;
+      }
+    }
     if ((st = newton(s, &w, X, &X[n], &X[n + 1], o->rtol, &c, &r, err))) goto done;
     store(&r, X, n, out, z_out, &k);
     history_push(s, &h, X);

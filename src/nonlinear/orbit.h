@@ -37,6 +37,21 @@ typedef struct rr_orbit_sys {
      are the squares of that map's; a real one of them crossing -1 is a
      symmetry-breaking bifurcation. */
   int odd;
+  /* Optional: the Jacobian whose critical eigenvector starts the branch at
+     amplitude amp (a describing function: the linearisation that a cycle of
+     that amplitude sees); NULL: ode.jac at z = 0. */
+  void (*start_jac)(void *user, double p, double amp, double *J);
+  /* Optional, with start_jac: the parameter at which that linearisation has
+     a neutral oscillatory mode, the guess for the cycle of amplitude amp
+     (the branch's second start point too); 0 or an error status. */
+  int (*start_p)(void *user, double amp, double *p, rr_error *err);
+  /* Newton's iterations before it gives up (0: 12) and its tolerance on
+     |phi_T(z0) - z0| / |z0| (0: 5e-9). Tabulated contact functions, linear
+     between grid points, with the steep cells of contact jumps, make the
+     return map's derivative jump along the orbit: Newton converges
+     linearly, to a floor of about 1e-5 set by the integrator's steps. */
+  int newton_maxit;
+  double newton_tol;
 } rr_orbit_sys;
 
 /* Multipliers outside the unit circle, by the kind of bifurcation their

@@ -60,6 +60,24 @@ static void sim_jac(void *user, double t, double p, const double *z, double *J)
   rr_nonlinear_jacobian(s->nl, z, track_at(s, t, yt), J);
 }
 
+/* RR_EDERAIL when a wheelset at time t stands beyond the contact data. */
+static int check_contact(const sim_ctx *s, double t, const double *z, rr_error *err)
+{
+  double lo, hi, yt[RR_NL_MAX_INPUTS];
+  rr_nonlinear_contact_range(s->nl, &lo, &hi);
+  if (!isfinite(lo) && !isfinite(hi)) return RR_OK;
+  const double *track = track_at(s, t, yt);
+  for (int w = 0; w < rr_nonlinear_ninputs(s->nl); w++) {
+    double d = z[rr_nonlinear_index_y(s->nl, w)] - (track ? track[w] : 0);
+    if (!(d >= lo && d <= hi))
+      return rr_seterr(err, RR_EDERAIL,
+                       "simulate: wheelset %d at %.3f mm from the track centre line at t = %g s, "
+                       "beyond the contact data (%.3f .. %.3f mm): a derailment indication",
+                       w + 1, 1e3 * d, t, 1e3 * lo, 1e3 * hi);
+  }
+  return RR_OK;
+}
+
 void rr_nonlinear_atol(const rr_nonlinear *nl, double atol_m, double *atol)
 {
   int N = rr_nonlinear_size(nl), n = rr_nonlinear_ndof(nl);
@@ -86,6 +104,7 @@ int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, 
   free(atol);
   if (st) return st;
   memcpy(out, z0, sizeof(double) * (size_t)N);
+  st = check_contact(&s, 0, z0, err);
   for (int k = 1; k < nsamples && !st; k++) {
     double t = 0;
     int r = CVode(c.mem, k / o->fs_hz, c.y, &t, CV_NORMAL);
@@ -95,6 +114,7 @@ int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, 
     for (int i = 0; i < N && !st; i++)
       if (!isfinite(y[i]))
         st = rr_seterr(err, RR_ENOCONV, "simulate: the state is not finite at t = %g s", t);
+    if (!st) st = check_contact(&s, t, y, err);
     if (!st) memcpy(out + (size_t)k * (size_t)N, y, sizeof(double) * (size_t)N);
   }
   rr_ode_close(&c);

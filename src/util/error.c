@@ -17,6 +17,7 @@ const char *rr_strerror(int status)
   case RR_EUNSUP: return "unsupported combination of options";
   case RR_ESTOPPED: return "stopped by the caller";
   case RR_EUNDEF: return "result undefined";
+  case RR_EDERAIL: return "a wheelset left the contact data (derailment indication)";
   default: return "unknown status";
   }
 }
