@@ -3,8 +3,7 @@
  * knife-edge rail is the constant conicity exactly (right-hand side,
  * Jacobian, Hopf point); a linear contact-angle difference gives the
  * normal forces' resultant -(Q/2) kappa s; a wheelset beyond the data ends
- * a simulation with RR_EDERAIL; the built-in S1002 wheel has its defining
- * dimensions. */
+ * a simulation with RR_EDERAIL. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -204,47 +203,13 @@ static void test_cone_hopf(void)
         b.type, c.type);
 }
 
-/* The built-in S1002 (EN 13715) against its defining dimensions: flange
-   height 28 mm, flange thickness 32.5 mm at 10 mm above the measuring
-   circle (from the flange back at -70 mm), qR 10.8 mm (between that point
-   and the flange face 2 mm below the tip). */
-static double crossing(const rr_polyline *p, double z, double from)
-{
-  for (int i = 1; i < p->n; i++)
-    if (p->x[i] > from && (p->z[i - 1] - z) * (p->z[i] - z) <= 0 && p->z[i] != p->z[i - 1])
-      return p->x[i - 1] + (p->x[i] - p->x[i - 1]) * (z - p->z[i - 1]) / (p->z[i] - p->z[i - 1]);
-  return NAN;
-}
-
-static void test_s1002(void)
-{
-  rr_polyline p;
-  rr_error e;
-  CHECK_OK(rr_polyline_builtin("S1002", &p, &e), e);
-  double zmin = 0, umin = 0;
-  for (int i = 0; i < p.n; i++)
-    if (p.z[i] < zmin) zmin = p.z[i], umin = p.x[i];
-  CHECK_CLOSE(-zmin, 28, 0, 1e-9, "S1002 flange height (mm)");
-  CHECK_CLOSE(umin, -55, 0, 1e-9, "S1002 flange tip position (mm)");
-  double u10 = crossing(&p, -10, umin), u26 = crossing(&p, -26, umin);
-  CHECK_CLOSE(u10 + 70, 32.5, 0, 0.01, "S1002 flange thickness (mm)");
-  CHECK_CLOSE(u10 - u26, 10.8, 0, 0.02, "S1002 qR (mm)");
-  int joins = 1;
-  for (int i = 1; i < p.n; i++)
-    joins &= fabs(p.z[i] - p.z[i - 1]) < 2.1; /* no gap between sections */
-  CHECK(joins && p.x[0] == -70 && p.n == 1301, "S1002: 1301 points from the flange back, joined");
-  rr_polyline_free(&p);
-  CHECK(rr_polyline_builtin("S1003", &p, &e) == RR_EINVAL, "an unknown built-in: %s", e.msg);
-  CHECK(rr_polyline_load("S1002", &p, &e) == RR_OK && p.n == 1301, "S1002 by name as a file");
-  rr_polyline_free(&p);
-}
-
 int main(void)
 {
+  if (check_tmpdir("nlcontact")) return 1;
   test_cone_equals_constant();
   test_normal_forces();
   test_derailment();
   test_cone_hopf();
-  test_s1002();
+  check_cleanup();
   return check_done("nonlinear contact");
 }

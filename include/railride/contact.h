@@ -29,7 +29,9 @@ typedef struct rr_polyline {
  * gives that profile when no such file exists. */
 RR_API int rr_polyline_load(const char *path, rr_polyline *p, rr_error *err);
 /* A built-in design profile from its published definition: "S1002" (the
- * EN 13715 wheel, 0.1 mm apart from the flange back, u = -70 .. 60 mm). */
+ * EN 13715 wheel, 0.1 mm apart from the flange back, u = -70 .. 60 mm) or
+ * "60E1" (the EN 13674-1 rail head, upright, crown at the origin, to the end
+ * of its 13 mm gauge-corner arc). */
 RR_API int rr_polyline_builtin(const char *name, rr_polyline *p, rr_error *err);
 /* 1 when name is a built-in profile's (rr_polyline_load takes it too). */
 RR_API int rr_polyline_is_builtin(const char *name);

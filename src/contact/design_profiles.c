@@ -1,19 +1,30 @@
 /* Built-in design profiles from their published definitions
- * (docs/references.md): the S1002 wheel of EN 13715 (UIC 510-2), sections
- * A-H, as polynomials and circular arcs in the lateral coordinate s from the
+ * (docs/references.md). The S1002 wheel of EN 13715 (UIC 510-2): sections
+ * A-H, polynomials and circular arcs in the lateral coordinate s from the
  * measuring circle (positive to the field side, mm), giving the radius
- * increase F(s); the profile's z_w = -F(s) (docs/contact.md). Sampled every
+ * increase F(s); the profile's z_w = -F(s) (docs/contact.md); sampled every
  * 0.1 mm from the flange back (s = -70) to s = 60: the chord of the
- * smallest arc (the flange tip's, 12 mm) is within 1.1e-4 mm of it. */
+ * smallest arc (the flange tip's, 12 mm) is within 1.1e-4 mm of it. The 60E1
+ * rail head of EN 13674-1, upright: tangent arcs of 300 mm (the crown, over
+ * a chord of 20.456 mm), 80 mm (to a chord of 52.053 mm) and 13 mm (until
+ * the side turns to 1:20, 14.3 mm below the crown, where the head is 72 mm
+ * wide), sampled every 0.1 mm of their length. The 1:20 side below is left
+ * out: on a rail inclined 1:20 it would stand vertical, which a profile
+ * (strictly rising laterally) cannot hold; a flange that reaches it is
+ * beyond the data. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include "railride/contact.h"
 #include "internal.h"
 
 #define S1002_FROM -70.0
 #define S1002_TO 60.0
 #define S1002_STEP 0.1
+#define RAIL_ARC_STEP 0.1 /* mm of arc between points */
+#define E1_CROWN_CHORD 20.456
+#define E1_R80_CHORD 52.053
 
 /* A circular arc a + sign sqrt(r^2 - (s + c)^2) (0 beyond its reach). */
 static double arc(double s, double a, double r, double c, double sign)
@@ -55,11 +66,68 @@ static double s1002(double s)
   return 1.364323640 - 0.066666667 * s;                          /* A: chamfer side */
 }
 
-int rr_polyline_builtin(const char *name, rr_polyline *p, rr_error *err)
+/* Points along the arc of radius r about (cv, cz) from angle a to b
+   (radians, b < a: clockwise, the crown side first), every RAIL_ARC_STEP
+   of its length; the end point excluded. Returns the count written. */
+static int arc_points(double cv, double cz, double r, double a, double b, double *v, double *z)
 {
-  *p = (rr_polyline){0};
-  if (strcmp(name, "S1002") && strcmp(name, "s1002"))
-    return rr_seterr(err, RR_EINVAL, "'%s' is not a built-in profile (S1002)", name);
+  int n = (int)ceil(r * (a - b) / RAIL_ARC_STEP);
+  for (int k = 0; k < n; k++) {
+    double t = a + (b - a) * k / n;
+    v[k] = cv + r * cos(t);
+    z[k] = cz + r * sin(t);
+  }
+  return n;
+}
+
+/* One side (v >= 0) of a head of tangent arcs r[0] (centred on the axis,
+   crown at 0), r[1], r[2], ending where the surface turns to 1 in side
+   from the vertical, the chords at which the arcs change given; into v, z,
+   the count returned. */
+static int head_half(const double r[3], const double chord[2], double side, double *v, double *z)
+{
+  double cv = 0, cz = -r[0], a = RR_PI / 2; /* the current arc's centre and start angle */
+  int n = 0;
+  for (int i = 0; i < 3; i++) {
+    double b = i < 2 ? acos((0.5 * chord[i] - cv) / r[i]) : atan(1 / side);
+    n += arc_points(cv, cz, r[i], a, b, v + n, z + n);
+    if (i < 2) { /* the next arc's centre: on this normal, r[i + 1] in from the joint */
+      double pv = cv + r[i] * cos(b), pz = cz + r[i] * sin(b);
+      cv = pv - r[i + 1] * cos(b);
+      cz = pz - r[i + 1] * sin(b);
+    }
+    a = b;
+  }
+  v[n] = cv + r[2] * cos(a);
+  z[n++] = cz + r[2] * sin(a);
+  return n;
+}
+
+static int rail_60e1(rr_polyline *p, rr_error *err)
+{
+  enum { CAP = 2048 };
+  static const double r[3] = {300, 80, 13}, chord[2] = {E1_CROWN_CHORD, E1_R80_CHORD};
+  double hv[CAP / 2], hz[CAP / 2];
+  int h = head_half(r, chord, 20, hv, hz), n = 2 * h - 1;
+  p->x = malloc(sizeof(double) * (size_t)n);
+  p->z = malloc(sizeof(double) * (size_t)n);
+  if (!p->x || !p->z) {
+    rr_polyline_free(p);
+    return rr_seterr(err, RR_ENOMEM, "out of memory");
+  }
+  for (int k = 0; k < h; k++) { /* the gauge side (v < 0) mirrored, then the field side */
+    p->x[k] = -hv[h - 1 - k];
+    p->z[k] = hz[h - 1 - k];
+    p->x[h - 1 + k] = hv[k];
+    p->z[h - 1 + k] = hz[k];
+  }
+  p->x[h - 1] = 0; /* the crown, once */
+  p->n = n;
+  return RR_OK;
+}
+
+static int wheel_s1002(rr_polyline *p, rr_error *err)
+{
   int n = (int)lround((S1002_TO - S1002_FROM) / S1002_STEP) + 1;
   p->x = malloc(sizeof(double) * (size_t)n);
   p->z = malloc(sizeof(double) * (size_t)n);
@@ -75,7 +143,22 @@ int rr_polyline_builtin(const char *name, rr_polyline *p, rr_error *err)
   return RR_OK;
 }
 
+static const struct {
+  const char *name;
+  int (*make)(rr_polyline *, rr_error *);
+} builtins[] = {{"S1002", wheel_s1002}, {"60E1", rail_60e1}};
+
+int rr_polyline_builtin(const char *name, rr_polyline *p, rr_error *err)
+{
+  *p = (rr_polyline){0};
+  for (size_t i = 0; i < sizeof builtins / sizeof builtins[0]; i++)
+    if (!strcasecmp(name, builtins[i].name)) return builtins[i].make(p, err);
+  return rr_seterr(err, RR_EINVAL, "'%s' is not a built-in profile (S1002, 60E1)", name);
+}
+
 int rr_polyline_is_builtin(const char *name)
 {
-  return !strcmp(name, "S1002") || !strcmp(name, "s1002");
+  for (size_t i = 0; i < sizeof builtins / sizeof builtins[0]; i++)
+    if (!strcasecmp(name, builtins[i].name)) return 1;
+  return 0;
 }

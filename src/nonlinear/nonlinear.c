@@ -29,8 +29,9 @@ typedef struct wheelset {
    g = (r_L - r_R) / 2 = -dr(-s) / 2 (lambda s for a cone) and
    t = tan gamma_L(-s) - tan gamma_R(-s); within [lo, hi] every contact
    lies within the profiles' data. */
-#define TABLE_EDGES_MAX 12 /* per wheelset: with the saturation's, 4 wheelsets in the orbits' 64   \
-                            */
+#define TABLE_EDGES_MAX                                                                            \
+  12 /* per wheelset: with the saturation's, 4 wheelsets in the orbits' 64                         \
+      */
 typedef struct contact_table {
   int n, nedges;
   double s0, ds, lo, hi;
