@@ -1,20 +1,23 @@
-"""numpy doing the contact search of one railride contact run, vectorised.
+"""numpy doing one railride contact run, vectorised: the contact search and
+the equivalent conicity function (bench/numpy_conicity.py), all included.
 
 EN 15302's wheel A on rail S-UIC 519-A (1001 points each, rail as stored,
 gauge point -32.5 mm so the wheel origin sits above the rail origin), the
 2001-point grid y = -10:10:0.01 mm, no roll: for every y and side the exact
 polyline search (every rail vertex and every shifted wheel vertex a
-candidate, the gauge-most of the ties), then dr = r_R - r_L. All y at once
-(2001 x 1001 arrays). Only the search: the conicity function is not
-included, so the ratio against railride's all-included figure flatters
-numpy. With a file argument (`railride contact --grid` of the same case) it
-also prints the largest dr difference (a cross-check). Prints the median of
-5 runs in ms.
+candidate, the gauge-most of the ties), then dr = r_R - r_L, all y at once
+(2001 x 1001 arrays); then y0 and the three methods at the 66 amplitudes
+1.0-7.5 mm, all amplitudes at once. With a file argument (`railride contact
+--json --amplitudes 1:7.5:0.1` of the same case) it also prints the largest
+differences from railride's dr and tan gamma_e (a cross-check). Prints the
+medians of 5 runs in ms.
 """
 import sys
 import time
 
 import numpy as np
+
+import numpy_conicity as nc
 
 W = np.loadtxt("profiles/en15302/RUIC519A.dat", comments="#")
 R = np.loadtxt("profiles/en15302/SUIC519A.dat", comments="#")
@@ -51,13 +54,28 @@ def run():
     return y, (r0 - zR) - (r0 - zL), okR & okL
 
 
-t = []
+AMPS = np.round(np.arange(66) * 0.1 + 1.0, 10)
+t, tc = [], []
 for _ in range(5):
     t0 = time.perf_counter()
     y, dr, ok = run()
-    t.append(time.perf_counter() - t0)
+    t1 = time.perf_counter()
+    y0, tg_a, tg_b, tg_c = nc.conicity(y, dr, ok, AMPS)
+    t2 = time.perf_counter()
+    t.append(t1 - t0)
+    tc.append(t2 - t0)
 print("numpy_contact_search_ms %.1f  (valid %d of %d)" % (1e3 * sorted(t)[2], ok.sum(), y.size))
+print("numpy_contact_all_ms %.1f  (search + the conicity function, 66 amplitudes, three methods;"
+      " tan_gamma_e at 3 mm %.5f)" % (1e3 * sorted(tc)[2], tg_a[20]))
 if len(sys.argv) > 1:
-    g = np.genfromtxt(sys.argv[1], delimiter=",", names=True)
-    m = ok & (g["valid"] > 0)
-    print("numpy_contact_dr_max_diff_mm %.2e" % np.abs(dr[m] - g["dr_mm"][m]).max())
+    import json
+    g = json.load(open(sys.argv[1]))
+    m = ok & np.array(g["valid"], bool)
+    print("numpy_contact_dr_max_diff_mm %.2e" % np.abs(dr[m] - np.array(g["dr_mm"])[m]).max())
+    for name, mine in (("tan_gamma_e", tg_a), ("tan_gamma_e_harmonic", tg_b),
+                       ("tan_gamma_e_regression", tg_c)):
+        theirs = np.array([np.nan if x is None else x for x in g[name]], float)
+        both = np.isfinite(mine) & np.isfinite(theirs)
+        print("numpy_%s_max_diff %.2e  (%d of %d defined in both, %d disagree on defined)"
+              % (name, np.abs(mine[both] - theirs[both]).max(), both.sum(), mine.size,
+                 (np.isfinite(mine) != np.isfinite(theirs)).sum()))

@@ -55,10 +55,18 @@ echo "== validation: 600 s at 350 km/h simulated and analysed =="
 "$B/railride" validate --speed 350 --conicity 0.2 | tail -1
 echo "== contact geometry and equivalent conicity (EN 15302 wheel A on rail A, 2001 y, 66 amplitudes) =="
 taskset -c 1 "$B/bench/bench_contact"
-echo "== numpy, the contact search alone of the same case (vectorised over y; dr checked against railride's) =="
-grid=$(mktemp)
-"$B/railride" contact --wheel profiles/en15302/RUIC519A.dat --rail profiles/en15302/SUIC519A.dat --rail-gmp -32.5 --grid "$grid" > /dev/null
-taskset -c 1 $PY bench/numpy_contact.py "$grid"
-rm -f "$grid"
+echo "== numpy, the same run (search vectorised over y, the conicity function over the amplitudes; checked against railride's) =="
+cj=$(mktemp)
+"$B/railride" contact --wheel profiles/en15302/RUIC519A.dat --rail profiles/en15302/SUIC519A.dat --rail-gmp -32.5 --amplitudes 1:7.5:0.1 --json > "$cj"
+taskset -c 1 $PY bench/numpy_contact.py "$cj"
+echo "== contact against numpy in alternating pairs (all included) =="
+for i in 1 2 3 4 5 6; do
+  a=$(taskset -c 1 $PY bench/numpy_contact.py | awk '/^numpy_contact_all_ms/ {print $2}')
+  b=$(taskset -c 1 "$B/bench/bench_contact" | awk '/^contact_pair_no_roll_ms/ {print $2}')
+  echo "$a $b"
+done > "$pairs"
+r=$(awk '{print $1 / $2}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
+echo "contact_vs_numpy_median_ratio $r (ms: numpy, C: $(tr '\n' ';' < "$pairs"))"
+rm -f "$cj"
 echo "== nonlinear model: simulation, bifurcation diagram by continuation and by the scan =="
 OMP_NUM_THREADS=1 taskset -c 1 "$B/bench/bench_nonlinear"
