@@ -142,6 +142,9 @@ void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep);
 /* A CSV number, or an empty field where there is none (a NaN marks "no
    such mode"): railride never writes nan or inf. */
 void cli_csv_num(FILE *fp, double x, char sep);
+/* A file name option's value: one that reads as an option ("--help") is
+   refused with a message (EXIT_BADINPUT), else 0. */
+int cli_file_arg(const char *opt, const char *arg);
 
 /* The vehicle stability index as text: "-0.118200 (hunting mode: carbody
    lateral-yaw at 1.0500 Hz)", "+0.0064 (unstable mode outside the hunting

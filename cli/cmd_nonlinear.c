@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
+#include "outfile.h"
 #include "parallel.h"
 
 #define SIM_DISTURBANCE_DEFAULT 5e-3 /* m, on every wheelset, when no track is given */
@@ -18,7 +19,7 @@
 #define SCAN_STEP_DEFAULT_KMH 5.0
 
 typedef struct nl_args {
-  const char *profile, *spectrum, *track, *method;
+  const char *profile, *spectrum, *track, *method, *plot_data;
   double duration, fs, disturbance, step_kmh, settle, v_lo, v_hi, limit;
   unsigned long long seed;
   int have_seed, have_disturbance, csv;
@@ -36,7 +37,8 @@ enum {
   OPT_CSV,
   OPT_STEP,
   OPT_SETTLE,
-  OPT_NLIMIT
+  OPT_NLIMIT,
+  OPT_NPLOTDATA
 };
 
 static int speeds_option(nl_args *a, const char *arg)
@@ -83,6 +85,7 @@ static int nl_cb(int opt, const char *arg, void *u)
   case OPT_STEP: return cli_number_in("step", arg, "km/h", 0.01, 1000, &a->step_kmh) ? 1 : 0;
   case OPT_SETTLE: return cli_number_in("settle", arg, "s", 0.1, 1000, &a->settle) ? 1 : 0;
   case OPT_NLIMIT: return cli_limit(arg, &a->limit) ? 1 : 0;
+  case OPT_NPLOTDATA: a->plot_data = arg; return cli_file_arg("plot-data", arg) ? 1 : 0;
   }
   return 1;
 }
@@ -384,17 +387,23 @@ static void bif_events_print(FILE *f, const char *lead, const rr_bifurcation *b,
   }
 }
 
+/* The branch as CSV (--csv, --plot-data). */
+static void bif_csv_cont(FILE *fp, const rr_bifurcation *b, const rr_cycle *pts)
+{
+  fprintf(fp, "speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,symmetric,residual\n");
+  for (int i = 0; i < b->npoints; i++)
+    fprintf(fp, "%.10g,%.10g,%.10g,%d,%.10g,%d,%.3g\n", pts[i].speed_ms * RR_KMH,
+            pts[i].amplitude_m, 1 / pts[i].period_s, pts[i].stable, pts[i].floquet_max,
+            pts[i].symmetric, pts[i].residual);
+}
+
 static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_args *a,
                            const rr_bifurcation *b, const rr_cycle *pts, double secs)
 {
   if (a->csv) {
     assumptions_note("bifurcation", &c->veh, p);
     bif_events_print(stderr, "railride bifurcation: ", b, pts);
-    printf("speed_kmh,amplitude_m,frequency_hz,stable,max_floquet_modulus,symmetric,residual\n");
-    for (int i = 0; i < b->npoints; i++)
-      printf("%.10g,%.10g,%.10g,%d,%.10g,%d,%.3g\n", pts[i].speed_ms * RR_KMH, pts[i].amplitude_m,
-             1 / pts[i].period_s, pts[i].stable, pts[i].floquet_max, pts[i].symmetric,
-             pts[i].residual);
+    bif_csv_cont(stdout, b, pts);
     return;
   }
   if (c->json) {
@@ -462,6 +471,33 @@ static void bif_print_cont(const cli_common *c, const rr_profile *p, const nl_ar
            1 / pts[i].period_s, pts[i].stable ? "yes" : "no", pts[i].floquet_max);
 }
 
+/* The scan as CSV (--csv, --plot-data). */
+static void bif_csv_scan(FILE *fp, const rr_scan_point *up, const rr_scan_point *down, int nv)
+{
+  fprintf(fp, "sweep,speed_kmh,amplitude_m,frequency_hz\n");
+  for (int s = 0; s < 2; s++)
+    for (int i = 0; i < nv; i++) {
+      const rr_scan_point *q = s ? &down[nv - 1 - i] : &up[i];
+      fprintf(fp, "%s,%.10g,%.10g,", s ? "down" : "up", q->speed_ms * RR_KMH, q->amplitude_m);
+      cli_csv_num(fp, q->frequency_hz, '\n');
+    }
+}
+
+/* --plot-data: the CSV of the continuation (up NULL) or of the scan to its file. */
+static int bif_plot_data(const nl_args *a, const rr_bifurcation *b, const rr_cycle *pts,
+                         const rr_scan_point *up, const rr_scan_point *down, int nv)
+{
+  if (!a->plot_data) return 0;
+  cli_outfile o;
+  int r = cli_out_open(&o, a->plot_data, "--plot-data");
+  if (r) return r;
+  if (up)
+    bif_csv_scan(o.fp, up, down, nv);
+  else
+    bif_csv_cont(o.fp, b, pts);
+  return cli_out_commit(&o);
+}
+
 static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args *a)
 {
   rr_orbit_opts o = rr_orbit_opts_default();
@@ -479,9 +515,10 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
     free(pts);
     return cli_par_rank() == 0 ? cli_fail(&e, st) : st; /* every rank failed alike: one message */
   }
-  bif_print_cont(c, p, a, &b, pts, cli_now_s() - t0);
+  int r = bif_plot_data(a, &b, pts, NULL, NULL, 0);
+  if (!r) bif_print_cont(c, p, a, &b, pts, cli_now_s() - t0);
   free(pts);
-  return 0;
+  return r;
 }
 
 /* The scan's reading, as the paper reads its figure: the linear critical
@@ -519,13 +556,7 @@ static void bif_print_scan(const cli_common *c, const rr_profile *p, const nl_ar
   const char *type = !isfinite(v_lin) ? "none" : v_nl < v_lin ? "subcritical" : "supercritical";
   if (a->csv) {
     assumptions_note("bifurcation", &c->veh, p);
-    printf("sweep,speed_kmh,amplitude_m,frequency_hz\n");
-    for (int s = 0; s < 2; s++)
-      for (int i = 0; i < nv; i++) {
-        const rr_scan_point *q = s ? &down[nv - 1 - i] : &up[i];
-        printf("%s,%.10g,%.10g,", s ? "down" : "up", q->speed_ms * RR_KMH, q->amplitude_m);
-        cli_csv_num(stdout, q->frequency_hz, '\n');
-      }
+    bif_csv_scan(stdout, up, down, nv);
     return;
   }
   if (c->json) {
@@ -574,11 +605,12 @@ static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
   rr_error e;
   double t0 = cli_now_s();
   int st = rr_bifurcation_scan(&c->veh, nl_lib(p), NULL, vs, nv, &so, up, down, &e);
-  if (!st) bif_print_scan(c, p, a, up, down, nv, cli_now_s() - t0);
+  int r = st ? cli_fail(&e, st) : bif_plot_data(a, NULL, NULL, up, down, nv);
+  if (!r) bif_print_scan(c, p, a, up, down, nv, cli_now_s() - t0);
   free(vs);
   free(up);
   free(down);
-  return st ? cli_fail(&e, st) : 0;
+  return r;
 }
 
 int cmd_bifurcation(int argc, char **argv)
@@ -603,15 +635,20 @@ int cmd_bifurcation(int argc, char **argv)
       "  --speeds A:B         speed range, km/h (default 100:600)\n"
       "  --method M           continuation (default) or scan\n"
       "  --csv                the branch as CSV (the assumptions on stderr)\n"
+      "  --plot-data FILE     the same CSV to FILE too (what --plot draws)\n"
       "  --step KMH           scan: speed step (default 5 km/h)\n"
       "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s "
       "measured)\n"
       "  --limit N            scan: most simulated seconds accepted (default 1e5)\n";
-  static const struct option extra[] = {
-      {"profile", required_argument, 0, OPT_PROFILE}, {"speeds", required_argument, 0, OPT_SPEEDS},
-      {"method", required_argument, 0, OPT_METHOD},   {"csv", no_argument, 0, OPT_CSV},
-      {"step", required_argument, 0, OPT_STEP},       {"settle", required_argument, 0, OPT_SETTLE},
-      {"limit", required_argument, 0, OPT_NLIMIT},    {0, 0, 0, 0}};
+  static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
+                                        {"speeds", required_argument, 0, OPT_SPEEDS},
+                                        {"method", required_argument, 0, OPT_METHOD},
+                                        {"csv", no_argument, 0, OPT_CSV},
+                                        {"plot-data", required_argument, 0, OPT_NPLOTDATA},
+                                        {"step", required_argument, 0, OPT_STEP},
+                                        {"settle", required_argument, 0, OPT_SETTLE},
+                                        {"limit", required_argument, 0, OPT_NLIMIT},
+                                        {0, 0, 0, 0}};
   cli_common c;
   nl_args a = {.method = "continuation",
                .v_lo = 100,

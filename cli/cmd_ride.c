@@ -137,7 +137,11 @@ typedef struct ride_args {
   unsigned lateral_only, vertical_only; /* options given that belong to one side (bits) */
   const char *lateral_default;          /* the default --spectrum (to see one given) */
 } ride_args;
-enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON, OPT_CMP_CSV };
+enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON, OPT_CMP_CSV, OPT_CMP_PLOTDATA };
+
+#define CMP_CSV_HEADER                                                                             \
+  "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf,"        \
+  "n_mv_const,n_mv_sdf\n"
 /* The vertical side's options (ride, frf). */
 enum {
   OPT_DIRECTION = 3200,
@@ -590,11 +594,17 @@ typedef struct cmp_args {
   ride_args ra;
   double c_from, c_to;
   int c_n, csv;
+  const char *plot_data; /* --plot-data FILE: the CSV there too */
+  FILE *pd;
 } cmp_args;
 
 static int cmp_cb(int opt, const char *arg, void *u)
 {
   cmp_args *a = u;
+  if (opt == OPT_CMP_PLOTDATA) {
+    a->plot_data = arg;
+    return cli_file_arg("plot-data", arg) ? 1 : 0;
+  }
   if (opt == OPT_CMP_CSV) {
     a->csv = 1;
     return 0;
@@ -605,6 +615,17 @@ static int cmp_cb(int opt, const char *arg, void *u)
     return 0;
   }
   return ride_cb(opt, arg, &a->ra);
+}
+
+/* One CSV row (an undefined index: an empty cell). */
+static void cmp_csv_row(FILE *fp, const char *vehicle, double lam, double zc, double zs, double wc,
+                        double ws, double nc, double ns)
+{
+  cli_csv_field(fp, vehicle, ',');
+  fprintf(fp, "%.10g,", lam);
+  cli_csv_num(fp, zc, ',');
+  cli_csv_num(fp, zs, ',');
+  fprintf(fp, "%.10g,%.10g,%.10g,%.10g\n", wc, ws, nc, ns);
 }
 
 static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_args *a, int sdf_mode,
@@ -671,17 +692,14 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
       cJSON_AddNumberToObject(o, "n_mv_const", nc);
       cJSON_AddNumberToObject(o, "n_mv_sdf", ns);
       cJSON_AddItemToArray(jarr, o);
-    } else if (a->csv) { /* an undefined index: an empty cell */
-      cli_csv_field(stdout, base->name, ',');
-      printf("%.10g,", lam);
-      cli_csv_num(stdout, zc, ',');
-      cli_csv_num(stdout, zs, ',');
-      printf("%.10g,%.10g,%.10g,%.10g\n", wcmax, wsmax, nc, ns);
+    } else if (a->csv) {
+      cmp_csv_row(stdout, base->name, lam, zc, zs, wcmax, wsmax, nc, ns);
     } else {
       char b1[32], b2[32];
       printf("%9.4f %12s %12s %10.4f %10.4f %9.4f %9.4f\n", lam, cli_num_or_none(b1, sizeof b1, zc),
              cli_num_or_none(b2, sizeof b2, zs), wcmax, wsmax, nc, ns);
     }
+    if (a->pd) cmp_csv_row(a->pd, base->name, lam, zc, zs, wcmax, wsmax, nc, ns);
   }
   rr_modal_ws_free(wc);
   rr_modal_ws_free(wsd);
@@ -701,12 +719,12 @@ int cmd_compare(int argc, char **argv)
       "curve.\n"
       "The SDF mode defaults to paper (self-consistent modes; k_sdf(f) in the frequency "
       "domain).\n" CLI_COMMON_HELP RIDE_HELP "  --conicities FROM:TO:N  conicity grid\n"
-      "  --csv                "
-      "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf,"
-      "n_mv_const,n_mv_sdf\n";
+      "  --csv                " CMP_CSV_HEADER
+      "  --plot-data FILE     the same CSV to FILE too (what --plot draws)\n";
   static const struct option extra[] = {RIDE_OPTIONS,
                                         {"conicities", required_argument, 0, OPT_CMP_CON},
                                         {"csv", no_argument, 0, OPT_CMP_CSV},
+                                        {"plot-data", required_argument, 0, OPT_CMP_PLOTDATA},
                                         {0, 0, 0, 0}};
   cli_common c;
   cmp_args a;
@@ -724,9 +742,13 @@ int cmd_compare(int argc, char **argv)
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = 350;
   if (a.csv && c.json) return cli_bad("compare: --json or --csv, not both");
-  if (a.csv)
-    printf("vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf,"
-           "n_mv_const,n_mv_sdf\n");
+  if (a.csv) printf(CMP_CSV_HEADER);
+  cli_outfile pd;
+  if (a.plot_data) {
+    if ((r = cli_out_open(&pd, a.plot_data, "--plot-data"))) return r;
+    a.pd = pd.fp;
+    fprintf(a.pd, CMP_CSV_HEADER);
+  }
   int mode = c.sdf_override > 0 ? c.sdf_override : RR_SDF_PAPER;
   cJSON *root = c.json ? cJSON_CreateObject() : NULL,
         *arr = root ? cJSON_AddArrayToObject(root, "rows") : NULL;
@@ -746,6 +768,12 @@ int cmd_compare(int argc, char **argv)
       if (c.gravity >= 0) v.gravity_stiffness = c.gravity;
       r = compare_one(&v, &c, &a, mode, arr);
     }
+  }
+  if (a.pd) {
+    if (r)
+      cli_out_abort(&pd);
+    else
+      r = cli_out_commit(&pd);
   }
   if (r) {
     cJSON_Delete(root);

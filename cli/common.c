@@ -479,6 +479,13 @@ void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep)
   cli_csv_field(fp, name, sep);
 }
 
+int cli_file_arg(const char *opt, const char *arg)
+{
+  if (arg[0] == '-' && arg[1] == '-')
+    return cli_bad("--%s: '%s' is an option, not a file name (the option needs a value)", opt, arg);
+  return 0;
+}
+
 int cli_limit(const char *arg, double *limit)
 {
   char *end;

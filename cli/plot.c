@@ -470,8 +470,8 @@ static const plot_kind kinds[] = {
     {"sweep", NULL, NULL, 2, script_sweep},
     {"ride", NULL, "--psd", 0, script_psd},
     {"validate", NULL, "--psd", 0, script_validate},
-    {"compare", "--csv", NULL, 0, script_compare},
-    {"bifurcation", "--csv", NULL, 0, script_bifurcation},
+    {"compare", NULL, "--plot-data", 0, script_compare},
+    {"bifurcation", NULL, "--plot-data", 0, script_bifurcation},
     {"optimise", NULL, NULL, 0, script_optimise},
     {"optimize", NULL, NULL, 0, script_optimise},
 };

@@ -55,6 +55,13 @@ svg_has "map: the zero contour" "index = 0" map --speeds 200:600:4 --conicities 
 # the data still reaches standard output where the command prints CSV
 head -1 "$tmp/map.out" | grep -q '^speed_kmh,conicity,stability_index' && ok || bad "map --plot: the CSV still printed"
 "$RR" compare --conicities 0.1:0.2:2 --csv --plot "$tmp/cc.png" | head -1 | grep -q '^vehicle,conicity,stability_index_const' && ok || bad "compare --csv --plot: the CSV still printed"
+# --plot leaves standard output as it is without it (the wall time of a run aside)
+for args in "compare --conicities 0.05:0.5:3" "bifurcation --profile worn --speeds 100:560" \
+            "bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4"; do
+  "$RR" $args 2>/dev/null | sed 's/([0-9.]* s)//; s/, [0-9.]* s)/)/' > "$tmp/plain.out"
+  "$RR" $args --plot "$tmp/same.png" 2>/dev/null | sed 's/([0-9.]* s)//; s/, [0-9.]* s)/)/' > "$tmp/plot.out"
+  cmp -s "$tmp/plain.out" "$tmp/plot.out" && [ -s "$tmp/plain.out" ] && ok || bad "$args --plot changes standard output"
+done
 # SVG and PDF by extension
 "$RR" damper --plot "$tmp/d.svg" > /dev/null && grep -q '<svg' "$tmp/d.svg" && ok || bad "svg"
 "$RR" damper --plot "$tmp/d.pdf" > /dev/null && head -c 5 "$tmp/d.pdf" | grep -q '%PDF' && ok || bad "pdf"
