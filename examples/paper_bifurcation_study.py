@@ -32,12 +32,12 @@ KEYS = {  # Pareto CSV column (key_SI-unit) -> (section, key, unit scale, unit)
 }
 
 
-def front(rr):
+def front(rr, population, generations):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "paper")
-        subprocess.run([rr, "optimise", os.path.join(HERE, "paper-optimisation.ini"), "--population", "1000",
-                        "--generations", "100", "--seed", "1", "--output", out], check=True,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        subprocess.run([rr, "optimise", os.path.join(HERE, "paper-optimisation.ini"), "--population",
+                        str(population), "--generations", str(generations), "--seed", "1", "--output", out],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         with open(out + "-pareto.csv") as f:
             return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
@@ -51,8 +51,8 @@ def choose(rows):
             "C": min(rows, key=lambda r: r["std_zeta"]), "D": min(rows, key=scaled)}
 
 
-def write_design(name, r, why):
-    path = os.path.join(HERE, f"paper-design-{name}.ini")
+def write_design(name, r, why, where):
+    path = os.path.join(where, f"paper-design-{name}.ini")
     lines = [f"# Design {name} of the paper's study ({why}), from the Pareto front of",
              "# examples/paper-optimisation.ini (population 1000, 100 generations, seed 1;",
              "# examples/paper_bifurcation_study.py). Objectives on the front:",
@@ -78,27 +78,37 @@ def speed(x):
     return "-" if x is None else f"{x:.1f}"
 
 
+def table_row(name, why, r, prof, d):
+    """One row of the README's table: the design's parameters (Pareto CSV columns) and
+    its bifurcation (`railride bifurcation --json`)."""
+    lin = d["linear_critical_speed_kmh"]
+    out_of_range = lin is not None and lin > 600
+    kind = d["type"] + (" (Hopf above 600 km/h)" if out_of_range else "")
+    return (f"| {name} ({why}) | {r['primary.longitudinal_stiffness_n_per_m'] * 1e-6:.1f} "
+            f"| {r['lateral_damper.damping_n_s_per_m'] * 1e-3:.1f} "
+            f"| {r['yaw_damper.damping_n_s_per_m'] * 1e-3:.0f} "
+            f"| {r['yaw_damper.series_stiffness_n_per_m'] * 1e-6:.2f} | {prof} | {speed(lin)} "
+            f"| {speed(d['nonlinear_critical_speed_kmh'])} | {kind} |")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--railride", default=os.path.join(HERE, "..", "build", "railride"))
-    rr = ap.parse_args().railride
+    ap.add_argument("--population", type=int, default=1000)
+    ap.add_argument("--generations", type=int, default=100)
+    ap.add_argument("--treads", default="new,worn", help="the treads to study, comma separated")
+    ap.add_argument("--designs-dir", default=HERE, help="where paper-design-{A,B,C,D}.ini are written")
+    a = ap.parse_args()
     why = {"A": "best zeta_high", "B": "best zeta_low", "C": "best std_zeta", "D": "balanced"}
-    designs = choose(front(rr))
+    designs = choose(front(a.railride, a.population, a.generations))
     print("| design | k_px (kN/mm) | c_sy (kN s/m) | c_yaw (kN s/m) | k_yaw (MN/m) | tread "
           "| linear critical (km/h) | nonlinear critical (km/h) | bifurcation |")
     print("|---|---|---|---|---|---|---|---|---|")
     for name in "ABCD":
         r = designs[name]
-        path = write_design(name, r, why[name])
-        for prof in ("new", "worn"):
-            d = bifurcation(rr, path, prof)
-            lin = d["linear_critical_speed_kmh"]
-            out_of_range = lin is not None and lin > 600
-            kind = d["type"] + (" (Hopf above 600 km/h)" if out_of_range else "")
-            print(f"| {name} ({why[name]}) | {r['primary.longitudinal_stiffness'] * 1e-6:.1f} "
-                  f"| {r['lateral_damper.damping'] * 1e-3:.1f} | {r['yaw_damper.damping'] * 1e-3:.0f} "
-                  f"| {r['yaw_damper.series_stiffness'] * 1e-6:.2f} | {prof} | {speed(lin)} "
-                  f"| {speed(d['nonlinear_critical_speed_kmh'])} | {kind} |")
+        path = write_design(name, r, why[name], a.designs_dir)
+        for prof in a.treads.split(","):
+            print(table_row(name, why[name], r, prof, bifurcation(a.railride, path, prof)))
         sys.stdout.flush()
 
 

@@ -314,6 +314,23 @@ python3 -c 'import json,sys; v, name = sys.argv[1].split(" ", 1); d = json.load(
 # a wheelset that leaves the contact data ends the run: a derailment indication, exit 1
 out=$(cd "$tmp" && "$RR" simulate --speed 900 --profiles cone4.dat,knife.dat --duration 10 --disturbance 5mm 2>&1 >/dev/null); rc=$?
 [ $rc -eq 1 ] && echo "$out" | grep -q "beyond the contact data.*derailment indication" && ok || bad "derailment: rc $rc $out"
+# examples/paper_bifurcation_study.py on a small front: its designs' files load, and a table
+# row reads the Pareto CSV's columns and the bifurcation JSON's keys (the bifurcations
+# themselves take minutes: one is run, design B's, on the worn tread over 100-300 km/h)
+python3 - "$SRC/examples" "$RR" "$tmp" <<'PY' && ok || bad "paper_bifurcation_study.py"
+import json, subprocess, sys
+sys.path.insert(0, sys.argv[1])
+import paper_bifurcation_study as m
+rr, tmp = sys.argv[2], sys.argv[3]
+d = m.choose(m.front(rr, 16, 1))
+for name in "ABCD":
+    path = m.write_design(name, d[name], "test", tmp)
+    subprocess.run([rr, "modes", path, "--speed", "300", "--conicity", "0.1"], check=True, capture_output=True)
+b = json.loads(subprocess.run([rr, "bifurcation", tmp + "/paper-design-B.ini", "--profile", "worn", "--speeds",
+                               "100:300", "--json"], check=True, capture_output=True, text=True).stdout)
+row = m.table_row("B", "best zeta_low", d["B"], "worn", b)
+assert row.startswith("| B (best zeta_low) | ") and row.count("|") == 10, row
+PY
 # the wear study: EN 15302's wheels A, B, H, I on rail A give Annex E's tan gamma_e at 3 mm,
 # and each profile's index is the linear model's at that conicity
 P=$(cd "$SRC/profiles/en15302" && pwd)
