@@ -55,6 +55,14 @@ static void usage(FILE *fp)
   for (int i = 0; i < NCMDS; i++) fprintf(fp, "  %-15s %s\n", cmds[i].name, cmds[i].what);
 }
 
+/* --help (or -h) among a command's arguments. */
+static int asks_help(int argc, char **argv)
+{
+  for (int i = 2; i < argc; i++)
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
+  return 0;
+}
+
 static int run(int argc, char **argv)
 {
   /* Problems here are small (40x40): BLAS threads only cost. */
@@ -79,7 +87,11 @@ static int run(int argc, char **argv)
                 cmds[i].name);
       }
       int handled, r = cli_plot_run(cmds[i].name, cmds[i].fn, argc - 1, argv + 1, &handled);
-      return handled ? r : cmds[i].fn(argc - 1, argv + 1);
+      if (handled) return r;
+      r = cmds[i].fn(argc - 1, argv + 1);
+      if (!r && asks_help(argc, argv) && cli_plot_help(cmds[i].name)) /* main handles --plot */
+        fputs(cli_plot_help(cmds[i].name), stdout);
+      return r;
     }
   fprintf(stderr, "railride: unknown command '%s' (railride --help lists them)\n", argv[1]);
   return EXIT_BADINPUT;

@@ -631,6 +631,15 @@ static void replay(const char *path)
   fflush(stdout);
 }
 
+const char *cli_plot_help(const char *cmd)
+{
+  for (int i = 0; i < NKINDS; i++)
+    if (!strcmp(kinds[i].cmd, cmd))
+      return "  --plot FILE          draw the result with gnuplot into FILE.png, .svg or .pdf\n"
+             "                       (standard output as without it)\n";
+  return NULL;
+}
+
 int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv, int *handled)
 {
   *handled = 0;

@@ -62,6 +62,11 @@ for args in "compare --conicities 0.05:0.5:3" "bifurcation --profile worn --spee
   "$RR" $args --plot "$tmp/same.png" 2>/dev/null | sed 's/([0-9.]* s)//; s/, [0-9.]* s)/)/' > "$tmp/plot.out"
   cmp -s "$tmp/plain.out" "$tmp/plot.out" && [ -s "$tmp/plain.out" ] && ok || bad "$args --plot changes standard output"
 done
+# every command that draws lists --plot in its --help, and no other does
+for c in damper modes locus map sweep ride validate compare bifurcation optimise wear contact; do
+  "$RR" $c --help | grep -q '^  --plot FILE' && ok || bad "$c --help: no --plot"
+done
+"$RR" keys --help | grep -q -- '--plot' && bad "keys --help lists --plot" || ok
 # SVG and PDF by extension
 "$RR" damper --plot "$tmp/d.svg" > /dev/null && grep -q '<svg' "$tmp/d.svg" && ok || bad "svg"
 "$RR" damper --plot "$tmp/d.pdf" > /dev/null && head -c 5 "$tmp/d.pdf" | grep -q '%PDF' && ok || bad "pdf"
