@@ -48,7 +48,7 @@ struct rr_model {
   rr_sparsity sp; /* the pattern of D(s), for the sparse solver */
 };
 
-/* Fills m->sp from the assembled model (linalg/dynamic_stiffness.c). */
+/* Fills m->sp from the assembled model (dynamic_stiffness.c). */
 void rr_model_sparsity(rr_model *m);
 /* Assembles sys into the existing model m (no allocation). */
 int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err);
