@@ -212,9 +212,9 @@ typedef struct ride_setup {
   int nfreq;
   enum rr_frf_method method;
 } ride_setup;
-typedef struct ride_point {
-  double x, rms, sperling, sperling_gb, wd_rms, nmv;
-} ride_point;
+typedef rr_ride_point ride_point;
+/* The library's ride options for a command's setup. */
+rr_ride_opts ride_opts(const ride_setup *r);
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
 void ride_default_points(ride_setup *r, const rr_vehicle *veh);
 /* The floor-point options every ride-type command takes. */

@@ -632,14 +632,19 @@ int cmd_bifurcation(int argc, char **argv)
       "whose motion died out; the way down from 10 mm when the top speed has no cycle).\n"
       "Amplitude: the leading wheelset's lateral displacement.\n" CLI_COMMON_HELP
       "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
-      "  --speeds A:B         speed range, km/h (default 100:600)\n"
-      "  --method M           continuation (default) or scan\n"
-      "  --csv                the branch as CSV (the assumptions on stderr)\n"
-      "  --plot-data FILE     the same CSV to FILE too (what --plot draws)\n"
-      "  --step KMH           scan: speed step (default 5 km/h)\n"
-      "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s "
-      "measured)\n"
-      "  --limit N            scan: most simulated seconds accepted (default 1e5)\n";
+      "  --speeds A:B         speed range, km/h (default " RR_STR(RR_ORBIT_V_MIN_KMH) ":" RR_STR(
+          RR_ORBIT_V_MAX_KMH) ")\n"
+                              "  --method M           continuation (default) or scan\n"
+                              "  --csv                the branch as CSV (the assumptions on "
+                              "stderr)\n"
+                              "  --plot-data FILE     the same CSV to FILE too (what --plot "
+                              "draws)\n"
+                              "  --step KMH           scan: speed step (default 5 km/h)\n"
+                              "  --settle S           scan: transient discarded at each speed "
+                              "(default 20 s; 2 s "
+                              "measured)\n"
+                              "  --limit N            scan: most simulated seconds accepted "
+                              "(default 1e5)\n";
   static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
                                         {"speeds", required_argument, 0, OPT_SPEEDS},
                                         {"method", required_argument, 0, OPT_METHOD},
@@ -651,8 +656,8 @@ int cmd_bifurcation(int argc, char **argv)
                                         {0, 0, 0, 0}};
   cli_common c;
   nl_args a = {.method = "continuation",
-               .v_lo = 100,
-               .v_hi = 600,
+               .v_lo = RR_ORBIT_V_MIN_KMH, /* rr_orbit_opts_default's, in km/h */
+               .v_hi = RR_ORBIT_V_MAX_KMH,
                .step_kmh = SCAN_STEP_DEFAULT_KMH,
                .settle = rr_scan_opts_default().settle_s,
                .limit = 1e5};

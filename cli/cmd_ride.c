@@ -7,25 +7,37 @@
 #include "outfile.h"
 
 /* The paper's floor points: above the bogie centres and the car's centre,
-   x = +L, 0, -L. */
+   x = +L, 0, -L (the library's default). */
 void ride_default_points(ride_setup *r, const rr_vehicle *veh)
 {
-  r->npoints = 3;
-  r->x[0] = veh->bogie_half_spacing;
-  r->x[1] = 0;
-  r->x[2] = -veh->bogie_half_spacing;
+  r->npoints = rr_ride_points_default(veh, r->x);
 }
 
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh)
 {
-  rr_frf_opts fo = rr_frf_opts_default();
-  *r = (ride_setup){.spectrum = "wuhan-guangzhou",
-                    .h_p = RR_FLOOR_HEIGHT_DEFAULT,
-                    .f_lo = fo.f_lo_hz,
-                    .f_hi = fo.f_hi_hz,
-                    .nfreq = fo.nfreq,
-                    .method = fo.method};
+  rr_ride_opts o = rr_ride_opts_default();
+  *r = (ride_setup){.spectrum = RR_RIDE_SPECTRUM_DEFAULT,
+                    .h_p = o.floor_height_m,
+                    .roll_gravity = o.roll_gravity,
+                    .f_lo = o.f_lo_hz,
+                    .f_hi = o.f_hi_hz,
+                    .nfreq = o.nfreq,
+                    .method = o.method};
   ride_default_points(r, veh);
+}
+
+rr_ride_opts ride_opts(const ride_setup *r)
+{
+  rr_ride_opts o = rr_ride_opts_default();
+  o.nfreq = r->nfreq;
+  o.f_lo_hz = r->f_lo;
+  o.f_hi_hz = r->f_hi;
+  o.npoints = r->npoints;
+  memcpy(o.x_points, r->x, sizeof(double) * (size_t)r->npoints);
+  o.floor_height_m = r->h_p;
+  o.roll_gravity = r->roll_gravity;
+  o.method = r->method;
+  return o;
 }
 
 void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **argv)
@@ -72,57 +84,20 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
               ride_point *out, double *psd, double *freqs, rr_error *err)
 {
   rr_model *m = NULL;
-  rr_frf_plan *plan = NULL;
-  rr_comfort_plan *cp = NULL;
-  double *rows = NULL, *rows0 = NULL, *G = NULL;
+  rr_ride_plan *plan = NULL;
   rr_spectrum sp;
+  rr_ride_opts o = ride_opts(r);
   int st = rr_spectrum_open(r->spectrum, &sp, err), opened = !st;
   if (!st) st = rr_spectrum_require(&sp, "lateral", "--spectrum: the lateral track input", err);
   if (!st) st = rr_model_from_vehicle(veh, &m, err);
   if (!st) st = rr_model_set_operating(m, speed_kmh / RR_KMH, conicity, err);
-  if (st) goto out;
-  warn_if_unstable(m, speed_kmh, conicity);
-  int n = rr_model_ndof(m), np = r->npoints;
-  rows = malloc(sizeof(double) * (size_t)n * (size_t)np);
-  rows0 = malloc(sizeof(double) * (size_t)n * (size_t)np);
-  G = malloc(sizeof(double) * (size_t)r->nfreq * (size_t)np);
-  if (!rows || !rows0 || !G) {
-    st = RR_ENOMEM;
-    snprintf(err->msg, sizeof err->msg, "out of memory");
-    goto out;
-  }
-  if ((st = rr_vehicle_floor_rows(m, veh, r->x, np, r->h_p, r->roll_gravity, rows, rows0, err)))
-    goto out;
-  rr_frf_opts o = {.nfreq = r->nfreq,
-                   .f_lo_hz = r->f_lo,
-                   .f_hi_hz = r->f_hi,
-                   .npoints = np,
-                   .rows = rows,
-                   .rows0 = r->roll_gravity ? rows0 : NULL,
-                   .method = r->method};
-  if ((st = rr_frf_plan_new(m, &o, &plan, err))) goto out;
-  if ((st = rr_frf_plan_execute(plan, m, err))) goto out;
-  if ((st = rr_pem_psd(plan, m, &sp, G, err))) goto out;
-  const double *f = rr_frf_freqs(plan);
-  if ((st = rr_comfort_plan_new(f, r->nfreq, RR_AXIS_LATERAL, &cp, err))) goto out;
-  for (int q = 0; q < np && !st; q++) {
-    rr_comfort c;
-    if ((st = rr_comfort_execute(cp, G + q, np, &c, err))) break;
-    out[q] = (ride_point){.x = r->x[q],
-                          .rms = c.rms,
-                          .sperling = c.sperling,
-                          .sperling_gb = c.sperling_gb,
-                          .wd_rms = c.wd_rms,
-                          .nmv = rr_en12299_comfort(c.wd_rms)};
-  }
-  if (psd) memcpy(psd, G, sizeof(double) * (size_t)r->nfreq * (size_t)np);
-  if (freqs) memcpy(freqs, f, sizeof(double) * (size_t)r->nfreq);
-out:
-  free(rows);
-  free(rows0);
-  free(G);
-  rr_comfort_plan_free(cp);
-  rr_frf_plan_free(plan);
+  if (!st) warn_if_unstable(m, speed_kmh, conicity);
+  if (!st) st = rr_ride_plan_new(m, veh, &o, &plan, err);
+  if (!st) st = rr_ride_execute(plan, m, &sp, out, err);
+  size_t nf = st ? 0 : (size_t)rr_ride_nfreq(plan);
+  if (!st && psd) memcpy(psd, rr_ride_psd(plan), sizeof(double) * nf * (size_t)r->npoints);
+  if (!st && freqs) memcpy(freqs, rr_ride_freqs(plan), sizeof(double) * nf);
+  rr_ride_plan_free(plan);
   rr_model_free(m);
   if (opened) rr_spectrum_close(&sp);
   return st;
@@ -411,7 +386,7 @@ static void ride_json(const cli_common *c, const ride_args *a, const ride_result
       cJSON_AddNumberToObject(po, "sperling", p->sperling);
       cJSON_AddNumberToObject(po, "sperling_gb", p->sperling_gb);
       cJSON_AddNumberToObject(po, "wd_rms", p->wd_rms);
-      cJSON_AddNumberToObject(po, "en12299_nmv", p->nmv);
+      cJSON_AddNumberToObject(po, "en12299_nmv", p->n_mv);
       cJSON_AddItemToArray(pa, po);
     }
     cJSON_AddItemToArray(res, o);
@@ -536,25 +511,18 @@ int cmd_frf(int argc, char **argv)
   }
   rr_model *m;
   if ((r = cli_model(&c, &m, 1, 1))) return r;
-  int n = rr_model_ndof(m), np = a.rs.npoints, ni = rr_model_ninputs(m);
-  double *rows = malloc(sizeof(double) * (size_t)n * (size_t)np),
-         *rows0 = malloc(sizeof(double) * (size_t)n * (size_t)np);
+  int np = a.rs.npoints, ni = rr_model_ninputs(m);
   rr_error e;
-  rr_frf_plan *plan = NULL;
-  int st =
-      rr_vehicle_floor_rows(m, &c.veh, a.rs.x, np, a.rs.h_p, a.rs.roll_gravity, rows, rows0, &e);
-  rr_frf_opts o = {
-      a.rs.nfreq, NULL, a.rs.f_lo, a.rs.f_hi, np, rows, a.rs.roll_gravity ? rows0 : NULL,
-      a.rs.method};
-  if (!st) st = rr_frf_plan_new(m, &o, &plan, &e);
-  if (!st) st = rr_frf_plan_execute(plan, m, &e);
+  rr_ride_plan *rp = NULL;
+  rr_ride_opts o = ride_opts(&a.rs);
+  int st = rr_ride_plan_new(m, &c.veh, &o, &rp, &e);
+  if (!st) st = rr_ride_frf_execute(rp, m, &e);
   if (st) {
-    free(rows);
-    free(rows0);
-    rr_frf_plan_free(plan);
+    rr_ride_plan_free(rp);
     rr_model_free(m);
     return cli_fail(&e, st);
   }
+  const rr_frf_plan *plan = rr_ride_frf(rp);
   const double *f = rr_frf_freqs(plan);
   const double complex *H = rr_frf_H(plan);
   double v = rr_model_speed(m), xin[16];
@@ -583,9 +551,7 @@ int cmd_frf(int argc, char **argv)
         }
       }
   if (root) cli_json_print(root);
-  free(rows);
-  free(rows0);
-  rr_frf_plan_free(plan);
+  rr_ride_plan_free(rp);
   rr_model_free(m);
   return 0;
 }

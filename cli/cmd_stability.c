@@ -547,19 +547,82 @@ int cmd_critical(int argc, char **argv)
   static const char help[] =
       "usage: railride critical-speed [VEHICLE] --conicity L1[,L2,...] [--vmin KMH] [--vmax KMH] "
       "[--step KMH] [--index-modes] [--json]\n"
-      "Lowest speed in [vmin, vmax] (default 10-600 km/h) at which some oscillatory mode, of any\n"
-      "frequency and shape, has zeta >= 0: a scan at --step (default 1 km/h), then bisection to\n"
-      "1e-3 km/h. Reports the mode that goes unstable. With several conicities, one result each\n"
-      "(JSON: {\"results\": [...]}).\n" CLI_COMMON_HELP
-      "  --vmin, --vmax KMH   speed range\n  --step KMH           scan step\n"
-      "  --index-modes        only the stability index's modes count (the index reaching 0)\n";
+      "Lowest speed in [vmin, vmax] (default " RR_STR(
+          RR_CRITICAL_V_MIN_KMH) "-" RR_STR(RR_CRITICAL_V_MAX_KMH) " km/h) at which some "
+                                                                   "oscillatory mode, of any\n"
+                                                                   "frequency and shape, has zeta "
+                                                                   ">= 0: a scan at --step "
+                                                                   "(default " RR_STR(RR_CRITICAL_STEP_KMH) " km/h), then bisection to\n" RR_STR(
+                                                                       RR_CRITICAL_TOL_KMH) " km/"
+                                                                                            "h. "
+                                                                                            "Report"
+                                                                                            "s the "
+                                                                                            "mode "
+                                                                                            "that "
+                                                                                            "goes "
+                                                                                            "unstab"
+                                                                                            "le. "
+                                                                                            "With "
+                                                                                            "severa"
+                                                                                            "l "
+                                                                                            "conici"
+                                                                                            "ties, "
+                                                                                            "one "
+                                                                                            "result"
+                                                                                            " each"
+                                                                                            "\n"
+                                                                                            "(JSON:"
+                                                                                            " {"
+                                                                                            "\"resu"
+                                                                                            "lts\":"
+                                                                                            " [...]"
+                                                                                            "})."
+                                                                                            "\n" CLI_COMMON_HELP
+                                                                                            "  "
+                                                                                            "--"
+                                                                                            "vmin, "
+                                                                                            "--"
+                                                                                            "vmax "
+                                                                                            "KMH   "
+                                                                                            "speed "
+                                                                                            "range"
+                                                                                            "\n  "
+                                                                                            "--"
+                                                                                            "step "
+                                                                                            "KMH   "
+                                                                                            "      "
+                                                                                            "  "
+                                                                                            "scan "
+                                                                                            "step\n"
+                                                                                            "  "
+                                                                                            "--"
+                                                                                            "index-"
+                                                                                            "modes "
+                                                                                            "      "
+                                                                                            " only "
+                                                                                            "the "
+                                                                                            "stabil"
+                                                                                            "ity "
+                                                                                            "index'"
+                                                                                            "s "
+                                                                                            "modes "
+                                                                                            "count "
+                                                                                            "(the "
+                                                                                            "index "
+                                                                                            "reachi"
+                                                                                            "ng "
+                                                                                            "0)\n";
   static const struct option extra[] = {{"vmin", required_argument, 0, OPT_VMIN},
                                         {"vmax", required_argument, 0, OPT_VMAX},
                                         {"step", required_argument, 0, OPT_STEP},
                                         {"index-modes", no_argument, 0, OPT_INDEX_MODES},
                                         {0, 0, 0, 0}};
   cli_common c;
-  crit_args a = {.vmin = 10, .vmax = 600, .step = 1, .index_modes = 0};
+  rr_critical_opts co = rr_critical_opts_default();
+  crit_args a = {.vmin = RR_CRITICAL_V_MIN_KMH, /* co's, in km/h */
+                 .vmax = RR_CRITICAL_V_MAX_KMH,
+                 .step = RR_CRITICAL_STEP_KMH,
+                 .index_modes = co.index_modes};
   int r = cli_parse_list(argc, argv, &c,
                          CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY |
                              CLI_READS_PROGRESS,
@@ -572,11 +635,10 @@ int cmd_critical(int argc, char **argv)
   if ((r = cli_model(&c, &m, 0, 1))) return r;
   rr_error e;
   rr_modal_ws *ws;
-  rr_critical_opts co = {.v_min_ms = a.vmin / RR_KMH,
-                         .v_max_ms = a.vmax / RR_KMH,
-                         .step_ms = a.step / RR_KMH,
-                         .tol_ms = 1e-3 / RR_KMH,
-                         .index_modes = a.index_modes};
+  co.v_min_ms = a.vmin / RR_KMH;
+  co.v_max_ms = a.vmax / RR_KMH;
+  co.step_ms = a.step / RR_KMH;
+  co.index_modes = a.index_modes;
   int st = rr_modal_ws_new(m, &ws, &e);
   if (st) {
     rr_model_free(m);

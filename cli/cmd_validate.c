@@ -75,20 +75,13 @@ static int val_run(cli_common *c, val_args *a, rr_validate_result *res, double *
   if (r) return r;
   rr_error e;
   rr_spectrum sp;
-  int st = rr_spectrum_open(a->rs.spectrum, &sp, &e), n = rr_model_ndof(m), np = a->rs.npoints;
+  rr_ride_plan *rp = NULL; /* the ride's floor rows, the time run's outputs */
+  rr_ride_opts ro = ride_opts(&a->rs);
+  int st = rr_spectrum_open(a->rs.spectrum, &sp, &e), np = a->rs.npoints;
   if (!st) st = rr_spectrum_require(&sp, "lateral", "--spectrum: the lateral track input", &e);
-  double *rows = malloc(sizeof(double) * (size_t)(n * np)),
-         *rows0 = malloc(sizeof(double) * (size_t)(n * np));
-  if (!st && (!rows || !rows0)) {
-    st = e.code = RR_ENOMEM;
-    snprintf(e.msg, sizeof e.msg, "out of memory");
-  }
-  if (!st)
-    st = rr_vehicle_floor_rows(m, &c->veh, a->rs.x, np, a->rs.h_p, a->rs.roll_gravity, rows, rows0,
-                               &e);
+  if (!st) st = rr_ride_plan_new(m, &c->veh, &ro, &rp, &e);
   a->vo.npoints = np;
-  a->vo.rows = rows;
-  a->vo.rows0 = a->rs.roll_gravity ? rows0 : NULL;
+  a->vo.rows = st ? NULL : rr_ride_rows(rp, &a->vo.rows0);
   cli_progress pr;
   cli_progress_start(&pr, "validate", 3 + np, c->progress);
   a->vo.progress = cli_progress_hook(&pr);
@@ -97,8 +90,7 @@ static int val_run(cli_common *c, val_args *a, rr_validate_result *res, double *
   if (!st) st = rr_validate(m, &sp, &a->vo, res, &e);
   cli_progress_end(&pr);
   *secs = cli_now_s() - t0;
-  free(rows);
-  free(rows0);
+  rr_ride_plan_free(rp);
   rr_model_free(m);
   rr_spectrum_close(&sp);  /* safe after a failed open too */
   if (st == RR_ESTOPPED) { /* one result: nothing partial to write */

@@ -14,9 +14,9 @@
 #include "plot.h"
 
 #define WEAR_MAX 32
-#define WEAR_VMAX_KMH 600  /* rr_critical_speed's default upper end */
-#define WEAR_NAMP 14       /* the conicity function at 1.0, 1.5 .. 7.5 mm */
-#define WEAR_NL_V0_KMH 100 /* --nonlinear: the scan's speeds, 100 .. 600 km/h */
+#define WEAR_VMAX_KMH RR_CRITICAL_V_MAX_KMH /* rr_critical_speed's default upper end */
+#define WEAR_NAMP 14                        /* the conicity function at 1.0, 1.5 .. 7.5 mm */
+#define WEAR_NL_V0_KMH 100                  /* --nonlinear: the scan's speeds, 100 .. 600 km/h */
 #define WEAR_NL_STEP_KMH 25
 #define WEAR_NL_NV 21
 #define WEAR_NL_SETTLE_S                                                                           \

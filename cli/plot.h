@@ -3,9 +3,6 @@
 #ifndef RR_CLI_PLOT_H
 #define RR_CLI_PLOT_H
 
-#define RR_STR_(x) #x
-#define RR_STR(x) RR_STR_(x)
-
 /* When argv holds --plot FILE: *handled = 1 and the command's exit status
    (the command fn run without it, then the picture drawn); else *handled = 0. */
 int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv, int *handled);

@@ -77,6 +77,22 @@ fi
 # the installed CLI, from another folder, and after moving the whole tree
 (cd "$tmp" && "$tmp/prefix/bin/railride" --version | grep -q "^railride [0-9]") && ok || bad "installed railride --version"
 (cd "$tmp" && "$tmp/prefix/bin/railride" ride --speed 300 --conicity 0.2 --json > "$tmp/ride.json") && ok || bad "installed railride ride (spectra)"
+# examples/ride.c, the library's ride workflow as a user writes it, against the
+# installed tree: its numbers are the installed CLI's (both print the same doubles)
+src=$(cd "$(dirname "$0")/.." && pwd)
+cc -std=c11 -Wall -Werror $FLAGS "$src/examples/ride.c" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) \
+  -o "$tmp/ride_example" && (cd "$tmp" && ./ride_example > "$tmp/ride_example.csv") && ok || bad "examples/ride.c builds and runs"
+if command -v python3 > /dev/null; then
+  python3 - "$tmp/ride_example.csv" "$tmp/ride.json" <<'PY' && ok || bad "examples/ride.c agrees with railride ride"
+import csv, json, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["speed_kmh"] == "300"]
+pts = json.load(open(sys.argv[2]))["results"][0]["points"]
+assert len(rows) == len(pts) == 3, (rows, pts)
+for r, p in zip(rows, pts):
+    for k in ("sperling", "sperling_gb"):
+        assert abs(float(r[k]) - p[k]) <= 5e-7, (k, r[k], p[k])
+PY
+fi
 mv "$tmp/prefix" "$tmp/moved"
 (cd / && "$tmp/moved/bin/railride" ride --speed 300 --conicity 0.2 --json > "$tmp/ride2.json") && cmp -s "$tmp/ride.json" "$tmp/ride2.json" \
   && ok || bad "relocated tree: the CLI finds its library and spectra"

@@ -10,8 +10,8 @@
 #include <string.h>
 #include "check.h"
 #include "railride/railride.h"
-#include "eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
-#include "hessenberg_qr.h"       /* internal: eigenvalues of several matrices in SIMD lanes */
+#include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
+#include "linalg/hessenberg_qr.h" /* internal: eigenvalues of several matrices in SIMD lanes */
 
 enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
 

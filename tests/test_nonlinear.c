@@ -7,7 +7,7 @@
 #include <string.h>
 #include "check.h"
 #include "railride/railride.h"
-#include "orbit.h"
+#include "nonlinear/orbit.h"
 
 #define KMH (1 / RR_KMH) /* m/s per km/h */
 
@@ -190,7 +190,8 @@ static void test_van_der_pol(void)
                          .rtol = 1e-11,
                          .cap = 100};
     rr_orbit pts[100];
-    int n = 0, end;
+    int n = 0;
+    rr_branch_end end;
     rr_error e;
     int st = rr_orbit_branch(&s, 0, &bo, pts, NULL, &n, &end, &e);
     CHECK_OK(st, e);
@@ -259,7 +260,8 @@ static void test_dead_band(void)
                        .cap = 100};
   rr_orbit pts[100];
   double Z[200];
-  int n = 0, end, touching = 0;
+  int n = 0, touching = 0;
+  rr_branch_end end;
   rr_error e;
   int st = rr_orbit_branch(&s, 0, &bo, pts, Z, &n, &end, &e);
   CHECK_OK(st, e);
@@ -429,7 +431,8 @@ static void check_fold(const rr_vehicle *veh, const rr_profile *p, const rr_cycl
 /* The continuation's branches, checked: Hopf speed, residuals, stable cycles
    reproduced by direct integration, unstable ones left along their unstable
    Floquet vector. A subcritical case: conicity rising with amplitude. */
-static void test_branch(const char *veh_file_text, const char *prof, double v_hi_kmh, int want_type)
+static void test_branch(const char *veh_file_text, const char *prof, double v_hi_kmh,
+                        rr_bif_type want_type)
 {
   rr_vehicle veh;
   rr_error e;

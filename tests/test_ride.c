@@ -429,6 +429,63 @@ static void test_comfort(void)
   CHECK(rr_sperling_gb_index(f, G, 1, 1, 0, &W, &e) == RR_EINVAL, "one point refused");
 }
 
+/* The library's ride plan (ride.h) against the stages assembled by hand:
+   the same bits for the paper's defaults, the direct FRF route through the
+   plan agreeing with the modal one, the PSD's integral giving the RMS, and
+   its limits refused. */
+static void test_ride_plan(void)
+{
+  rr_ride_opts d = rr_ride_opts_default();
+  CHECK(d.nfreq == 400 && d.f_lo_hz == 0.3 && d.f_hi_hz == 30 && d.floor_height_m == 1.2 &&
+            d.npoints == 0 && !d.roll_gravity && d.method == RR_FRF_MODAL && !d.freqs_hz,
+        "the ride defaults are the paper's");
+  rr_vehicle v;
+  rr_error e;
+  rr_vehicle_builtin("type1", &v, &e);
+  rr_ride_point pt[3], pd[3];
+  CHECK_OK(rr_ride_evaluate(&v, 350 / RR_KMH, 0.2, NULL, NULL, pt, &e), e);
+  rr_model *m = vehicle_model("type1", RR_SDF_NONE, NULL);
+  rr_frf_plan *fp = floor_plan(m, RR_FRF_MODAL, 0);
+  rr_comfort_plan *cp;
+  rr_spectrum s;
+  double G[400 * 3];
+  CHECK_OK(rr_spectrum_open("wuhan-guangzhou", &s, &e), e);
+  CHECK_OK(rr_frf_plan_execute(fp, m, &e), e);
+  CHECK_OK(rr_pem_psd(fp, m, &s, G, &e), e);
+  CHECK_OK(rr_comfort_plan_new(rr_frf_freqs(fp), 400, RR_AXIS_LATERAL, &cp, &e), e);
+  for (int q = 0; q < 3; q++) {
+    rr_comfort c;
+    CHECK_OK(rr_comfort_execute(cp, G + q, 3, &c, &e), e);
+    CHECK(pt[q].x == (q == 1 ? 0 : (1 - q) * v.bogie_half_spacing) && pt[q].rms == c.rms &&
+              pt[q].sperling == c.sperling && pt[q].sperling_gb == c.sperling_gb &&
+              pt[q].wd_rms == c.wd_rms && pt[q].n_mv == rr_en12299_comfort(c.wd_rms),
+          "ride plan point %d: the hand-assembled stages' bits", q);
+  }
+  rr_ride_opts o = rr_ride_opts_default();
+  o.method = RR_FRF_DIRECT;
+  rr_ride_plan *rp;
+  CHECK_OK(rr_ride_plan_new(m, &v, &o, &rp, &e), e);
+  CHECK_OK(rr_ride_execute(rp, m, &s, pd, &e), e);
+  CHECK(rr_ride_npoints(rp) == 3 && rr_ride_nfreq(rp) == 400, "the plan's sizes");
+  const double *f = rr_ride_freqs(rp), *Gp = rr_ride_psd(rp);
+  for (int q = 0; q < 3; q++) {
+    CHECK_CLOSE(pd[q].sperling, pt[q].sperling, 1e-9, 0, "direct route through the plan");
+    double I2 = 0;
+    for (int k = 1; k < 400; k++)
+      I2 += 0.5 * (f[k] - f[k - 1]) * (Gp[k * 3 + q] + Gp[(k - 1) * 3 + q]);
+    CHECK_CLOSE(sqrt(I2), pd[q].rms, 1e-13, 0, "the RMS is the PSD's integral");
+  }
+  rr_ride_plan_free(rp);
+  o.npoints = RR_RIDE_POINTS_MAX + 1;
+  CHECK(rr_ride_plan_new(m, &v, &o, &rp, &e) == RR_EINVAL && !rp, "17 floor points refused");
+  CHECK(rr_ride_evaluate(&v, 350 / RR_KMH, 0.2, "tbt3352-vertical", NULL, pt, &e) == RR_EINVAL,
+        "a vertical spectrum refused: %s", e.msg);
+  rr_comfort_plan_free(cp);
+  rr_frf_plan_free(fp);
+  rr_spectrum_close(&s);
+  rr_model_free(m);
+}
+
 int main(void)
 {
   if (check_tmpdir("ride")) return 1;
@@ -438,6 +495,7 @@ int main(void)
   test_near_defective();
   test_pem();
   test_comfort();
+  test_ride_plan();
   check_cleanup();
   return check_done("ride");
 }

@@ -3,6 +3,12 @@
  * same layout) and the export marker of the shared library's symbols. */
 #ifndef RAILRIDE_COMMON_H
 #define RAILRIDE_COMMON_H
+/* A macro's value as a string literal (help texts quoting the named defaults). */
+#define RR_STR_(x) #x
+#define RR_STR(x) RR_STR_(x)
+/* Speeds: v_kmh = v_ms * RR_KMH. */
+#define RR_KMH 3.6
+#define RR_PI 3.14159265358979323846
 
 #include <stddef.h>
 

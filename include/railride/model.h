@@ -17,15 +17,6 @@ extern "C" {
 
 typedef struct rr_model rr_model;
 
-/* Speeds: v_kmh = v_ms * RR_KMH. */
-#define RR_KMH 3.6
-#define RR_PI 3.14159265358979323846
-/* The operating range a model accepts: speed in (0, RR_SPEED_MAX_MS] m/s
-   (2000 km/h), equivalent conicity in [0, RR_CONICITY_MAX] (a wheel's
-   conicity stays below ~1; the margin leaves room for studies). */
-#define RR_SPEED_MAX_MS (2000 / RR_KMH)
-#define RR_CONICITY_MAX 5.0
-
 /* Assembles a model from a generic system (SDF off). */
 RR_API int rr_model_new(const rr_system *sys, rr_model **out, rr_error *err);
 /* Builds the 17-DOF vehicle system of docs/model.md section 2-3 (caller frees). */

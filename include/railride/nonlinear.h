@@ -106,8 +106,10 @@ typedef struct rr_cycle {
   double residual; /* |phi_T(z0) - z0| / |z0| (symmetric: |phi_T/2(z0) + z0| / |z0|) */
 } rr_cycle;
 
+#define RR_ORBIT_V_MIN_KMH 100 /* the diagram's default range, km/h */
+#define RR_ORBIT_V_MAX_KMH 600
 typedef struct rr_orbit_opts {
-  double v_min_ms, v_max_ms; /* the diagram's range (100-600 km/h); a Hopf point outside it is
+  double v_min_ms, v_max_ms; /* the diagram's range (RR_ORBIT_V_*_KMH); a Hopf point outside it is
                                 followed from there, within 5 % of its speed */
   double amp_max_m;          /* stop beyond this amplitude (30 mm) */
   double ds;                 /* first arclength step, in (mm, 10 km/h) units (0.2) */
@@ -159,8 +161,9 @@ typedef struct rr_bifurcation {
       hopf_speed_branch_ms; /* the branch extrapolated to zero amplitude (an independent check) */
   double nonlinear_critical_ms; /* the lowest speed of any cycle on the branch, folds refined (NaN:
                                    none) */
-  int type;                     /* rr_bif_type: how the branch leaves the Hopf point */
-  int npoints, end;             /* points on the branch; rr_branch_end */
+  rr_bif_type type;             /* how the branch leaves the Hopf point */
+  int npoints;                  /* points on the branch */
+  rr_branch_end end;            /* why the branch ended */
   int nevents;                  /* stability changes along the branch, in its order (the first
                                    RR_BIF_MAX_EVENTS) */
   rr_bif_event events[RR_BIF_MAX_EVENTS];

@@ -21,7 +21,7 @@ typedef enum rr_profile_kind {
 } rr_profile_kind;
 
 typedef struct rr_profile {
-  int kind;                                         /* rr_profile_kind */
+  rr_profile_kind kind;
   char name[64];                                    /* "new", "worn", or the file's name */
   int n;                                            /* coefficients or points */
   double c[RR_PROFILE_MAX];                         /* polynomial coefficients (a in mm) */

@@ -6,6 +6,7 @@
 
 #include "railride/common.h"
 #include "railride/error.h"
+#include "railride/units.h"
 #include "railride/sdf.h"
 #include "railride/vehicle.h"
 #include "railride/vertical.h"
@@ -16,6 +17,7 @@
 #include "railride/damper.h"
 #include "railride/spectrum.h"
 #include "railride/pem.h"
+#include "railride/ride.h"
 #include "railride/comfort.h"
 #include "railride/expm.h"
 #include "railride/timesim.h"

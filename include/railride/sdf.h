@@ -25,7 +25,7 @@ typedef enum rr_sdf_curve_kind {
 } rr_sdf_curve_kind;
 
 typedef struct rr_sdf_curve {
-  int kind;     /* rr_sdf_curve_kind */
+  rr_sdf_curve_kind kind;
   double k1_hz; /* K1: frequency scale, Hz */
   double k2;    /* K2: stiffness rise, N/m */
   double k3;    /* K3: static stiffness, N/m */

@@ -37,16 +37,16 @@ typedef struct rr_spectrum {
   char title[160];
   char path[RR_SPECTRUM_PATH_MAX]; /* the file it was read from */
   char direction[16];              /* lateral, vertical, crosslevel, gauge */
-  int form;                        /* rr_spectrum_form */
-  int rad_per_m;                   /* formula variable is Omega in rad/m (else n in cycles/m) */
-  double scale;                    /* file PSD unit -> m^2 (or rad^2), times 2 when two-sided */
-  double valid_lo, valid_hi;       /* validity, cycles/m */
-  int clip;                        /* 1: zero outside the validity range; 0: extend the formula */
+  rr_spectrum_form form;
+  int rad_per_m;             /* formula variable is Omega in rad/m (else n in cycles/m) */
+  double scale;              /* file PSD unit -> m^2 (or rad^2), times 2 when two-sided */
+  double valid_lo, valid_hi; /* validity, cycles/m */
+  int clip;                  /* 1: zero outside the validity range; 0: extend the formula */
   /* parameters */
   int nseg;
   double seg_lo[RR_SPECTRUM_MAX_TERMS], seg_hi[RR_SPECTRUM_MAX_TERMS], seg_A[RR_SPECTRUM_MAX_TERMS],
       seg_k[RR_SPECTRUM_MAX_TERMS];
-  int shape; /* rr_german_shape */
+  rr_german_shape shape;
   double A, Oc, Or, Os, b, k;
   double p[7]; /* rational7 A..G */
   int npts, tab_cap;

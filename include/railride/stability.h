@@ -39,8 +39,13 @@ RR_API int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robus
  * at step_ms, then bisection to tol_ms. A scan of more than
  * RR_CRITICAL_MAX_STEPS steps is refused (RR_EINVAL). */
 #define RR_CRITICAL_MAX_STEPS 10000000
+/* The defaults, km/h (integers, so that help texts can quote them). */
+#define RR_CRITICAL_V_MIN_KMH 10
+#define RR_CRITICAL_V_MAX_KMH 600
+#define RR_CRITICAL_STEP_KMH 1
+#define RR_CRITICAL_TOL_KMH 1e-3
 typedef struct rr_critical_opts {
-  double v_min_ms, v_max_ms, step_ms, tol_ms; /* 10, 600, 1, 1e-3 km/h */
+  double v_min_ms, v_max_ms, step_ms, tol_ms; /* the RR_CRITICAL_*_KMH above, in m/s */
   int index_modes;                            /* 0: any oscillatory mode */
 } rr_critical_opts;
 /* The defaults given in the fields' comments. */

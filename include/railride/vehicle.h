@@ -9,11 +9,17 @@
 #include <stddef.h>
 #include "railride/error.h"
 #include "railride/profile.h"
+#include "railride/units.h"
 #include "railride/sdf.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+/* The operating range a model accepts: speed in (0, RR_SPEED_MAX_MS] m/s
+   (2000 km/h), equivalent conicity in [0, RR_CONICITY_MAX] (a wheel's
+   conicity stays below ~1; the margin leaves room for studies). */
+#define RR_SPEED_MAX_MS (2000 / RR_KMH)
+#define RR_CONICITY_MAX 5.0
 
 /* The [contact] section's wheel and rail profiles, from which the linear
  * model's conicity is the equivalent conicity (docs/contact.md): files
@@ -52,7 +58,7 @@ typedef struct rr_vehicle {
   double lateral_damping, lateral_series_stiffness, lateral_damper_height;
   /* [yaw_damper], per damper (2 per bogie) */
   double yaw_damping, yaw_series_stiffness, yaw_half_spacing, yaw_height;
-  int sdf_mode;     /* rr_sdf_mode */
+  rr_sdf_mode sdf_mode;
   rr_sdf_curve sdf; /* curve; kind RR_CURVE_UNSET when none */
   /* [contact], per wheel */
   double f11, f22;
@@ -129,18 +135,6 @@ RR_API const rr_vehicle_key *rr_vehicle_key_find(const char *section_dot_key);
 RR_API int rr_vehicle_key_check(const rr_vehicle_key *key, double x, rr_error *err);
 /* Pointer to the double a numeric key addresses. */
 RR_API double *rr_vehicle_field(rr_vehicle *veh, const rr_vehicle_key *key);
-
-/* Unit parsing (udunits2). A context holds the unit database; create one per
- * thread (udunits itself is not thread-safe) or pass NULL to rr_units_parse,
- * which then loads the database only when the text carries a unit. */
-typedef struct rr_units rr_units;
-RR_API int rr_units_new(rr_units **out, rr_error *err);
-RR_API void rr_units_free(rr_units *u);
-/* Parses "50 kN/mm" into SI for a quantity whose SI unit is si_unit.
- * Bare numbers are SI. Non-finite values are rejected unless allow_inf
- * (then "inf" is accepted). what names the context for messages. */
-RR_API int rr_units_parse(rr_units *u, const char *text, const char *si_unit, int allow_inf,
-                          double *out, const char *what, rr_error *err);
 
 #ifdef __cplusplus
 }

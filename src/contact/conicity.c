@@ -7,8 +7,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "contact_impl.h"
-#include "internal.h"
+#include "contact/contact_impl.h"
+#include "util/internal.h"
 
 struct rr_conicity_plan {
   int n;           /* points of the valid run used */

@@ -17,7 +17,7 @@
 #include <string.h>
 #include <strings.h>
 #include "railride/contact.h"
-#include "internal.h"
+#include "util/internal.h"
 
 #define S1002_FROM -70.0
 #define S1002_TO 60.0

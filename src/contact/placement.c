@@ -4,8 +4,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "contact_impl.h"
-#include "internal.h"
+#include "contact/contact_impl.h"
+#include "util/internal.h"
 
 rr_contact_opts rr_contact_opts_default(void)
 {

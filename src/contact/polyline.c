@@ -8,8 +8,8 @@
 #include <string.h>
 #include <unistd.h>
 #include "railride/contact.h"
-#include "internal.h"
-#include "textfile.h"
+#include "util/internal.h"
+#include "util/textfile.h"
 
 #define POLY_MAX_POINTS 1000000
 

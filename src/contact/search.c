@@ -7,8 +7,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "contact_impl.h"
-#include "internal.h"
+#include "contact/contact_impl.h"
+#include "util/internal.h"
 
 #define TIE_MM 1e-9 /* candidates this close to the deepest are ties */
 #define END_MM 1e-9 /* a contact this close to a profile's end is at the end of its data */

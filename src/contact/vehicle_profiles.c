@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/contact.h"
-#include "internal.h"
+#include "util/internal.h"
 
 #define GRID_MM 10.0
 #define GRID_STEP_MM 0.01

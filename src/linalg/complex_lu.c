@@ -1,6 +1,6 @@
 /* Small dense complex LU with partial pivoting. */
 #include <math.h>
-#include "complex_lu.h"
+#include "linalg/complex_lu.h"
 
 static double abs1(double complex z) { return fabs(creal(z)) + fabs(cimag(z)); }
 

@@ -2,9 +2,9 @@
 #include <float.h>
 #include <math.h>
 #include <string.h>
-#include "eigen_decomposition.h"
-#include "hessenberg_qr.h"
-#include "internal.h"
+#include "linalg/eigen_decomposition.h"
+#include "linalg/hessenberg_qr.h"
+#include "util/internal.h"
 
 /* Inverse iteration runs RR_EIGDEC_LANES shifts at once, lane l of every
  * array holding shift l's numbers (index [i * L + l]), so that each scalar

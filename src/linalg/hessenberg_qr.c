@@ -4,8 +4,8 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
-#include "hessenberg_qr.h"
-#include "internal.h"
+#include "linalg/hessenberg_qr.h"
+#include "util/internal.h"
 
 #define A(i, j) a[(i)*n + (j)]
 /* inline, unlike fmax/fmin (no NaN can reach them here) */
@@ -311,11 +311,11 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
 
 /* ---- several matrices at once in SIMD lanes (hessenberg_qr_lanes.h) ---- */
 #define QRW 4
-#include "hessenberg_qr_lanes.h"
+#include "linalg/hessenberg_qr_lanes.h"
 #undef QRW
 #if RR_HAVE_V4
 #define QRW 8
-#include "hessenberg_qr_lanes.h"
+#include "linalg/hessenberg_qr_lanes.h"
 #undef QRW
 #endif
 

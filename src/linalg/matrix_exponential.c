@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/expm.h"
-#include "internal.h"
+#include "util/internal.h"
 
 static const double b13[14] = {64764752532480000.0,
                                32382376266240000.0,

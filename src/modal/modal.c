@@ -9,12 +9,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "modal_impl.h"
-#include "complex_lu.h"
-#include "dynamic_stiffness.h"
-#include "hessenberg_qr.h"
-#include "internal.h"
-#include "block.h"
+#include "modal/modal_impl.h"
+#include "linalg/complex_lu.h"
+#include "model/dynamic_stiffness.h"
+#include "linalg/hessenberg_qr.h"
+#include "util/internal.h"
+#include "util/block.h"
 
 rr_modal_opts rr_modal_opts_default(void)
 {

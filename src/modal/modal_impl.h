@@ -4,7 +4,7 @@
 #define RR_MODAL_IMPL_H
 
 #include "railride/modal.h"
-#include "model_impl.h"
+#include "model/model_impl.h"
 
 #define RR_OSC_TOL 1e-6
 

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "modal_impl.h"
+#include "modal/modal_impl.h"
 
 enum { MOT_Y, MOT_PSI, MOT_PHI, NMOT };
 #define SHARE_SUBJECT 0.75 /* one body carries this much of its group: named alone */

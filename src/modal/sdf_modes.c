@@ -19,10 +19,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "modal_impl.h"
-#include "dynamic_stiffness.h"
-#include "hessenberg_qr.h"
-#include "internal.h"
+#include "modal/modal_impl.h"
+#include "model/dynamic_stiffness.h"
+#include "linalg/hessenberg_qr.h"
+#include "util/internal.h"
 
 #define MAC_MIN 0.9    /* consecutive shapes on a branch correlate at least this */
 #define MAC_SURE 0.995 /* above, no other mode can be the better match in practice */

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/stability.h"
-#include "modal_impl.h"
-#include "internal.h"
+#include "modal/modal_impl.h"
+#include "util/internal.h"
 
 rr_robust_opts rr_robust_opts_default(void)
 {
@@ -85,10 +85,10 @@ int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts 
 
 rr_critical_opts rr_critical_opts_default(void)
 {
-  return (rr_critical_opts){.v_min_ms = 10 / RR_KMH,
-                            .v_max_ms = 600 / RR_KMH,
-                            .step_ms = 1 / RR_KMH,
-                            .tol_ms = 1e-3 / RR_KMH,
+  return (rr_critical_opts){.v_min_ms = RR_CRITICAL_V_MIN_KMH / RR_KMH,
+                            .v_max_ms = RR_CRITICAL_V_MAX_KMH / RR_KMH,
+                            .step_ms = RR_CRITICAL_STEP_KMH / RR_KMH,
+                            .tol_ms = RR_CRITICAL_TOL_KMH / RR_KMH,
                             .index_modes = 0};
 }
 

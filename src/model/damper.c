@@ -2,7 +2,7 @@
  * spring k has dynamic stiffness k c jw / (k + c jw). */
 #include <math.h>
 #include "railride/damper.h"
-#include "internal.h"
+#include "util/internal.h"
 
 double complex rr_maxwell_stiffness(double complex k, double c, double complex s)
 {

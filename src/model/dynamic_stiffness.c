@@ -2,7 +2,7 @@
  * dynamic_stiffness.h). */
 #include <math.h>
 #include <string.h>
-#include "dynamic_stiffness.h"
+#include "model/dynamic_stiffness.h"
 
 void rr_model_sparsity(rr_model *m)
 {

@@ -10,7 +10,7 @@
 #define RR_DYN_SOLVER_H
 
 #include <complex.h>
-#include "model_impl.h"
+#include "model/model_impl.h"
 
 typedef struct rr_dsolver {
   const rr_model *m;

@@ -3,8 +3,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "model_impl.h"
-#include "internal.h"
+#include "model/model_impl.h"
+#include "util/internal.h"
 
 static void add_outer(double *A, int n, const double *J, double s)
 {
@@ -115,11 +115,10 @@ int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
        F_y = -2 f22 (a.q'/v - psi), M_z = -2 f11 l0 (l0 psi'/v + lambda (a.q - y_t)/r0),
        generalised forces a F_y + b M_z (docs/model.md section 3 with dx = 0). */
     const rr_contact *c = &m->contacts[i];
-    const rr_contact_spec *s = &c->spec;
     int y = c->dof_y, p = c->dof_psi;
-    double dx = s->dx;
-    double cy = 2 * s->f22 / v, cp = 2 * s->f11 * s->l0 * s->l0 / v;
-    double kyp = -2 * s->f22, kpy = 2 * s->f11 * s->l0 * lambda / s->r0;
+    double dx = c->spec.dx;
+    rr_creep_terms t = rr_creep_terms_at(&c->spec, v, lambda, m->gravity);
+    double cy = t.cy, cp = t.cp, kyp = t.kyp, kpy = t.kpy;
     /* C += cy a a' + cp b b' */
     m->C[y * n + y] += cy;
     m->C[y * n + p] += cy * dx;
@@ -131,11 +130,11 @@ int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
     m->K[p * n + y] += kpy;
     m->B[p * ni + i] += kpy;
     if (m->gravity) { /* K += g a a' - W lambda l0 b b', B += g a */
-      double W = s->axle_load, g = W * lambda / s->l0;
+      double g = t.gy;
       m->K[y * n + y] += g;
       m->K[y * n + p] += g * dx;
       m->K[p * n + y] += g * dx;
-      m->K[p * n + p] += g * dx * dx - W * lambda * s->l0;
+      m->K[p * n + p] += g * dx * dx - t.gpsi;
       m->B[y * ni + i] += g;
       m->B[p * ni + i] += g * dx;
     }

@@ -3,7 +3,7 @@
 #define RR_MODEL_IMPL_H
 
 #include "railride/model.h"
-#include "system_impl.h"
+#include "model/system_impl.h"
 
 typedef struct rr_mx {
   char name[48];
@@ -43,7 +43,7 @@ struct rr_model {
   int nbodies;
   double speed, conicity;
   int gravity;
-  int sdf_mode;
+  rr_sdf_mode sdf_mode;
   rr_sdf_curve curve;
   rr_sparsity sp; /* the pattern of D(s), for the sparse solver */
 };
@@ -64,7 +64,19 @@ int rr_model_rebuild(rr_model *m, const rr_vehicle *veh, rr_system *scratch, rr_
  * mode) carries the pair's force exactly; the dropped combination of strokes is
  * decoupled with real eigenvalues. Same oscillatory eigenvalues, fewer states.
  * A must hold the full state size squared; *N receives the reduced size. */
+/* One wheelset contact's linear terms at speed v and conicity lambda
+   (creep.c): damping cy (lateral), cp (yaw); stiffness kyp (lateral force
+   per yaw), kpy (yaw moment per lateral displacement, also the track
+   input's); with gravity, gy (lateral, N/m) and gpsi (yaw, N m/rad). */
+typedef struct rr_creep_terms {
+  double cy, cp, kyp, kpy, gy, gpsi;
+} rr_creep_terms;
+rr_creep_terms rr_creep_terms_at(const rr_contact_spec *s, double v, double lambda, int gravity);
+
 int rr_state_matrix_merged(const rr_model *m, double sdf_k, double *A, int *N, rr_error *err);
+/* The same with the SDF elements taken in mode (the model's own unchanged). */
+int rr_state_matrix_merged_as(const rr_model *m, rr_sdf_mode mode, double sdf_k, double *A, int *N,
+                              rr_error *err);
 
 /* The merged Maxwell elements: for each state slot, the element index and its
  * multiplier (2 for a merged mirror pair). Returns the count. */

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/sdf.h"
-#include "internal.h"
-#include "textfile.h"
+#include "util/internal.h"
+#include "util/textfile.h"
 
 /* Linear interpolation in log f, held constant outside the table. */
 static double table_interp(const rr_sdf_curve *c, const double *y, double f)

@@ -3,8 +3,8 @@
  * element also adds its inner dashpot stroke, after all the strokes. */
 #include <math.h>
 #include <string.h>
-#include "model_impl.h"
-#include "internal.h"
+#include "model/model_impl.h"
+#include "util/internal.h"
 
 int rr_model_state_size(const rr_model *m)
 {
@@ -28,11 +28,11 @@ static void fill_mechanical(const rr_model *m, double *A, int N)
 
 /* Adds Maxwell element x, scaled by mult, with stroke state u (and inner
  * dashpot state u2 in physical SDF mode, else -1). */
-static void fill_maxwell(const rr_model *m, const rr_mx *x, double mult, double sdf_k, int u,
-                         int u2, double *A, int N)
+static void fill_maxwell(const rr_model *m, rr_sdf_mode mode, const rr_mx *x, double mult,
+                         double sdf_k, int u, int u2, double *A, int N)
 {
   int n = m->n;
-  int sdf = x->sdf && m->sdf_mode != RR_SDF_NONE;
+  int sdf = x->sdf && mode != RR_SDF_NONE;
   double c = mult * x->c;
   if (sdf && u2 >= 0) {
     /* c_sx in series with K3 || (K2 in series with c_z = K2 tau):
@@ -87,7 +87,7 @@ int rr_model_state_matrix(const rr_model *m, double sdf_k, double *A, rr_error *
   for (int e = 0; e < m->nmx; e++) {
     const rr_mx *x = &m->mx[e];
     int u2 = phys && x->sdf ? inner++ : -1;
-    fill_maxwell(m, x, 1.0, sdf_k, 2 * n + e, u2, A, N);
+    fill_maxwell(m, m->sdf_mode, x, 1.0, sdf_k, 2 * n + e, u2, A, N);
   }
   return RR_OK;
 }
@@ -127,7 +127,13 @@ int rr_merged_elements(const rr_model *m, int *elem, double *mult)
 
 int rr_state_matrix_merged(const rr_model *m, double sdf_k, double *A, int *Nout, rr_error *err)
 {
-  int n = m->n, phys = m->sdf_mode == RR_SDF_PHYSICAL;
+  return rr_state_matrix_merged_as(m, m->sdf_mode, sdf_k, A, Nout, err);
+}
+
+int rr_state_matrix_merged_as(const rr_model *m, rr_sdf_mode mode, double sdf_k, double *A,
+                              int *Nout, rr_error *err)
+{
+  int n = m->n, phys = mode == RR_SDF_PHYSICAL;
   if (phys && m->curve.kind == RR_CURVE_TABLE)
     return rr_seterr(
         err, RR_EUNSUP,
@@ -141,7 +147,7 @@ int rr_state_matrix_merged(const rr_model *m, double sdf_k, double *A, int *Nout
   int inner = 2 * n + nkeep;
   for (int i = 0; i < nkeep; i++) {
     const rr_mx *x = &m->mx[elem[i]];
-    fill_maxwell(m, x, mult[i], sdf_k, 2 * n + i, phys && x->sdf ? inner++ : -1, A, N);
+    fill_maxwell(m, mode, x, mult[i], sdf_k, 2 * n + i, phys && x->sdf ? inner++ : -1, A, N);
   }
   *Nout = N;
   return RR_OK;

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/system.h"
-#include "system_impl.h"
-#include "internal.h"
+#include "model/system_impl.h"
+#include "util/internal.h"
 
 int rr_system_new(rr_system **out, rr_error *err)
 {

@@ -1,8 +1,8 @@
 /* The 17-DOF vehicle as a configuration of the generic layer (docs/model.md section 1-3). */
 #include <math.h>
 #include <stdio.h>
-#include "model_impl.h"
-#include "internal.h"
+#include "model/model_impl.h"
+#include "util/internal.h"
 
 int rr_vehicle_system(const rr_vehicle *v, rr_system **out, rr_error *err)
 {

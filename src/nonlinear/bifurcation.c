@@ -8,8 +8,8 @@
 #include <lapacke.h>
 #include "railride/nonlinear.h"
 #include "railride/stability.h"
-#include "orbit.h"
-#include "internal.h"
+#include "nonlinear/orbit.h"
+#include "util/internal.h"
 
 void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
                          double *dz);
@@ -39,8 +39,8 @@ int rr_nonlinear_is_odd(const rr_nonlinear *nl);
 
 rr_orbit_opts rr_orbit_opts_default(void)
 {
-  return (rr_orbit_opts){.v_min_ms = 100 / RR_KMH,
-                         .v_max_ms = 600 / RR_KMH,
+  return (rr_orbit_opts){.v_min_ms = RR_ORBIT_V_MIN_KMH / RR_KMH,
+                         .v_max_ms = RR_ORBIT_V_MAX_KMH / RR_KMH,
                          .amp_max_m = 30e-3,
                          .ds = 0.2,
                          .max_points = 400,

@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/nonlinear.h"
-#include "model_impl.h"
-#include "internal.h"
+#include "model/model_impl.h"
+#include "util/internal.h"
 
 double rr_profile_eval(const rr_profile *p, double a_m, double *dlam_da);
 void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,

@@ -7,8 +7,8 @@
  * same order per element; the weighted norm keeps four partial sums. */
 #include <math.h>
 #include <nvector/nvector_serial.h>
-#include "nvector_fast.h"
-#include "internal.h"
+#include "nonlinear/nvector_fast.h"
+#include "util/internal.h"
 
 #define BLOCK 256    /* elements per block: the partial results stay in L1 */
 #define MAX_TERMS 32 /* more terms go to the library's kernel */

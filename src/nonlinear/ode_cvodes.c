@@ -1,8 +1,8 @@
 /* SUNDIALS CVODES for small dense ODE systems (see ode_cvodes.h). */
 #include <stdlib.h>
 #include <string.h>
-#include "ode_cvodes.h"
-#include "internal.h"
+#include "nonlinear/ode_cvodes.h"
+#include "util/internal.h"
 
 int rr_ode_cv_rhs(double t, N_Vector y, N_Vector ydot, void *user)
 {

@@ -6,10 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <arkode/arkode_erkstep.h>
-#include "orbit.h"
-#include "nvector_fast.h"
-#include "internal.h"
-#include "block.h"
+#include "nonlinear/orbit.h"
+#include "nonlinear/nvector_fast.h"
+#include "util/internal.h"
+#include "util/block.h"
 
 #define NEWTON_MAXIT 12
 #define NEWTON_TOL 5e-9 /* |phi_T(z0) - z0| relative to |z0| */
@@ -907,10 +907,10 @@ static double turn_cos(const rr_orbit_sys *s, const double *X, const double *a, 
 }
 
 int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
-                    double *z_out, int *np, int *end, rr_error *err)
+                    double *z_out, int *np, rr_branch_end *end, rr_error *err)
 {
   int n = s->ode.n, st = RR_OK, k = 0;
-  *end = 2;
+  *end = RR_BRANCH_CAP;
   size_t m = (size_t)n + 2;
   *np = 0;
   work w;
@@ -944,16 +944,16 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
   }
   for (;;) {
     if (k >= o->cap) {
-      *end = 2;
+      *end = RR_BRANCH_CAP;
       break;
     }
     const double *a = h.X[2], *b = h.X[1]; /* the last two points */
     if (a[n + 1] < o->p_min || a[n + 1] > o->p_max) {
-      *end = 0;
+      *end = RR_BRANCH_RANGE;
       break;
     }
     if (fabs(a[s->k_amp]) > o->amp_max) {
-      *end = 1;
+      *end = RR_BRANCH_AMPLITUDE;
       break;
     }
     double dA = (a[s->k_amp] - b[s->k_amp]) / s->amp_unit, dp = (a[n + 1] - b[n + 1]) / s->p_unit,
@@ -967,7 +967,7 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
       ds *= 0.5; /* a failure, or a step that turned too far: it may have jumped branches */
       if (ds >= 1e-2 * o->ds) continue;
       if (corner_step(s, &w, h.X[2], dA / len, dp / len, o->rtol, X, &r)) {
-        *end = 3; /* cannot go on: the branch ends here */
+        *end = RR_BRANCH_STALLED; /* cannot go on: the branch ends here */
         break;
       }
       h.k = 1; /* the line through the corner and the cycle beyond predicts from here */

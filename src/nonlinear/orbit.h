@@ -8,8 +8,9 @@
 #ifndef RR_ORBIT_H
 #define RR_ORBIT_H
 
-#include "ode_cvodes.h"
+#include "nonlinear/ode_cvodes.h"
 #include "railride/common.h"
+#include "railride/nonlinear.h"
 
 #define RR_ORBIT_MAX_KINKS 64
 /* The variational equations run in this many groups of columns, each with
@@ -109,9 +110,10 @@ typedef struct rr_branch_opts {
   int cap;
   rr_runner_opts runner;
 } rr_branch_opts;
-/* *end: 0 left [p_min, p_max], 1 beyond amp_max, 2 cap reached, 3 stalled. */
+/* *end: RR_BRANCH_RANGE left [p_min, p_max], _AMPLITUDE beyond amp_max, _CAP
+   max points reached, _STALLED Newton failed at the smallest step. */
 int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
-                    double *z_out, int *n, int *end, rr_error *err);
+                    double *z_out, int *n, rr_branch_end *end, rr_error *err);
 
 /* The nonlinear vehicle as an rr_orbit_sys, for bifurcation.c: amplitude y_w1,
    phase dy_w1/dt = 0; *atol allocated (free it). */

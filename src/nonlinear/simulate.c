@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/nonlinear.h"
-#include "ode_cvodes.h"
-#include "internal.h"
+#include "nonlinear/ode_cvodes.h"
+#include "util/internal.h"
 
 #define RR_NL_MAX_INPUTS 16
 

@@ -13,10 +13,11 @@
 #include "railride/modal.h"
 #include "railride/stability.h"
 #include "railride/pem.h"
+#include "railride/ride.h"
 #include "railride/spectrum.h"
 #include "railride/vertical.h"
-#include "model_impl.h"
-#include "internal.h"
+#include "model/model_impl.h"
+#include "util/internal.h"
 
 /* One model per SDF variant an objective asks for: the vehicle's own, none,
    paper, physical. */
@@ -54,10 +55,8 @@ typedef struct objective {
   double freq_hz;  /* frequency of the mode behind the last value (NaN if none) */
   int model;       /* index into the design's models */
   /* ride resources */
-  rr_frf_plan *plan;
-  rr_comfort_plan *cplan;
+  rr_ride_plan *plan; /* one floor point at x */
   rr_spectrum sp;
-  double *G;
   /* the vertical model's */
   char vspectrum[64];
   rr_spectrum vsp;
@@ -81,15 +80,20 @@ struct rr_design {
   rr_design **clones;
 };
 
+/* rr_critical_opts_default's range, for the objective's description */
+#define CRITICAL_RANGE RR_STR(RR_CRITICAL_V_MIN_KMH) "-" RR_STR(RR_CRITICAL_V_MAX_KMH) " km/h"
+#define CRITICAL_TOP RR_STR(RR_CRITICAL_V_MAX_KMH)
 static const rr_objective_info objective_docs[] = {
     {"zeta_low", "", "1",
-     "vehicle stability index at 250 km/h, conicity 0.05 (paper Table 1; negative is stable)"},
+     "vehicle stability index at 250 km/h, conicity 0.05 (paper Table 1; negative is "
+     "stable)"},
     {"zeta_high", "", "1", "vehicle stability index at 350 km/h, conicity 0.40"},
     {"std_zeta", "", "1",
      "population standard deviation of the index at 350 km/h over 8 conicities 0.05-0.40"},
     {"index", "KMH,L", "1", "vehicle stability index at speed KMH, conicity L"},
     {"critical_speed", "L", "km/h",
-     "lowest speed (10-600 km/h) at which an oscillatory mode has zeta >= 0; 600 when none"},
+     "lowest speed (" CRITICAL_RANGE ") at which an oscillatory mode has zeta >= 0; " CRITICAL_TOP
+     " when none"},
     {"sperling", "KMH,L[,X]", "1",
      "Sperling index, weighting-filter method, floor point x = X m (default 0)"},
     {"sperling_gb", "KMH,L[,X]", "1", "Sperling index, GB/T 5599 line method"},
@@ -361,10 +365,8 @@ void rr_design_free(rr_design *d)
 {
   if (!d) return;
   for (int i = 0; i < d->nobj; i++) {
-    rr_frf_plan_free(d->obj[i].plan);
-    rr_comfort_plan_free(d->obj[i].cplan);
+    rr_ride_plan_free(d->obj[i].plan);
     rr_spectrum_close(&d->obj[i].sp);
-    free(d->obj[i].G);
     rr_spectrum_close(&d->obj[i].vsp);
     rr_vertical_plan_free(d->obj[i].vplan);
   }
@@ -429,20 +431,10 @@ static int build(rr_design *d, rr_error *err)
     if ((st = model_slot(d, o->sdf, o->text, &o->model, err))) return st;
     if (is_vertical(o->kind) && (st = vertical_plan(o, err))) return st;
     if (!is_lateral_ride(o->kind)) continue;
-    double row[RR_SYS_MAX_DOF], pt[1] = {o->x};
-    rr_model *mm = d->model[o->model];
-    if ((st =
-             rr_vehicle_floor_rows(mm, &d->cur, pt, 1, RR_FLOOR_HEIGHT_DEFAULT, 0, row, NULL, err)))
-      return st;
-    rr_frf_opts fo = rr_frf_opts_default();
-    fo.npoints = 1;
-    fo.rows = row;
-    if ((st = rr_frf_plan_new(mm, &fo, &o->plan, err))) return st;
-    if ((st =
-             rr_comfort_plan_new(rr_frf_freqs(o->plan), fo.nfreq, RR_AXIS_LATERAL, &o->cplan, err)))
-      return st;
-    o->G = malloc(sizeof(double) * (size_t)fo.nfreq);
-    if (!o->G) return rr_seterr(err, RR_ENOMEM, "out of memory");
+    rr_ride_opts ro = rr_ride_opts_default();
+    ro.npoints = 1;
+    ro.x_points[0] = o->x;
+    if ((st = rr_ride_plan_new(d->model[o->model], &d->cur, &ro, &o->plan, err))) return st;
   }
   return RR_OK;
 }
@@ -517,8 +509,6 @@ int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
       memcpy(c->objtext[i], d->objtext[i], sizeof c->objtext[i]);
       c->obj[i] = d->obj[i];
       c->obj[i].plan = NULL;
-      c->obj[i].cplan = NULL;
-      c->obj[i].G = NULL;
       c->obj[i].vplan = NULL;
       st = rr_spectrum_copy(&d->obj[i].sp, &c->obj[i].sp, err);
       if (!st) st = rr_spectrum_copy(&d->obj[i].vsp, &c->obj[i].vsp, err);
@@ -595,11 +585,9 @@ static int robust_value(rr_design *d, const objective *o, const rr_modal_opts *m
 static int ride_value(objective *o, rr_model *m, double *f, rr_error *err)
 {
   int st;
-  rr_comfort c;
+  rr_ride_point c;
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
-  if ((st = rr_frf_plan_execute(o->plan, m, err))) return st;
-  if ((st = rr_pem_psd(o->plan, m, &o->sp, o->G, err))) return st;
-  if ((st = rr_comfort_execute(o->cplan, o->G, 1, &c, err))) return st;
+  if ((st = rr_ride_execute(o->plan, m, &o->sp, &c, err))) return st;
   *f = o->kind == OBJ_SPERLING      ? c.sperling
        : o->kind == OBJ_SPERLING_GB ? c.sperling_gb
        : o->kind == OBJ_WD_RMS      ? c.wd_rms
@@ -627,9 +615,9 @@ static int vertical_value(rr_design *d, objective *o, rr_model *m, double *f, rr
   }
   rr_window_stats wd;
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
-  if ((st = rr_frf_plan_execute(o->plan, m, err))) return st;
-  if ((st = rr_pem_psd(o->plan, m, &o->sp, o->G, err))) return st;
-  if ((st = rr_vertical_window_stats(o->vplan, o->G, 1, 1, RR_ISO_WD, &wd, err))) return st;
+  if ((st = rr_ride_execute(o->plan, m, &o->sp, NULL, err))) return st;
+  const double *G = rr_ride_psd(o->plan);
+  if ((st = rr_vertical_window_stats(o->vplan, G, 1, 1, RR_ISO_WD, &wd, err))) return st;
   rr_en12299_inputs in = {.ay50 = wd.p50, .ay95 = wd.p95, .az50 = p.wb_5s.p50, .az95 = p.wb_5s.p95};
   *f = rr_en12299_indices(&in).n_mv;
   return RR_OK;

@@ -9,9 +9,9 @@
 #include <time.h>
 #include <unistd.h>
 #include "railride/nsga2.h"
-#include "rng.h"
-#include "internal.h"
-#include "block.h"
+#include "util/rng.h"
+#include "util/internal.h"
+#include "util/block.h"
 
 rr_nsga2_opts rr_nsga2_opts_default(void)
 {
@@ -421,26 +421,6 @@ static int constrained_ranks(int n, int m, const double *f, const double *cv, in
   return nf;
 }
 
-/* Ranks and crowding of a population of n; fronts gathered in one pass
-   (mem: the indices ordered by front, start: nf + 1 offsets). With cv,
-   constrained ranks (fc, idx, r2 scratch). */
-static int rank_crowd(int n, int m, const double *f, const double *cv, double *fc, int *idx,
-                      int *r2, int *rank, double *cd, int *mem, int *tmp, int *tmp2, int *start,
-                      double *col)
-{
-  int nf = cv ? constrained_ranks(n, m, f, cv, rank, fc, idx, r2, tmp)
-              : nondominated_ranks(n, m, f, rank);
-  if (nf < 0) return -1;
-  for (int k = 0; k <= nf; k++) start[k] = 0;
-  for (int i = 0; i < n; i++) start[rank[i] + 1]++;
-  for (int k = 0; k < nf; k++) start[k + 1] += start[k];
-  for (int k = 0; k < nf; k++) tmp[k] = start[k];
-  for (int i = 0; i < n; i++) mem[tmp[rank[i]]++] = i;
-  for (int k = 0; k < nf; k++)
-    crowding(mem + start[k], start[k + 1] - start[k], m, f, cd, tmp, tmp2, col, n);
-  return nf;
-}
-
 static int better(int a, int b, const int *rank, const double *cd)
 {
   if (rank[a] != rank[b]) return rank[a] < rank[b];
@@ -681,11 +661,26 @@ static int work_alloc(nsga_work *w, int d, int m, int nc, int N, rr_error *err)
   return RR_OK;
 }
 
+/* Ranks and crowding of the first n of the population; fronts gathered in
+   one pass (mem: the indices ordered by front, start: nf + 1 offsets). With
+   constraints, constrained ranks (fc, idx, r2 scratch). The number of
+   fronts, or -status. */
 static int rank_all(nsga_work *w, int n, rr_error *err)
 {
-  int nf = rank_crowd(n, w->m, w->F, w->CV, w->fc, w->idx, w->r2, w->rank, w->cd, w->mem, w->tmp,
-                      w->tmp2, w->start, w->col);
-  return nf < 0 ? -rr_seterr(err, RR_ENOMEM, "out of memory") : nf; /* -status or fronts */
+  int m = w->m;
+  int nf = w->CV ? constrained_ranks(n, m, w->F, w->CV, w->rank, w->fc, w->idx, w->r2, w->tmp)
+                 : nondominated_ranks(n, m, w->F, w->rank);
+  if (nf < 0) return -rr_seterr(err, RR_ENOMEM, "out of memory");
+  int *start = w->start, *rank = w->rank;
+  for (int k = 0; k <= nf; k++) start[k] = 0;
+  for (int i = 0; i < n; i++) start[rank[i] + 1]++;
+  for (int k = 0; k < nf; k++) start[k + 1] += start[k];
+  for (int k = 0; k < nf; k++) w->tmp[k] = start[k];
+  for (int i = 0; i < n; i++) w->mem[w->tmp[rank[i]]++] = i;
+  for (int k = 0; k < nf; k++)
+    crowding(w->mem + start[k], start[k + 1] - start[k], m, w->F, w->cd, w->tmp, w->tmp2, w->col,
+             n);
+  return nf;
 }
 
 /* n designs X evaluated into F (and the violations CV); the callback's

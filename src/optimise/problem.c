@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/problem.h"
-#include "internal.h"
-#include "textfile.h"
+#include "util/internal.h"
+#include "util/textfile.h"
 
 typedef struct pr_ctx {
   const char *path;

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/comfort.h"
-#include "internal.h"
+#include "util/internal.h"
 
 /* The Sperling weighting (docs/model.md section 7), the one home of its
    constants: B(f) = g |p (c + n2 p)| / |1 + d1 p + d2 p^2 + d3 p^3|, p = j f,

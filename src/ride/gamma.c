@@ -7,7 +7,7 @@
 #include <float.h>
 #include <math.h>
 #include "railride/comfort.h"
-#include "internal.h"
+#include "util/internal.h"
 
 #define GAMMA_ITMAX 1000
 #define GAMMA_EPS 1e-16

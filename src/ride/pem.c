@@ -7,21 +7,21 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/pem.h"
-#include "model_impl.h"
-#include "complex_lu.h"
-#include "eigen_decomposition.h"
-#include "internal.h"
-#include "block.h"
+#include "model/model_impl.h"
+#include "linalg/complex_lu.h"
+#include "linalg/eigen_decomposition.h"
+#include "util/internal.h"
+#include "util/block.h"
 
 #define MAXU 8
 #define FCHUNK 200 /* frequencies per GEMM: the weights and sums stay in cache */
 
 struct rr_frf_plan {
   int n, ni, np, nf, Nmax, method, use_dgeev;
-  int route;            /* enum rr_frf_method the last execute took */
-  double *f;            /* nf */
-  double *rows, *rows0; /* np x n */
-  double complex *H;    /* nf x np x ni */
+  enum rr_frf_method route; /* the method the last execute took */
+  double *f;                /* nf */
+  double *rows, *rows0;     /* np x n */
+  double complex *H;        /* nf x np x ni */
   /* modal workspace */
   double *A, *At, *vl, *vr, *wr, *wi, *work;
   int lwork;
@@ -560,11 +560,9 @@ RR_CLONES static void modal_weights(const double *la, const double *lb, int npai
 static int modal_state_matrix(rr_frf_plan *p, const rr_model *m, int nu, double k_lo, int *N,
                               rr_error *err)
 {
-  rr_model *mm = (rr_model *)m; /* the SDF mode switched for this call, then restored */
-  int mode_saved = mm->sdf_mode;
-  if (nu) mm->sdf_mode = RR_SDF_PAPER;
-  int st = rr_state_matrix_merged(m, k_lo, p->A, N, err);
-  mm->sdf_mode = mode_saved;
+  /* with SMW elements, their state-space part is the paper mode's at k_lo */
+  rr_sdf_mode mode = nu ? RR_SDF_PAPER : (rr_sdf_mode)m->sdf_mode;
+  int st = rr_state_matrix_merged_as(m, mode, k_lo, p->A, N, err);
   if (!st && *N > p->Nmax) st = rr_seterr(err, RR_EINVAL, "frf plan too small for this model");
   return st;
 }

@@ -14,8 +14,8 @@
 #include <string.h>
 #include "railride/spectrum.h"
 #include "railride/vehicle.h"
-#include "internal.h"
-#include "textfile.h"
+#include "util/internal.h"
+#include "util/textfile.h"
 
 #ifndef RR_SPECTRA_DIR
 #define RR_SPECTRA_DIR "/usr/local/share/railride/spectra"

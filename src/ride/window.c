@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/comfort.h"
-#include "internal.h"
+#include "util/internal.h"
 
 #define WINDOW_COLS_MAX 64
 

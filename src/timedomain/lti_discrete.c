@@ -7,7 +7,7 @@
 #include <string.h>
 #include "railride/expm.h"
 #include "railride/timesim.h"
-#include "internal.h"
+#include "util/internal.h"
 
 void rr_lti_disc_free(rr_lti_disc *d)
 {

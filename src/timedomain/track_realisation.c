@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/timesim.h"
-#include "rng.h"
-#include "internal.h"
+#include "util/rng.h"
+#include "util/internal.h"
 
 int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, double fs, int ns,
                      double f_lo, double f_hi, rr_track_amplitudes how, uint64_t seed, double *u,

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/timesim.h"
-#include "internal.h"
-#include "textfile.h"
+#include "util/internal.h"
+#include "util/textfile.h"
 
 #define RECORD_MAX_ROWS 10000000
 

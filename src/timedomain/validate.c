@@ -7,10 +7,10 @@
 #include "railride/comfort.h"
 #include "railride/pem.h"
 #include "railride/timesim.h"
-#include "model_impl.h"
-#include "hessenberg_qr.h"
-#include "internal.h"
-#include "block.h"
+#include "model/model_impl.h"
+#include "linalg/hessenberg_qr.h"
+#include "util/internal.h"
+#include "util/block.h"
 
 rr_validate_opts rr_validate_opts_default(void)
 {

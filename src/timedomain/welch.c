@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "railride/timesim.h"
-#include "internal.h"
+#include "util/internal.h"
 
 int rr_welch_psd(const double *x, int n, double fs, int nseg, double *f, double *P, int *navg,
                  rr_error *err)

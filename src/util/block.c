@@ -2,7 +2,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include "block.h"
+#include "util/block.h"
 
 static size_t round_up(size_t x)
 {

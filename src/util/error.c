@@ -1,7 +1,7 @@
 /* Status codes and the error message helper. */
 #include <stdarg.h>
 #include <stdio.h>
-#include "internal.h"
+#include "util/internal.h"
 
 const char *rr_strerror(int status)
 {

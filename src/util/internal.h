@@ -3,8 +3,8 @@
 #define RR_INTERNAL_H
 
 #include <stddef.h>
+#include "railride/common.h"
 #include "railride/error.h"
-#include "railride/model.h"
 
 #if defined(__GNUC__)
 #define RR_PRINTF(a, b) __attribute__((format(printf, a, b)))

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include "textfile.h"
-#include "internal.h"
+#include "util/textfile.h"
+#include "util/internal.h"
 
 FILE *rr_open_regular(const char *path, rr_error *err)
 {

@@ -21,8 +21,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <udunits2.h>
-#include "railride/vehicle.h"
-#include "internal.h"
+#include "railride/units.h"
+#include "util/internal.h"
 
 #define UNIT_TEXT_MAX 128
 

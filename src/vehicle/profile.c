@@ -2,9 +2,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "railride/nonlinear.h"
-#include "internal.h"
-#include "textfile.h"
+#include "railride/vehicle.h"
+#include "util/internal.h"
+#include "util/textfile.h"
 
 #define HOLD_MM_DEFAULT 12.0
 #define A_CHECK_MM 30.0 /* lambda must stay positive out to here */

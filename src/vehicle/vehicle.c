@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "railride/vehicle.h"
-#include "internal.h"
+#include "util/internal.h"
 
 #define OFF(f) offsetof(rr_vehicle, f)
 #define NOFF ((size_t)-1)

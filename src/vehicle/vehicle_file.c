@@ -10,9 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/vehicle.h"
-#include "internal.h"
-#include "textfile.h"
-#include "vehicle_json.h"
+#include "util/internal.h"
+#include "util/textfile.h"
+#include "vehicle/vehicle_json.h"
 
 #define MAX_BASE_DEPTH 8
 #define NKEYS_MAX 128 /* room for the key table (checked at each load) */

@@ -9,8 +9,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "internal.h"
-#include "vehicle_json.h"
+#include "util/internal.h"
+#include "vehicle/vehicle_json.h"
 
 #define JSON_FILE_MAX (4 << 20) /* bytes: a vehicle file is small */
 

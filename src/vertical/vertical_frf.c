@@ -8,8 +8,8 @@
  * frequencies at once; the dense 7x7 solve is the tests' check. */
 #include <math.h>
 #include <string.h>
-#include "internal.h"
-#include "vertical_impl.h"
+#include "util/internal.h"
+#include "vertical/vertical_impl.h"
 
 #define NS 3
 #define NA 2

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 #include "railride/vertical.h"
-#include "internal.h"
+#include "util/internal.h"
 
 double rr_beam_shape(double x, double len)
 {

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "railride/vertical.h"
-#include "internal.h"
+#include "util/internal.h"
 
 #define NS (2 * RR_VDOF)
 #define OSC_TOL 1e-6 /* oscillatory: Im > 1e-6 |lambda| (as the lateral modes) */

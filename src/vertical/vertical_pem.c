@@ -9,8 +9,8 @@
 #include <string.h>
 #include "railride/pem.h"
 #include "railride/vertical.h"
-#include "internal.h"
-#include "vertical_impl.h"
+#include "util/internal.h"
+#include "vertical/vertical_impl.h"
 
 rr_vertical_opts rr_vertical_opts_default(void)
 {

@@ -10,8 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "railride/pem.h"
-#include "internal.h"
-#include "vertical_impl.h"
+#include "util/internal.h"
+#include "vertical/vertical_impl.h"
 
 #define NST (2 * RR_VDOF)
 #define P95 0.95
