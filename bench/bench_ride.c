@@ -1,7 +1,8 @@
 /* Benchmark: one ride evaluation (400 frequencies, 3 floor points, SDF on):
- * FRF plan execute (eigendecomposition + per-frequency modal sums + SMW),
- * PEM PSD and, at each point, RMS, Sperling (filter and GB/T 5599 line
- * methods) and the Wd RMS by a comfort plan; one core. */
+ * the library's ride plan (rr_ride_execute): FRF plan execute
+ * (eigendecomposition + per-frequency modal sums + SMW), PEM PSD and, at
+ * each point, RMS, Sperling (filter and GB/T 5599 line methods) and the Wd
+ * RMS by a comfort plan; one core. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,42 +25,33 @@ static void run(const char *label, int sdf, int method, int reps)
     exit(1);
   }
   rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e);
-  double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 17];
-  rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 0, rows, NULL, &e);
-  rr_frf_opts o = rr_frf_opts_default();
-  o.npoints = 3;
-  o.rows = rows;
+  /* the library's ride plan (ride.h): the paper's floor points +L, 0, -L at 1.2 m */
+  rr_ride_opts o = rr_ride_opts_default();
   o.method = method;
-  rr_frf_plan *p;
-  rr_comfort_plan *cp;
-  rr_frf_plan_new(m, &o, &p, &e);
-  rr_comfort_plan_new(rr_frf_freqs(p), 400, RR_AXIS_LATERAL, &cp, &e);
-  double G[1200], W[3];
-  rr_comfort c;
-  /* median of batch means: the machine's speed drifts during a run */
+  rr_ride_plan *p;
+  if (rr_ride_plan_new(m, &v, &o, &p, &e)) {
+    fprintf(stderr, "%s\n", e.msg);
+    exit(1);
+  }
+  rr_ride_point pt[3];
+  /* median of batch means: the machine's speed drifts during a run; the
+     FRF part alone timed in its own batches */
   double tb[RR_BATCHES], te[RR_BATCHES];
   for (int b = 0; b < RR_BATCHES; b++) {
-    double t0 = bench_now(), texec = 0;
-    for (int r = 0; r < reps; r++) {
-      double t1 = bench_now();
-      rr_frf_plan_execute(p, m, &e);
-      texec += bench_now() - t1;
-      rr_pem_psd(p, m, &sp, G, &e);
-      for (int q = 0; q < 3; q++) {
-        rr_comfort_execute(cp, G + q, 3, &c, &e);
-        W[q] = c.sperling;
-      }
-    }
-    tb[b] = (bench_now() - t0) / reps;
-    te[b] = texec / reps;
+    double t0 = bench_now();
+    for (int r = 0; r < reps; r++) rr_ride_execute(p, m, &sp, pt, &e);
+    double t1 = bench_now();
+    for (int r = 0; r < reps; r++) rr_ride_frf_execute(p, m, &e);
+    tb[b] = (t1 - t0) / reps;
+    te[b] = (bench_now() - t1) / reps;
   }
   double med = bench_median(tb, RR_BATCHES), best = tb[0]; /* sorted by the median */
   printf("ride_%s_us %.1f  (median of %d batches of %d, best %.1f; frf execute %.1f us; W = %.4f "
          "%.4f %.4f)\n",
-         label, med * 1e6, RR_BATCHES, reps, best * 1e6, bench_median(te, RR_BATCHES) * 1e6, W[0],
-         W[1], W[2]);
-  rr_frf_plan_free(p);
-  rr_comfort_plan_free(cp);
+         label, med * 1e6, RR_BATCHES, reps, best * 1e6, bench_median(te, RR_BATCHES) * 1e6,
+         pt[0].sperling, pt[1].sperling, pt[2].sperling);
+  rr_ride_plan_free(p);
+  rr_spectrum_close(&sp);
   rr_model_free(m);
 }
 

@@ -7,6 +7,7 @@
 #include <getopt.h>
 #include <stdio.h>
 #include "railride/railride.h"
+#include "console.h"
 
 /* The operating point commands use when none is given (the paper's). */
 #define CLI_SPEED_DEFAULT_KMH 350.0
@@ -20,8 +21,12 @@
 #define CLI_BAND_HI_MAX 1e4
 #define CLI_BAND_N_MAX 100000
 
-#define EXIT_BADINPUT 2
-#define EXIT_FAIL 1
+/* The critical-speed scan's default range, for help texts (stability.h). */
+#define CLI_CRITICAL_RANGE RR_STR(RR_CRITICAL_V_MIN_KMH) "-" RR_STR(RR_CRITICAL_V_MAX_KMH) " km/h"
+#define CLI_CRITICAL_TOP RR_STR(RR_CRITICAL_V_MAX_KMH) " km/h"
+
+/* The validation runs' default record length, for help texts (timesim.h). */
+#define CLI_VALIDATE_DURATION RR_STR(RR_VALIDATE_DURATION_S)
 
 /* Options most commands share. */
 typedef struct cli_common {
@@ -127,8 +132,6 @@ int cli_seed(const char *arg, unsigned long long *seed);
 int cli_range(const char *opt, const char *arg, const char *unit, double *from, double *to, int *n);
 /* Parses a comma list of numbers (max cap). */
 int cli_list(const char *opt, const char *arg, const char *unit, double *out, int cap, int *n);
-int cli_bad(const char *fmt, ...);
-int cli_fail(const rr_error *e, int st);
 /* Prints JSON to stdout and frees it. */
 void cli_json_print(cJSON *root);
 cJSON *cli_json_matrix(const double *A, int rows, int cols);
@@ -163,22 +166,6 @@ cJSON *cli_mode_json(const rr_mode *md, int paper);
 /* Long runs: progress with an ETA on stderr when it is a terminal (or when
    forced by --progress), and Ctrl-C/SIGTERM caught so that a loop can stop
    and write what it has. */
-typedef struct cli_progress {
-  const char *what;
-  long total, done;
-  double t0, last;
-  int show;
-} cli_progress;
-void cli_progress_start(cli_progress *p, const char *what, long total, int force);
-void cli_progress_step(cli_progress *p, long n);
-void cli_progress_end(cli_progress *p);
-/* An rr_progress for a library call: it drives p and stops the call on
-   Ctrl-C (after cli_catch_stops). */
-rr_progress cli_progress_hook(cli_progress *p);
-void cli_catch_stops(void);
-double cli_now_s(void); /* a monotonic clock, s */
-int cli_stopped(void);  /* a stop was asked for */
-#define CLI_EXIT_STOPPED 130
 
 /* Subcommands. */
 int cmd_summary(int argc, char **argv);

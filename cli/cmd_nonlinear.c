@@ -198,9 +198,17 @@ static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, 
   rr_spectrum sp;
   if ((st = rr_spectrum_open(a->spectrum, &sp, &e))) return cli_fail(&e, st);
   rr_validate_opts vo = rr_validate_opts_default();
+  rr_track_realisation tr = {.speed_ms = v,
+                             .x_inputs = x,
+                             .ninputs = ni,
+                             .fs_hz = a->fs,
+                             .nsamples = ns,
+                             .f_lo_hz = vo.f_lo_hz,
+                             .f_hi_hz = vo.f_hi_hz,
+                             .amplitudes = RR_TRACK_FIXED,
+                             .seed = a->have_seed ? a->seed : vo.seed};
   if (!(st = rr_spectrum_require(&sp, "lateral", "--spectrum: the lateral track input", &e)))
-    st = rr_track_realise(&sp, v, x, ni, a->fs, ns, vo.f_lo_hz, vo.f_hi_hz, RR_TRACK_FIXED,
-                          a->have_seed ? a->seed : vo.seed, *u, *du, &e);
+    st = rr_track_realise(&sp, &tr, *u, *du, &e);
   rr_spectrum_close(&sp);
   return st ? cli_fail(&e, st) : 0;
 }
@@ -613,6 +621,9 @@ static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
   return r;
 }
 
+/* rr_orbit_opts_default's speed range, as --speeds writes it */
+#define NL_SPEEDS_DEFAULT RR_STR(RR_ORBIT_V_MIN_KMH) ":" RR_STR(RR_ORBIT_V_MAX_KMH)
+
 int cmd_bifurcation(int argc, char **argv)
 {
   static const char help[] =
@@ -632,19 +643,14 @@ int cmd_bifurcation(int argc, char **argv)
       "whose motion died out; the way down from 10 mm when the top speed has no cycle).\n"
       "Amplitude: the leading wheelset's lateral displacement.\n" CLI_COMMON_HELP
       "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
-      "  --speeds A:B         speed range, km/h (default " RR_STR(RR_ORBIT_V_MIN_KMH) ":" RR_STR(
-          RR_ORBIT_V_MAX_KMH) ")\n"
-                              "  --method M           continuation (default) or scan\n"
-                              "  --csv                the branch as CSV (the assumptions on "
-                              "stderr)\n"
-                              "  --plot-data FILE     the same CSV to FILE too (what --plot "
-                              "draws)\n"
-                              "  --step KMH           scan: speed step (default 5 km/h)\n"
-                              "  --settle S           scan: transient discarded at each speed "
-                              "(default 20 s; 2 s "
-                              "measured)\n"
-                              "  --limit N            scan: most simulated seconds accepted "
-                              "(default 1e5)\n";
+      "  --speeds A:B         speed range, km/h (default " NL_SPEEDS_DEFAULT ")\n"
+      "  --method M           continuation (default) or scan\n"
+      "  --csv                the branch as CSV (the assumptions on stderr)\n"
+      "  --plot-data FILE     the same CSV to FILE too (what --plot draws)\n"
+      "  --step KMH           scan: speed step (default 5 km/h)\n"
+      "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s "
+      "measured)\n"
+      "  --limit N            scan: most simulated seconds accepted (default 1e5)\n";
   static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
                                         {"speeds", required_argument, 0, OPT_SPEEDS},
                                         {"method", required_argument, 0, OPT_METHOD},

@@ -542,76 +542,23 @@ static int crit_items(void *user, long lo, long hi, void *out)
   return 0;
 }
 
+/* rr_critical_opts_default's scan step and tolerance, for the help text */
+#define CRIT_STEP_TEXT RR_STR(RR_CRITICAL_STEP_KMH) " km/h"
+#define CRIT_TOL_TEXT RR_STR(RR_CRITICAL_TOL_KMH) " km/h"
+
 int cmd_critical(int argc, char **argv)
 {
   static const char help[] =
       "usage: railride critical-speed [VEHICLE] --conicity L1[,L2,...] [--vmin KMH] [--vmax KMH] "
       "[--step KMH] [--index-modes] [--json]\n"
-      "Lowest speed in [vmin, vmax] (default " RR_STR(
-          RR_CRITICAL_V_MIN_KMH) "-" RR_STR(RR_CRITICAL_V_MAX_KMH) " km/h) at which some "
-                                                                   "oscillatory mode, of any\n"
-                                                                   "frequency and shape, has zeta "
-                                                                   ">= 0: a scan at --step "
-                                                                   "(default " RR_STR(RR_CRITICAL_STEP_KMH) " km/h), then bisection to\n" RR_STR(
-                                                                       RR_CRITICAL_TOL_KMH) " km/"
-                                                                                            "h. "
-                                                                                            "Report"
-                                                                                            "s the "
-                                                                                            "mode "
-                                                                                            "that "
-                                                                                            "goes "
-                                                                                            "unstab"
-                                                                                            "le. "
-                                                                                            "With "
-                                                                                            "severa"
-                                                                                            "l "
-                                                                                            "conici"
-                                                                                            "ties, "
-                                                                                            "one "
-                                                                                            "result"
-                                                                                            " each"
-                                                                                            "\n"
-                                                                                            "(JSON:"
-                                                                                            " {"
-                                                                                            "\"resu"
-                                                                                            "lts\":"
-                                                                                            " [...]"
-                                                                                            "})."
-                                                                                            "\n" CLI_COMMON_HELP
-                                                                                            "  "
-                                                                                            "--"
-                                                                                            "vmin, "
-                                                                                            "--"
-                                                                                            "vmax "
-                                                                                            "KMH   "
-                                                                                            "speed "
-                                                                                            "range"
-                                                                                            "\n  "
-                                                                                            "--"
-                                                                                            "step "
-                                                                                            "KMH   "
-                                                                                            "      "
-                                                                                            "  "
-                                                                                            "scan "
-                                                                                            "step\n"
-                                                                                            "  "
-                                                                                            "--"
-                                                                                            "index-"
-                                                                                            "modes "
-                                                                                            "      "
-                                                                                            " only "
-                                                                                            "the "
-                                                                                            "stabil"
-                                                                                            "ity "
-                                                                                            "index'"
-                                                                                            "s "
-                                                                                            "modes "
-                                                                                            "count "
-                                                                                            "(the "
-                                                                                            "index "
-                                                                                            "reachi"
-                                                                                            "ng "
-                                                                                            "0)\n";
+      "Lowest speed in [vmin, vmax] (default " CLI_CRITICAL_RANGE
+      ") at which some oscillatory mode, of any\n"
+      "frequency and shape, has zeta >= 0: a scan at --step (default " CRIT_STEP_TEXT
+      "), then bisection to\n" CRIT_TOL_TEXT
+      ". Reports the mode that goes unstable. With several conicities, one result each\n"
+      "(JSON: {\"results\": [...]}).\n" CLI_COMMON_HELP
+      "  --vmin, --vmax KMH   speed range\n  --step KMH           scan step\n"
+      "  --index-modes        only the stability index's modes count (the index reaching 0)\n";
   static const struct option extra[] = {{"vmin", required_argument, 0, OPT_VMIN},
                                         {"vmax", required_argument, 0, OPT_VMAX},
                                         {"step", required_argument, 0, OPT_STEP},

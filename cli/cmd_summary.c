@@ -198,15 +198,14 @@ static void stability_text(const summary *s)
   else
     printf("  verdict: UNSTABLE at %d robust points (first: %g km/h, conicity %g)\n\n",
            rb->n_unstable, rb->unstable_speed_ms * RR_KMH, rb->unstable_conicity);
-  printf("Critical speed (" RR_STR(RR_CRITICAL_V_MIN_KMH) "-" RR_STR(
-      RR_CRITICAL_V_MAX_KMH) " km/h; any oscillatory mode reaching zeta = 0):\n");
+  printf("Critical speed (" CLI_CRITICAL_RANGE "; any oscillatory mode reaching zeta = 0):\n");
   for (int i = 0; i < NLAMS; i++) {
     const rr_critical *cr = &s->crit[i];
     if (cr->found)
       printf("  conicity %.2f: %10.3f km/h  (%s at %.3f Hz%s)\n", lams[i], cr->speed_ms * RR_KMH,
              cr->mode.name, cr->mode.freq_hz, cr->mode.hunting ? ", hunting-related" : "");
     else
-      printf("  conicity %.2f: stable to " RR_STR(RR_CRITICAL_V_MAX_KMH) " km/h\n", lams[i]);
+      printf("  conicity %.2f: stable to " CLI_CRITICAL_TOP "\n", lams[i]);
   }
 }
 

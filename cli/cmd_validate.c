@@ -247,7 +247,8 @@ int cmd_validate(int argc, char **argv)
       "time-domain filtering, and a Welch PSD (Hann, 50% overlap) with the indices from it and\n"
       "1/3-octave band powers compared with the PEM within the spread expected from the number\n"
       "of averages. The yaw damper SDF must be none or physical (paper mode has no time "
-      "form).\n" CLI_COMMON_HELP "  --duration S         record length, s (default 600)\n  --seed "
+      "form).\n" CLI_COMMON_HELP
+      "  --duration S         record length, s (default " CLI_VALIDATE_DURATION ")\n  --seed "
       "N             realisation seed (default 1)\n"
       "  --fs HZ              sample rate (default 256)\n  --nseg N             Welch segment "
       "length (default 4096)\n"

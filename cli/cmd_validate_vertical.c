@@ -236,7 +236,7 @@ int validate_vertical(int argc, char **argv)
       "law's.\n" CLI_COMMON_HELP "  --direction vertical this command\n"
       "  --vertical-spectrum S  vertical track spectrum (default tbt3352-vertical)\n"
       "  --outside extend|zero  the spectrum beyond its valid range (default: the file's)\n"
-      "  --duration S         record length, s (default 600)\n"
+      "  --duration S         record length, s (default " CLI_VALIDATE_DURATION ")\n"
       "  --seed N             realisation seed (default 1)\n"
       "  --fs HZ              sample rate (default 256)\n"
       "  --nseg N             Welch segment length (default 4096)\n"

@@ -16,8 +16,10 @@
 #define WEAR_MAX 32
 #define WEAR_VMAX_KMH RR_CRITICAL_V_MAX_KMH /* rr_critical_speed's default upper end */
 #define WEAR_NAMP 14                        /* the conicity function at 1.0, 1.5 .. 7.5 mm */
-#define WEAR_NL_V0_KMH 100                  /* --nonlinear: the scan's speeds, 100 .. 600 km/h */
+#define WEAR_NL_V0_KMH 100 /* --nonlinear: the scan's speeds, from here to WEAR_VMAX_KMH */
 #define WEAR_NL_STEP_KMH 25
+#define WEAR_NL_RANGE                                                                              \
+  RR_STR(WEAR_NL_V0_KMH) "-" RR_STR(WEAR_VMAX_KMH) " km/h (" RR_STR(WEAR_NL_STEP_KMH) " km/h"
 #define WEAR_NL_NV 21
 #define WEAR_NL_SETTLE_S                                                                           \
   10 /* s of transient at each speed (each starts on the last one's motion) */
@@ -271,14 +273,15 @@ int cmd_wear(int argc, char **argv)
       "(design and measured wear stages, in order) on the rail (--rail, or the vehicle file's\n"
       "[contact] rail, with its placement keys), the equivalent conicity at 3 mm and its\n"
       "function (1.0-7.5 mm, JSON), the stability index and verdict at the speed (default\n"
-      "350 km/h), the linear critical speed (10-600 km/h, any mode) and the Sperling index at\n"
+      "350 km/h), the linear critical speed (" CLI_CRITICAL_RANGE
+      ", any mode) and the Sperling index at\n"
       "the floor points +L, 0, -L (PEM, the Wuhan-Guangzhou alignment).\n" CLI_COMMON_HELP
       "  --wheels P1,P2,..    wheel profile files (lateral vertical, mm), at most 32\n"
       "  --rail R             the rail profile file\n"
       "  --csv                CSV output\n"
       "  --nonlinear          also the nonlinear vehicle on each profile's contact functions\n"
       "                       (dr(y), contact angles): its Hopf point, the speeds with hunting\n"
-      "                       cycles scanning up and down 100-600 km/h (25 km/h steps, 10 s to\n"
+      "                       cycles scanning up and down " WEAR_NL_RANGE " steps, 10 s to\n"
       "                       settle each) and the bifurcation's kind (subcritical: cycles below\n"
       "                       the speed where rest loses stability); slow: seconds a profile\n"
       "  --plot-data FILE     write what --plot draws (gnuplot data: the conicity functions,\n"

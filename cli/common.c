@@ -11,26 +11,6 @@
 #include <time.h>
 #include <unistd.h>
 #include "cli.h"
-#include "parallel.h"
-
-int cli_bad(const char *fmt, ...)
-{
-  va_list ap;
-  va_start(ap, fmt);
-  fputs("railride: ", stderr);
-  vfprintf(stderr, fmt, ap);
-  fputc('\n', stderr);
-  va_end(ap);
-  return EXIT_BADINPUT;
-}
-
-int cli_fail(const rr_error *e, int st)
-{
-  fprintf(stderr, "railride: %s\n", e->msg);
-  return (st == RR_ELAPACK || st == RR_ENOMEM || st == RR_ENOCONV || st == RR_EDERAIL)
-             ? EXIT_FAIL
-             : EXIT_BADINPUT;
-}
 
 void cli_common_init(cli_common *c)
 {
@@ -510,73 +490,6 @@ void cli_csv_num(FILE *fp, double x, char sep)
     fprintf(fp, "%.10g%c", x, sep);
   else
     fputc(sep, fp);
-}
-
-static volatile sig_atomic_t stop_flag;
-static void on_stop(int sig)
-{
-  (void)sig;
-  stop_flag = 1;
-}
-
-void cli_catch_stops(void)
-{
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_stop;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
-}
-
-int cli_stopped(void) { return stop_flag; }
-
-double cli_now_s(void)
-{
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-void cli_progress_start(cli_progress *p, const char *what, long total, int force)
-{
-  *p = (cli_progress){.what = what,
-                      .total = total,
-                      .t0 = cli_now_s(),
-                      .show = (force || isatty(STDERR_FILENO)) &&
-                              cli_par_rank() == 0}; /* one progress line per job */
-  p->last = p->t0;
-}
-
-void cli_progress_step(cli_progress *p, long n)
-{
-  p->done += n;
-  double now = cli_now_s();
-  if (!p->show || (now - p->last < 0.25 && p->done < p->total)) return;
-  p->last = now;
-  double eta = p->done ? (now - p->t0) / p->done * (p->total - p->done) : 0;
-  fprintf(stderr, "\r%s: %ld/%ld (%.0f%%)  ETA %.0f s   ", p->what, p->done, p->total,
-          100.0 * p->done / p->total, eta);
-}
-
-static int progress_hook(void *user, long done, long total)
-{
-  cli_progress *p = user;
-  p->total = total;
-  cli_progress_step(p, done - p->done);
-  return cli_stopped();
-}
-
-rr_progress cli_progress_hook(cli_progress *p)
-{
-  return (rr_progress){.fn = progress_hook, .user = p};
-}
-
-void cli_progress_end(cli_progress *p)
-{
-  if (p->show)
-    fprintf(stderr, "\r%s: %ld/%ld in %.1f s%s\n", p->what, p->done, p->total, cli_now_s() - p->t0,
-            p->done < p->total ? " (stopped)" : "             ");
 }
 
 const char *cli_num_or_none(char *buf, size_t len, double x)

@@ -47,6 +47,7 @@ void cli_par_init(int *argc, char ***argv)
   par.mpi = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &par.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &par.size);
+  cli_console_rank(par.rank);
   MPI_Win_allocate(par.rank == 0 ? (MPI_Aint)sizeof(long) : 0, sizeof(long), MPI_INFO_NULL,
                    MPI_COMM_WORLD, &par.counter, &par.win);
   if (par.rank == 0) *par.counter = 0;

@@ -12,7 +12,7 @@
 #define RR_CLI_PARALLEL_H
 
 #include <stddef.h>
-#include "cli.h"
+#include "console.h"
 
 /* MPI_Init when the process was started by an MPI launcher; call first. */
 void cli_par_init(int *argc, char ***argv);

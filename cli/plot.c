@@ -448,7 +448,8 @@ static void script_wear(FILE *gp, const char *d, int argc, char **argv)
           "set title 'stability index at the speed (below 0 stable)' font ',9'\n"
           "set ylabel 'index'; set xzeroaxis lw 1.5\n"
           "plot '%s' index 1 u 1:3 w lp pt 7 lw 2 lc rgb '#b2182b'\n"
-          "set title 'linear critical speed (triangles: none up to 600 km/h)' font ',9'\n"
+          "set title 'linear critical speed (triangles: none up to " CLI_CRITICAL_TOP
+          ")' font ',9'\n"
           "set ylabel 'speed (km/h)'; set yrange [0:660]\n"
           "plot '%s' index 1 u 1:4 w p pt 7 ps 1.2 lc rgb '#2166ac', '' index 1 u 1:8 w p pt 9 "
           "ps 1.5 lc rgb '#2166ac'\n"

@@ -147,8 +147,18 @@ static void frf_and_comfort(rr_sdf_mode sdf)
   CHECK(n == 0 && !st, "pem_psd: %ld allocations", n);
   ALLOCS(st |= rr_comfort_execute(cp, G, 3, &c, &e), n);
   CHECK(n == 0 && !st && isfinite(c.sperling), "comfort_execute: %ld allocations", n);
+  rr_ride_opts ro = rr_ride_opts_default(); /* the library's ride plan: the same stages */
+  ro.roll_gravity = 1;
+  rr_ride_plan *rp;
+  rr_ride_point pt[3];
+  CHECK_OK(rr_ride_plan_new(m, &v, &ro, &rp, &e), e);
+  ALLOCS(st |= rr_ride_execute(rp, m, &sp, pt, &e), n);
+  CHECK(n == 0 && !st && isfinite(pt[2].sperling), "ride_execute (sdf %d): %ld allocations", sdf,
+        n);
+  rr_ride_plan_free(rp);
   rr_frf_plan_free(p);
   rr_comfort_plan_free(cp);
+  rr_spectrum_close(&sp);
   rr_model_free(m);
 }
 
@@ -298,6 +308,11 @@ static void failures(void)
   fo.nfreq = 40;
   rr_frf_plan *fp = NULL;
   FAILS("frf_plan_new", rr_frf_plan_new(m, &fo, &fp, &e), rr_frf_plan_free(fp));
+  rr_ride_opts ro = rr_ride_opts_default();
+  ro.nfreq = 40;
+  ro.roll_gravity = 1;
+  rr_ride_plan *rp = NULL;
+  FAILS("ride_plan_new", rr_ride_plan_new(m, &v, &ro, &rp, &e), rr_ride_plan_free(rp));
   rr_modal_ws *ws = NULL;
   FAILS("modal_ws_new", rr_modal_ws_new(m, &ws, &e), rr_modal_ws_free(ws));
   rr_model_free(m);

@@ -10,9 +10,12 @@ covers what the build cannot: the public headers). Checked:
 - every public header in include/railride/ belongs to a stage (PUBLIC below),
   and a source or public header includes only public headers of stages at
   or before its own.
-All arrows run down a total order, so there is no circle."""
+All arrows run down a total order, so there is no circle between folders;
+tools/file-circles finds none between the files of a folder either (src/'s
+stages and cli/)."""
 import os
 import re
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -83,4 +86,8 @@ for p in pubs:
         scan(os.path.join(pubdir, p + ".h"), "include/railride/%s.h" % p, PUBLIC[p])
 check(arrows["internal"] > 50 and arrows["public"] > 100,
       "the includes were read (%d internal, %d public)" % (arrows["internal"], arrows["public"]))
+fc = subprocess.run([sys.executable, os.path.join(root, "tools", "file-circles")],
+                    capture_output=True, text=True)
+check(fc.returncode == 0 and " 0 circles" in fc.stdout, "no two files of a folder call each other: %s"
+      % fc.stdout.strip())
 done("include order")

@@ -672,6 +672,33 @@ static void test_index_batch(void)
   CHECK(worst < 1e-13, "index batch differs from the single-point index by %.3g", worst);
 }
 
+/* Every indexed getter answers an index out of range with its type's
+   "none" (common.h): NULL, -1 or NaN, never a read outside the data. */
+static void test_getters_out_of_range(void)
+{
+  rr_vehicle v;
+  rr_error e;
+  rr_model *m;
+  rr_system *sys;
+  rr_vehicle_default(&v);
+  if (rr_model_from_vehicle(&v, &m, &e) || rr_vehicle_system(&v, &sys, &e)) {
+    CHECK(0, "%s", e.msg);
+    return;
+  }
+  int n = rr_model_ndof(m), ni = rr_model_ninputs(m);
+  CHECK(rr_model_dof_name(m, n - 1) && rr_model_dof_group(m, n - 1) >= 0 &&
+            isfinite(rr_model_input_x(m, ni - 1)) && rr_system_dof_name(sys, n - 1),
+        "the last index is in range");
+  for (int k = 0; k < 2; k++) {
+    int dof = k ? -1 : n, in = k ? -1 : ni;
+    CHECK(!rr_model_dof_name(m, dof) && rr_model_dof_group(m, dof) == -1 &&
+              isnan(rr_model_input_x(m, in)) && !rr_system_dof_name(sys, dof),
+          "index %d out of range: NULL, -1, NaN", dof);
+  }
+  rr_system_free(sys);
+  rr_model_free(m);
+}
+
 int main(void)
 {
   test_eigdec();
@@ -684,5 +711,6 @@ int main(void)
   test_fast_vs_full();
   test_roll_mode_excluded();
   test_paper_roots();
+  test_getters_out_of_range();
   return check_done("model");
 }

@@ -268,8 +268,8 @@ static void test_near_defective(void)
   rr_model *m = vehicle_model("type1", RR_SDF_PAPER, NULL);
   rr_frf_plan *pm = floor_plan(m, RR_FRF_MODAL, 0), *pd = floor_plan(m, RR_FRF_DIRECT, 0);
   const double lam[] = {1e-2, 1e-3, 1e-5, 1e-7, 1e-10, 1e-12};
-  const int route[] = {RR_FRF_MODAL,  RR_FRF_MODAL,  RR_FRF_MODAL,
-                       RR_FRF_DIRECT, RR_FRF_DIRECT, RR_FRF_DIRECT};
+  const enum rr_frf_method route[] = {RR_FRF_MODAL,  RR_FRF_MODAL,  RR_FRF_MODAL,
+                                      RR_FRF_DIRECT, RR_FRF_DIRECT, RR_FRF_DIRECT};
   for (int c = 0; c < 6; c++) {
     rr_error e;
     CHECK_OK(rr_model_set_operating(m, 300 / RR_KMH, lam[c], &e), e);

@@ -96,7 +96,18 @@ static void test_track_and_welch(void)
   double v = 80, fs = 64, x[2] = {0, -2.5}; /* second input 2.5 m behind: lag 2 samples */
   int ns = 8192;
   double *u = malloc(sizeof(double) * 2 * ns), *du = malloc(sizeof(double) * 2 * ns);
-  CHECK_OK(rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u, du, &e), e);
+  CHECK_OK(rr_track_realise(&sp,
+                            &(rr_track_realisation){.speed_ms = v,
+                                                    .x_inputs = x,
+                                                    .ninputs = 2,
+                                                    .fs_hz = fs,
+                                                    .nsamples = ns,
+                                                    .f_lo_hz = 0.5,
+                                                    .f_hi_hz = 20,
+                                                    .amplitudes = RR_TRACK_FIXED,
+                                                    .seed = 7},
+                            u, du, &e),
+           e);
   /* mean square over the period = the sum of line powers = integral of G_t over the band */
   double ms = 0, T = ns / fs, want = 0;
   for (int k = 0; k < ns; k++) ms += u[k] * u[k] / ns;
@@ -111,7 +122,17 @@ static void test_track_and_welch(void)
   CHECK(lagerr < 1e-12 * sqrt(ms) * 100, "lag: %g", lagerr);
   /* the derivative against a 4th-order central difference, on a band where
      the difference itself is accurate (w h <= 0.4) */
-  rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 4, RR_TRACK_FIXED, 7, u, du, &e);
+  rr_track_realise(&sp,
+                   &(rr_track_realisation){.speed_ms = v,
+                                           .x_inputs = x,
+                                           .ninputs = 2,
+                                           .fs_hz = fs,
+                                           .nsamples = ns,
+                                           .f_lo_hz = 0.5,
+                                           .f_hi_hz = 4,
+                                           .amplitudes = RR_TRACK_FIXED,
+                                           .seed = 7},
+                   u, du, &e);
   double derr = 0, dmax = 0;
   for (int k = 2; k < ns - 2; k++) {
     double fd = (-u[k + 2] + 8 * u[k + 1] - 8 * u[k - 1] + u[k - 2]) * fs / 12;
@@ -119,16 +140,56 @@ static void test_track_and_welch(void)
     dmax = fmax(dmax, fabs(du[k]));
   }
   CHECK(derr < 2e-3 * dmax, "derivative vs finite difference: %g of %g", derr, dmax);
-  rr_track_realise(&sp, v, x, 2, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u, du, &e);
+  rr_track_realise(&sp,
+                   &(rr_track_realisation){.speed_ms = v,
+                                           .x_inputs = x,
+                                           .ninputs = 2,
+                                           .fs_hz = fs,
+                                           .nsamples = ns,
+                                           .f_lo_hz = 0.5,
+                                           .f_hi_hz = 20,
+                                           .amplitudes = RR_TRACK_FIXED,
+                                           .seed = 7},
+                   u, du, &e);
   /* same seed, same track; another seed, another */
   double *u2 = malloc(sizeof(double) * ns);
-  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u2, NULL, &e);
+  rr_track_realise(&sp,
+                   &(rr_track_realisation){.speed_ms = v,
+                                           .x_inputs = x,
+                                           .ninputs = 1,
+                                           .fs_hz = fs,
+                                           .nsamples = ns,
+                                           .f_lo_hz = 0.5,
+                                           .f_hi_hz = 20,
+                                           .amplitudes = RR_TRACK_FIXED,
+                                           .seed = 7},
+                   u2, NULL, &e);
   CHECK(maxdiff(u, u2, ns) == 0, "reproducible");
-  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_FIXED, 8, u2, NULL, &e);
+  rr_track_realise(&sp,
+                   &(rr_track_realisation){.speed_ms = v,
+                                           .x_inputs = x,
+                                           .ninputs = 1,
+                                           .fs_hz = fs,
+                                           .nsamples = ns,
+                                           .f_lo_hz = 0.5,
+                                           .f_hi_hz = 20,
+                                           .amplitudes = RR_TRACK_FIXED,
+                                           .seed = 8},
+                   u2, NULL, &e);
   CHECK(maxdiff(u, u2, ns) > 1e-4, "seed matters");
   /* Gaussian lines: the fixed draw's phases, Rayleigh amplitudes of mean
      square 1 (each line's power exponential: P(ratio^2 > 1) = 1/e) */
-  rr_track_realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_GAUSSIAN, 7, u2, NULL, &e);
+  rr_track_realise(&sp,
+                   &(rr_track_realisation){.speed_ms = v,
+                                           .x_inputs = x,
+                                           .ninputs = 1,
+                                           .fs_hz = fs,
+                                           .nsamples = ns,
+                                           .f_lo_hz = 0.5,
+                                           .f_hi_hz = 20,
+                                           .amplitudes = RR_TRACK_GAUSSIAN,
+                                           .seed = 7},
+                   u2, NULL, &e);
   fftw_complex *Uf = fftw_malloc(sizeof(fftw_complex) * (ns / 2 + 1)),
                *Ug = fftw_malloc(sizeof(fftw_complex) * (ns / 2 + 1));
   fftw_plan pf = fftw_plan_dft_r2c_1d(ns, u, Uf, FFTW_ESTIMATE),

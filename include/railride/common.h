@@ -3,6 +3,9 @@
  * same layout) and the export marker of the shared library's symbols. */
 #ifndef RAILRIDE_COMMON_H
 #define RAILRIDE_COMMON_H
+/* Getters that take an index (rr_model_dof_name(m, i), ...) answer an
+   index out of range with the type's "none": NULL for a pointer, -1 for an
+   index or an enum, NaN for a quantity. They never read outside the data. */
 /* A macro's value as a string literal (help texts quoting the named defaults). */
 #define RR_STR_(x) #x
 #define RR_STR(x) RR_STR_(x)

@@ -39,11 +39,6 @@ RR_API int rr_polyline_is_builtin(const char *name);
 RR_API int rr_polyline_from(const double *x, const double *z, int n, rr_polyline *p, rr_error *err);
 RR_API void rr_polyline_free(rr_polyline *p);
 
-typedef enum rr_contact_roll {
-  RR_ROLL_NONE = 0, /* each wheel lowered onto its rail independently (EN 15302) */
-  RR_ROLL_RIGID = 1 /* a rigid wheelset: both wheels touch, roll solved */
-} rr_contact_roll;
-
 typedef struct rr_contact_opts {
   double gauge_mm;          /* 1435 */
   double flange_back_mm;    /* 1360 */

@@ -37,7 +37,7 @@ RR_API int rr_model_set_gravity_stiffness(rr_model *m, int on, rr_error *err);
 /* SDF mode and curve for the elements flagged sdf. */
 RR_API int rr_model_set_sdf(rr_model *m, rr_sdf_mode mode, const rr_sdf_curve *curve,
                             rr_error *err);
-RR_API int rr_model_sdf_mode(const rr_model *m);
+RR_API rr_sdf_mode rr_model_sdf_mode(const rr_model *m);
 RR_API const rr_sdf_curve *rr_model_sdf_curve(const rr_model *m);
 
 RR_API int rr_model_ndof(const rr_model *m);

@@ -30,7 +30,7 @@ enum rr_frf_method {
    points 1.2 m above the rail (an assumption: the paper does not say). */
 #define RR_FRF_NFREQ_DEFAULT 400
 #define RR_FRF_F_LO_DEFAULT 0.3
-#define RR_FRF_F_HI_DEFAULT 30.0
+#define RR_FRF_F_HI_DEFAULT 30 /* Hz (the help texts quote these) */
 #define RR_FLOOR_HEIGHT_DEFAULT 1.2
 
 typedef struct rr_frf_opts {
@@ -58,7 +58,7 @@ RR_API void rr_frf_plan_free(rr_frf_plan *p);
 RR_API int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err);
 RR_API int rr_frf_nfreq(const rr_frf_plan *p);
 /* The method the last execute took (RR_FRF_DIRECT when a modal plan fell back). */
-RR_API int rr_frf_route(const rr_frf_plan *p);
+RR_API enum rr_frf_method rr_frf_route(const rr_frf_plan *p);
 RR_API int rr_frf_npoints(const rr_frf_plan *p);
 RR_API int rr_frf_ninputs(const rr_frf_plan *p);
 RR_API const double *rr_frf_freqs(const rr_frf_plan *p);

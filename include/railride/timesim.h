@@ -21,14 +21,23 @@ extern "C" {
  * phases, Rayleigh amplitudes of that mean square), a Gaussian process whose
  * mean-square and band powers scatter as a measured track's would. */
 typedef enum rr_track_amplitudes { RR_TRACK_GAUSSIAN = 0, RR_TRACK_FIXED = 1 } rr_track_amplitudes;
+/* What a realisation is drawn for. */
+typedef struct rr_track_realisation {
+  double speed_ms;        /* m/s */
+  const double *x_inputs; /* each input's x along the vehicle, m (ninputs) */
+  int ninputs;
+  double fs_hz;                   /* samples per second */
+  int nsamples;                   /* one period */
+  double f_lo_hz, f_hi_hz;        /* the lines kept */
+  rr_track_amplitudes amplitudes; /* fixed or Gaussian */
+  uint64_t seed;
+} rr_track_realisation;
 /* Track profile seen by each input over one period of nsamples at fs_hz:
  * y_t(v t + x_i), with lines at f_k = k fs / nsamples kept in [f_lo, f_hi],
- * drawn from the seed as amp says. u and du (time derivative, exact) are
- * ninputs x nsamples, row-major. */
-RR_API int rr_track_realise(const rr_spectrum *sp, double speed, const double *x_inputs,
-                            int ninputs, double fs_hz, int nsamples, double f_lo, double f_hi,
-                            rr_track_amplitudes amp, uint64_t seed, double *u, double *du,
-                            rr_error *err);
+ * drawn from the seed as the amplitudes say. u and du (time derivative,
+ * exact) are ninputs x nsamples, row-major. */
+RR_API int rr_track_realise(const rr_spectrum *sp, const rr_track_realisation *r, double *u,
+                            double *du, rr_error *err);
 
 /* A measured alignment record: distance_m (rising), alignment_m. */
 typedef struct rr_track_record {
@@ -72,8 +81,10 @@ RR_API int rr_welch_psd(const double *x, int n, double fs_hz, int nseg, double *
                         int *navg, rr_error *err);
 
 /* Validation of the PEM against a time-domain run. */
+#define RR_VALIDATE_DURATION_S 600 /* the validation runs' default record, s */
 typedef struct rr_validate_opts {
-  double duration_s;              /* record length = one period of the realisation (600) */
+  double duration_s;              /* record length = one period of the realisation
+                                     (RR_VALIDATE_DURATION_S) */
   double fs_hz;                   /* sample rate (256) */
   int nseg;                       /* Welch segment (4096) */
   uint64_t seed;                  /* (1) */

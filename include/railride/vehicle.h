@@ -25,12 +25,17 @@ extern "C" {
  * model's conicity is the equivalent conicity (docs/contact.md): files
  * (right; left "" = mirrored), placement, roll and the amplitude; SI. */
 #define RR_PROFILE_PATH_MAX 1024
+/* The wheelset's roll in the contact search. */
+typedef enum rr_contact_roll {
+  RR_ROLL_NONE = 0, /* each wheel lowered onto its rail independently (EN 15302) */
+  RR_ROLL_RIGID = 1 /* a rigid wheelset: both wheels touch, roll solved */
+} rr_contact_roll;
 typedef struct rr_wheel_rail {
   char wheel[2][RR_PROFILE_PATH_MAX], rail[2][RR_PROFILE_PATH_MAX]; /* right, left */
   double gauge, flange_back, wheel_origin;                          /* m: 1.435, 1.360, 0.070 */
   double inclination; /* tan of the rail inclination applied (1/40) */
   double gauge_point; /* m, the rail file's; NaN: 14 mm below the top */
-  int roll;           /* rr_contact_roll: 0 none, 1 rigid */
+  rr_contact_roll roll;
   double amplitude;   /* m: the amplitude of the linear conicity, 3 mm */
   double radius_left; /* m; NaN: the vehicle's rolling radius */
 } rr_wheel_rail;

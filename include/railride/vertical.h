@@ -150,7 +150,7 @@ RR_API int rr_vertical_window_stats(rr_vertical_plan *p, const double *G, int st
  * the realisation's lines with the realisation's own spread (z-scores), and
  * the 5 s Wb RMS percentiles of the record against the gamma law's. */
 typedef struct rr_vertical_validate_opts {
-  double duration_s;              /* one period of the realisation (600) */
+  double duration_s;              /* one period of the realisation (RR_VALIDATE_DURATION_S) */
   double fs_hz;                   /* (256) */
   int nseg;                       /* Welch segment (4096) */
   uint64_t seed;                  /* (1) */

@@ -4,6 +4,11 @@
 
 #include "railride/contact.h"
 
+#define RR_POLY_MAX_POINTS 1000000 /* a profile's points, at most */
+/* A profile's points finite and strictly rising in the lateral coordinate
+   (what: the file or the caller, for the message). */
+int rr_polyline_check_points(const char *what, const rr_polyline *p, rr_error *err);
+
 struct rr_contact_plan {
   rr_polyline wheel[2], rail[2];  /* right, left; rails after inclination, local frames */
   double *wheel_k[2], *rail_k[2]; /* segment slopes (n - 1 each) */

@@ -3,6 +3,8 @@
 #ifndef RR_MODAL_IMPL_H
 #define RR_MODAL_IMPL_H
 
+#include <float.h>
+#include <math.h>
 #include "railride/modal.h"
 #include "model/model_impl.h"
 
@@ -30,8 +32,16 @@ struct rr_modal_ws {
    modes a result holds at most. */
 int rr_modal_state_cap(const rr_model *m);
 
-/* Eigenvalues this small are zero to working precision (see modal.c). */
-int rr_modal_is_osc(double re, double im, double anorm);
+/* Eigenvalues this small are zero to working precision: a rigid-body mode
+   (free lateral drift at zero conicity) is a double, defective zero, which
+   rounding of size eps |A| splits into a pair +-sqrt(eps |A|) that may look
+   oscillatory. Exactly they are zero, hence real. */
+static inline int rr_modal_is_osc(double re, double im, double anorm)
+{
+  double mag = hypot(re, im);
+  return im > RR_OSC_TOL * mag && mag > 100 * sqrt(DBL_EPSILON * anorm);
+}
+
 double rr_modal_max_abs(const double *A, int N);
 /* Eigen-solve of the full state matrix into ws (wr, wi, and vr with vectors). */
 int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, int *N,
@@ -40,6 +50,8 @@ int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, 
 void rr_modal_collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_result *res);
 /* Eigenvalue, frequency, zeta, oscillation flag of a mode. */
 void rr_mode_fill(rr_mode *md, double re, double im, double anorm);
+/* The mode is hunting-related by the options' frequency and shape rules. */
+int rr_modal_hunting_related(const rr_mode *md, const rr_modal_opts *o);
 /* Energy and roll shares and the name of a mode from its q shape. */
 void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md);
 /* Unit norm, largest component real and positive. */

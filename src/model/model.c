@@ -166,7 +166,7 @@ int rr_model_set_sdf(rr_model *m, rr_sdf_mode mode, const rr_sdf_curve *curve, r
   return RR_OK;
 }
 
-int rr_model_sdf_mode(const rr_model *m) { return m->sdf_mode; }
+rr_sdf_mode rr_model_sdf_mode(const rr_model *m) { return m->sdf_mode; }
 const rr_sdf_curve *rr_model_sdf_curve(const rr_model *m) { return &m->curve; }
 int rr_model_ndof(const rr_model *m) { return m->n; }
 int rr_model_ninputs(const rr_model *m) { return m->ni; }
@@ -174,8 +174,11 @@ const char *rr_model_dof_name(const rr_model *m, int i)
 {
   return (i >= 0 && i < m->n) ? m->dof_name[i] : NULL;
 }
-int rr_model_dof_group(const rr_model *m, int i) { return m->group[i]; }
-double rr_model_input_x(const rr_model *m, int i) { return m->contacts[i].x; }
+int rr_model_dof_group(const rr_model *m, int i) { return i >= 0 && i < m->n ? m->group[i] : -1; }
+double rr_model_input_x(const rr_model *m, int i)
+{
+  return i >= 0 && i < m->ni ? m->contacts[i].x : NAN;
+}
 const double *rr_model_M(const rr_model *m) { return m->M; }
 const double *rr_model_C(const rr_model *m) { return m->C; }
 const double *rr_model_K(const rr_model *m) { return m->K; }

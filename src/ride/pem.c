@@ -163,7 +163,7 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
 }
 
 int rr_frf_nfreq(const rr_frf_plan *p) { return p->nf; }
-int rr_frf_route(const rr_frf_plan *p) { return p->route; }
+enum rr_frf_method rr_frf_route(const rr_frf_plan *p) { return p->route; }
 int rr_frf_npoints(const rr_frf_plan *p) { return p->np; }
 int rr_frf_ninputs(const rr_frf_plan *p) { return p->ni; }
 const double *rr_frf_freqs(const rr_frf_plan *p) { return p->f; }

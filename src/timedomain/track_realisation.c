@@ -7,10 +7,14 @@
 #include "util/rng.h"
 #include "util/internal.h"
 
-int rr_track_realise(const rr_spectrum *sp, double v, const double *x, int ni, double fs, int ns,
-                     double f_lo, double f_hi, rr_track_amplitudes how, uint64_t seed, double *u,
-                     double *du, rr_error *err)
+int rr_track_realise(const rr_spectrum *sp, const rr_track_realisation *r, double *u, double *du,
+                     rr_error *err)
 {
+  double v = r->speed_ms, fs = r->fs_hz, f_lo = r->f_lo_hz, f_hi = r->f_hi_hz;
+  const double *x = r->x_inputs;
+  int ni = r->ninputs, ns = r->nsamples;
+  rr_track_amplitudes how = r->amplitudes;
+  uint64_t seed = r->seed;
   if (!(v > 0 && fs > 0 && ns >= 4 && ni >= 1 && f_hi > f_lo && f_lo >= 0))
     return rr_seterr(err, RR_EINVAL,
                      "track: need speed > 0, fs > 0, >= 4 samples, 0 <= f_lo < f_hi");

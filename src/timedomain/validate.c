@@ -16,7 +16,7 @@ rr_validate_opts rr_validate_opts_default(void)
 {
   rr_validate_opts o;
   memset(&o, 0, sizeof o);
-  o.duration_s = 600;
+  o.duration_s = RR_VALIDATE_DURATION_S;
   o.fs_hz = 256;
   o.nseg = 4096;
   o.seed = 1;
@@ -256,8 +256,16 @@ static int time_run(const rr_model *m, const rr_spectrum *sp, const rr_validate_
 {
   double xin[RR_SYS_MAX_INPUTS];
   for (int i = 0; i < w->ni; i++) xin[i] = m->contacts[i].x;
-  int st = rr_track_realise(sp, m->speed, xin, w->ni, o->fs_hz, w->ns, o->f_lo_hz, o->f_hi_hz,
-                            o->amplitudes, o->seed, w->u, w->du, err);
+  rr_track_realisation tr = {.speed_ms = m->speed,
+                             .x_inputs = xin,
+                             .ninputs = w->ni,
+                             .fs_hz = o->fs_hz,
+                             .nsamples = w->ns,
+                             .f_lo_hz = o->f_lo_hz,
+                             .f_hi_hz = o->f_hi_hz,
+                             .amplitudes = o->amplitudes,
+                             .seed = o->seed};
+  int st = rr_track_realise(sp, &tr, w->u, w->du, err);
   if (st || (st = rr_progress_step(&o->progress, ++w->step, w->nsteps, err))) return st;
   if ((st = rr_lti_discretise(w->N, w->ni, w->A, w->Bs, w->dt, &w->dv, err))) return st;
   st = rr_lti_periodic(&w->dv, w->ns, w->u, w->du, w->ny, w->C, w->D, w->E, w->y, err);

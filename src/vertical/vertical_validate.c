@@ -18,7 +18,7 @@
 
 rr_vertical_validate_opts rr_vertical_validate_opts_default(void)
 {
-  return (rr_vertical_validate_opts){.duration_s = 600,
+  return (rr_vertical_validate_opts){.duration_s = RR_VALIDATE_DURATION_S,
                                      .fs_hz = 256,
                                      .nseg = 4096,
                                      .seed = 1,
@@ -131,8 +131,16 @@ static int time_run(const rr_vertical_model *m, double v, const rr_spectrum *sp,
       E[RR_VERTICAL_POINTS_MAX * RR_VINPUTS];
   state_space(m, A, B, MBC);
   output_rows(rows, w->np, A, B, MBC, C, D, E);
-  int st = rr_track_realise(sp, v, m->x_wheelsets, RR_VINPUTS, o->fs_hz, w->ns, RR_FRF_F_LO_DEFAULT,
-                            RR_FRF_F_HI_DEFAULT, o->amplitudes, o->seed, w->u, w->du, err);
+  rr_track_realisation tr = {.speed_ms = v,
+                             .x_inputs = m->x_wheelsets,
+                             .ninputs = RR_VINPUTS,
+                             .fs_hz = o->fs_hz,
+                             .nsamples = w->ns,
+                             .f_lo_hz = RR_FRF_F_LO_DEFAULT,
+                             .f_hi_hz = RR_FRF_F_HI_DEFAULT,
+                             .amplitudes = o->amplitudes,
+                             .seed = o->seed};
+  int st = rr_track_realise(sp, &tr, w->u, w->du, err);
   if (!st) st = rr_lti_discretise(NST, RR_VINPUTS, A, B, 1 / o->fs_hz, &w->d, err);
   if (!st) st = rr_lti_periodic(&w->d, w->ns, w->u, w->du, w->np, C, D, E, w->y, err);
   if (st) return st;
