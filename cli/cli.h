@@ -86,7 +86,11 @@ enum {
 };
 
 void cli_common_init(cli_common *c);
-/* Handles a shared option; returns 1 if handled, 0 if not ours, -1 on error (printed). */
+/* What every option handler returns (cli_common_option, the commands'
+   callbacks and their helpers): the option taken, not one it handles, or a
+   positive exit status after its message (cli_bad's EXIT_BADINPUT, say). */
+enum cli_opt_result { CLI_OPT_TAKEN = 0, CLI_OPT_NOT_MINE = -1, CLI_OPT_BAD = EXIT_BADINPUT };
+/* Handles a shared option (enum cli_opt_result). */
 int cli_common_option(cli_common *c, int opt, const char *arg);
 /* Loads the vehicle (positional argument) and applies overrides; prints and
  * returns EXIT_BADINPUT on error. */
@@ -180,7 +184,7 @@ int cmd_damper(int argc, char **argv);
 /* Runs getopt_long over argv with the shared options plus `extra` (NULL-
  * terminated, ids < 1000 or >= 2000), calling extra_cb for those. Loads the
  * vehicle. Returns 0 to go on, or an exit status (help printed: -1 -> 0). */
-typedef int (*cli_extra_cb)(int opt, const char *arg, void *user);
+typedef int (*cli_extra_cb)(int opt, const char *arg, void *user); /* enum cli_opt_result */
 int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
               cli_extra_cb cb, void *user, const char *usage_text);
 /* The same, with --conicity taking a comma list into c->conicities. */
@@ -219,7 +223,7 @@ enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
   {                                                                                                \
     "roll-gravity", no_argument, 0, OPT_ROLLG                                                      \
   }
-/* Handles one of them: 0 taken, 1 error (printed), -1 not one of them. */
+/* Handles one of them (enum cli_opt_result). */
 int ride_setup_option(ride_setup *r, int opt, const char *arg);
 
 /* --direction: which model a ride-type command runs. */

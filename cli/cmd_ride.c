@@ -60,7 +60,7 @@ enum {
   "                       one value or one per point, m/s^2\n"                                     \
   "  --lateral-wd-rms A[,A..]  the same with the stationary Wd RMS for both percentiles\n"
 
-/* The vertical options: 0 taken, 1 error (printed), -1 not one of them. */
+/* The vertical options (enum cli_opt_result). */
 static int vertical_option(ride_args *a, int opt, const char *arg)
 {
   vertical_setup *v = &a->vs;

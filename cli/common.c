@@ -101,43 +101,45 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
 {
   switch (opt) {
   case OPT_SPEED:
-    if (cli_number("speed", arg, "km/h", &c->speed_kmh)) return -1;
+    if (cli_number("speed", arg, "km/h", &c->speed_kmh)) return CLI_OPT_BAD;
     if (!(c->speed_kmh > 0 && c->speed_kmh <= RR_SPEED_MAX_MS * RR_KMH)) {
       cli_bad("--speed: must be within (0, %g] km/h (got '%s')", RR_SPEED_MAX_MS * RR_KMH, arg);
-      return -1;
+      return CLI_OPT_BAD;
     }
     c->have_speed = 1;
-    return 1;
+    return CLI_OPT_TAKEN;
   case OPT_CONICITY:
-    if (cli_list("conicity", arg, "1", c->conicities, 64, &c->ncon)) return -1;
+    if (cli_list("conicity", arg, "1", c->conicities, 64, &c->ncon)) return CLI_OPT_BAD;
     if (c->ncon > 1 && !c->conicity_list) {
       cli_bad("--conicity: one value expected, got '%s'", arg);
-      return -1;
+      return CLI_OPT_BAD;
     }
     for (int i = 0; i < c->ncon; i++)
       if (!(c->conicities[i] >= 0 && c->conicities[i] <= RR_CONICITY_MAX)) {
         cli_bad("--conicity: must be within [0, %g] (got '%s')", RR_CONICITY_MAX, arg);
-        return -1;
+        return CLI_OPT_BAD;
       }
     c->conicity = c->conicities[0];
     c->have_conicity = 1;
-    return 1;
-  case OPT_JSON: c->json = 1; return 1;
-  case OPT_FMAX: return cli_number_in("fmax", arg, "Hz", 1e-3, 1e6, &c->mo.fmax_hz) ? -1 : 1;
+    return CLI_OPT_TAKEN;
+  case OPT_JSON: c->json = 1; return CLI_OPT_TAKEN;
+  case OPT_FMAX:
+    return cli_number_in("fmax", arg, "Hz", 1e-3, 1e6, &c->mo.fmax_hz) ? CLI_OPT_BAD
+                                                                       : CLI_OPT_TAKEN;
   case OPT_WMIN:
-    if (cli_number("wmin", arg, "1", &c->mo.w_min)) return -1;
+    if (cli_number("wmin", arg, "1", &c->mo.w_min)) return CLI_OPT_BAD;
     if (!(c->mo.w_min >= 0 && c->mo.w_min <= 1)) {
       cli_bad("--wmin: must be within 0..1");
-      return -1;
+      return CLI_OPT_BAD;
     }
-    return 1;
+    return CLI_OPT_TAKEN;
   case OPT_RMAX:
-    if (cli_number("rmax", arg, "1", &c->mo.r_max)) return -1;
+    if (cli_number("rmax", arg, "1", &c->mo.r_max)) return CLI_OPT_BAD;
     if (!(c->mo.r_max >= 0 && c->mo.r_max <= 1)) {
       cli_bad("--rmax: must be within 0..1");
-      return -1;
+      return CLI_OPT_BAD;
     }
-    return 1;
+    return CLI_OPT_TAKEN;
   case OPT_SDF:
     if (!strcmp(arg, "none"))
       c->sdf_override = RR_SDF_NONE;
@@ -147,14 +149,14 @@ int cli_common_option(cli_common *c, int opt, const char *arg)
       c->sdf_override = RR_SDF_PHYSICAL;
     else {
       cli_bad("--sdf: '%s' is not none, paper or physical", arg);
-      return -1;
+      return CLI_OPT_BAD;
     }
-    return 1;
-  case OPT_GRAVITY: c->gravity = 1; return 1;
-  case OPT_PROFILES: c->profiles = arg; return 1;
-  case OPT_PROGRESS_ALL: c->progress = 1; return 1;
+    return CLI_OPT_TAKEN;
+  case OPT_GRAVITY: c->gravity = 1; return CLI_OPT_TAKEN;
+  case OPT_PROFILES: c->profiles = arg; return CLI_OPT_TAKEN;
+  case OPT_PROGRESS_ALL: c->progress = 1; return CLI_OPT_TAKEN;
   }
-  return 0;
+  return CLI_OPT_NOT_MINE;
 }
 
 /* The conicity of a command that reads one: given, or the profiles' (the
@@ -411,10 +413,9 @@ static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
       return cli_bad("%s: option '--%s' is not one this command reads (see --help)", argv[0],
                      opt_name(opts, opt));
     int r = cli_common_option(c, opt, optarg);
-    if (r < 0) return EXIT_BADINPUT;
-    if (r == 1) continue;
-    if (cb && cb(opt, optarg, user) == 0) continue;
-    return EXIT_BADINPUT;
+    if (r == CLI_OPT_NOT_MINE && cb) r = cb(opt, optarg, user);
+    if (r == CLI_OPT_TAKEN) continue;
+    return EXIT_BADINPUT; /* the handler's message is out; an option no handler takes is a bug */
   }
   int r = cli_load_vehicle(c, argc, argv);
   return r ? r : cli_profile_conicity(c, reads);

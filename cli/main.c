@@ -8,45 +8,46 @@
 
 void openblas_set_num_threads(int);
 
+/* Every command: its name, function, one line for the usage, and whether
+   its loops split over MPI ranks (cli_par_for). The one table of commands;
+   what each draws with --plot is plot.c's. */
+enum { ONE_RANK = 0, DISTRIBUTED = 1 };
 static const struct {
   const char *name;
   int (*fn)(int, char **);
   const char *what;
+  int distributed;
 } cmds[] = {
-    {"summary", cmd_summary, "stability summary of a vehicle (the main job)"},
-    {"matrices", cmd_matrices, "M, C, K, B, Maxwell rows and the state matrix A"},
-    {"modes", cmd_modes, "eigenvalues, stability indices, energy shares"},
-    {"robust", cmd_robust, "robust stability indices zeta_low, zeta_high, std(zeta)"},
-    {"critical-speed", cmd_critical, "lowest speed where the stability index reaches 0"},
-    {"locus", cmd_locus, "root locus over speed or conicity (CSV)"},
-    {"map", cmd_map, "stability index over a (speed, conicity) grid (CSV)"},
-    {"damper", cmd_damper, "Maxwell damper characteristics over frequency (CSV)"},
-    {"ride", cmd_ride, "ride comfort by PEM: acceleration PSD, Sperling, Wd RMS"},
-    {"frf", cmd_frf, "complex FRFs of carbody acceleration per wheelset input (CSV)"},
-    {"validate", cmd_validate, "PEM against FFTs of a time-domain run (RMS, Sperling, band PSDs)"},
-    {"optimise", cmd_optimise, "NSGA-II over a problem file (Pareto set and front as CSV)"},
-    {"optimize", cmd_optimise, "(same as optimise)"},
-    {"sweep", cmd_sweep, "any objective over a grid of two vehicle-file keys (CSV)"},
-    {"simulate", cmd_simulate, "time histories of the nonlinear vehicle (CSV)"},
-    {"bifurcation", cmd_bifurcation, "hunting limit cycles against speed: Hopf, folds, stability"},
+    {"summary", cmd_summary, "stability summary of a vehicle (the main job)", ONE_RANK},
+    {"matrices", cmd_matrices, "M, C, K, B, Maxwell rows and the state matrix A", ONE_RANK},
+    {"modes", cmd_modes, "eigenvalues, stability indices, energy shares", ONE_RANK},
+    {"robust", cmd_robust, "robust stability indices zeta_low, zeta_high, std(zeta)", ONE_RANK},
+    {"critical-speed", cmd_critical, "lowest speed where the stability index reaches 0",
+     DISTRIBUTED},
+    {"locus", cmd_locus, "root locus over speed or conicity (CSV)", DISTRIBUTED},
+    {"map", cmd_map, "stability index over a (speed, conicity) grid (CSV)", DISTRIBUTED},
+    {"damper", cmd_damper, "Maxwell damper characteristics over frequency (CSV)", ONE_RANK},
+    {"ride", cmd_ride, "ride comfort by PEM: acceleration PSD, Sperling, Wd RMS", ONE_RANK},
+    {"frf", cmd_frf, "complex FRFs of carbody acceleration per wheelset input (CSV)", ONE_RANK},
+    {"validate", cmd_validate, "PEM against FFTs of a time-domain run (RMS, Sperling, band PSDs)",
+     ONE_RANK},
+    {"optimise", cmd_optimise, "NSGA-II over a problem file (Pareto set and front as CSV)",
+     DISTRIBUTED},
+    {"optimize", cmd_optimise, "(same as optimise)", DISTRIBUTED},
+    {"sweep", cmd_sweep, "any objective over a grid of two vehicle-file keys (CSV)", DISTRIBUTED},
+    {"simulate", cmd_simulate, "time histories of the nonlinear vehicle (CSV)", ONE_RANK},
+    {"bifurcation", cmd_bifurcation, "hunting limit cycles against speed: Hopf, folds, stability",
+     DISTRIBUTED},
     {"compare", cmd_compare,
-     "SDF vs constant series stiffness: stability and Sperling over conicity"},
-    {"contact", cmd_contact, "wheel-rail contact geometry and equivalent conicity from profiles"},
-    {"wear", cmd_wear, "wheel profiles (wear stages) on their rail: conicity, stability, ride"},
-    {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings"},
-    {"objectives", cmd_objectives, "the objective names of problem files and sweeps"},
+     "SDF vs constant series stiffness: stability and Sperling over conicity", ONE_RANK},
+    {"contact", cmd_contact, "wheel-rail contact geometry and equivalent conicity from profiles",
+     ONE_RANK},
+    {"wear", cmd_wear, "wheel profiles (wear stages) on their rail: conicity, stability, ride",
+     ONE_RANK},
+    {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings", ONE_RANK},
+    {"objectives", cmd_objectives, "the objective names of problem files and sweeps", ONE_RANK},
 };
 #define NCMDS (int)(sizeof cmds / sizeof cmds[0])
-
-/* The commands whose loops split over MPI ranks (cli_par_for). */
-static int distributed(const char *name)
-{
-  static const char *const names[] = {"optimise",       "optimize", "sweep",      "map",
-                                      "critical-speed", "locus",    "bifurcation"};
-  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-    if (!strcmp(name, names[i])) return 1;
-  return 0;
-}
 
 static void usage(FILE *fp)
 {
@@ -81,7 +82,7 @@ static int run(int argc, char **argv)
   }
   for (int i = 0; i < NCMDS; i++)
     if (!strcmp(argv[1], cmds[i].name)) {
-      if (cli_par_size() > 1 && !distributed(cmds[i].name)) { /* one rank is enough */
+      if (cli_par_size() > 1 && !cmds[i].distributed) { /* one rank is enough */
         if (cli_par_rank() != 0) return 0;
         fprintf(stderr, "railride %s: not distributed over MPI ranks; rank 0 runs it alone\n",
                 cmds[i].name);
