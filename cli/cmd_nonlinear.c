@@ -19,10 +19,10 @@
 #define SCAN_STEP_DEFAULT_KMH 5.0
 
 typedef struct nl_args {
-  const char *profile, *spectrum, *track, *method, *plot_data;
+  const char *profile, *spectrum, *track, *method, *plot_data, *columns;
   double duration, fs, disturbance, step_kmh, settle, v_lo, v_hi, limit;
   unsigned long long seed;
-  int have_seed, have_disturbance, csv;
+  int have_seed, have_disturbance, csv, every, accelerations;
 } nl_args;
 enum {
   OPT_PROFILE = 5000,
@@ -38,7 +38,10 @@ enum {
   OPT_STEP,
   OPT_SETTLE,
   OPT_NLIMIT,
-  OPT_NPLOTDATA
+  OPT_NPLOTDATA,
+  OPT_EVERY,
+  OPT_COLUMNS,
+  OPT_ACCEL
 };
 
 static int speeds_option(nl_args *a, const char *arg)
@@ -86,6 +89,15 @@ static int nl_cb(int opt, const char *arg, void *u)
   case OPT_SETTLE: return cli_number_in("settle", arg, "s", 0.1, 1000, &a->settle) ? 1 : 0;
   case OPT_NLIMIT: return cli_limit(arg, &a->limit) ? 1 : 0;
   case OPT_NPLOTDATA: a->plot_data = arg; return cli_file_arg("plot-data", arg) ? 1 : 0;
+  case OPT_EVERY: {
+    double n;
+    if (cli_number_in("every", arg, "1", 1, INT_MAX, &n)) return 1;
+    if (n != floor(n)) return cli_bad("--every: a whole number of samples, got '%s'", arg);
+    a->every = (int)n;
+    return 0;
+  }
+  case OPT_COLUMNS: a->columns = arg; return 0;
+  case OPT_ACCEL: a->accelerations = 1; return 0;
   }
   return 1;
 }
@@ -213,78 +225,176 @@ static int sim_track(const nl_args *a, const rr_vehicle *veh, double v, int ns, 
   return st ? cli_fail(&e, st) : 0;
 }
 
-static void sim_header(FILE *fp, const rr_model *m, int nw)
+/* The output's columns: time, every DOF, with --accelerations each DOF's
+   second derivative, and per wheelset the track alignment, saturated creep
+   force and yaw moment and the flange force; --columns picks some of them. */
+enum sim_col_kind { COL_T, COL_Q, COL_ACC, COL_YT, COL_FY, COL_MZ, COL_FL };
+typedef struct sim_col {
+  enum sim_col_kind kind;
+  int i; /* the DOF or the wheelset */
+  char name[48];
+} sim_col;
+#define SIM_MAX_DOF 64 /* the model's limits (system.h's): a bigger one is refused */
+#define SIM_MAX_INPUTS 16
+#define SIM_COLS_MAX (1 + 2 * SIM_MAX_DOF + 4 * SIM_MAX_INPUTS)
+
+static int sim_columns_all(const rr_model *m, int nw, int accel, sim_col *c)
 {
-  fprintf(fp, "t_s");
-  for (int i = 0; i < rr_model_ndof(m); i++) {
+  int k = 0, n = rr_model_ndof(m);
+  c[k++] = (sim_col){.kind = COL_T, .name = "t_s"};
+  for (int i = 0; i < n; i++) {
     const char *nm = rr_model_dof_name(m, i);
-    fprintf(fp, ",%s_%s", nm, nm[0] == 'y' ? "m" : "rad");
+    c[k] = (sim_col){.kind = COL_Q, .i = i};
+    snprintf(c[k++].name, sizeof c->name, "%s_%s", nm, nm[0] == 'y' ? "m" : "rad");
   }
-  for (int w = 1; w <= nw; w++)
-    fprintf(fp, ",yt_w%d_m,Fy_w%d_N,Mz_w%d_Nm,flange_w%d_N", w, w, w, w);
-  fputc('\n', fp);
+  for (int i = 0; i < n && accel; i++) {
+    const char *nm = rr_model_dof_name(m, i);
+    c[k] = (sim_col){.kind = COL_ACC, .i = i};
+    snprintf(c[k++].name, sizeof c->name, "%s_acc_%s", nm, nm[0] == 'y' ? "m_s2" : "rad_s2");
+  }
+  static const char *const fmt[4] = {"yt_w%d_m", "Fy_w%d_N", "Mz_w%d_Nm", "flange_w%d_N"};
+  for (int w = 0; w < nw; w++)
+    for (int f = 0; f < 4; f++) {
+      c[k] = (sim_col){.kind = COL_YT + f, .i = w};
+      snprintf(c[k++].name, sizeof c->name, fmt[f], w + 1);
+    }
+  return k;
 }
 
-static void sim_rows(FILE *fp, const rr_nonlinear *nl, const double *Z, int ns, double fs,
-                     const double *u)
+/* --columns A,B,..: t_s first, then the named ones in the order given. */
+static int sim_columns_pick(const char *list, const sim_col *all, int nall, sim_col *out)
+{
+  char buf[4096];
+  if (snprintf(buf, sizeof buf, "%s", list) >= (int)sizeof buf)
+    return -cli_bad("--columns: the list is too long");
+  int k = 0;
+  out[k++] = all[0];
+  for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int j = 0;
+    while (j < nall && strcmp(all[j].name, tok)) j++;
+    if (j == nall)
+      return -cli_bad("--columns: no column '%s' (the header's names: %s, %s, ..., %s)", tok,
+                      all[0].name, all[1].name, all[nall - 1].name);
+    if (j > 0 && k < SIM_COLS_MAX) out[k++] = all[j];
+  }
+  return k;
+}
+
+typedef struct sim_out {
+  const sim_col *cols;
+  int ncols, every;
+  double fs;
+  const double *u; /* ninputs x ns, or NULL */
+  int ns;
+} sim_out;
+
+static void sim_write(FILE *fp, const rr_nonlinear *nl, const double *Z, int ndone,
+                      const sim_out *o, double *dz)
 {
   int N = rr_nonlinear_size(nl), n = rr_nonlinear_ndof(nl), nw = rr_nonlinear_ninputs(nl);
-  for (int k = 0; k < ns; k++) {
+  for (int j = 0; j < o->ncols; j++) fprintf(fp, j ? ",%s" : "%s", o->cols[j].name);
+  fputc('\n', fp);
+  for (int k = 0; k < ndone; k += o->every) {
     const double *z = Z + (size_t)k * (size_t)N;
-    double yt[64];
-    for (int w = 0; w < nw; w++) yt[w] = u ? u[(size_t)w * (size_t)ns + (size_t)k] : 0;
-    fprintf(fp, "%.10g", k / fs);
-    for (int i = 0; i < n; i++) fprintf(fp, ",%.10g", z[i]);
+    double yt[SIM_MAX_INPUTS], frc[SIM_MAX_INPUTS][3];
     for (int w = 0; w < nw; w++) {
-      double fy, mz, fl;
-      rr_nonlinear_forces(nl, z, yt, w, &fy, &mz, &fl);
-      fprintf(fp, ",%.10g,%.10g,%.10g,%.10g", yt[w], fy, mz, fl);
+      yt[w] = o->u ? o->u[(size_t)w * (size_t)o->ns + (size_t)k] : 0;
+      rr_nonlinear_forces(nl, z, yt, w, &frc[w][0], &frc[w][1], &frc[w][2]);
+    }
+    rr_nonlinear_rhs(nl, z, yt, dz);
+    for (int j = 0; j < o->ncols; j++) {
+      const sim_col *c = &o->cols[j];
+      double x = c->kind == COL_T     ? k / o->fs
+                 : c->kind == COL_Q   ? z[c->i]
+                 : c->kind == COL_ACC ? dz[n + c->i]
+                 : c->kind == COL_YT  ? yt[c->i]
+                                      : frc[c->i][c->kind - COL_FY];
+      fprintf(fp, j ? ",%.10g" : "%.10g", x);
     }
     fputc('\n', fp);
   }
 }
 
+/* The run, with progress and Ctrl-C: a stopped run writes the samples it
+   finished (exit 130). */
+static int sim_integrate(const nl_args *a, const cli_common *c, rr_nonlinear *nl, const double *u,
+                         const double *du, int ns, double *Z, int *ndone)
+{
+  int N = rr_nonlinear_size(nl);
+  double *z0 = calloc((size_t)N, sizeof(double));
+  if (!z0) return cli_bad("out of memory");
+  double y0 = a->have_disturbance ? a->disturbance : u ? 0 : SIM_DISTURBANCE_DEFAULT;
+  for (int w = 0; w < rr_nonlinear_ninputs(nl); w++) z0[rr_nonlinear_index_y(nl, w)] = y0;
+  rr_sim_opts so = rr_sim_opts_default();
+  so.duration_s = a->duration;
+  so.fs_hz = a->fs;
+  so.yt = u;
+  so.dyt = du;
+  so.nsamples_track = u ? ns : 0;
+  cli_progress pr;
+  cli_progress_start(&pr, "simulate", ns, c->progress);
+  so.progress = cli_progress_hook(&pr);
+  cli_catch_stops();
+  rr_error e;
+  int st = rr_simulate(nl, z0, &so, Z, ns, &e);
+  cli_progress_end(&pr);
+  free(z0);
+  *ndone = st == RR_ESTOPPED ? (int)pr.done : ns;
+  if (st == RR_ESTOPPED) {
+    fprintf(stderr,
+            "railride simulate: stopped by a signal: %d of %d samples (%g of %g s) written\n",
+            *ndone, ns, (*ndone - 1) / a->fs, a->duration);
+    return CLI_EXIT_STOPPED;
+  }
+  return st ? cli_fail(&e, st) : 0;
+}
+
 static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
 {
   double v = c->speed_kmh / RR_KMH;
-  int ns = (int)floor(a->duration * a->fs + 1e-9) + 1;
-  double *u, *du, *Z = NULL, *z0 = NULL;
-  int r = sim_track(a, &c->veh, v, ns, &u, &du);
+  int ns = (int)floor(a->duration * a->fs + 1e-9) + 1, ndone = 0;
+  double *u, *du, *Z = NULL, *dz = NULL;
+  sim_col *all = malloc(sizeof *all * SIM_COLS_MAX), *cols = malloc(sizeof *cols * SIM_COLS_MAX);
+  int r = sim_track(a, &c->veh, v, ns, &u, &du), ncols = 0;
   rr_nonlinear *nl = NULL;
   rr_model *m = NULL;
   rr_error e;
   int st = 0;
+  if (!r && (!all || !cols)) r = cli_bad("out of memory");
   if (!r && (st = rr_nonlinear_from_vehicle(&c->veh, nl_lib(p), NULL, v, &nl, &e)))
     r = cli_fail(&e, st);
   if (!r && (st = rr_model_from_vehicle(&c->veh, &m, &e))) r = cli_fail(&e, st);
+  if (!r && (rr_model_ndof(m) > SIM_MAX_DOF || rr_nonlinear_ninputs(nl) > SIM_MAX_INPUTS))
+    r = cli_bad("simulate: at most %d DOF and %d wheelsets", SIM_MAX_DOF, SIM_MAX_INPUTS);
   if (!r) {
-    int N = rr_nonlinear_size(nl);
-    Z = malloc(sizeof(double) * (size_t)N * (size_t)ns);
-    z0 = calloc((size_t)N, sizeof(double));
-    if (!Z || !z0) r = cli_bad("out of memory");
-    double y0 = a->have_disturbance ? a->disturbance : u ? 0 : SIM_DISTURBANCE_DEFAULT;
-    for (int w = 0; w < rr_nonlinear_ninputs(nl) && !r; w++) z0[rr_nonlinear_index_y(nl, w)] = y0;
-    rr_sim_opts so = rr_sim_opts_default();
-    so.duration_s = a->duration;
-    so.fs_hz = a->fs;
-    so.yt = u;
-    so.dyt = du;
-    so.nsamples_track = u ? ns : 0;
-    if (!r && (st = rr_simulate(nl, z0, &so, Z, ns, &e))) r = cli_fail(&e, st);
+    int nall = sim_columns_all(m, rr_nonlinear_ninputs(nl), a->accelerations || a->columns, all);
+    ncols = a->columns ? sim_columns_pick(a->columns, all, nall, cols) : nall;
+    if (ncols < 0)
+      r = -ncols;
+    else if (!a->columns)
+      memcpy(cols, all, sizeof *cols * (size_t)nall);
   }
   if (!r) {
+    Z = malloc(sizeof(double) * (size_t)rr_nonlinear_size(nl) * (size_t)ns);
+    dz = malloc(sizeof(double) * (size_t)rr_nonlinear_size(nl));
+    if (!Z || !dz) r = cli_bad("out of memory");
+  }
+  if (!r) r = sim_integrate(a, c, nl, u, du, ns, Z, &ndone);
+  if (!r || r == CLI_EXIT_STOPPED) {
     assumptions_note("simulate", &c->veh, p);
     fprintf(stderr,
             "railride simulate: speed %g km/h; SUNDIALS CVODE BDF, relative tolerance %g, absolute "
             "%g m\n",
             c->speed_kmh, rr_sim_opts_default().rtol, rr_sim_opts_default().atol_m);
-    sim_header(stdout, m, rr_nonlinear_ninputs(nl));
-    sim_rows(stdout, nl, Z, ns, a->fs, u);
+    sim_out o = {.cols = cols, .ncols = ncols, .every = a->every, .fs = a->fs, .u = u, .ns = ns};
+    sim_write(stdout, nl, Z, ndone, &o, dz);
   }
   free(u);
   free(du);
   free(Z);
-  free(z0);
+  free(dz);
+  free(all);
+  free(cols);
   rr_nonlinear_free(nl);
   rr_model_free(m);
   return r;
@@ -313,8 +423,16 @@ int cmd_simulate(int argc, char **argv)
       "  --seed N             realisation seed (default 1)\n"
       "  --track FILE.csv     measured alignment record: distance_m, alignment_m\n"
       "  --fs HZ              output (and track) samples per second (default 256)\n"
-      "  --limit N            most output samples (duration x fs) accepted (default 4194304)\n";
+      "  --limit N            most output samples (duration x fs) accepted (default 4194304)\n"
+      "  --every N            write every N-th sample (default 1: all)\n"
+      "  --accelerations      also each DOF's acceleration (NAME_acc_m_s2 or _rad_s2)\n"
+      "  --columns A,B,..     only these columns of the header (t_s always first), e.g.\n"
+      "                       y_w1_m,y_c_acc_m_s2,Fy_w1_N\n"
+      "Ctrl-C (or SIGTERM) stops the run and writes the samples done (exit 130).\n";
   static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
+                                        {"every", required_argument, 0, OPT_EVERY},
+                                        {"columns", required_argument, 0, OPT_COLUMNS},
+                                        {"accelerations", no_argument, 0, OPT_ACCEL},
                                         {"duration", required_argument, 0, OPT_NDUR},
                                         {"fs", required_argument, 0, OPT_NFS},
                                         {"disturbance", required_argument, 0, OPT_DIST},
@@ -324,8 +442,9 @@ int cmd_simulate(int argc, char **argv)
                                         {"limit", required_argument, 0, OPT_NLIMIT},
                                         {0, 0, 0, 0}};
   cli_common c;
-  nl_args a = {.duration = 10, .fs = SIM_FS_DEFAULT, .limit = CLI_LIMIT_SAMPLES};
-  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_PROFILES, extra, nl_cb, &a, help);
+  nl_args a = {.duration = 10, .fs = SIM_FS_DEFAULT, .limit = CLI_LIMIT_SAMPLES, .every = 1};
+  int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_PROFILES | CLI_READS_PROGRESS,
+                    extra, nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) return cli_bad("simulate: --speed is required");

@@ -192,6 +192,38 @@ for w, dx in ((4, 0.0), (1, 19.875)):
     assert abs(float(r[h.index(f'yt_w{w}_m')]) - want) < 2e-6, (w, r[h.index(f'yt_w{w}_m')], want)
 PY
 "$RR" simulate --speed 300 --profile worn --duration 3 --spectrum wuhan-guangzhou --seed 7 > "$tmp/sims.csv" || bad "simulate --spectrum exit"
+# simulate's output choices: --every and --columns pick rows and columns of the full run,
+# --accelerations agree with the displacements' second differences
+"$RR" simulate --speed 300 --profile worn --duration 1 --fs 2000 --accelerations > "$tmp/sima.csv" 2> /dev/null || bad "simulate --accelerations exit"
+"$RR" simulate --speed 300 --profile worn --duration 1 --fs 2000 --every 50 --columns y_w1_m,y_c_acc_m_s2,Fy_w1_N \
+  > "$tmp/simc.csv" 2> /dev/null || bad "simulate --every --columns exit"
+python3 - "$tmp/sima.csv" "$tmp/simc.csv" <<'PY' && ok || bad "simulate --every, --columns, --accelerations"
+import csv, sys
+full = list(csv.DictReader(open(sys.argv[1])))
+pick = list(csv.reader(open(sys.argv[2])))
+assert pick[0] == ["t_s", "y_w1_m", "y_c_acc_m_s2", "Fy_w1_N"], pick[0]
+assert len(pick) - 1 == (len(full) + 49) // 50, (len(pick), len(full))
+for row, k in zip(pick[1:], range(0, len(full), 50)):
+    assert row == [full[k][c] for c in pick[0]], (k, row)
+dt = float(full[1]["t_s"]) - float(full[0]["t_s"])
+for dof in ("y_c", "y_w1"):
+    y = [float(r[dof + "_m"]) for r in full]
+    a = [float(r[dof + "_acc_m_s2"]) for r in full]
+    amax = max(abs(x) for x in a[1:])
+    worst = max(abs((y[k + 1] - 2 * y[k] + y[k - 1]) / dt ** 2 - a[k]) for k in range(1, len(y) - 1))
+    assert worst <= 1e-2 * amax, (dof, worst, amax)
+PY
+"$RR" simulate --speed 300 --profile worn --duration 1 --columns y_w1,nope > /dev/null 2> "$tmp/simc.err"; rc=$?
+[ $rc -eq 2 ] && grep -q "no column 'y_w1'" "$tmp/simc.err" && ok || bad "simulate --columns: an unknown name is refused ($rc)"
+# Ctrl-C: the samples done are written, exit 130
+timeout --preserve-status -s INT 1 "$RR" simulate --speed 300 --profile worn --duration 10000 --fs 10 \
+  > "$tmp/simstop.csv" 2> "$tmp/simstop.err"; rc=$?
+python3 - "$tmp/simstop.csv" <<'PY' && [ $rc -eq 130 ] && grep -q "stopped by a signal" "$tmp/simstop.err" && ok || bad "simulate stopped by SIGINT ($rc)"
+import csv, sys
+rows = list(csv.reader(open(sys.argv[1])))
+assert rows[0][0] == "t_s" and 2 <= len(rows) < 100001, len(rows)
+assert all(abs(float(r[0]) - k / 10) < 1e-9 for k, r in enumerate(rows[1:])), "times in order from 0"
+PY
 "$RR" bifurcation --profile worn --speeds 100:560 --json > "$tmp/bif.json" || bad "bifurcation exit"
 "$RR" critical-speed --conicity 0.375 --json > "$tmp/crit.json" || bad "critical-speed exit"
 python3 - "$tmp/bif.json" "$tmp/crit.json" <<'PY' && ok || bad "bifurcation json"

@@ -85,11 +85,14 @@ typedef struct rr_sim_opts {
   const double *yt,
       *dyt; /* track: ninputs x nsamples at fs_hz (alignment m, its rate m/s), or NULL */
   int nsamples_track;
+  rr_progress progress; /* after each sample: (samples done, nsamples); none by default */
 } rr_sim_opts;
 /* The defaults given in the fields' comments. */
 RR_API rr_sim_opts rr_sim_opts_default(void);
 /* Integrates from z0 (N); out: nsamples x N states at t = k / fs,
- * k = 0 .. nsamples - 1 (nsamples = floor(duration fs) + 1). */
+ * k = 0 .. nsamples - 1 (nsamples = floor(duration fs) + 1). Stopped by
+ * the progress callback: RR_ESTOPPED, the samples it was last told were
+ * done in place. */
 RR_API int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, double *out,
                        int nsamples, rr_error *err);
 

@@ -116,6 +116,7 @@ int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, 
         st = rr_seterr(err, RR_ENOCONV, "simulate: the state is not finite at t = %g s", t);
     if (!st) st = check_contact(&s, t, y, err);
     if (!st) memcpy(out + (size_t)k * (size_t)N, y, sizeof(double) * (size_t)N);
+    if (!st) st = rr_progress_step(&o->progress, k + 1, nsamples, err);
   }
   rr_ode_close(&c);
   return st;
