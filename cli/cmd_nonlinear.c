@@ -468,10 +468,13 @@ static const char *type_name(int t)
 static const char *end_name(int e)
 {
   static const char *names[] = {
-      "left the speed range", "beyond the amplitude limit", "point limit reached",
+      "left the speed range",
+      "beyond the amplitude limit",
+      "point limit reached",
       "continuation stalled (a grazing corner or a secondary bifurcation)",
-      "linear model: no limit cycles"};
-  return e >= 0 && e <= 4 ? names[e] : "?";
+      "linear model: no limit cycles",
+      "stopped by a signal"};
+  return e >= 0 && e <= RR_BRANCH_STOPPED ? names[e] : "?";
 }
 
 static const char *event_name(rr_bif_event_kind k)
@@ -605,7 +608,8 @@ static void bif_csv_scan(FILE *fp, const rr_scan_point *up, const rr_scan_point 
   for (int s = 0; s < 2; s++)
     for (int i = 0; i < nv; i++) {
       const rr_scan_point *q = s ? &down[nv - 1 - i] : &up[i];
-      fprintf(fp, "%s,%.10g,%.10g,", s ? "down" : "up", q->speed_ms * RR_KMH, q->amplitude_m);
+      fprintf(fp, "%s,%.10g,", s ? "down" : "up", q->speed_ms * RR_KMH);
+      cli_csv_num(fp, q->amplitude_m, ','); /* empty: not run (a stopped scan) */
       cli_csv_num(fp, q->frequency_hz, '\n');
     }
 }
@@ -637,7 +641,12 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
   rr_bifurcation b;
   rr_error e;
   double t0 = cli_now_s();
+  cli_progress pr;
+  cli_progress_start(&pr, "bifurcation", o.max_points, c->progress);
+  o.progress = cli_progress_hook(&pr);
+  cli_catch_stops();
   int st = rr_bifurcation_continue(&c->veh, nl_lib(p), NULL, &o, pts, NULL, o.max_points, &b, &e);
+  cli_progress_end(&pr);
   if (st) {
     free(pts);
     return cli_par_rank() == 0 ? cli_fail(&e, st) : st; /* every rank failed alike: one message */
@@ -645,6 +654,13 @@ static int bif_continue(const cli_common *c, const rr_profile *p, const nl_args 
   int r = bif_plot_data(a, &b, pts, NULL, NULL, 0);
   if (!r) bif_print_cont(c, p, a, &b, pts, cli_now_s() - t0);
   free(pts);
+  if (!r && b.end == RR_BRANCH_STOPPED) {
+    fprintf(stderr,
+            "railride bifurcation: stopped by a signal: the %d branch points found written "
+            "(folds not refined)\n",
+            b.npoints);
+    return CLI_EXIT_STOPPED;
+  }
   return r;
 }
 
@@ -667,9 +683,11 @@ static void scan_points_json(cJSON *arr, const rr_scan_point *s, int nv, const c
     cJSON *q = cJSON_CreateObject();
     cJSON_AddStringToObject(q, "sweep", sweep);
     cJSON_AddNumberToObject(q, "speed_kmh", s[i].speed_ms * RR_KMH);
-    cJSON_AddNumberToObject(q, "amplitude_m", s[i].amplitude_m);
+    int run = !isnan(s[i].amplitude_m); /* a stopped scan leaves the rest not run: null */
+    cJSON_AddItemToObject(q, "amplitude_m", num_or_null(s[i].amplitude_m));
     cJSON_AddItemToObject(q, "frequency_hz", num_or_null(s[i].frequency_hz));
-    cJSON_AddBoolToObject(q, "stable", s[i].amplitude_m > 0);
+    cJSON_AddItemToObject(q, "stable",
+                          run ? cJSON_CreateBool(s[i].amplitude_m > 0) : cJSON_CreateNull());
     cJSON_AddNullToObject(q, "max_floquet_modulus");
     cJSON_AddItemToArray(arr, q);
   }
@@ -731,9 +749,20 @@ static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
   so.settle_s = a->settle;
   rr_error e;
   double t0 = cli_now_s();
+  cli_progress pr;
+  cli_progress_start(&pr, "bifurcation --method scan", 2L * nv, c->progress);
+  so.progress = cli_progress_hook(&pr);
+  cli_catch_stops();
   int st = rr_bifurcation_scan(&c->veh, nl_lib(p), NULL, vs, nv, &so, up, down, &e);
-  int r = st ? cli_fail(&e, st) : bif_plot_data(a, NULL, NULL, up, down, nv);
+  cli_progress_end(&pr);
+  int stopped = st == RR_ESTOPPED; /* the runs done are written; the rest are empty */
+  int r = st && !stopped ? cli_fail(&e, st) : bif_plot_data(a, NULL, NULL, up, down, nv);
   if (!r) bif_print_scan(c, p, a, up, down, nv, cli_now_s() - t0);
+  if (!r && stopped) {
+    fprintf(stderr, "railride bifurcation: stopped by a signal: %ld of %ld runs written\n", pr.done,
+            2L * nv);
+    r = CLI_EXIT_STOPPED;
+  }
   free(vs);
   free(up);
   free(down);
@@ -769,7 +798,9 @@ int cmd_bifurcation(int argc, char **argv)
       "  --step KMH           scan: speed step (default 5 km/h)\n"
       "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s "
       "measured)\n"
-      "  --limit N            scan: most simulated seconds accepted (default 1e5)\n";
+      "  --limit N            scan: most simulated seconds accepted (default 1e5)\n"
+      "Ctrl-C (or SIGTERM) stops the run and writes what is found: the branch so far, or the\n"
+      "scan's runs done (exit 130).\n";
   static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
                                         {"speeds", required_argument, 0, OPT_SPEEDS},
                                         {"method", required_argument, 0, OPT_METHOD},
@@ -786,7 +817,8 @@ int cmd_bifurcation(int argc, char **argv)
                .step_kmh = SCAN_STEP_DEFAULT_KMH,
                .settle = rr_scan_opts_default().settle_s,
                .limit = 1e5};
-  int r = cli_parse(argc, argv, &c, CLI_READS_JSON | CLI_READS_PROFILES, extra, nl_cb, &a, help);
+  int r = cli_parse(argc, argv, &c, CLI_READS_JSON | CLI_READS_PROFILES | CLI_READS_PROGRESS, extra,
+                    nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (a.csv && c.json) return cli_bad("bifurcation: --json or --csv, not both");

@@ -224,6 +224,22 @@ rows = list(csv.reader(open(sys.argv[1])))
 assert rows[0][0] == "t_s" and 2 <= len(rows) < 100001, len(rows)
 assert all(abs(float(r[0]) - k / 10) < 1e-9 for k, r in enumerate(rows[1:])), "times in order from 0"
 PY
+# bifurcation stopped by SIGINT: what is found is written, exit 130 (both methods)
+(cd "$RR_SOURCE_DIR/examples" && timeout --preserve-status -s INT 1 "$RR" bifurcation type2.ini --profile worn --json) \
+  > "$tmp/bifstop.json" 2> "$tmp/bifstop.err"; rc=$?
+python3 - "$tmp/bifstop.json" <<'PY' && [ $rc -eq 130 ] && ok || bad "bifurcation stopped by SIGINT ($rc)"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["branch_end"] == "stopped by a signal" and len(d["branch"]) >= 1, (d["branch_end"], len(d["branch"]))
+PY
+(cd "$RR_SOURCE_DIR/examples" && timeout --preserve-status -s INT 1 "$RR" bifurcation type2.ini --profile worn --method scan \
+  --speeds 100:200 --csv) > "$tmp/scanstop.csv" 2> "$tmp/scanstop.err"; rc=$?
+python3 - "$tmp/scanstop.csv" <<'PY' && [ $rc -eq 130 ] && grep -q "runs written" "$tmp/scanstop.err" && ok || bad "bifurcation --method scan stopped by SIGINT ($rc)"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 42 and rows[0]["sweep"] == "up", len(rows)
+assert any(r["amplitude_m"] == "" for r in rows), "the runs not done are empty"
+PY
 "$RR" bifurcation --profile worn --speeds 100:560 --json > "$tmp/bif.json" || bad "bifurcation exit"
 "$RR" critical-speed --conicity 0.375 --json > "$tmp/crit.json" || bad "critical-speed exit"
 python3 - "$tmp/bif.json" "$tmp/crit.json" <<'PY' && ok || bad "bifurcation json"

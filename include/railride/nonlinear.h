@@ -119,6 +119,8 @@ typedef struct rr_orbit_opts {
   int max_points;            /* (400) */
   double rtol;               /* shooting's integration tolerance (1e-10) */
   rr_runner_opts runner;     /* where the monodromy matrix's column groups run (none: here) */
+  rr_progress progress;      /* after each point: (points, max_points); a stop ends the branch
+                                (RR_BRANCH_STOPPED) with what is found, folds left unrefined */
 } rr_orbit_opts;
 /* The defaults given in the fields' comments. */
 RR_API rr_orbit_opts rr_orbit_opts_default(void);
@@ -134,7 +136,8 @@ typedef enum rr_branch_end {
   RR_BRANCH_CAP = 2,       /* max_points reached */
   RR_BRANCH_STALLED =
       3, /* Newton failed even at the smallest step (a grazing corner, a period doubling) */
-  RR_BRANCH_LINEAR = 4 /* the model is linear: no branch */
+  RR_BRANCH_LINEAR = 4, /* the model is linear: no branch */
+  RR_BRANCH_STOPPED = 5 /* the caller's progress callback asked to stop: the points so far */
 } rr_branch_end;
 
 /* Where the branch's stability changes between two of its points: the kind
@@ -211,6 +214,8 @@ typedef struct rr_scan_point {
 } rr_scan_point;
 typedef struct rr_scan_opts {
   double settle_s, measure_s, y0_m, reseed_m;
+  rr_progress progress; /* after each run: (runs done, 2 nv), up then down; a stop returns
+                           RR_ESTOPPED with the points not run NaN */
 } rr_scan_opts;
 /* The defaults given in the fields' comments. */
 RR_API rr_scan_opts rr_scan_opts_default(void); /* 20 s, 2 s, 10 mm, 0.1 mm */

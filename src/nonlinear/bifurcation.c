@@ -501,7 +501,8 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
                          .ds_max = 15 * o->ds,
                          .rtol = p ? o->rtol : fmax(o->rtol, RTOL_TABLE),
                          .cap = cap < o->max_points ? cap : o->max_points,
-                         .runner = o->runner};
+                         .runner = o->runner,
+                         .progress = o->progress};
     int n = 0;
     double *Z =
         z_out ? z_out : malloc(sizeof(double) * (size_t)cap * (size_t)rr_nonlinear_size(nl));
@@ -509,8 +510,9 @@ int rr_bifurcation_continue(const rr_vehicle *veh, const rr_profile *p, const rr
     if (!st) st = rr_orbit_branch(&s, v0, &bo, pts, Z, &n, &res->end, err);
     for (int i = 0; i < n; i++) out[i] = cycle_of(&pts[i]);
     summarise(out, n, res);
-    if (!st && n) res->nonlinear_critical_ms = lowest_speed(&s, o, pts, Z, n, vh);
-    if (!st) find_events(&s, o, pts, Z, n, res);
+    int refine = !st && res->end != RR_BRANCH_STOPPED; /* a stop wants out soon */
+    if (refine && n) res->nonlinear_critical_ms = lowest_speed(&s, o, pts, Z, n, vh);
+    if (refine) find_events(&s, o, pts, Z, n, res);
     if (Z != z_out) free(Z);
     free(pts);
     free(atol);
@@ -626,15 +628,21 @@ int rr_bifurcation_scan(const rr_vehicle *veh, const rr_profile *p, const rr_con
          *buf = malloc(sizeof(double) * (size_t)ns * (size_t)N);
   if (!z || !buf) st = rr_seterr(err, RR_ENOMEM, "out of memory");
   if (!st) scan_seed(nl, z, o->y0_m);
+  for (int i = 0; i < nv; i++) /* a stop leaves what was not run undefined */
+    up[i] = down[i] = (rr_scan_point){.speed_ms = vs[i], .amplitude_m = NAN, .frequency_hz = NAN};
+  long done = 0;
   for (int i = 0; i < nv && !st; i++) { /* up: each speed from the last end state */
     if (i > 0 && up[i - 1].amplitude_m == 0) scan_seed(nl, z, o->reseed_m); /* it died out */
     if (!(st = rr_nonlinear_set_speed(nl, vs[i], err)))
       st = scan_run(nl, z, o, buf, ns, &up[i], err);
+    if (!st) st = rr_progress_step(&o->progress, ++done, 2L * nv, err);
   }
   if (!st && up[nv - 1].amplitude_m == 0) scan_seed(nl, z, o->y0_m); /* no cycle on top */
-  for (int i = nv - 1; i >= 0 && !st; i--) /* down, from the top speed's motion */
+  for (int i = nv - 1; i >= 0 && !st; i--) { /* down, from the top speed's motion */
     if (!(st = rr_nonlinear_set_speed(nl, vs[i], err)))
       st = scan_run(nl, z, o, buf, ns, &down[i], err);
+    if (!st) st = rr_progress_step(&o->progress, ++done, 2L * nv, err);
+  }
   free(z);
   free(buf);
   rr_nonlinear_free(nl);

@@ -975,6 +975,10 @@ int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *
     }
     store(&r, X, n, out, z_out, &k);
     history_push(s, &h, X);
+    if (o->progress.fn && o->progress.fn(o->progress.user, k, o->cap)) {
+      *end = RR_BRANCH_STOPPED;
+      break;
+    }
     if (r.iterations <= 6)
       ds = fmin(ds * 1.5, o->ds_max); /* Broyden: 5-6 iterations is easy going */
     else if (r.iterations >= 10)

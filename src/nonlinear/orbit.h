@@ -109,9 +109,11 @@ typedef struct rr_branch_opts {
   double p_min, p_max, amp_max, amp_start, ds, ds_max, rtol;
   int cap;
   rr_runner_opts runner;
+  rr_progress progress; /* after each point (points, cap): a stop ends the branch */
 } rr_branch_opts;
 /* *end: RR_BRANCH_RANGE left [p_min, p_max], _AMPLITUDE beyond amp_max, _CAP
-   max points reached, _STALLED Newton failed at the smallest step. */
+   max points reached, _STALLED Newton failed at the smallest step, _STOPPED
+   the progress callback asked (RR_OK: the points so far are the branch). */
 int rr_orbit_branch(const rr_orbit_sys *s, double p_hopf, const rr_branch_opts *o, rr_orbit *out,
                     double *z_out, int *n, rr_branch_end *end, rr_error *err);
 
