@@ -136,6 +136,16 @@ static int stop_at(void *user, int g, long ev, double secs, int fs, double hv)
   return g >= *(int *)user;
 }
 
+/* The seconds reported at each generation (g <= 15), for the resumed clock. */
+static int note_seconds(void *user, int g, long ev, double secs, int fs, double hv)
+{
+  (void)ev;
+  (void)fs;
+  (void)hv;
+  ((double *)user)[g] = secs;
+  return g >= (int)((double *)user)[0];
+}
+
 static void test_resume(void)
 {
   int which = 1, six = 6;
@@ -153,15 +163,20 @@ static void test_resume(void)
   char path[300];
   snprintf(path, sizeof path, "%s/run.ckpt", check_dir);
   o.checkpoint = path;
-  o.progress = stop_at;
-  o.user = &six;
+  double secs[16] = {6}; /* [0]: the generation to stop at; [g]: the seconds reported */
+  o.progress = note_seconds;
+  o.user = secs;
   int done = 0;
   o.generations_done = &done;
   CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
   CHECK(done == 6, "stopped after generation %d", done);
-  o.progress = NULL;
+  secs[0] = 99;
   o.resume = path;
   CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
+  CHECK(secs[7] >= secs[6] && secs[6] > 0 && secs[15] >= secs[7],
+        "a resumed run's clock goes on from its checkpoint (%g s at 6, %g s at 7)", secs[6],
+        secs[7]);
+  o.progress = NULL;
   CHECK(done == 15 && !memcmp(F1, F2, sizeof F1) && !memcmp(X1, X2, sizeof X1),
         "resumed run = uninterrupted run (to the bit)");
   o.population = 62;
@@ -177,6 +192,7 @@ static void test_resume(void)
   o.resume = NULL;
   o.checkpoint = path;
   o.progress = stop_at;
+  o.user = &six;
   CHECK_OK(rr_nsga2_run(30, 2, lo, hi, zdt, &which, &o, X2, F2, NULL, &e), e);
   o.progress = NULL;
   o.resume = path;
@@ -202,6 +218,7 @@ static void test_resume(void)
       {8 + 5 * 4, 2147483647, 1, "generation INT_MAX"},
       {8 + 5 * 4, -5, 1, "negative generation"},
       {8 + 6 * 4, 1e9, 0, "evaluations"},
+      {8 + 6 * 4 + 8, -1, 0, "a negative elapsed time"},
       {len - 60 * 4 - 60 * 8 - 120 * 8 - 1800 * 8, 1e300, 0, "a design at 1e300"},
       {len - 60 * 4 - 60 * 8 - 120 * 8, NAN, 0, "a NaN objective"},
       {len - 60 * 4, 77, 1, "a rank beyond the population"},

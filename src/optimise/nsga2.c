@@ -447,11 +447,12 @@ static void split_eval(const double *E, int n, int m, int nc, double *F, double 
    reference, the bounds (a resume must be of the same problem) and the
    population with its ranks and crowding. */
 #define CKPT_MAGIC "RRNSGA2"
-#define CKPT_VERSION 2
+#define CKPT_VERSION 3 /* 3: the run's elapsed seconds after the evaluations */
 typedef struct nsga_state {
   int d, m, nc, N, g;
   int generations; /* the run's last generation: a resume's g may not pass it */
   long evals;
+  double elapsed_s; /* the run's wall time so far, resumed runs included */
   uint64_t seed;
   rr_rng *rng;
   double *ref, *X, *F, *CV, *cd;
@@ -478,6 +479,7 @@ static int ckpt_fields(FILE *f, nsga_state *s, int32_t *head, int64_t *ev, int32
 {
   size_t N = (size_t)s->N, d = (size_t)s->d, m = (size_t)s->m;
   return ckpt_io(f, head, sizeof head[0], 6, w) || ckpt_io(f, ev, sizeof *ev, 1, w) ||
+         ckpt_io(f, &s->elapsed_s, sizeof s->elapsed_s, 1, w) ||
          ckpt_io(f, &s->seed, sizeof s->seed, 1, w) ||
          ckpt_io(f, s->rng->s, sizeof(uint64_t), 4, w) || ckpt_io(f, nfp, sizeof *nfp, 1, w) ||
          *nfp < 0 || *nfp > RR_NSGA2_FP_MAX || ckpt_io(f, fp, sizeof *fp, (size_t)*nfp, w) ||
@@ -534,6 +536,7 @@ static int state_valid(const nsga_state *s, const int32_t *head, int64_t ev)
   size_t N = (size_t)s->N;
   if (!(head[5] >= 0 && head[5] <= s->generations)) return 0;
   if (ev != (int64_t)(head[5] + 1) * (int64_t)N) return 0; /* N a generation, and the first */
+  if (!(s->elapsed_s >= 0 && s->elapsed_s < 1e12)) return 0;
   if (!(s->rng->s[0] | s->rng->s[1] | s->rng->s[2] | s->rng->s[3])) return 0;
   for (int k = 0; k < s->m; k++)
     if (!isfinite(s->ref[k])) return 0;
@@ -843,6 +846,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     st = initial_population(&w, lo, hi, &rng, eval, user, err);
     ck.evals = N;
   }
+  double before_s = ck.elapsed_s; /* a resumed run's clock goes on from its checkpoint */
   if (o->generations_done) *o->generations_done = ck.g;
   for (int g = ck.g + 1; g <= o->generations && !st; g++) {
     make_offspring(&w, lo, hi, &rng, o);
@@ -861,9 +865,10 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     select_survivors(&w, nf);
     if (o->generations_done) *o->generations_done = g;
     ck.g = g;
+    ck.elapsed_s = before_s + (now_s() - t0);
     /* the checkpoint before the report: a stop then leaves this generation's state */
     if (o->checkpoint && (st = state_save(o->checkpoint, &ck, err))) break;
-    if (o->progress && report(&w, o, g, ck.evals, now_s() - t0)) break;
+    if (o->progress && report(&w, o, g, ck.evals, ck.elapsed_s)) break;
   }
   if (!st) {
     memcpy(x_out, w.X, sizeof(double) * (size_t)N * (size_t)d);
