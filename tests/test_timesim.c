@@ -88,6 +88,24 @@ static void test_hermite(void)
   free(y);
 }
 
+/* rr_track_realise with the realisation's fields as arguments (the tests
+   vary one or two of them at a time). */
+static int realise(const rr_spectrum *sp, double v, const double *x, int ni, double fs, int ns,
+                   double f_lo, double f_hi, rr_track_amplitudes amp, uint64_t seed, double *u,
+                   double *du, rr_error *e)
+{
+  rr_track_realisation r = {.speed_ms = v,
+                            .x_inputs = x,
+                            .ninputs = ni,
+                            .fs_hz = fs,
+                            .nsamples = ns,
+                            .f_lo_hz = f_lo,
+                            .f_hi_hz = f_hi,
+                            .amplitudes = amp,
+                            .seed = seed};
+  return rr_track_realise(sp, &r, u, du, e);
+}
+
 static void test_track_and_welch(void)
 {
   rr_error e;
@@ -96,18 +114,7 @@ static void test_track_and_welch(void)
   double v = 80, fs = 64, x[2] = {0, -2.5}; /* second input 2.5 m behind: lag 2 samples */
   int ns = 8192;
   double *u = malloc(sizeof(double) * 2 * ns), *du = malloc(sizeof(double) * 2 * ns);
-  CHECK_OK(rr_track_realise(&sp,
-                            &(rr_track_realisation){.speed_ms = v,
-                                                    .x_inputs = x,
-                                                    .ninputs = 2,
-                                                    .fs_hz = fs,
-                                                    .nsamples = ns,
-                                                    .f_lo_hz = 0.5,
-                                                    .f_hi_hz = 20,
-                                                    .amplitudes = RR_TRACK_FIXED,
-                                                    .seed = 7},
-                            u, du, &e),
-           e);
+  CHECK_OK(realise(&sp, v, x, 2, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u, du, &e), e);
   /* mean square over the period = the sum of line powers = integral of G_t over the band */
   double ms = 0, T = ns / fs, want = 0;
   for (int k = 0; k < ns; k++) ms += u[k] * u[k] / ns;
@@ -122,17 +129,7 @@ static void test_track_and_welch(void)
   CHECK(lagerr < 1e-12 * sqrt(ms) * 100, "lag: %g", lagerr);
   /* the derivative against a 4th-order central difference, on a band where
      the difference itself is accurate (w h <= 0.4) */
-  rr_track_realise(&sp,
-                   &(rr_track_realisation){.speed_ms = v,
-                                           .x_inputs = x,
-                                           .ninputs = 2,
-                                           .fs_hz = fs,
-                                           .nsamples = ns,
-                                           .f_lo_hz = 0.5,
-                                           .f_hi_hz = 4,
-                                           .amplitudes = RR_TRACK_FIXED,
-                                           .seed = 7},
-                   u, du, &e);
+  realise(&sp, v, x, 2, fs, ns, 0.5, 4, RR_TRACK_FIXED, 7, u, du, &e);
   double derr = 0, dmax = 0;
   for (int k = 2; k < ns - 2; k++) {
     double fd = (-u[k + 2] + 8 * u[k + 1] - 8 * u[k - 1] + u[k - 2]) * fs / 12;
@@ -140,56 +137,16 @@ static void test_track_and_welch(void)
     dmax = fmax(dmax, fabs(du[k]));
   }
   CHECK(derr < 2e-3 * dmax, "derivative vs finite difference: %g of %g", derr, dmax);
-  rr_track_realise(&sp,
-                   &(rr_track_realisation){.speed_ms = v,
-                                           .x_inputs = x,
-                                           .ninputs = 2,
-                                           .fs_hz = fs,
-                                           .nsamples = ns,
-                                           .f_lo_hz = 0.5,
-                                           .f_hi_hz = 20,
-                                           .amplitudes = RR_TRACK_FIXED,
-                                           .seed = 7},
-                   u, du, &e);
+  realise(&sp, v, x, 2, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u, du, &e);
   /* same seed, same track; another seed, another */
   double *u2 = malloc(sizeof(double) * ns);
-  rr_track_realise(&sp,
-                   &(rr_track_realisation){.speed_ms = v,
-                                           .x_inputs = x,
-                                           .ninputs = 1,
-                                           .fs_hz = fs,
-                                           .nsamples = ns,
-                                           .f_lo_hz = 0.5,
-                                           .f_hi_hz = 20,
-                                           .amplitudes = RR_TRACK_FIXED,
-                                           .seed = 7},
-                   u2, NULL, &e);
+  realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_FIXED, 7, u2, NULL, &e);
   CHECK(maxdiff(u, u2, ns) == 0, "reproducible");
-  rr_track_realise(&sp,
-                   &(rr_track_realisation){.speed_ms = v,
-                                           .x_inputs = x,
-                                           .ninputs = 1,
-                                           .fs_hz = fs,
-                                           .nsamples = ns,
-                                           .f_lo_hz = 0.5,
-                                           .f_hi_hz = 20,
-                                           .amplitudes = RR_TRACK_FIXED,
-                                           .seed = 8},
-                   u2, NULL, &e);
+  realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_FIXED, 8, u2, NULL, &e);
   CHECK(maxdiff(u, u2, ns) > 1e-4, "seed matters");
   /* Gaussian lines: the fixed draw's phases, Rayleigh amplitudes of mean
      square 1 (each line's power exponential: P(ratio^2 > 1) = 1/e) */
-  rr_track_realise(&sp,
-                   &(rr_track_realisation){.speed_ms = v,
-                                           .x_inputs = x,
-                                           .ninputs = 1,
-                                           .fs_hz = fs,
-                                           .nsamples = ns,
-                                           .f_lo_hz = 0.5,
-                                           .f_hi_hz = 20,
-                                           .amplitudes = RR_TRACK_GAUSSIAN,
-                                           .seed = 7},
-                   u2, NULL, &e);
+  realise(&sp, v, x, 1, fs, ns, 0.5, 20, RR_TRACK_GAUSSIAN, 7, u2, NULL, &e);
   fftw_complex *Uf = fftw_malloc(sizeof(fftw_complex) * (ns / 2 + 1)),
                *Ug = fftw_malloc(sizeof(fftw_complex) * (ns / 2 + 1));
   fftw_plan pf = fftw_plan_dft_r2c_1d(ns, u, Uf, FFTW_ESTIMATE),
