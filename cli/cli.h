@@ -82,7 +82,8 @@ enum {
   CLI_READS_INDEX = 8,
   CLI_READS_GRAVITY = 16,  /* --gravity-stiffness: the command builds a linear model */
   CLI_READS_PROGRESS = 32, /* --progress: the command reports progress */
-  CLI_READS_PROFILES = 64  /* --profiles for the nonlinear model's contact functions */
+  CLI_READS_PROFILES = 64, /* --profiles for the nonlinear model's contact functions */
+  CLI_VEHICLE_PAIR = 128   /* no VEHICLE: both built-ins (the help says so) */
 };
 
 void cli_common_init(cli_common *c);

@@ -11,6 +11,9 @@ typedef struct damper_args {
   double f_from, f_to;
   int n;
 } damper_args;
+/* The CSV header, printed by the help and the run alike. */
+#define DAMPER_COLUMNS                                                                             \
+  "freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation"
 enum { OPT_ELEMENT = 2300, OPT_K, OPT_C, OPT_FREQS };
 
 static int damper_cb(int opt, const char *arg, void *u)
@@ -55,7 +58,7 @@ int cmd_damper(int argc, char **argv)
       "(with the vehicle's SDF curve for the yaw damper when sdf is on): storage (equivalent\n"
       "stiffness), loss, equivalent damping loss/w, dissipation factor loss/storage, over\n"
       "log-spaced frequencies (default 0.1:30:200 Hz); omega_opt = k/c maximises the loss.\n"
-      "CSV columns: freq_hz,k_series,storage,loss,eq_damping,dissipation\n" CLI_COMMON_HELP
+      "CSV columns: " DAMPER_COLUMNS "\n" CLI_COMMON_HELP
       "  --element E          yaw (default) or lateral damper of the vehicle\n"
       "  --k, --c             override series stiffness (N/m) and damping (N s/m)\n"
       "  --freqs FROM:TO:N    frequency grid, Hz\n";
@@ -98,8 +101,7 @@ int cmd_damper(int argc, char **argv)
         "railride: %s %s damper: c = %g N s/m, k = %g N/m%s; omega_opt = k/c = %g rad/s (%g Hz)\n",
         c.veh.name, a.element == 0 ? "yaw" : "lateral", cd, k, sdf ? " (SDF curve applies)" : "",
         k / cd, k / cd / (2 * RR_PI));
-    printf(
-        "freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation\n");
+    printf("%s\n", DAMPER_COLUMNS);
   }
   for (int i = 0; i < a.n; i++) {
     double f = a.n == 1 ? a.f_from : a.f_from * pow(a.f_to / a.f_from, (double)i / (a.n - 1));

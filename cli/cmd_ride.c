@@ -592,8 +592,9 @@ int cmd_compare(int argc, char **argv)
   a.c_to = 0.6;
   a.c_n = 12;
   int r = cli_parse(argc, argv, &c,
-                    CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY, extra,
-                    cmp_cb, &a, help);
+                    CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY |
+                        CLI_VEHICLE_PAIR,
+                    extra, cmp_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;
   if (r) return r;
   if (!c.have_speed) c.speed_kmh = 350;

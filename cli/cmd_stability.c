@@ -627,8 +627,9 @@ typedef struct grid_args {
   double s_from, s_to, c_from, c_to;
   int s_n, c_n;
   double limit; /* work cap (--limit) */
+  int shares;   /* map --shares: the hunting mode's energy shares too */
 } grid_args;
-enum { OPT_PARAM = 2200, OPT_RANGE, OPT_SPEEDS, OPT_CONICITIES, OPT_GLIMIT };
+enum { OPT_PARAM = 2200, OPT_RANGE, OPT_SPEEDS, OPT_CONICITIES, OPT_GLIMIT, OPT_SHARES };
 
 static int grid_cb(int opt, const char *arg, void *u)
 {
@@ -652,6 +653,7 @@ static int grid_cb(int opt, const char *arg, void *u)
   case OPT_CONICITIES:
     return cli_range("conicities", arg, "1", &a->c_from, &a->c_to, &a->c_n) ? 1 : 0;
   case OPT_GLIMIT: return cli_limit(arg, &a->limit) ? 1 : 0;
+  case OPT_SHARES: a->shares = 1; return 0;
   }
   return 1;
 }
@@ -865,14 +867,27 @@ int cmd_locus(int argc, char **argv)
   return r;
 }
 
-static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
+/* A map point: the index, and (--shares) the hunting mode's frequency and
+   kinetic-energy shares, NaN where no mode is hunting-related. */
+typedef struct map_cell {
+  rr_stability z;
+  double hunt_freq_hz, e[RR_NGROUPS];
+} map_cell;
+#define MAP_COLUMNS "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source"
+#define MAP_SHARE_COLUMNS ",hunting_freq_hz,hunting_e_carbody,hunting_e_frames,hunting_e_wheelsets"
+
+static void map_point(cJSON *arr, double v, double l, const map_cell *cell, int shares)
 {
+  const rr_stability *z = &cell->z;
   int stable = rr_modal_stable(z->zeta_max);
   if (!arr) { /* an undefined index: empty cells */
     printf("%.10g,%.10g,", v, l);
     cli_csv_num(stdout, z->index, ',');
     cli_csv_num(stdout, z->index_freq_hz, ',');
-    printf("%.10g,%d,%s\n", z->zeta_max, stable, cli_index_source_key(z->source));
+    printf("%.10g,%d,%s%s", z->zeta_max, stable, cli_index_source_key(z->source),
+           shares ? "," : "\n");
+    for (int g = -1; shares && g < RR_NGROUPS; g++)
+      cli_csv_num(stdout, g < 0 ? cell->hunt_freq_hz : cell->e[g], g + 1 < RR_NGROUPS ? ',' : '\n');
     return;
   }
   cJSON *o = cJSON_CreateObject();
@@ -886,6 +901,13 @@ static void map_point(cJSON *arr, double v, double l, const rr_stability *z)
   cJSON_AddStringToObject(o, "index_source", cli_index_source_key(z->source));
   cJSON_AddNumberToObject(o, "zeta_max", z->zeta_max);
   cJSON_AddBoolToObject(o, "stable", stable);
+  if (shares && isfinite(cell->hunt_freq_hz)) {
+    cJSON_AddNumberToObject(o, "hunting_freq_hz", cell->hunt_freq_hz);
+    cJSON_AddItemToObject(o, "hunting_energy", cJSON_CreateDoubleArray(cell->e, RR_NGROUPS));
+  } else if (shares) {
+    cJSON_AddNullToObject(o, "hunting_freq_hz");
+    cJSON_AddNullToObject(o, "hunting_energy");
+  }
   cJSON_AddItemToArray(arr, o);
 }
 
@@ -896,25 +918,79 @@ typedef struct map_rows {
   rr_modal_ws *ws;
   const cli_common *c;
   const grid_args *a;
-  double *vs, *ls; /* a row's operating points (c_n each) */
+  double *vs, *ls;     /* a row's operating points (c_n each) */
+  rr_stability *zs;    /* a row's indices (c_n) */
+  rr_modal_result res; /* --shares: every mode of a point */
   rr_error e;
 } map_rows;
+
+/* --shares: one full modal solve per point, the hunting mode's shares kept. */
+static int map_point_shares(map_rows *w, double v_ms, double l, map_cell *cell)
+{
+  rr_modal_result *r = &w->res;
+  int st = rr_model_set_operating(w->m, v_ms, l, &w->e);
+  if (!st) st = rr_modal_solve(w->m, &w->c->mo, w->ws, r, &w->e);
+  if (st) return st;
+  const rr_mode *imd = r->index_mode >= 0 ? &r->modes[r->index_mode] : NULL;
+  const rr_mode *hmd = r->hunting_mode >= 0 ? &r->modes[r->hunting_mode] : NULL;
+  cell->z = (rr_stability){.index = r->stability_index,
+                           .index_freq_hz = imd ? imd->freq_hz : NAN,
+                           .source = r->index_source,
+                           .hunting_index = r->hunting_index,
+                           .zeta_max = r->zeta_max,
+                           .max_freq_hz = r->max_mode >= 0 ? r->modes[r->max_mode].freq_hz : NAN};
+  cell->hunt_freq_hz = hmd ? hmd->freq_hz : NAN;
+  for (int g = 0; g < RR_NGROUPS; g++) cell->e[g] = hmd ? hmd->energy[g] : NAN;
+  return 0;
+}
 
 static int map_rows_eval(void *user, long lo, long hi, void *out)
 {
   map_rows *w = user;
   const grid_args *a = w->a;
-  rr_stability *zs = out;
+  map_cell *cells = out;
   for (long i = lo; i < hi; i++) {
+    map_cell *row = cells + (i - lo) * a->c_n;
     for (int j = 0; j < a->c_n; j++) {
       w->vs[j] = lin(a->s_from, a->s_to, (int)i, a->s_n) / RR_KMH;
       w->ls[j] = lin(a->c_from, a->c_to, j, a->c_n);
     }
-    int st = rr_modal_stability_batch(w->m, &w->c->mo, w->ws, a->c_n, w->vs, w->ls,
-                                      zs + (i - lo) * a->c_n, &w->e);
+    int st = 0;
+    for (int j = 0; j < a->c_n && a->shares && !st; j++)
+      st = map_point_shares(w, w->vs[j], w->ls[j], &row[j]);
+    if (!a->shares) {
+      st = rr_modal_stability_batch(w->m, &w->c->mo, w->ws, a->c_n, w->vs, w->ls, w->zs, &w->e);
+      for (int j = 0; j < a->c_n && !st; j++)
+        row[j] = (map_cell){.z = w->zs[j], .hunt_freq_hz = NAN, .e = {NAN, NAN, NAN}};
+    }
     if (st) return cli_fail(&w->e, st);
   }
   return 0;
+}
+
+/* The map's workspace and results; frees what it made and returns its
+   status on failure (then map_rows_free is still safe). */
+static void map_rows_free(map_rows *w)
+{
+  free(w->vs);
+  free(w->zs);
+  rr_modal_result_free(&w->res);
+  rr_modal_ws_free(w->ws);
+  rr_model_free(w->m);
+  w->vs = NULL, w->zs = NULL, w->ws = NULL, w->m = NULL;
+}
+
+static int map_alloc(map_rows *w, size_t npts, map_cell **cells, unsigned char **done)
+{
+  int st = rr_modal_ws_new(w->m, &w->ws, &w->e);
+  if (!st && w->a->shares) st = rr_modal_result_alloc(w->m, &w->res, &w->e);
+  if (st) return cli_fail(&w->e, st);
+  w->vs = malloc(sizeof(double) * (size_t)w->a->c_n * 2);
+  w->ls = w->vs ? w->vs + w->a->c_n : NULL;
+  w->zs = malloc(sizeof *w->zs * (size_t)w->a->c_n);
+  *cells = malloc(sizeof **cells * npts);
+  *done = calloc((size_t)w->a->s_n, 1);
+  return w->vs && w->zs && *cells && *done ? 0 : cli_bad("out of memory");
 }
 
 int cmd_map(int argc, char **argv)
@@ -922,16 +998,19 @@ int cmd_map(int argc, char **argv)
   static const char help[] =
       "usage: railride map [VEHICLE] [--speeds FROM:TO:N] [--conicities FROM:TO:N] [--json]\n"
       "Vehicle stability index over a speed x conicity grid (paper Fig. 7); defaults\n"
-      "100:500:41 km/h and 0.02:0.5:25. CSV columns:\n"
-      "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source\n"
+      "100:500:41 km/h and 0.02:0.5:25. CSV columns:\n" MAP_COLUMNS "\n"
       "(zeta_max: the largest zeta of any oscillatory mode; stable: 1 when it is < 0;\n"
-      "index_source: hunting, unstable_outside_hunting, or none with empty index "
-      "cells).\n" CLI_COMMON_HELP
+      "index_source: hunting, unstable_outside_hunting, or none with empty index cells).\n"
+      "--shares adds the hunting mode's (the least damped hunting-related one below fmax)\n"
+      "frequency and kinetic-energy shares (paper Fig. 14), empty where there is none:\n"
+      "hunting_freq_hz,hunting_e_carbody,hunting_e_frames,hunting_e_wheelsets.\n" CLI_COMMON_HELP
       "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n"
-      "  --limit N            most points accepted (default 1e6)\n";
+      "  --limit N            most points accepted (default 1e6)\n"
+      "  --shares             the hunting mode's energy shares too (a full modal solve a point)\n";
   static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS},
                                         {"conicities", required_argument, 0, OPT_CONICITIES},
                                         {"limit", required_argument, 0, OPT_GLIMIT},
+                                        {"shares", no_argument, 0, OPT_SHARES},
                                         {0, 0, 0, 0}};
   cli_common c;
   grid_args a = {.s_from = 100,
@@ -952,47 +1031,28 @@ int cmd_map(int argc, char **argv)
   int r = cli_model(&c, &m, 0, 0);
   if (r) return r;
   map_rows w = {.m = m, .c = &c, .a = &a};
-  int st = rr_modal_ws_new(m, &w.ws, &w.e);
-  if (st) {
-    rr_model_free(m);
-    return cli_fail(&w.e, st);
-  }
-  /* the rows computed (over MPI ranks when run under mpirun), then written */
   size_t npts = (size_t)a.s_n * (size_t)a.c_n;
-  w.vs = malloc(sizeof(double) * (size_t)a.c_n * 2);
-  w.ls = w.vs ? w.vs + a.c_n : NULL;
-  rr_stability *zs = malloc(sizeof *zs * npts);
-  unsigned char *done = calloc((size_t)a.s_n, 1);
-  if (!w.vs || !zs || !done) {
-    free(w.vs);
-    free(zs);
-    free(done);
-    rr_modal_ws_free(w.ws);
-    rr_model_free(m);
-    return cli_bad("out of memory");
+  map_cell *cells = NULL;
+  unsigned char *done = NULL;
+  r = map_alloc(&w, npts, &cells, &done);
+  if (!r) { /* the rows computed (over MPI ranks when run under mpirun), then written */
+    cli_progress pr;
+    cli_progress_start(&pr, "map", a.s_n, c.progress);
+    cli_catch_stops();
+    r = cli_par_for(a.s_n, 1, sizeof *cells * (size_t)a.c_n, map_rows_eval, &w, cells, done, &pr);
+    cli_progress_end(&pr);
   }
-  cli_progress pr;
-  cli_progress_start(&pr, "map", a.s_n, c.progress);
-  cli_catch_stops();
-  r = cli_par_for(a.s_n, 1, sizeof *zs * (size_t)a.c_n, map_rows_eval, &w, zs, done, &pr);
-  cli_progress_end(&pr);
-  free(w.vs);
-  rr_modal_ws_free(w.ws);
-  rr_model_free(m);
-  cJSON *root = c.json ? cJSON_CreateObject() : NULL,
+  map_rows_free(&w);
+  cJSON *root = c.json && !r ? cJSON_CreateObject() : NULL,
         *arr = root ? cJSON_AddArrayToObject(root, "points") : NULL;
-  if (!r && !c.json)
-    printf("speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source\n");
+  if (!r && !c.json) printf("%s%s\n", MAP_COLUMNS, a.shares ? MAP_SHARE_COLUMNS : "");
   for (int i = 0; i < a.s_n && !r; i++) /* a stopped run: the rows done */
     for (int j = 0; j < a.c_n && done[i]; j++)
       map_point(arr, lin(a.s_from, a.s_to, i, a.s_n), lin(a.c_from, a.c_to, j, a.c_n),
-                &zs[(size_t)i * (size_t)a.c_n + (size_t)j]);
-  free(zs);
+                &cells[(size_t)i * (size_t)a.c_n + (size_t)j], a.shares);
+  free(cells);
   free(done);
-  if (r) {
-    cJSON_Delete(root);
-    return r;
-  }
+  if (r) return r;
   if (root) cli_json_print(root);
   return cli_stopped() ? CLI_EXIT_STOPPED : 0; /* what was done is written */
 }

@@ -280,34 +280,37 @@ int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const s
 
 /* The shared options' help lines, each with what reading it takes. */
 static const struct {
-  unsigned reads;
+  unsigned reads, unless; /* shown when the command has every flag of reads and none of unless */
   const char *text;
 } common_help[] = {
-    {0,
+    {0, CLI_VEHICLE_PAIR,
      "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n"},
-    {CLI_READS_SPEED, "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n"},
-    {CLI_READS_CONICITY, "  --conicity L         equivalent conicity\n"},
-    {CLI_READS_CONICITY,
+    {CLI_VEHICLE_PAIR, 0,
+     "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default both\n"
+     "                       built-ins, each with its own curve\n"},
+    {CLI_READS_SPEED, 0, "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n"},
+    {CLI_READS_CONICITY, 0, "  --conicity L         equivalent conicity\n"},
+    {CLI_READS_CONICITY, 0,
      "  --profiles W[,R]     instead: the equivalent conicity of wheel and rail profiles (EN "
      "15302,\n"
      "                       at 3 mm; the rail defaults to the vehicle file's [contact] rail)\n"},
-    {CLI_READS_PROFILES,
+    {CLI_READS_PROFILES, 0,
      "  --profiles W[,R]     wheel and rail profiles: the nonlinear model reads their contact\n"
      "                       functions (dr(y), contact angles) in place of lambda(a) and the\n"
      "                       flange spring (the rail defaults to the vehicle file's)\n"},
-    {CLI_READS_INDEX,
+    {CLI_READS_INDEX, 0,
      "  --fmax HZ            highest frequency counted in the stability index (default 10)\n"},
-    {CLI_READS_INDEX,
+    {CLI_READS_INDEX, 0,
      "  --wmin W             least wheelset energy share of a hunting mode (default 1e-3)\n"},
-    {CLI_READS_INDEX,
+    {CLI_READS_INDEX, 0,
      "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n"},
-    {0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
-    {CLI_READS_GRAVITY,
+    {0, 0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
+    {CLI_READS_GRAVITY, 0,
      "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
-    {CLI_READS_JSON, "  --json               JSON output\n"},
-    {CLI_READS_PROGRESS,
+    {CLI_READS_JSON, 0, "  --json               JSON output\n"},
+    {CLI_READS_PROGRESS, 0,
      "  --progress           progress with an ETA on stderr even when it is not a terminal\n"},
-    {0, "  --help               this text\n"},
+    {0, 0, "  --help               this text\n"},
 };
 
 /* The help text with the shared options the command reads where its marker is. */
@@ -320,7 +323,8 @@ static void print_help(const char *text, unsigned reads)
   }
   fwrite(text, 1, (size_t)(m - text), stdout);
   for (size_t i = 0; i < sizeof common_help / sizeof common_help[0]; i++)
-    if ((common_help[i].reads & reads) == common_help[i].reads) fputs(common_help[i].text, stdout);
+    if ((common_help[i].reads & reads) == common_help[i].reads && !(common_help[i].unless & reads))
+      fputs(common_help[i].text, stdout);
   fputs(m + strlen(CLI_COMMON_HELP), stdout);
 }
 

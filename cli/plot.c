@@ -64,16 +64,18 @@ static int has_arg(int argc, char **argv, const char *opt)
 
 static void script_damper(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc;
-  (void)argv;
+  const char *el = arg_after(argc, argv, "--element");
   fprintf(gp,
-          "set title 'Maxwell damper: dynamic stiffness over frequency'\n"
-          "set logscale x; set xlabel 'frequency (Hz)'; set ylabel 'stiffness (N/m)'\n"
+          "set title '%s damper as a Maxwell element: dynamic stiffness over frequency'\n"
+          "set logscale x; set autoscale xfix; set key outside bottom center horizontal\n"
+          "set xlabel 'frequency (Hz)'; set ylabel 'stiffness (MN/m)'\n"
           "set y2label 'dissipation factor loss/storage'; set y2tics; set ytics nomirror\n"
-          "plot '%s' u 'freq_hz':'storage_n_per_m' w l lw 2 t 'storage', "
-          "'' u 'freq_hz':'loss_n_per_m' w l lw 2 t 'loss', "
-          "'' u 'freq_hz':'dissipation' axes x1y2 w l lw 2 dt 2 t 'dissipation (right)'\n",
-          d);
+          "plot '%s' u 'freq_hz':(column('k_series_n_per_m')/1e6) w l lw 2 dt 3 "
+          "t 'series stiffness k_s(f)', "
+          "'' u 'freq_hz':(column('storage_n_per_m')/1e6) w l lw 2 t 'storage stiffness', "
+          "'' u 'freq_hz':(column('loss_n_per_m')/1e6) w l lw 2 t 'loss stiffness', "
+          "'' u 'freq_hz':'dissipation' axes x1y2 w l lw 2 dt 2 t 'dissipation factor (right)'\n",
+          el && !strcmp(el, "lateral") ? "Lateral" : "Yaw", d);
 }
 
 static void script_locus(FILE *gp, const char *d, int argc, char **argv)
@@ -112,16 +114,24 @@ static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const 
     fprintf(gp, "set palette rgb 33,13,10\nset contour base; set cntrparam levels auto 8\n");
   fprintf(gp,
           "set pm3d map interpolate 4,4; set cntrlabel onecolor; set key opaque\n"
+          "set autoscale xfix; set autoscale yfix\n" /* the axes end where the data end */
           "splot '%s' u 1:2:%d w pm3d notitle, '' u 1:2:%d w l nosurface lw %s lc 'black' %s%s\n",
           d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle", overlay);
 }
 
 static void script_map(FILE *gp, const char *d, int argc, char **argv)
 {
-  (void)argc;
-  (void)argv;
-  map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index",
-             "Vehicle stability index (negative is stable)", 1, "");
+  if (!has_arg(argc, argv, "--shares")) {
+    map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index",
+               "Vehicle stability index (negative is stable)", 1, "");
+    return;
+  }
+  /* paper Fig. 14: where the hunting mode's energy sits, carbody or bogies */
+  fprintf(gp, "set multiplot layout 1,2 title 'Hunting mode: kinetic-energy shares'\n"
+              "set cbrange [0:1]\n");
+  map_script(gp, d, 9, "speed (km/h)", "conicity", "", "carbody", 0, ""); /* one colour bar label */
+  map_script(gp, d, 10, "speed (km/h)", "conicity", "share", "bogie frames", 0, "");
+  fprintf(gp, "unset multiplot\n");
 }
 
 /* An axis label: the key with its SI unit, "speed (km/h)", "conicity". */

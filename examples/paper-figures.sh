@@ -12,34 +12,69 @@ mkdir -p "$OUT"
 cd "$OUT"
 FIGS=""
 
-fig() {   # fig ID "CAPTION" ARGS...: railride ARGS --plot ID.svg, data kept in ID.csv
-  id=$1; caption=$2; shift 2
+fig() {   # fig ID "PAPER" "RAILRIDE" "DIFFERS" ARGS...: railride ARGS --plot ID.svg, data in ID.csv
+  id=$1; paper=$2; ours=$3; differs=$4; shift 4
   "$RR" "$@" --plot "$id.svg" > "$id.csv"
-  cmd="railride $*"
+  [ -s "$id.csv" ] && [ -s "$id.svg" ] || { echo "paper-figures: $id: no data or no picture" >&2; exit 1; }
+  # the command as a user would type it: paths inside this tree shown relative to it
+  # (and an argument with a space quoted)
+  cmd=railride
+  for a in "$@"; do case $a in *" "*) cmd="$cmd '$a'" ;; *) cmd="$cmd $a" ;; esac; done
+  cmd=$(printf '%s' "$cmd" | awk -v here="$HERE/" '{ while ((i = index($0, here)) > 0) $0 = substr($0, 1, i - 1) substr($0, i + length(here)); print }')
   FIGS="$FIGS
-<figure id=\"$id\"><img src=\"$id.svg\" alt=\"$id\"><figcaption><b>$id.</b> $caption<br><code>$(printf '%s' "$cmd" | sed 's/&/\&amp;/g; s/</\&lt;/g')</code></figcaption></figure>"
+<figure id=\"$id\"><img src=\"$id.svg\" alt=\"$id\"><figcaption><b>$id.</b>
+<b>Paper:</b> $paper <b>railride:</b> $ours <b>Differs:</b> $differs
+<a href=\"$id.csv\">data (CSV)</a><br><code>$(printf '%s' "$cmd" | sed 's/&/\&amp;/g; s/</\&lt;/g')</code></figcaption></figure>"
 }
 
-fig fig2 "Yaw damper as a Maxwell element: storage and loss stiffness and dissipation factor over frequency (paper Fig. 2)." \
+fig fig2 "Fig. 2, the yaw damper as a Maxwell element: storage and loss stiffness over frequency for several series stiffnesses." \
+  "Type 1's yaw damper (c = 4000 kN s/m, k = 10 MN/m): series, storage and loss stiffness and the dissipation factor from 0.1 to 30 Hz." \
+  "one series stiffness per figure (run again with --k for others)." \
   damper
-fig fig5 "Vehicle stability index over the primary longitudinal stiffness and the yaw damper's series stiffness at 350 km/h, conicity 0.17 (paper Fig. 5a); the black line is zeta = 0." \
+fig fig5 "Fig. 5a, the stability index over the primary longitudinal stiffness and the yaw damper's series stiffness." \
+  "the same map for Type 1 at 350 km/h, conicity 0.17; the black line is index 0." \
+  "the paper's -0.3 contour is not drawn; the colour scale shows it." \
   sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:23" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:30" --objective "index@350,0.17"
-fig fig7 "Stability map over speed and conicity (paper Fig. 7): blue stable, red unstable, black the zero line." \
+fig fig7 "Fig. 7, the stability index over speed and conicity for the designs of clusters A-D." \
+  "the same map for the built-in Type 1 (blue stable, red unstable, black the zero line)." \
+  "Type 1 only; the clusters' designs are examples/paper-design-A.ini to D.ini (run map on each)." \
   map --speeds 100:500:41 --conicities 0.02:0.5:25
-fig fig8a "Root locus over speed at conicity 0.17 (paper Fig. 8a)." \
-  locus --over speed --range 100:500:81 --conicity 0.17
-fig fig8b "Root locus over conicity at 350 km/h (paper Fig. 8b)." \
+fig fig8a "Fig. 8a, root loci over speed at conicity 0.1." \
+  "every oscillatory mode of Type 1 from 100 to 500 km/h at conicity 0.1, coloured by speed." \
+  "none in the settings; the paper labels the modes; here the CSV gives each branch's energy shares (e_carbody, e_frames, e_wheelsets)." \
+  locus --over speed --range 100:500:81 --conicity 0.1
+fig fig8b "Fig. 8b, root loci over conicity at 350 km/h." \
+  "every oscillatory mode of Type 1 over conicity 0.02-0.5 at 350 km/h, coloured by conicity." \
+  "as Fig. 8a." \
   locus --over conicity --range 0.02:0.5:49 --speed 350
-fig fig9a "Hunting limit cycles of Type 1 on the worn tread: a supercritical Hopf bifurcation (paper Fig. 9, under railride's assumed tread)." \
+fig fig9a "Fig. 9, hunting limit cycles of the new and worn treads against speed, with the Hopf points and folds." \
+  "Type 1 on the worn tread: the branch of limit cycles born at the Hopf point, continued in speed (filled stable, hollow unstable)." \
+  "the paper's tread functions are not published: railride's worn tread is an assumed lambda(a)." \
   bifurcation --profile worn --speeds 100:600
-fig fig9b "A tread whose conicity rises with displacement makes the bifurcation subcritical: unstable cycles (hollow) down to a fold, the nonlinear critical speed." \
+fig fig9b "Fig. 9 (its subcritical case): unstable cycles from the Hopf point down to a fold, the nonlinear critical speed." \
+  "a tread whose conicity rises with displacement (examples/type1-rising-tread.ini): a subcritical bifurcation." \
+  "an illustrative tread, not the paper's." \
   bifurcation "$HERE/examples/type1-rising-tread.ini" --speeds 100:620
-fig fig10 "Stability index over conicity and the yaw damper's series stiffness at 350 km/h: the best stiffness rises with conicity (paper Fig. 10)." \
+fig fig10 "Fig. 10, the stability index over the yaw damper's damping c_sx and series stiffness k_ncsx, with the line k = c omega." \
+  "the index over conicity and series stiffness at 350 km/h: the best stiffness rises with conicity." \
+  "the axes: conicity against k, not c against k; the k = c omega line is not drawn." \
   sweep --x conicity=0.05:0.4:8 --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:30" --objective index@350
-fig fig12 "Frequency-dependent series stiffness (SDF) against a constant one: stability index and Sperling index over conicity, Type 1 and Type 2 (paper Figs. 12 and 13)." \
+fig fig11a "Fig. 11, the frequency-dependent series stiffness (SDF) of the two designs' yaw dampers." \
+  "Type 1's Table 2 curve k_s(f) (dotted) and the damper's storage and loss stiffness with it." \
+  "none in the curve; the paper draws both types in one panel, here one each." \
+  damper "$HERE/examples/type1-sdf-paper.ini"
+fig fig11b "Fig. 11, as above." \
+  "Type 2's Table 2 curve and damper." \
+  "as Fig. 11a." \
+  damper "$HERE/examples/type2-sdf-paper.ini"
+fig fig12 "Figs. 12 and 13, SDF against a constant series stiffness: stability index and lateral ride (Sperling) over conicity." \
+  "the same comparison for the built-in Type 1 and Type 2, each with its Table 2 curve, at 350 km/h." \
+  "loci are not repeated here (fig8b with --sdf paper draws them)." \
   compare --conicities 0.02:0.6:30
-fig fig14 "Carbody floor lateral acceleration PSD at 350 km/h for conicities 0.05, 0.17 and 0.40 by the pseudo-excitation method (paper Fig. 14)." \
-  ride --speed 350 --conicity 0.05,0.17,0.40
+fig fig14 "Fig. 14, the hunting mode's energy distribution between carbody and bogies over speed and conicity." \
+  "the kinetic-energy shares of the hunting mode (the least damped hunting-related mode) of Type 1: carbody hunting at low conicity and speed, bogie hunting above the boundary." \
+  "the paper's vehicle parameters differ in detail, so the boundary moves." \
+  map --speeds 100:500:41 --conicities 0.02:0.5:25 --shares
 
 n=$(printf '%s\n' "$FIGS" | grep -c '<figure')
 cat > index.html <<HTML

@@ -62,8 +62,34 @@ json_check "stable to range end" "d['critical_speed_kmh'] is None and d['stable_
 head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,e_wheelsets,roll_share,hunting_related,frame_roll_share' && ok || bad "locus header"
 "$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 > "$tmp/map.csv" || bad "map exit"
 [ "$(wc -l < "$tmp/map.csv")" -eq 5 ] && head -1 "$tmp/map.csv" | grep -qx 'speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source' && ok || bad "map shape"
+# map --shares: the same index, and the hunting mode's shares as modes reports them
+"$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 --shares > "$tmp/maps.csv" || bad "map --shares exit"
+"$RR" modes --speed 300 --conicity 0.2 --json > "$tmp/maps-modes.json" || bad "modes exit"
+python3 - "$tmp/map.csv" "$tmp/maps.csv" "$tmp/maps-modes.json" <<'PY' && ok || bad "map --shares"
+import csv, json, sys
+plain, shares = (list(csv.DictReader(open(f))) for f in sys.argv[1:3])
+assert len(shares) == len(plain) == 4
+for p, s in zip(plain, shares):
+    for k in p:
+        assert p[k] == s[k] if k in ("stable", "index_source") else abs(float(p[k]) - float(s[k])) <= 1e-9 * max(1, abs(float(p[k]))), (k, p[k], s[k])
+    e = [float(s["hunting_e_" + g]) for g in ("carbody", "frames", "wheelsets")]
+    assert abs(sum(e) - 1) < 1e-9 and min(e) >= 0, e
+m = json.load(open(sys.argv[3]))
+assert m["index_source"] == "hunting"
+hunt = [md for md in m["modes"] if md["name"] == m["index_mode"]]
+assert len(hunt) == 1, m["index_mode"]
+hunt = hunt[0]
+last = shares[-1]
+assert (last["speed_kmh"], last["conicity"]) == ("300", "0.2")
+assert abs(float(last["hunting_freq_hz"]) - hunt["freq_hz"]) < 1e-9 * hunt["freq_hz"]
+for g, name in enumerate(("carbody", "frames", "wheelsets")):
+    assert abs(float(last["hunting_e_" + name]) - hunt["energy"][name]) < 1e-9, (name, last, hunt["energy"])
+PY
 "$RR" damper --freqs 0.1:10:5 > "$tmp/d.csv" || bad "damper exit"
 grep -q '^freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation$' "$tmp/d.csv" && ok || bad "damper header"
+# the help names the columns the run writes, and compare's help one default for VEHICLE
+[ "$("$RR" damper --help | sed -n 's/^CSV columns: //p')" = "$(head -1 "$tmp/d.csv")" ] && ok || bad "damper --help columns"
+"$RR" compare --help > "$tmp/cmph.txt" && [ "$(grep -c '^  VEHICLE' "$tmp/cmph.txt")" -eq 1 ] && grep -q 'default both' "$tmp/cmph.txt" && ok || bad "compare --help VEHICLE default"
 "$RR" summary "$SRC/examples/type2.ini" > "$tmp/s.txt" || bad "summary exit"
 grep -q "vehicle stability index" "$tmp/s.txt" && ok || bad "summary text"
 

@@ -103,9 +103,46 @@ static void sort_modes(rr_vertical_modes *o)
     }
 }
 
+/* A repeated eigenvalue (the two frames' pitch when nothing couples them)
+   has a plane of eigenvectors, and dgeev's pair in it depends on rounding,
+   so on the CPU. Each is replaced by the one concentrated on one of the two
+   coordinates that hold most of the pair's energy: w_a without the second's
+   component, w_b without the first's; the pair shares its eigenvalue. */
+#define REPEAT_TOL 1e-9 /* |lambda_a - lambda_b| <= 1e-9 |lambda|: one eigenvalue */
+static void split_repeated(const rr_vertical_model *m, rr_complex (*v)[RR_VDOF],
+                           rr_vertical_mode *a, rr_vertical_mode *b, int ia, int ib)
+{
+  double e[RR_VDOF];
+  int d1 = -1, d2 = -1;
+  for (int d = 0; d < RR_VDOF; d++) {
+    e[d] = m->M[d] * (creal(v[ia][d] * conj(v[ia][d])) + creal(v[ib][d] * conj(v[ib][d])));
+    if (d1 < 0 || e[d] > e[d1])
+      d2 = d1, d1 = d;
+    else if (d2 < 0 || e[d] > e[d2])
+      d2 = d;
+  }
+  if (d1 > d2) { /* by coordinate, not by energy: the order is the model's */
+    int t = d1;
+    d1 = d2, d2 = t;
+  }
+  rr_complex wa[RR_VDOF], wb[RR_VDOF];
+  for (int d = 0; d < RR_VDOF; d++) {
+    wa[d] = v[ia][d] * v[ib][d2] - v[ib][d] * v[ia][d2];
+    wb[d] = v[ia][d] * v[ib][d1] - v[ib][d] * v[ia][d1];
+  }
+  memcpy(v[ia], wa, sizeof wa);
+  memcpy(v[ib], wb, sizeof wb);
+  double re = 0.5 * (a->re + b->re), im = 0.5 * (a->im + b->im);
+  a->re = b->re = re, a->im = b->im = im;
+  a->freq_hz = b->freq_hz = im / (2 * RR_PI);
+  a->natural_hz = b->natural_hz = hypot(re, im) / (2 * RR_PI);
+  a->damping_ratio = b->damping_ratio = -re / hypot(re, im);
+}
+
 int rr_vertical_modes_compute(const rr_vertical_model *m, rr_vertical_modes *o, rr_error *err)
 {
   double A[NS * NS], wr[NS], wi[NS], vr[NS * NS];
+  rr_complex v[RR_VDOF][RR_VDOF]; /* the modes' shapes, as o->mode */
   rr_vertical_state_matrix(m, A);
   if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'V', NS, A, NS, wr, wi, NULL, NS, vr, NS))
     return rr_seterr(err, RR_ELAPACK, "vertical modes: dgeev failed");
@@ -116,16 +153,23 @@ int rr_vertical_modes_compute(const rr_vertical_model *m, rr_vertical_modes *o, 
       if (fabs(wi[k]) <= OSC_TOL * mag) o->real[o->nreal++] = wr[k];
       continue;
     }
-    rr_complex v[RR_VDOF]; /* row-major vr: a pair's columns k (real), k + 1 (imaginary) */
-    for (int d = 0; d < RR_VDOF; d++) v[d] = vr[d * NS + k] + I * vr[d * NS + k + 1];
-    rr_vertical_mode *md = &o->mode[o->nmodes++];
-    *md = (rr_vertical_mode){.re = wr[k],
-                             .im = wi[k],
-                             .freq_hz = wi[k] / (2 * RR_PI),
-                             .natural_hz = mag / (2 * RR_PI),
-                             .damping_ratio = -wr[k] / mag};
-    energy_shares(m, v, md->energy);
-    mode_name(md, v, md->name, sizeof md->name);
+    int n = o->nmodes++; /* row-major vr: a pair's columns k (real), k + 1 (imaginary) */
+    for (int d = 0; d < RR_VDOF; d++) v[n][d] = vr[d * NS + k] + I * vr[d * NS + k + 1];
+    o->mode[n] = (rr_vertical_mode){.re = wr[k],
+                                    .im = wi[k],
+                                    .freq_hz = wi[k] / (2 * RR_PI),
+                                    .natural_hz = mag / (2 * RR_PI),
+                                    .damping_ratio = -wr[k] / mag};
+  }
+  for (int i = 0; i < o->nmodes; i++)
+    for (int j = i + 1; j < o->nmodes; j++) {
+      rr_vertical_mode *a = &o->mode[i], *b = &o->mode[j];
+      if (hypot(a->re - b->re, a->im - b->im) <= REPEAT_TOL * hypot(a->re, a->im))
+        split_repeated(m, v, a, b, i, j);
+    }
+  for (int i = 0; i < o->nmodes; i++) {
+    energy_shares(m, v[i], o->mode[i].energy);
+    mode_name(&o->mode[i], v[i], o->mode[i].name, sizeof o->mode[i].name);
   }
   sort_modes(o);
   unique_names(o);
