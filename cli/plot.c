@@ -315,7 +315,8 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
     if (*p == ',') p++;
     col++;
     int is_var = strchr(name, '.') && !strchr(name, '@') && !strchr(name, ',');
-    if (!is_var) {
+    int is_flag = !strcmp(name, "feasible") || !strcmp(name, "violation"); /* not objectives */
+    if (!is_var && !is_flag) {
       obj[nobj] = col;
       snprintf(names[nobj], sizeof names[nobj], "%s", name);
       nobj++;
@@ -326,6 +327,16 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
   if (npairs < 1) { /* one objective: its values over the front */
     fprintf(gp, "set title 'Pareto front'\nset ylabel %s\nplot '%s' u 0:%d w p pt 7 notitle\n",
             gp_str(a, sizeof a, names[0]), d, obj[0]);
+    return;
+  }
+  if (nobj == 3) { /* the paper's Fig. 3: the first two, coloured by the third */
+    char c[200];
+    fprintf(gp,
+            "set title 'Pareto front (NSGA-II)'; set format x '%%.3g'; set format y '%%.3g'\n"
+            "set xlabel %s; set ylabel %s; set cblabel %s; set palette rgb 33,13,10\n"
+            "plot '%s' u %d:%d:%d w p pt 7 ps 0.6 palette notitle\n",
+            gp_str(a, sizeof a, names[0]), gp_str(b, sizeof b, names[1]),
+            gp_str(c, sizeof c, names[2]), d, obj[0], obj[1], obj[2]);
     return;
   }
   fprintf(gp,
@@ -535,6 +546,23 @@ static int run_gnuplot(const char *script, const char *err)
 
 /* The script and the picture in the private folder dir (fixed names: no
    user text in the script), then the picture copied to out whole. */
+/* The gnuplot script drawing data into pic (both names safe in a gnuplot
+   string: scratch paths, or plain_name()'s) at script. */
+static int write_script(const plot_kind *k, const char *script, const char *out, const char *pic,
+                        const char *data, int argc, char **argv)
+{
+  FILE *gp = fopen(script, "w");
+  if (!gp) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
+  fprintf(gp,
+          "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key "
+          "noautotitle\n",
+          terminal_for(out), pic);
+  k->script(gp, data, argc, argv);
+  if (ferror(gp) | fclose(gp))
+    return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
+  return 0;
+}
+
 static int render(const plot_kind *k, const char *dir, const char *out, const char *data, int argc,
                   char **argv)
 {
@@ -543,14 +571,8 @@ static int render(const plot_kind *k, const char *dir, const char *out, const ch
   snprintf(script, sizeof script, "%s/plot.gp", dir);
   snprintf(pic, sizeof pic, "%s/picture%s", dir, ext);
   snprintf(err, sizeof err, "%s/gnuplot.err", dir);
-  FILE *gp = fopen(script, "w");
-  if (!gp) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
-  fprintf(gp,
-          "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key "
-          "noautotitle\n",
-          terminal_for(out), pic);
-  k->script(gp, data, argc, argv);
-  if (fclose(gp)) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
+  int w = write_script(k, script, out, pic, data, argc, argv);
+  if (w) return w;
   if (run_gnuplot(script, err)) {
     char msg[512] = "", line[512];
     FILE *fe = fopen(err, "r");
@@ -642,23 +664,69 @@ static void replay(const char *path)
   fflush(stdout);
 }
 
+/* A name that can stand in a gnuplot string as it is: letters, digits and
+   "._-", not starting with '.' or '-'. */
+static int plain_name(const char *name)
+{
+  static const char ok[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-";
+  return name[0] && name[0] != '.' && name[0] != '-' && strspn(name, ok) == strlen(name);
+}
+
+static const char *base_name(const char *path)
+{
+  const char *b = strrchr(path, '/');
+  return b ? b + 1 : path;
+}
+
+/* --plot-script S.gp: the script that drew the picture, for the user to
+   restyle, beside its data S.csv; both name their files without a folder,
+   so that `gnuplot S.gp` run in S's folder redraws the --plot file there. */
+static int user_script(const plot_kind *k, const char *dir, const char *gp, const char *out,
+                       const char *data, int argc, char **argv)
+{
+  char script[PATH_MAX], csv[PATH_MAX], csv_name[PATH_MAX];
+  size_t len = strlen(gp) - 3; /* without ".gp" */
+  snprintf(csv, sizeof csv, "%.*s.csv", (int)len, gp);
+  snprintf(csv_name, sizeof csv_name, "%s", base_name(csv));
+  snprintf(script, sizeof script, "%s/user.gp", dir);
+  int r = write_script(k, script, out, base_name(out), csv_name, argc, argv);
+  if (!r) r = cli_out_copy(data, csv, "--plot-script");
+  return r ? r : cli_out_copy(script, gp, "--plot-script");
+}
+
+/* --plot-script's value checked: S.gp, plain names for S and the picture. */
+static int script_arg(const char *gp, const char *out)
+{
+  size_t n = strlen(gp);
+  if (n < 4 || strcmp(gp + n - 3, ".gp")) return cli_bad("--plot-script: '%s' must end in .gp", gp);
+  if (!plain_name(base_name(gp)) || !plain_name(base_name(out)))
+    return cli_bad("--plot-script: the script's and the picture's file names may hold only "
+                   "letters, digits, '.', '_' and '-' (they are written into the script)");
+  return 0;
+}
+
 const char *cli_plot_help(const char *cmd)
 {
   for (int i = 0; i < NKINDS; i++)
     if (!strcmp(kinds[i].cmd, cmd))
       return "  --plot FILE          draw the result with gnuplot into FILE.png, .svg or .pdf\n"
-             "                       (standard output as without it)\n";
+             "                       (standard output as without it)\n"
+             "  --plot-script S.gp   with --plot: also the gnuplot script and its data (S.csv),\n"
+             "                       to restyle; `gnuplot S.gp` in S's folder redraws FILE there\n";
   return NULL;
 }
 
 int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv, int *handled)
 {
   *handled = 0;
-  int at = -1;
-  for (int i = 1; i < argc; i++)
+  int at = -1, sat = -1;
+  for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--plot")) at = i;
-  if (at < 0) return 0;
+    if (!strcmp(argv[i], "--plot-script")) sat = i;
+  }
+  if (at < 0 && sat < 0) return 0;
   *handled = 1;
+  if (at < 0) return cli_bad("%s: --plot-script goes with --plot FILE", cmd);
   const plot_kind *k = NULL;
   for (int i = 0; i < NKINDS; i++)
     if (!strcmp(kinds[i].cmd, cmd)) k = &kinds[i];
@@ -668,6 +736,10 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   if (at + 1 >= argc) return cli_bad("--plot: a file name ending in .svg, .png or .pdf expected");
   const char *out = argv[at + 1];
   if (!terminal_for(out)) return cli_bad("--plot: '%s' must end in .svg, .png or .pdf", out);
+  if (sat >= 0 && sat + 1 >= argc)
+    return cli_bad("--plot-script: a file name ending in .gp expected");
+  const char *gp = sat >= 0 ? argv[sat + 1] : NULL;
+  if (gp && script_arg(gp, out)) return EXIT_BADINPUT;
   if (!have_gnuplot())
     return cli_bad("--plot: gnuplot not found on PATH (Debian package gnuplot-nox)");
   cli_outfile probe; /* the folder writable, the target untouched */
@@ -681,7 +753,7 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   char **av = calloc((size_t)argc + 4, sizeof *av);
   int n = 0;
   for (int i = 0; i < argc; i++)
-    if (i != at && i != at + 1) av[n++] = argv[i];
+    if (i != at && i != at + 1 && (sat < 0 || (i != sat && i != sat + 1))) av[n++] = argv[i];
   const char *file_data = k->file_option ? arg_after(n, av, k->file_option) : NULL;
   if (k->file_option && !file_data) {
     av[n++] = (char *)k->file_option;
@@ -709,6 +781,7 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   if (!r && (k->grid == 1 || (k->grid == 2 && has_arg(n, av, "--y"))))
     src = gridded(src, grid, sizeof grid);
   if (!r && cli_par_rank() == 0) r = render(k, dir, out, src, n, av); /* one picture from MPI */
+  if (!r && gp && cli_par_rank() == 0) r = user_script(k, dir, gp, out, src, n, av);
   free(av);
   remove_private(dir);
   return r;

@@ -15,6 +15,7 @@ FIGS=""
 fig() {   # fig ID "PAPER" "RAILRIDE" "DIFFERS" ARGS...: railride ARGS --plot ID.svg, data in ID.csv
   id=$1; paper=$2; ours=$3; differs=$4; shift 4
   "$RR" "$@" --plot "$id.svg" > "$id.csv"
+  [ ! -f "$id-pareto.csv" ] || { mv "$id-pareto.csv" "$id.csv"; rm -f "$id-checkpoint.bin"; }  # optimise: the front is the data
   [ -s "$id.csv" ] && [ -s "$id.svg" ] || { echo "paper-figures: $id: no data or no picture" >&2; exit 1; }
   # the command as a user would type it: paths inside this tree shown relative to it
   # (and an argument with a space quoted)
@@ -31,14 +32,20 @@ fig fig2 "Fig. 2, the yaw damper as a Maxwell element: storage and loss stiffnes
   "Type 1's yaw damper (c = 4000 kN s/m, k = 10 MN/m): series, storage and loss stiffness and the dissipation factor from 0.1 to 30 Hz." \
   "one series stiffness per figure (run again with --k for others)." \
   damper
+fig fig3 "Fig. 3, the Pareto front of the NSGA-II optimisation: zeta_low against zeta_high, coloured by std_zeta, clusters A-D marked." \
+  "the same front from examples/paper-optimisation.ini with 200 designs over 30 generations (the paper: 5000 over 100), coloured by std_zeta." \
+  "a smaller run, so a sparser front; the clusters are not marked (their designs are examples/paper-design-A.ini to D.ini)." \
+  optimise "$HERE/examples/paper-optimisation.ini" --population 200 --generations 30 --output fig3
 fig fig5 "Fig. 5a, the stability index over the primary longitudinal stiffness and the yaw damper's series stiffness." \
   "the same map for Type 1 at 350 km/h, conicity 0.17; the black line is index 0." \
   "the paper's -0.3 contour is not drawn; the colour scale shows it." \
   sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:23" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:30" --objective "index@350,0.17"
-fig fig7 "Fig. 7, the stability index over speed and conicity for the designs of clusters A-D." \
-  "the same map for the built-in Type 1 (blue stable, red unstable, black the zero line)." \
-  "Type 1 only; the clusters' designs are examples/paper-design-A.ini to D.ini (run map on each)." \
-  map --speeds 100:500:41 --conicities 0.02:0.5:25
+for c in A B C D; do
+  fig "fig7$(printf %s "$c" | tr A-D a-d)" "Fig. 7, the stability index over speed and conicity for the designs of clusters A-D." \
+    "cluster $c's design (examples/paper-design-$c.ini): blue stable, red unstable, black the zero line." \
+    "the designs are railride's picks from its own front (the paper gives cluster regions, not single designs)." \
+    map "$HERE/examples/paper-design-$c.ini" --speeds 100:500:41 --conicities 0.02:0.5:25
+done
 fig fig8a "Fig. 8a, root loci over speed at conicity 0.1." \
   "every oscillatory mode of Type 1 from 100 to 500 km/h at conicity 0.1, coloured by speed." \
   "none in the settings; the paper labels the modes; here the CSV gives each branch's energy shares (e_carbody, e_frames, e_wheelsets)." \

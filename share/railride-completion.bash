@@ -14,7 +14,7 @@ _railride()
   fi
   cmd=${COMP_WORDS[1]}
   case $prev in
-    --plot|--psd|--track|--output|--profile|--spectrum) COMPREPLY=($(compgen -f -- "$cur")); return ;;
+    --plot|--plot-script|--psd|--track|--output|--profile|--spectrum) COMPREPLY=($(compgen -f -- "$cur")); return ;;
   esac
   if [[ $cur == -* ]]; then
     local opts

@@ -83,7 +83,7 @@ for cmd in commands:
     allopts.update(per[cmd])
 for cmd in commands:
     for opt in per[cmd]:
-        if opt in ("--help", "--plot"):  # --plot is main's, around the command (test_plots.sh)
+        if opt in ("--help", "--plot", "--plot-script"):  # main's, around the command (test_plots.sh)
             continue
         one = [opt] + ([value(cmd, opt[2:])] if takes_value(cmd, opt) else [])
         rc, out = run(cmd, *one, "--help")
@@ -94,7 +94,7 @@ for cmd in commands:
             rc, out = run(cmd, opt[:-1], *one[1:], "--help")
             check(rc == 2 and REFUSED.search(out), "%s refuses %s for %s: %s" % (cmd, opt[:-1], opt, out.strip()[-200:]))
     for opt in allopts:
-        if opt in per[cmd] or opt in ("--plot", "--help"):
+        if opt in per[cmd] or opt in ("--plot", "--plot-script", "--help"):
             continue
         rc, out = run(cmd, opt, value(cmd, opt[2:]), "--help")
         check(rc == 2 and REFUSED.search(out), "%s refuses %s, another command's option: rc %d %s"

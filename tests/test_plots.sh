@@ -52,6 +52,13 @@ svg_has "ride vertical: the Wb weighting" "EN 12299 Wb (right)" ride --speed 300
 svg_has "compare: the N_MV panel" "EN 12299 N_MV" compare --conicities 0.05:0.4:2
 svg_has "validate: the spread band" "2 sigma of a Welch bin" validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256
 svg_has "map: the zero contour" "index = 0" map --speeds 200:600:4 --conicities 0.05:0.5:4
+svg_has "map --shares: the bogie panel" "bogie frames" map --speeds 200:600:4 --conicities 0.05:0.5:4 --shares
+svg_has "damper: the series stiffness, in MN/m" "series stiffness k_s(f)" damper "$SRC/examples/type1-sdf-paper.ini"
+svg_has "damper: engineering units" "stiffness (MN/m)" damper
+svg_has "optimise: three objectives, the third as colour" "std_zeta" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 3 --output "$tmp/po3"
+# a constrained problem's picture shows its objectives only
+"$RR" optimise "$SRC/examples/paper-optimisation-constrained.ini" --population 40 --generations 3 --output "$tmp/poc" --plot "$tmp/poc.svg" > /dev/null 2>&1 &&
+  grep -q "zeta_high" "$tmp/poc.svg" && ! grep -q "feasible\|violation" "$tmp/poc.svg" && ok || bad "optimise: constrained Pareto plot draws feasible or violation"
 # the data still reaches standard output where the command prints CSV
 head -1 "$tmp/map.out" | grep -q '^speed_kmh,conicity,stability_index' && ok || bad "map --plot: the CSV still printed"
 "$RR" compare --conicities 0.1:0.2:2 --csv --plot "$tmp/cc.png" | head -1 | grep -q '^vehicle,conicity,stability_index_const' && ok || bad "compare --csv --plot: the CSV still printed"
@@ -67,6 +74,11 @@ for c in damper modes locus map sweep ride validate compare bifurcation optimise
   "$RR" $c --help | grep -q '^  --plot FILE' && ok || bad "$c --help: no --plot"
 done
 "$RR" keys --help | grep -q -- '--plot' && bad "keys --help lists --plot" || ok
+# --plot-script: the script and its data, which redraw the same picture in their folder
+mkdir -p "$tmp/ps"
+(cd "$tmp/ps" && "$RR" map --speeds 100:500:5 --conicities 0.05:0.4:4 --plot m.png --plot-script m.gp > /dev/null &&
+  mv m.png first.png && gnuplot m.gp && cmp -s m.png first.png && grep -q "^speed_kmh,conicity" m.csv) && ok || bad "--plot-script: the script does not redraw the picture"
+(cd "$tmp/ps" && "$RR" damper --plot "d\`touch pwned\`.png" --plot-script d.gp > /dev/null 2>&1; [ $? -eq 2 ] && [ ! -e pwned ] && ! ls d* > /dev/null 2>&1) && ok || bad "--plot-script: a name that is not plain is refused"
 # SVG and PDF by extension
 "$RR" damper --plot "$tmp/d.svg" > /dev/null && grep -q '<svg' "$tmp/d.svg" && ok || bad "svg"
 "$RR" damper --plot "$tmp/d.pdf" > /dev/null && head -c 5 "$tmp/d.pdf" | grep -q '%PDF' && ok || bad "pdf"
@@ -77,6 +89,8 @@ expect2() {
   [ $st -eq 2 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q -- "$pat" "$tmp/err" && ok || bad "$name: exit $st, '$(cat "$tmp/err")'"
 }
 expect2 "bad extension" "must end in .svg, .png or .pdf" "$RR" damper --plot "$tmp/d.gif"
+expect2 "--plot-script alone" "goes with --plot" "$RR" damper --plot-script "$tmp/d.gp"
+expect2 "--plot-script extension" "must end in .gp" "$RR" damper --plot "$tmp/d.png" --plot-script "$tmp/d.txt"
 expect2 "no gnuplot" "gnuplot-nox" env PATH=/nonexistent "$RR" damper --plot "$tmp/d.png"
 expect2 "not a drawing command" "not an option of this command" "$RR" robust --plot "$tmp/m.png"
 expect2 "unwritable" "cannot write" "$RR" damper --plot /nonexistent/dir/d.png
