@@ -185,8 +185,23 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
    weighting |B(f)|^2 (the last column) that the index applies to them. */
 /* ride --direction vertical|both: the PSD file's last three (four) columns
    are weightings, its second the track's; the EN 12299 Wb on the right */
+/* Legends from the PSD column names: psd_c0.1_x8.6875m_m2s-4_per_hz reads
+   "conicity 0.1, floor x = 8.6875 m", a lateral_ prefix "lateral, " (and
+   the others "vertical, " when both are drawn); other names as they are. */
+static const char psd_labels[] =
+    "xpos(s) = s[strstrt(s, '_x') + 2:strstrt(s, 'm_m2') - 1]\n"
+    "con(s) = strstrt(s, 'psd_c') ? sprintf('conicity %s, ', s[strstrt(s, 'psd_c') + "
+    "5:strstrt(s, '_x') - 1]) : ''\n"
+    "other = ''  # what a name without the lateral_ prefix is, when both are drawn\n"
+    "lat(s) = strstrt(s, 'lateral_') == 1 ? 'lateral, ' : other\n"
+    "label(s) = strstrt(s, '_x') && strstrt(s, 'm_m2') ? lat(s) . con(s) . 'floor x = ' . "
+    "xpos(s) . ' m' : s\n"
+    "set autoscale xfix\n";
+
 static void script_psd_vertical(FILE *gp, const char *d, int nweights)
 {
+  fputs(psd_labels, gp);
+  if (nweights == 4) fputs("other = 'vertical, '\n", gp); /* --direction both */
   fprintf(gp,
           "set title 'Carbody floor acceleration PSDs (PEM) and the EN 12299 Wb weighting'\n"
           "set datafile separator ','\n"
@@ -199,7 +214,7 @@ static void script_psd_vertical(FILE *gp, const char *d, int nweights)
           "top }\n"
           "set yrange [top * 1e-6:top * 3]  # the filters' exact zeros would take the axis down 10 "
           "decades\n"
-          "plot for [i=3:w] '%s' u 1:i w l lw 2 t columnhead(i), "
+          "plot for [i=3:w] '%s' u 1:i w l lw 2 t label(columnhead(i)), "
           "'' u 1:(column(w + 2)) axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'EN 12299 Wb (right)'\n",
           d, nweights, d, d);
 }
@@ -211,6 +226,7 @@ static void script_psd(FILE *gp, const char *d, int argc, char **argv)
     script_psd_vertical(gp, d, strcmp(dir, "both") ? 3 : 4);
     return;
   }
+  fputs(psd_labels, gp);
   fprintf(gp,
           "set title 'Carbody floor lateral acceleration PSD (PEM) and the Sperling weighting'\n"
           "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
@@ -218,7 +234,7 @@ static void script_psd(FILE *gp, const char *d, int argc, char **argv)
           "set logscale y2; set y2label 'Sperling weighting |B(f)|^2'; set y2tics; set ytics "
           "nomirror; set key below\n"
           "stats '%s' skip 1 nooutput; n = STATS_columns\n"
-          "plot for [i=2:n-1] '%s' u 1:i w l lw 2 t columnhead(i), "
+          "plot for [i=2:n-1] '%s' u 1:i w l lw 2 t label(columnhead(i)), "
           "'' u 1:n axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'Sperling weighting (right)'\n",
           d, d);
 }
@@ -546,6 +562,27 @@ static int run_gnuplot(const char *script, const char *err)
 
 /* The script and the picture in the private folder dir (fixed names: no
    user text in the script), then the picture copied to out whole. */
+/* What the picture is of, from the command line: the vehicle (the first
+   argument after the command when it is not an option; else the built-in
+   default), the speed, the conicity and the tread when given. */
+static void context(int argc, char **argv, char *out, size_t n)
+{
+  const char *veh = argc > 1 && argv[1][0] != '-' ? argv[1] : NULL;
+  const char *slash = veh ? strrchr(veh, '/') : NULL;
+  size_t k = (size_t)snprintf(out, n, "%s",
+                              veh                           ? (slash ? slash + 1 : veh)
+                              : !strcmp(argv[0], "compare") ? "type1 and type2"
+                                                            : "type1");
+  static const char *const opts[][2] = {
+      {"--speed", " km/h"}, {"--conicity", ""}, {"--profile", ""}};
+  static const char *const what[] = {"", "conicity ", "tread "};
+  for (int i = 0; i < 3 && k < n; i++) {
+    const char *v = arg_after(argc, argv, opts[i][0]);
+    int plain = v && strspn(v, "0123456789.") == strlen(v); /* a unit given: as written */
+    if (v) k += (size_t)snprintf(out + k, n - k, ", %s%s%s", what[i], v, plain ? opts[i][1] : "");
+  }
+}
+
 /* The gnuplot script drawing data into pic (both names safe in a gnuplot
    string: scratch paths, or plain_name()'s) at script. */
 static int write_script(const plot_kind *k, const char *script, const char *out, const char *pic,
@@ -557,6 +594,10 @@ static int write_script(const plot_kind *k, const char *script, const char *out,
           "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key "
           "noautotitle\n",
           terminal_for(out), pic);
+  char ctx[300], lit[320];
+  context(argc, argv, ctx, sizeof ctx);
+  fprintf(gp, "set label 1001 %s at screen 0.01, screen 0.98 left font ',9' tc 'grey30'\n",
+          gp_str(lit, sizeof lit, ctx));
   k->script(gp, data, argc, argv);
   if (ferror(gp) | fclose(gp))
     return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
