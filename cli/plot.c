@@ -97,7 +97,8 @@ static void script_locus(FILE *gp, const char *d, int argc, char **argv)
    values cross zero (a stability index: blue stable, red unstable, white 0).
    overlay: a further splot clause drawn as a zero contour, or "". */
 static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const char *yl,
-                       const char *zl, const char *title, int centred, const char *overlay)
+                       const char *zl, const char *title, int centred, const char *overlay,
+                       double sx, double sy)
 {
   char t[300], x[200], y[200], z[200];
   fprintf(gp,
@@ -115,35 +116,63 @@ static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const 
   fprintf(gp,
           "set pm3d map interpolate 4,4; set cntrlabel onecolor; set key opaque\n"
           "set autoscale xfix; set autoscale yfix\n" /* the axes end where the data end */
-          "splot '%s' u 1:2:%d w pm3d notitle, '' u 1:2:%d w l nosurface lw %s lc 'black' %s%s\n",
-          d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle", overlay);
+          "sx = %.17g; sy = %.17g  # axis units: SI / (sx, sy)\n"
+          "splot '%s' u ($1/sx):($2/sy):%d w pm3d notitle, '' u ($1/sx):($2/sy):%d w l nosurface "
+          "lw %s lc 'black' %s%s\n",
+          sx, sy, d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle",
+          overlay);
 }
 
 static void script_map(FILE *gp, const char *d, int argc, char **argv)
 {
   if (!has_arg(argc, argv, "--shares")) {
     map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index",
-               "Vehicle stability index (negative is stable)", 1, "");
+               "Vehicle stability index (negative is stable)", 1, "", 1, 1);
     return;
   }
   /* paper Fig. 14: where the hunting mode's energy sits, carbody or bogies */
   fprintf(gp, "set multiplot layout 1,2 title 'Hunting mode: kinetic-energy shares'\n"
               "set cbrange [0:1]\n");
-  map_script(gp, d, 9, "speed (km/h)", "conicity", "", "carbody", 0, ""); /* one colour bar label */
-  map_script(gp, d, 10, "speed (km/h)", "conicity", "share", "bogie frames", 0, "");
+  map_script(gp, d, 9, "speed (km/h)", "conicity", "", "carbody", 0, "", 1,
+             1); /* one colour bar label */
+  map_script(gp, d, 10, "speed (km/h)", "conicity", "share", "bogie frames", 0, "", 1, 1);
   fprintf(gp, "unset multiplot\n");
 }
 
-/* An axis label: the key with its SI unit, "speed (km/h)", "conicity". */
-static void axis_label(const char *key, char *out, size_t n)
+/* An axis label in engineering units, and the factor SI values are divided
+   by: "yaw damper series stiffness (MN/m)", 1e6; "speed (km/h)"; a key
+   without a unit by its name. */
+static double axis_label(const char *key, char *out, size_t n)
 {
+  static const struct {
+    const char *si, *eng;
+    double scale;
+  } eng[] = {{"N/m", "MN/m", 1e6},
+             {"N.s/m", "kN s/m", 1e3},
+             {"N.m/rad", "kN m/rad", 1e3},
+             {"N.m.s/rad", "kN m s/rad", 1e3},
+             {"kg.m2", "kg m^2", 1}};
   const rr_vehicle_key *k = rr_vehicle_key_find(key);
-  if (!strcmp(key, "speed"))
+  char name[128];
+  size_t i = 0;
+  for (; key[i] && i + 1 < sizeof name; i++)
+    name[i] = key[i] == '.' || key[i] == '_' ? ' ' : key[i];
+  name[i] = 0;
+  if (!strcmp(key, "speed")) {
     snprintf(out, n, "speed (km/h)");
-  else if (k && k->si_unit && strcmp(k->si_unit, "1"))
-    snprintf(out, n, "%s (%s)", key, k->si_unit);
-  else
-    snprintf(out, n, "%s", key);
+    return 1;
+  }
+  if (!k || !k->si_unit || !strcmp(k->si_unit, "1")) {
+    snprintf(out, n, "%s", name);
+    return 1;
+  }
+  for (size_t j = 0; j < sizeof eng / sizeof eng[0]; j++)
+    if (!strcmp(k->si_unit, eng[j].si)) {
+      snprintf(out, n, "%s (%s)", name, eng[j].eng);
+      return eng[j].scale;
+    }
+  snprintf(out, n, "%s (%s)", name, k->si_unit);
+  return 1;
 }
 
 static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
@@ -152,19 +181,19 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
              *o = arg_after(argc, argv, "--objective");
   char xk[128] = "x", yk[128] = "y", xl[160], yl[160], title[256];
   if (x) snprintf(xk, sizeof xk, "%.*s", (int)strcspn(x, "="), x);
-  axis_label(xk, xl, sizeof xl);
+  double sx = axis_label(xk, xl, sizeof xl), sy = 1;
   if (!y) { /* one axis: the objective (and its mode's frequency) along it */
     char t[300], a[200], b[200];
     snprintf(title, sizeof title, "%s along %s", o ? o : "objective", xk);
     fprintf(gp,
             "set title %s\nset xlabel %s; set ylabel %s\n"
-            "plot '%s' u 1:2 w lp pt 7 ps 0.6 lw 2 notitle\n",
+            "plot '%s' u ($1/%.17g):2 w lp pt 7 ps 0.6 lw 2 notitle\n",
             gp_str(t, sizeof t, title), gp_str(a, sizeof a, xl),
-            gp_str(b, sizeof b, o ? o : "objective"), d);
+            gp_str(b, sizeof b, o ? o : "objective"), d, sx);
     return;
   }
   snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
-  axis_label(yk, yl, sizeof yl);
+  sy = axis_label(yk, yl, sizeof yl);
   snprintf(title, sizeof title, "%s over %s and %s", o ? o : "objective", xk, yk);
   int centred = o && (!strncmp(o, "index", 5) || !strncmp(o, "zeta", 4));
   /* yaw damping against series stiffness with an index objective: the sweep
@@ -176,9 +205,10 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
   int cx = !strcmp(xk, "yaw_damper.damping"), cy = !strcmp(yk, "yaw_damper.damping");
   if (o && !strncmp(o, "index", 5) && ((kx && cy) || (ky && cx)))
     snprintf(overlay, sizeof overlay,
-             ", '' u 1:2:($%d - $5) w l nosurface lw 2 dt 2 lc 'dark-green' t 'k = c w'",
+             ", '' skip 1 u ($1/sx):($2/sy):($%d - $5) w l nosurface lw 2 dt 2 lc 'dark-green' "
+             "t 'k = c w'", /* skip: the header's quoted comma would break the grid */
              kx ? 1 : 2);
-  map_script(gp, d, 3, xl, yl, o ? o : "objective", title, centred, overlay);
+  map_script(gp, d, 3, xl, yl, o ? o : "objective", title, centred, overlay, sx, sy);
 }
 
 /* The PSDs (columns 2 .. n-1) and, on the right axis, the Sperling
@@ -614,16 +644,19 @@ static int render(const plot_kind *k, const char *dir, const char *out, const ch
   snprintf(err, sizeof err, "%s/gnuplot.err", dir);
   int w = write_script(k, script, out, pic, data, argc, argv);
   if (w) return w;
-  if (run_gnuplot(script, err)) {
-    char msg[512] = "", line[512];
-    FILE *fe = fopen(err, "r");
-    while (fe && fgets(line, sizeof line, fe)) /* the last line that says something */
-      if (line[strspn(line, " \t\r\n")]) snprintf(msg, sizeof msg, "%s", line);
-    if (fe) fclose(fe);
-    msg[strcspn(msg, "\n")] = 0;
+  int failed = run_gnuplot(script, err);
+  char msg[512] = "", line[512];
+  FILE *fe = fopen(err, "r");
+  while (fe && fgets(line, sizeof line, fe)) /* the last line that says something */
+    if (line[strspn(line, " \t\r\n")]) snprintf(msg, sizeof msg, "%s", line);
+  if (fe) fclose(fe);
+  msg[strcspn(msg, "\n")] = 0;
+  if (failed) {
     fprintf(stderr, "railride: --plot %s: gnuplot failed: %s\n", out, msg[0] ? msg : "no message");
     return EXIT_FAIL;
   }
+  if (msg[0]) /* drawn, but something in it may be missing (a curve, a contour) */
+    fprintf(stderr, "railride: --plot %s: gnuplot: %s\n", out, msg);
   return cli_out_copy(pic, out, "--plot");
 }
 

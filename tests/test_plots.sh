@@ -14,6 +14,7 @@ png() {  # png NAME ARGS...: railride ARGS --plot NAME.png, then the picture che
   local name=$1; shift
   if "$RR" "$@" --plot "$tmp/$name.png" > "$tmp/$name.out" 2> "$tmp/$name.err"; then
     python3 "$SRC/tests/png_check.py" "$tmp/$name.png" > /dev/null && ok || bad "$name: blank picture"
+    grep -q "gnuplot" "$tmp/$name.err" && bad "$name: gnuplot warned: $(grep gnuplot "$tmp/$name.err" | head -1)" || ok
   else
     bad "$name: exit $? ($(head -2 "$tmp/$name.err"))"
   fi
@@ -41,7 +42,7 @@ svg_has() {  # svg_has WHAT TEXT ARGS...: railride ARGS --plot F.svg shows TEXT
   "$RR" "$@" --plot "$tmp/t.svg" > /dev/null 2>&1 && grep -q "$text" "$tmp/t.svg" && ok || bad "$what: no '$text' in the picture"
 }
 svg_has "sweep: the k = c w line" "k = c w" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:5" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:5" --objective "index@350,0.17"
-svg_has "sweep: axis units" "yaw_damper.damping (N.s/m)" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:3" --objective "index@350,0.17"
+svg_has "sweep: axis units" "yaw damper damping (kN s/m)" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:3" --objective "index@350,0.17"
 svg_has "modes: a panel per mode, the index's marked" "sets the index" modes --speed 350 --conicity 0.17
 svg_has "modes: roll marked" "roll " modes --speed 250 --conicity 0.05
 svg_has "contact: the conicity panel" "equivalent conicity" contact --wheel "$SRC/profiles/en15302/RUIC519A.dat" --rail "$SRC/profiles/en15302/SUIC519A.dat" --rail-gmp -32.5
