@@ -593,11 +593,18 @@ static int run_gnuplot(const char *script, const char *err)
 /* The script and the picture in the private folder dir (fixed names: no
    user text in the script), then the picture copied to out whole. */
 /* What the picture is of, from the command line: the vehicle (the first
-   argument after the command when it is not an option; else the built-in
-   default), the speed, the conicity and the tread when given. */
+   argument after the command when it is not an option, or a later *.ini or
+   built-in name; else the built-in default), the speed, the conicity and the
+   tread when given. */
 static void context(int argc, char **argv, char *out, size_t n)
 {
   const char *veh = argc > 1 && argv[1][0] != '-' ? argv[1] : NULL;
+  for (int i = 2; i < argc && !veh; i++) { /* later: a file.ini, or a built-in's name */
+    size_t l = strlen(argv[i]);
+    if ((l > 4 && !strcmp(argv[i] + l - 4, ".ini")) || !strcmp(argv[i], "type1") ||
+        !strcmp(argv[i], "type2"))
+      veh = argv[i];
+  }
   const char *slash = veh ? strrchr(veh, '/') : NULL;
   size_t k = (size_t)snprintf(out, n, "%s",
                               veh                           ? (slash ? slash + 1 : veh)
@@ -616,7 +623,7 @@ static void context(int argc, char **argv, char *out, size_t n)
 /* The gnuplot script drawing data into pic (both names safe in a gnuplot
    string: scratch paths, or plain_name()'s) at script. */
 static int write_script(const plot_kind *k, const char *script, const char *out, const char *pic,
-                        const char *data, int argc, char **argv)
+                        const char *data, const char *ctx, int argc, char **argv)
 {
   FILE *gp = fopen(script, "w");
   if (!gp) return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
@@ -624,8 +631,7 @@ static int write_script(const plot_kind *k, const char *script, const char *out,
           "set terminal %s\nset output '%s'\nset datafile separator ','\nset grid\nset key "
           "noautotitle\n",
           terminal_for(out), pic);
-  char ctx[300], lit[320];
-  context(argc, argv, ctx, sizeof ctx);
+  char lit[320];
   fprintf(gp, "set label 1001 %s at screen 0.01, screen 0.98 left font ',9' tc 'grey30'\n",
           gp_str(lit, sizeof lit, ctx));
   k->script(gp, data, argc, argv);
@@ -634,15 +640,15 @@ static int write_script(const plot_kind *k, const char *script, const char *out,
   return 0;
 }
 
-static int render(const plot_kind *k, const char *dir, const char *out, const char *data, int argc,
-                  char **argv)
+static int render(const plot_kind *k, const char *dir, const char *out, const char *data,
+                  const char *ctx, int argc, char **argv)
 {
   char script[PATH_MAX], pic[PATH_MAX], err[PATH_MAX];
   const char *ext = strrchr(out, '.');
   snprintf(script, sizeof script, "%s/plot.gp", dir);
   snprintf(pic, sizeof pic, "%s/picture%s", dir, ext);
   snprintf(err, sizeof err, "%s/gnuplot.err", dir);
-  int w = write_script(k, script, out, pic, data, argc, argv);
+  int w = write_script(k, script, out, pic, data, ctx, argc, argv);
   if (w) return w;
   int failed = run_gnuplot(script, err);
   char msg[512] = "", line[512];
@@ -756,14 +762,14 @@ static const char *base_name(const char *path)
    restyle, beside its data S.csv; both name their files without a folder,
    so that `gnuplot S.gp` run in S's folder redraws the --plot file there. */
 static int user_script(const plot_kind *k, const char *dir, const char *gp, const char *out,
-                       const char *data, int argc, char **argv)
+                       const char *data, const char *ctx, int argc, char **argv)
 {
   char script[PATH_MAX], csv[PATH_MAX], csv_name[PATH_MAX];
   size_t len = strlen(gp) - 3; /* without ".gp" */
   snprintf(csv, sizeof csv, "%.*s.csv", (int)len, gp);
   snprintf(csv_name, sizeof csv_name, "%s", base_name(csv));
   snprintf(script, sizeof script, "%s/user.gp", dir);
-  int r = write_script(k, script, out, base_name(out), csv_name, argc, argv);
+  int r = write_script(k, script, out, base_name(out), csv_name, ctx, argc, argv);
   if (!r) r = cli_out_copy(data, csv, "--plot-script");
   return r ? r : cli_out_copy(script, gp, "--plot-script");
 }
@@ -835,6 +841,8 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
     file_data = data;
   }
   if (k->extra && !has_arg(n, av, k->extra)) av[n++] = (char *)k->extra;
+  char ctx[300]; /* before the command runs: getopt_long reorders av */
+  context(n, av, ctx, sizeof ctx);
   int r;
   if (k->file_option)
     r = fn(n, av);
@@ -854,8 +862,9 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   if (!r && strcmp(src, data)) src = private_copy(src, dir, copy, sizeof copy);
   if (!r && (k->grid == 1 || (k->grid == 2 && has_arg(n, av, "--y"))))
     src = gridded(src, grid, sizeof grid);
-  if (!r && cli_par_rank() == 0) r = render(k, dir, out, src, n, av); /* one picture from MPI */
-  if (!r && gp && cli_par_rank() == 0) r = user_script(k, dir, gp, out, src, n, av);
+  if (!r && cli_par_rank() == 0)
+    r = render(k, dir, out, src, ctx, n, av); /* one picture from MPI */
+  if (!r && gp && cli_par_rank() == 0) r = user_script(k, dir, gp, out, src, ctx, n, av);
   free(av);
   remove_private(dir);
   return r;

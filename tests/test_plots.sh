@@ -57,6 +57,8 @@ svg_has "ride: legends that say what a curve is" "conicity 0.1, floor x = 8.6875
 svg_has "ride both: vertical and lateral named" "vertical, floor x = 0 m" ride --speed 350 --direction both --conicity 0.17
 svg_has "ride: what the picture is of" "type1, 300 km/h, conicity 0.1,0.4" ride --speed 300 --conicity 0.1,0.4
 svg_has "damper: the vehicle file named" "type1-sdf-paper.ini" damper "$SRC/examples/type1-sdf-paper.ini"
+svg_has "map: the vehicle file named (getopt reorders the arguments)" "paper-design-A.ini" map "$SRC/examples/paper-design-A.ini" --speeds 200:300:2 --conicities 0.1:0.2:2
+svg_has "map: the vehicle file named after the options" "paper-design-B.ini" map --speeds 200:300:2 --conicities 0.1:0.2:2 "$SRC/examples/paper-design-B.ini"
 svg_has "map --shares: the bogie panel" "bogie frames" map --speeds 200:600:4 --conicities 0.05:0.5:4 --shares
 svg_has "damper: the series stiffness, in MN/m" "series stiffness k_s(f)" damper "$SRC/examples/type1-sdf-paper.ini"
 svg_has "damper: engineering units" "stiffness (MN/m)" damper
