@@ -326,14 +326,34 @@ static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)
             d);
     return;
   }
+  /* the straight-running branch: stable up to the Hopf point (where the
+     branch of cycles is born, its first row), unstable beyond; folds (the
+     speed turns back) and changes of stability marked along the branch */
+  double lo = 100, hi = 600;
+  const char *sp = arg_after(argc, argv, "--speeds");
+  if (sp && sscanf(sp, "%lf:%lf", &lo, &hi) != 2) lo = 100, hi = 600;
   fprintf(
       gp,
       "set title 'Hunting limit cycles (continuation): stable solid, unstable hollow'\n"
       "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'; set key top left\n"
+      "stats '%s' skip 1 u 1 every ::0::0 nooutput; hopf = STATS_min\n"
+      "lo = %.17g; hi = %.17g; set xrange [lo < hopf ? lo : hopf:hi > hopf ? hi : hopf]\n"
+      "set offsets 0, 0, graph 0.05, graph 0.02\n"
+      "set arrow 1 from lo, 0 to hopf, 0 nohead lw 3 lc rgb '#1b7837' front\n"
+      "set arrow 2 from hopf, 0 to hi, 0 nohead lw 2 dt 2 lc rgb '#b2182b' front\n"
+      "set label 1 sprintf('Hopf %%.1f km/h', hopf) at hopf, 0 point pt 7 ps 1.5 lc rgb 'black' "
+      "right offset -1, 1 front\n"
+      "pv = NaN; pdv = NaN; ps = NaN\n"
+      "fold(v) = (dv = v - pv, f = (pdv * dv < 0), pdv = (dv != 0 ? dv : pdv), pv = v, f)\n"
+      "turn(st) = (t = (ps == ps && st != ps), ps = st, t)\n"
       "plot '%s' u 1:($4 == 1 ? $2*1e3 : 1/0) w p pt 7 ps 0.8 lc rgb '#1b7837' t 'stable cycle', "
       "'' u 1:($4 == 0 ? $2*1e3 : 1/0) w p pt 6 ps 0.8 lc rgb '#b2182b' t 'unstable cycle', "
-      "'' u 1:($2*1e3) w l lc rgb '#999999' notitle\n",
-      d);
+      "'' u 1:($2*1e3) w l lc rgb '#999999' notitle, "
+      "'' u 1:(fold($1) ? $2*1e3 : 1/0) w p pt 4 ps 2 lw 2 lc rgb 'black' t 'fold', "
+      "'' u 1:(turn($4) ? $2*1e3 : 1/0) w p pt 8 ps 2 lw 2 lc rgb '#762a83' t 'stability changes', "
+      "NaN w l lw 3 lc rgb '#1b7837' t 'straight running, stable', "
+      "NaN w l lw 2 dt 2 lc rgb '#b2182b' t 'straight running, unstable'\n",
+      d, lo, hi, d);
 }
 
 /* The Pareto front: the objectives (the columns that are not section.key

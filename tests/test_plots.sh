@@ -59,6 +59,8 @@ svg_has "ride: what the picture is of" "type1, 300 km/h, conicity 0.1,0.4" ride 
 svg_has "damper: the vehicle file named" "type1-sdf-paper.ini" damper "$SRC/examples/type1-sdf-paper.ini"
 svg_has "map: the vehicle file named (getopt reorders the arguments)" "paper-design-A.ini" map "$SRC/examples/paper-design-A.ini" --speeds 200:300:2 --conicities 0.1:0.2:2
 svg_has "map: the vehicle file named after the options" "paper-design-B.ini" map --speeds 200:300:2 --conicities 0.1:0.2:2 "$SRC/examples/paper-design-B.ini"
+svg_has "bifurcation: the Hopf point" "Hopf 5[0-9.]* km/h" bifurcation --profile worn --speeds 100:600
+svg_has "bifurcation: the straight-running branch" "straight running, unstable" bifurcation --profile worn --speeds 100:600
 svg_has "map --shares: the bogie panel" "bogie frames" map --speeds 200:600:4 --conicities 0.05:0.5:4 --shares
 svg_has "damper: the series stiffness, in MN/m" "series stiffness k_s(f)" damper "$SRC/examples/type1-sdf-paper.ini"
 svg_has "damper: engineering units" "stiffness (MN/m)" damper
