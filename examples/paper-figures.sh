@@ -63,8 +63,12 @@ fig fig9b "Fig. 9 (its subcritical case): unstable cycles from the Hopf point do
   "an illustrative tread, not the paper's." \
   bifurcation "$HERE/examples/type1-rising-tread.ini" --speeds 100:620
 fig fig10 "Fig. 10, the stability index over the yaw damper's damping c_sx and series stiffness k_ncsx, with the line k = c omega." \
+  "the same axes for Type 1 at 350 km/h, conicity 0.17, with k = c omega of the mode that sets the index (dashed green) and the zero line." \
+  "none in the layout; the index values follow railride's Type 1." \
+  sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:40" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:30" --objective "index@350,0.17"
+fig fig10b "Fig. 10's point made over conicity: where the best series stiffness lies as the conicity changes." \
   "the index over conicity and series stiffness at 350 km/h: the best stiffness rises with conicity." \
-  "the axes: conicity against k, not c against k; the k = c omega line is not drawn." \
+  "not a figure of the paper: railride's own view of how the best stiffness moves with conicity." \
   sweep --x conicity=0.05:0.4:8 --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:30" --objective index@350
 fig fig11a "Fig. 11, the frequency-dependent series stiffness (SDF) of the two designs' yaw dampers." \
   "Type 1's Table 2 curve k_s(f) (dotted) and the damper's storage and loss stiffness with it." \
