@@ -61,17 +61,38 @@ enum {
   OPT_PROGRESS_ALL,
   OPT_PROFILES
 };
-#define CLI_COMMON_OPTIONS                                                                         \
-  {"speed", required_argument, 0, OPT_SPEED}, {"conicity", required_argument, 0, OPT_CONICITY},    \
-      {"json", no_argument, 0, OPT_JSON}, {"fmax", required_argument, 0, OPT_FMAX},                \
-      {"wmin", required_argument, 0, OPT_WMIN}, {"rmax", required_argument, 0, OPT_RMAX},          \
-      {"sdf", required_argument, 0, OPT_SDF}, {"gravity-stiffness", no_argument, 0, OPT_GRAVITY},  \
-      {"progress", no_argument, 0, OPT_PROGRESS_ALL},                                              \
-      {"profiles", required_argument, 0, OPT_PROFILES},                                            \
+/* One option of a command, for the parser and the help alike: getopt_long's
+   table and the --help lines are both made from these rows, so the two
+   cannot disagree. A table ends with a row whose name is NULL. */
+typedef struct cli_opt {
+  const char *name;  /* long name, without "--" */
+  int id;            /* what the command's callback receives */
+  const char *value; /* the value's name in --help ("FROM:TO:N"); NULL: a flag */
+  const char *help;  /* what --help says of it (wrapped to CLI_HELP_WIDTH) */
+} cli_opt;
+#define CLI_OPT_END                                                                                \
   {                                                                                                \
-    "help", no_argument, 0, OPT_HELP                                                               \
+    0, 0, 0, 0                                                                                     \
   }
-/* Where a command's help lists the shared options it reads (only those). */
+/* The --help row of a command that parses its own options. */
+#define CLI_OPT_HELP_ROW                                                                           \
+  {                                                                                                \
+    "help", 'h', NULL, "this text"                                                                 \
+  }
+/* The most options a command has (the shared ones included). */
+#define CLI_OPTS_MAX 96
+/* The help's option column: "  --name VALUE" padded to this width. */
+#define CLI_HELP_COLUMN 23
+/* The help's lines are wrapped to this width (terminals of 100 columns). */
+#define CLI_HELP_WIDTH 99
+/* A table's rows as --help prints them. */
+void cli_opt_help(FILE *fp, const cli_opt *t);
+/* A command's help text with the option rows of t where its CLI_COMMON_HELP
+   marker is (after the shared options the command reads, for cli_parse),
+   and cmd's --plot options when it draws. */
+void cli_help_print(const char *cmd, const char *text, const cli_opt *t);
+/* Where a command's help lists its options (the shared ones it reads, then
+   its own). */
 #define CLI_COMMON_HELP "@COMMON@\n"
 /* Which shared options a command reads (the vehicle and --sdf: all); one
    it does not read is an error, and so is any option given twice. */
@@ -112,14 +133,17 @@ int cli_number_in(const char *opt, const char *arg, const char *unit, double lo,
    *nseen of them, cap 64). Returns 0, or EXIT_BADINPUT after the message. */
 int cli_option_checks(const char *cmd, char **argv, const struct option *opts, int opt,
                       int longindex, int *seen, int *nseen);
+/* getopt_long's table of a cli_opt table (the end row included): the count
+   of options, or -1 when they pass cap - 1. */
+int cli_opt_getopt(const cli_opt *t, struct option *out, int cap);
 /* getopt_long with those checks: 1 with the next option's id in *opt, 0
    after the last, -1 after an error's message (a missing value, an unknown,
    abbreviated or repeated option). Start with optind = 1 and a zeroed s. */
 typedef struct cli_opt_state {
   int seen[64], nseen;
 } cli_opt_state;
-int cli_next_option(const char *cmd, int argc, char **argv, const struct option *opts,
-                    cli_opt_state *s, int *opt);
+int cli_next_option(const char *cmd, int argc, char **argv, const cli_opt *opts, cli_opt_state *s,
+                    int *opt);
 /* The message for getopt's ':' (missing value) or '?' (unknown option); returns EXIT_BADINPUT. */
 int cli_getopt_error(const char *cmd, int opt, const char *word);
 /* Work caps: a command refuses a job larger than its limit (--limit N
@@ -182,14 +206,14 @@ int cmd_locus(int argc, char **argv);
 int cmd_map(int argc, char **argv);
 int cmd_damper(int argc, char **argv);
 
-/* Runs getopt_long over argv with the shared options plus `extra` (NULL-
- * terminated, ids < 1000 or >= 2000), calling extra_cb for those. Loads the
+/* Runs getopt_long over argv with the shared options plus `extra` (ended by
+ * CLI_OPT_END, ids < 1000 or >= 2000), calling extra_cb for those. Loads the
  * vehicle. Returns 0 to go on, or an exit status (help printed: -1 -> 0). */
 typedef int (*cli_extra_cb)(int opt, const char *arg, void *user); /* enum cli_opt_result */
-int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const cli_opt *extra,
               cli_extra_cb cb, void *user, const char *usage_text);
 /* The same, with --conicity taking a comma list into c->conicities. */
-int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const cli_opt *extra,
                    cli_extra_cb cb, void *user, const char *usage_text);
 #define CLI_HELP_SHOWN (-1)
 
@@ -211,19 +235,19 @@ void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
 void ride_default_points(ride_setup *r, const rr_vehicle *veh);
 /* The floor-point options every ride-type command takes. */
 enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
-#define RIDE_SETUP_OPTIONS                                                                         \
-  {"spectrum", required_argument, 0, OPT_SPECTRUM}, {"points", required_argument, 0, OPT_POINTS},  \
-      {"floor-height", required_argument, 0, OPT_HEIGHT},                                          \
-  {                                                                                                \
-    "roll-gravity", no_argument, 0, OPT_ROLLG                                                      \
-  }
-/* The same without --spectrum (commands that take no track input). */
-#define RIDE_POINT_OPTIONS                                                                         \
-  {"points", required_argument, 0, OPT_POINTS},                                                    \
-      {"floor-height", required_argument, 0, OPT_HEIGHT},                                          \
-  {                                                                                                \
-    "roll-gravity", no_argument, 0, OPT_ROLLG                                                      \
-  }
+/* clang-format off */
+#define RIDE_HEIGHT_DEFAULT RR_STR(RR_FLOOR_HEIGHT_DEFAULT)
+#define RIDE_POINT_OPTIONS \
+  {"points", OPT_POINTS, "X1,X2,..", "floor points along the car, m (default +L, 0, -L)"}, \
+  {"floor-height", OPT_HEIGHT, "H", "floor height above rail, m (default " RIDE_HEIGHT_DEFAULT ")"}, \
+  {"roll-gravity", OPT_ROLLG, NULL, "the accelerometer senses a_y + g phi_c"}
+#define RIDE_SETUP_OPTIONS \
+  {"spectrum", OPT_SPECTRUM, "S", \
+   "lateral alignment spectrum: a name in spectra/, a file (.txt), or a measured " \
+   "PSD (.csv, two columns with units in the header, e.g. n_per_m,psd_m2_per_per_m); " \
+   "default " RR_RIDE_SPECTRUM_DEFAULT}, \
+  RIDE_POINT_OPTIONS
+/* clang-format on */
 /* Handles one of them (enum cli_opt_result). */
 int ride_setup_option(ride_setup *r, int opt, const char *arg);
 

@@ -176,76 +176,58 @@ static const char contact_help[] =
     "is given. The text summary gives tan gamma_e at 3 mm, y0, contact jumps and the onset of\n"
     "flange contact (contact angle above 0.5 rad); --csv the conicity function: amplitude_mm,\n"
     "tan_gamma_e, tan_gamma_e_harmonic, tan_gamma_e_regression, turning_left_mm,\n"
-    "turning_right_mm, wavelength_mm.\n"
-    "  --wheel W            wheel profile, both sides\n"
-    "  --wheel-right W      the right wheel's (E9 of EN 15302: A right, B left)\n"
-    "  --wheel-left W       the left wheel's\n"
-    "  --rail R             rail profile, both sides\n"
-    "  --rail-right R       the right rail's\n"
-    "  --rail-left R        the left rail's\n"
-    "  --gauge G            track gauge (default 1435)\n"
-    "  --flange-back FB     flange-back distance (default 1360)\n"
-    "  --wheel-origin D     flange back to the wheel origin (default 70)\n"
-    "  --inclination I      rail inclination applied to the rail file: 1/40, 1:20 or a decimal\n"
-    "                       (default 0: the file is in the track frame)\n"
-    "  --rail-gmp V         the rail file's gauge measuring point, or auto (default: 14 mm below\n"
-    "                       the top of rail, --gmp-depth)\n"
-    "  --gmp-depth D        depth of the gauge measuring point (default 14)\n"
-    "  --lateral-offset D   the wheel origin less the rail origin, both sides (instead of "
-    "placing)\n"
-    "  --radius R           nominal rolling radius, or R_RIGHT,R_LEFT (default 460)\n"
-    "  --radius-right R     the right wheel's nominal radius\n"
-    "  --radius-left R      the left wheel's\n"
-    "  --roll M             none (default, the EN 15302 benchmark) or rigid (the wheelset's roll\n"
-    "                       solved so that both wheels touch)\n"
-    "  --y-range=A:B:STEP   the lateral grid (default -10:10:0.01)\n"
-    "  --amplitudes A:B:STEP  amplitudes for tan gamma_e, or a list A1,A2,.. (default 0.5:10:0.1)\n"
-    "  --e0 E               Klingel half contact spacing for the wavelength (default: the wheel\n"
-    "                       origin's, flange back / 2 + wheel origin)\n"
-    "  --grid FILE.csv      write the per-y table (dr, radii, angles, contact points, validity)\n"
-    "  --plot-data FILE     write what --plot draws (gnuplot data: the grid, the conicity\n"
-    "                       function, the right wheel on its rail at y = 0 and at the flange)\n"
-    "  --no-contact-details leave the contact points out of the JSON\n"
-    "  --json               JSON output\n"
-    "  --csv                the conicity function as CSV\n"
-    "  --help               this text\n";
+    "turning_right_mm, wavelength_mm.\n" CLI_COMMON_HELP;
 
 static int contact_parse(int argc, char **argv, contact_args *a)
 {
-  static const struct option opts[] = {{"wheel", required_argument, 0, OPT_WHEEL},
-                                       {"wheel-left", required_argument, 0, OPT_WHEEL_L},
-                                       {"wheel-right", required_argument, 0, OPT_WHEEL_R},
-                                       {"rail", required_argument, 0, OPT_RAIL},
-                                       {"rail-left", required_argument, 0, OPT_RAIL_L},
-                                       {"rail-right", required_argument, 0, OPT_RAIL_R},
-                                       {"gauge", required_argument, 0, OPT_GAUGE},
-                                       {"flange-back", required_argument, 0, OPT_FB},
-                                       {"wheel-origin", required_argument, 0, OPT_WORIGIN},
-                                       {"inclination", required_argument, 0, OPT_INCL},
-                                       {"rail-gmp", required_argument, 0, OPT_GMP},
-                                       {"gmp-depth", required_argument, 0, OPT_GMPDEPTH},
-                                       {"lateral-offset", required_argument, 0, OPT_LOFF},
-                                       {"radius", required_argument, 0, OPT_RADIUS},
-                                       {"radius-right", required_argument, 0, OPT_RADIUS_R},
-                                       {"radius-left", required_argument, 0, OPT_RADIUS_L},
-                                       {"roll", required_argument, 0, OPT_ROLL},
-                                       {"y-range", required_argument, 0, OPT_YRANGE},
-                                       {"amplitudes", required_argument, 0, OPT_AMPS},
-                                       {"e0", required_argument, 0, OPT_E0},
-                                       {"json", no_argument, 0, OPT_CJSON},
-                                       {"csv", no_argument, 0, OPT_CCSV},
-                                       {"no-contact-details", no_argument, 0, OPT_NODETAILS},
-                                       {"grid", required_argument, 0, OPT_GRID},
-                                       {"plot-data", required_argument, 0, OPT_PLOTDATA},
-                                       {"help", no_argument, 0, 'h'},
-                                       {0, 0, 0, 0}};
+  static const cli_opt opts[] = {
+      {"wheel", OPT_WHEEL, "W", "wheel profile, both sides"},
+      {"wheel-right", OPT_WHEEL_R, "W", "the right wheel's (E9 of EN 15302: A right, B left)"},
+      {"wheel-left", OPT_WHEEL_L, "W", "the left wheel's"},
+      {"rail", OPT_RAIL, "R", "rail profile, both sides"},
+      {"rail-right", OPT_RAIL_R, "R", "the right rail's"},
+      {"rail-left", OPT_RAIL_L, "R", "the left rail's"},
+      {"gauge", OPT_GAUGE, "G", "track gauge (default 1435)"},
+      {"flange-back", OPT_FB, "FB", "flange-back distance (default 1360)"},
+      {"wheel-origin", OPT_WORIGIN, "D", "flange back to the wheel origin (default 70)"},
+      {"inclination", OPT_INCL, "I",
+       "rail inclination applied to the rail file: 1/40, 1:20 or a decimal (default 0: the file is "
+       "in the track frame)"},
+      {"rail-gmp", OPT_GMP, "V",
+       "the rail file's gauge measuring point, or auto (default: 14 mm below the top of rail, "
+       "--gmp-depth)"},
+      {"gmp-depth", OPT_GMPDEPTH, "D", "depth of the gauge measuring point (default 14)"},
+      {"lateral-offset", OPT_LOFF, "D",
+       "the wheel origin less the rail origin, both sides (instead of placing)"},
+      {"radius", OPT_RADIUS, "R", "nominal rolling radius, or R_RIGHT,R_LEFT (default 460)"},
+      {"radius-right", OPT_RADIUS_R, "R", "the right wheel's nominal radius"},
+      {"radius-left", OPT_RADIUS_L, "R", "the left wheel's"},
+      {"roll", OPT_ROLL, "M",
+       "none (default, the EN 15302 benchmark) or rigid (the wheelset's roll solved so that both "
+       "wheels touch)"},
+      {"y-range", OPT_YRANGE, "=A:B:STEP", "the lateral grid (default -10:10:0.01)"},
+      {"amplitudes", OPT_AMPS, "A:B:STEP",
+       "amplitudes for tan gamma_e, or a list A1,A2,.. (default 0.5:10:0.1)"},
+      {"e0", OPT_E0, "E",
+       "Klingel half contact spacing for the wavelength (default: the wheel origin's, flange back "
+       "/ 2 + wheel origin)"},
+      {"grid", OPT_GRID, "FILE.csv",
+       "write the per-y table (dr, radii, angles, contact points, validity)"},
+      {"plot-data", OPT_PLOTDATA, "FILE",
+       "write what --plot draws (gnuplot data: the grid, the conicity function, the right wheel on "
+       "its rail at y = 0 and at the flange)"},
+      {"no-contact-details", OPT_NODETAILS, NULL, "leave the contact points out of the JSON"},
+      {"json", OPT_CJSON, NULL, "JSON output"},
+      {"csv", OPT_CCSV, NULL, "the conicity function as CSV"},
+      CLI_OPT_HELP_ROW,
+      CLI_OPT_END};
   optind = 1;
   cli_opt_state os = {.nseen = 0};
   int opt, got;
   while ((got = cli_next_option("contact", argc, argv, opts, &os, &opt)) != 0) {
     if (got < 0) return EXIT_BADINPUT;
     if (opt == 'h') {
-      fputs(contact_help, stdout);
+      cli_help_print("contact", contact_help, opts);
       return CLI_HELP_SHOWN;
     }
     int r = contact_option(opt, optarg, a);

@@ -58,15 +58,13 @@ int cmd_damper(int argc, char **argv)
       "(with the vehicle's SDF curve for the yaw damper when sdf is on): storage (equivalent\n"
       "stiffness), loss, equivalent damping loss/w, dissipation factor loss/storage, over\n"
       "log-spaced frequencies (default 0.1:30:200 Hz); omega_opt = k/c maximises the loss.\n"
-      "CSV columns: " DAMPER_COLUMNS "\n" CLI_COMMON_HELP
-      "  --element E          yaw (default) or lateral damper of the vehicle\n"
-      "  --k, --c             override series stiffness (N/m) and damping (N s/m)\n"
-      "  --freqs FROM:TO:N    frequency grid, Hz\n";
-  static const struct option extra[] = {{"element", required_argument, 0, OPT_ELEMENT},
-                                        {"k", required_argument, 0, OPT_K},
-                                        {"c", required_argument, 0, OPT_C},
-                                        {"freqs", required_argument, 0, OPT_FREQS},
-                                        {0, 0, 0, 0}};
+      "CSV columns: " DAMPER_COLUMNS "\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"element", OPT_ELEMENT, "E", "yaw (default) or lateral damper of the vehicle"},
+      {"k", OPT_K, "N/M", "override the series stiffness, N/m"},
+      {"c", OPT_C, "NS/M", "override the damping, N s/m"},
+      {"freqs", OPT_FREQS, "FROM:TO:N", "frequency grid, Hz"},
+      CLI_OPT_END};
   cli_common c;
   damper_args a = {0, 0, 0, 0, 0, 0.1, 30, 200};
   int r = cli_parse(argc, argv, &c, CLI_READS_JSON, extra, damper_cb, &a, help);

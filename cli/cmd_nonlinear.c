@@ -400,6 +400,13 @@ static int sim_run(const nl_args *a, const cli_common *c, const rr_profile *p)
   return r;
 }
 
+/* The tread option of simulate and bifurcation. */
+#define NL_PROFILE_OPT                                                                             \
+  {                                                                                                \
+    "profile", OPT_PROFILE, "P",                                                                   \
+        "tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)"                        \
+  }
+
 int cmd_simulate(int argc, char **argv)
 {
   static const char help[] =
@@ -415,32 +422,23 @@ int cmd_simulate(int argc, char **argv)
       "assumptions on stderr): t_s, every DOF (m or rad), per wheelset the track\n"
       "alignment, saturated creep force Fy and yaw moment Mz, and the flange "
       "force.\n" CLI_COMMON_HELP
-      "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
-      "  --duration S         simulated time, s (default 10)\n"
-      "  --disturbance Y0     initial lateral displacement of every wheelset (default 5 mm without "
-      "a track)\n"
-      "  --spectrum S         track irregularity spectrum (name or file)\n"
-      "  --seed N             realisation seed (default 1)\n"
-      "  --track FILE.csv     measured alignment record: distance_m, alignment_m\n"
-      "  --fs HZ              output (and track) samples per second (default 256)\n"
-      "  --limit N            most output samples (duration x fs) accepted (default 4194304)\n"
-      "  --every N            write every N-th sample (default 1: all)\n"
-      "  --accelerations      also each DOF's acceleration (NAME_acc_m_s2 or _rad_s2)\n"
-      "  --columns A,B,..     only these columns of the header (t_s always first), e.g.\n"
-      "                       y_w1_m,y_c_acc_m_s2,Fy_w1_N\n"
       "Ctrl-C (or SIGTERM) stops the run and writes the samples done (exit 130).\n";
-  static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
-                                        {"every", required_argument, 0, OPT_EVERY},
-                                        {"columns", required_argument, 0, OPT_COLUMNS},
-                                        {"accelerations", no_argument, 0, OPT_ACCEL},
-                                        {"duration", required_argument, 0, OPT_NDUR},
-                                        {"fs", required_argument, 0, OPT_NFS},
-                                        {"disturbance", required_argument, 0, OPT_DIST},
-                                        {"spectrum", required_argument, 0, OPT_NSPEC},
-                                        {"seed", required_argument, 0, OPT_NSEED},
-                                        {"track", required_argument, 0, OPT_TRACK},
-                                        {"limit", required_argument, 0, OPT_NLIMIT},
-                                        {0, 0, 0, 0}};
+  static const cli_opt extra[] = {
+      NL_PROFILE_OPT,
+      {"duration", OPT_NDUR, "S", "simulated time, s (default 10)"},
+      {"disturbance", OPT_DIST, "Y0",
+       "initial lateral displacement of every wheelset (default 5 mm without a track)"},
+      {"spectrum", OPT_NSPEC, "S", "track irregularity spectrum (name or file)"},
+      {"seed", OPT_NSEED, "N", "realisation seed (default 1)"},
+      {"track", OPT_TRACK, "FILE.csv", "measured alignment record: distance_m, alignment_m"},
+      {"fs", OPT_NFS, "HZ", "output (and track) samples per second (default 256)"},
+      {"limit", OPT_NLIMIT, "N",
+       "most output samples (duration x fs) accepted (default " RR_STR(CLI_LIMIT_SAMPLES) ")"},
+      {"every", OPT_EVERY, "N", "write every N-th sample (default 1: all)"},
+      {"accelerations", OPT_ACCEL, NULL, "also each DOF's acceleration (NAME_acc_m_s2 or _rad_s2)"},
+      {"columns", OPT_COLUMNS, "A,B,..",
+       "only these columns of the header (t_s always first), e.g. y_w1_m,y_c_acc_m_s2,Fy_w1_N"},
+      CLI_OPT_END};
   cli_common c;
   nl_args a = {.duration = 10, .fs = SIM_FS_DEFAULT, .limit = CLI_LIMIT_SAMPLES, .every = 1};
   int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_PROFILES | CLI_READS_PROGRESS,
@@ -770,6 +768,7 @@ static int bif_scan(const cli_common *c, const rr_profile *p, const nl_args *a)
 }
 
 /* rr_orbit_opts_default's speed range, as --speeds writes it */
+#define NL_SCAN_LIMIT_S 1e5 /* scan: most simulated seconds, by default */
 #define NL_SPEEDS_DEFAULT RR_STR(RR_ORBIT_V_MIN_KMH) ":" RR_STR(RR_ORBIT_V_MAX_KMH)
 
 int cmd_bifurcation(int argc, char **argv)
@@ -790,33 +789,27 @@ int cmd_bifurcation(int argc, char **argv)
       "then down (10 mm on every wheelset to start; on the way up, 0.1 mm again after a speed\n"
       "whose motion died out; the way down from 10 mm when the top speed has no cycle).\n"
       "Amplitude: the leading wheelset's lateral displacement.\n" CLI_COMMON_HELP
-      "  --profile P          tread: new, worn, or a CSV a_mm,conicity (default: the vehicle's)\n"
-      "  --speeds A:B         speed range, km/h (default " NL_SPEEDS_DEFAULT ")\n"
-      "  --method M           continuation (default) or scan\n"
-      "  --csv                the branch as CSV (the assumptions on stderr)\n"
-      "  --plot-data FILE     the same CSV to FILE too (what --plot draws)\n"
-      "  --step KMH           scan: speed step (default 5 km/h)\n"
-      "  --settle S           scan: transient discarded at each speed (default 20 s; 2 s "
-      "measured)\n"
-      "  --limit N            scan: most simulated seconds accepted (default 1e5)\n"
       "Ctrl-C (or SIGTERM) stops the run and writes what is found: the branch so far, or the\n"
       "scan's runs done (exit 130).\n";
-  static const struct option extra[] = {{"profile", required_argument, 0, OPT_PROFILE},
-                                        {"speeds", required_argument, 0, OPT_SPEEDS},
-                                        {"method", required_argument, 0, OPT_METHOD},
-                                        {"csv", no_argument, 0, OPT_CSV},
-                                        {"plot-data", required_argument, 0, OPT_NPLOTDATA},
-                                        {"step", required_argument, 0, OPT_STEP},
-                                        {"settle", required_argument, 0, OPT_SETTLE},
-                                        {"limit", required_argument, 0, OPT_NLIMIT},
-                                        {0, 0, 0, 0}};
+  static const cli_opt extra[] = {
+      NL_PROFILE_OPT,
+      {"speeds", OPT_SPEEDS, "A:B", "speed range, km/h (default " NL_SPEEDS_DEFAULT ")"},
+      {"method", OPT_METHOD, "M", "continuation (default) or scan"},
+      {"csv", OPT_CSV, NULL, "the branch as CSV (the assumptions on stderr)"},
+      {"plot-data", OPT_NPLOTDATA, "FILE", "the same CSV to FILE too (what --plot draws)"},
+      {"step", OPT_STEP, "KMH", "scan: speed step (default 5 km/h)"},
+      {"settle", OPT_SETTLE, "S",
+       "scan: transient discarded at each speed (default 20 s; 2 s measured)"},
+      {"limit", OPT_NLIMIT, "N",
+       "scan: most simulated seconds accepted (default " RR_STR(NL_SCAN_LIMIT_S) ")"},
+      CLI_OPT_END};
   cli_common c;
   nl_args a = {.method = "continuation",
                .v_lo = RR_ORBIT_V_MIN_KMH, /* rr_orbit_opts_default's, in km/h */
                .v_hi = RR_ORBIT_V_MAX_KMH,
                .step_kmh = SCAN_STEP_DEFAULT_KMH,
                .settle = rr_scan_opts_default().settle_s,
-               .limit = 1e5};
+               .limit = NL_SCAN_LIMIT_S};
   int r = cli_parse(argc, argv, &c, CLI_READS_JSON | CLI_READS_PROFILES | CLI_READS_PROGRESS, extra,
                     nl_cb, &a, help);
   if (r == CLI_HELP_SHOWN) return 0;

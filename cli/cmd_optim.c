@@ -234,16 +234,19 @@ typedef struct optim_args {
    CLI_HELP_SHOWN or an exit status. */
 static int optim_parse(int argc, char **argv, optim_args *a, const char *help)
 {
-  static const struct option opts[] = {{"population", required_argument, 0, OPT_POP},
-                                       {"generations", required_argument, 0, OPT_GEN},
-                                       {"seed", required_argument, 0, OPT_OSEED},
-                                       {"threads", required_argument, 0, OPT_THREADS},
-                                       {"output", required_argument, 0, OPT_OUT},
-                                       {"limit", required_argument, 0, OPT_OLIMIT},
-                                       {"progress", no_argument, 0, OPT_PROGRESS},
-                                       {"resume", no_argument, 0, OPT_RESUME},
-                                       {"help", no_argument, 0, 'h'},
-                                       {0, 0, 0, 0}};
+  static const cli_opt opts[] = {
+      {"population", OPT_POP, "N", "population size, even (default: the problem file's)"},
+      {"generations", OPT_GEN, "N", "generations (default: the problem file's)"},
+      {"seed", OPT_OSEED, "N", "random seed (default: the problem file's)"},
+      {"threads", OPT_THREADS, "N", "threads for the evaluations (0: all cores)"},
+      {"output", OPT_OUT, "PREFIX", "output prefix (default: the problem file's)"},
+      {"limit", OPT_OLIMIT, "N",
+       "most designs evaluated, population x (generations + 1) (default " RR_STR(
+           CLI_LIMIT_DESIGNS) ")"},
+      {"progress", OPT_PROGRESS, NULL, "progress on stderr even when it is not a terminal"},
+      {"resume", OPT_RESUME, NULL, "go on from PREFIX-checkpoint.bin"},
+      CLI_OPT_HELP_ROW,
+      CLI_OPT_END};
   optind = 1;
   cli_opt_state os = {.nseen = 0};
   int opt, got;
@@ -251,7 +254,7 @@ static int optim_parse(int argc, char **argv, optim_args *a, const char *help)
     long k;
     if (got < 0) return EXIT_BADINPUT;
     switch (opt) {
-    case 'h': fputs(help, stdout); return CLI_HELP_SHOWN;
+    case 'h': cli_help_print(argv[0], help, opts); return CLI_HELP_SHOWN;
     case OPT_POP:
       if (whole(optarg, 4, 10000000, &k) || k % 2)
         return cli_bad("--population: an even whole number >= 4 expected");
@@ -491,16 +494,7 @@ int cmd_optimise(int argc, char **argv)
       "population and seed: the result is the uninterrupted run's; a changed problem, vehicle or\n"
       "version is refused, naming what changed). Each output replaces the previous file only\n"
       "when written whole (the history at the end of the run). See\n"
-      "examples/paper-optimisation.ini.\n"
-      "  --population N       population size, even (default: the problem file's)\n"
-      "  --generations N      generations (default: the problem file's)\n"
-      "  --seed N             random seed (default: the problem file's)\n"
-      "  --threads N          threads for the evaluations (0: all cores)\n"
-      "  --output PREFIX      output prefix (default: the problem file's)\n"
-      "  --limit N            most designs evaluated, population x (generations + 1) (default "
-      "1e8)\n"
-      "  --progress           progress on stderr even when it is not a terminal\n"
-      "  --resume             go on from PREFIX-checkpoint.bin\n";
+      "examples/paper-optimisation.ini.\n" CLI_COMMON_HELP;
   optim_args a = {.pop = -1, .gen = -1, .threads = -1, .seed = -1, .limit = CLI_LIMIT_DESIGNS};
   int st = optim_parse(argc, argv, &a, help);
   if (st) return st == CLI_HELP_SHOWN ? 0 : st;
@@ -722,14 +716,14 @@ int cmd_sweep(int argc, char **argv)
       "objectives the frequency of the mode that sets the index is added, and when one axis is\n"
       "yaw_damper.damping the optimal-dissipation stiffness k_opt = c 2 pi f of that mode\n"
       "(paper Fig. 10). Values with units are accepted: --x \"yaw_damper.damping=100 kN.s/m:4000 "
-      "kN.s/m:20\".\n" CLI_COMMON_HELP
-      "  --x, --y AXIS        the axes (--y optional)\n  --objective NAME     the objective\n"
-      "  --limit N            most grid points accepted (default 1e6)\n";
-  static const struct option extra[] = {{"x", required_argument, 0, OPT_SX},
-                                        {"y", required_argument, 0, OPT_SY},
-                                        {"objective", required_argument, 0, OPT_OBJ},
-                                        {"limit", required_argument, 0, OPT_OLIMIT},
-                                        {0, 0, 0, 0}};
+      "kN.s/m:20\".\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"x", OPT_SX, "AXIS=FROM:TO:N",
+       "the first axis: section.key, speed or conicity, and its grid"},
+      {"y", OPT_SY, "AXIS=FROM:TO:N", "the second axis (optional)"},
+      {"objective", OPT_OBJ, "NAME[@ARGS]", "the objective (railride objectives lists them)"},
+      {"limit", OPT_OLIMIT, "N", "most grid points accepted (default " RR_STR(CLI_LIMIT_GRID) ")"},
+      CLI_OPT_END};
   cli_common c;
   sweep_args a = {.limit = CLI_LIMIT_GRID};
   int r = cli_parse(argc, argv, &c, CLI_READS_INDEX | CLI_READS_GRAVITY | CLI_READS_PROGRESS, extra,

@@ -17,9 +17,10 @@ typedef struct ride_args {
 } ride_args;
 enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON, OPT_CMP_CSV, OPT_CMP_PLOTDATA };
 
-#define CMP_CSV_HEADER                                                                             \
+#define CMP_CSV_COLUMNS                                                                            \
   "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf,"        \
-  "n_mv_const,n_mv_sdf\n"
+  "n_mv_const,n_mv_sdf"
+#define CMP_CSV_HEADER CMP_CSV_COLUMNS "\n"
 /* The vertical side's options (ride, frf). */
 enum {
   OPT_DIRECTION = 3200,
@@ -34,31 +35,31 @@ enum {
   OPT_LATP95,
   OPT_LATRMS
 };
-#define VERTICAL_OPTIONS                                                                           \
-  {"direction", required_argument, 0, OPT_DIRECTION},                                              \
-      {"vertical-spectrum", required_argument, 0, OPT_VSPECTRUM},                                  \
-      {"window", required_argument, 0, OPT_WINDOW},                                                \
-      {"outside", required_argument, 0, OPT_OUTSIDE}, {"ax-p95", required_argument, 0, OPT_AXP95}, \
-      {"ax-p50", required_argument, 0, OPT_AXP50}, {"ax-pitch", no_argument, 0, OPT_AXPITCH},      \
-      {"hp", required_argument, 0, OPT_HP}, {"lateral-wd-p95", required_argument, 0, OPT_LATP95},  \
-  {                                                                                                \
-    "lateral-wd-rms", required_argument, 0, OPT_LATRMS                                             \
-  }
-#define VERTICAL_HELP                                                                              \
-  "  --direction D        lateral (default), vertical (the vertical model: bounce, pitch, first\n" \
-  "                       bending; floor vertical PSD, RMS, Sperling, Wk, Wb and the 5 s Wb RMS\n" \
-  "                       percentiles), or both (adds EN 12299 N_MV, N_VD, N_VA per point from\n"  \
-  "                       the lateral Wd and vertical Wb percentiles; one conicity)\n"             \
-  "  --vertical-spectrum S  vertical track spectrum (default tbt3352-vertical)\n"                  \
-  "  --outside extend|zero  the vertical spectrum beyond its valid range (default: the file's)\n"  \
-  "  --window T           EN 12299 RMS window, s (default 5)\n"                                    \
-  "  --ax-p95 A, --ax-p50 A  longitudinal Wd 5 s RMS percentiles, m/s^2, for N_MV/N_VD/N_VA\n"     \
-  "                       (default 0: longitudinal motion is not modelled)\n"                      \
-  "  --ax-pitch           instead, the longitudinal floor acceleration of carbody pitch alone\n"   \
-  "                       at floor height --hp H (default 1.2 m): (H - h_c) theta'' - g theta\n"   \
-  "  --lateral-wd-p95 A[,A..]  vertical: EN 12299 with the lateral Wd P95 given (P50 = P95),\n"    \
-  "                       one value or one per point, m/s^2\n"                                     \
-  "  --lateral-wd-rms A[,A..]  the same with the stationary Wd RMS for both percentiles\n"
+/* clang-format off */
+#define VERTICAL_OPTIONS \
+  {"direction", OPT_DIRECTION, "D", \
+   "lateral (default), vertical (the vertical model: bounce, pitch, first " \
+   "bending; floor vertical PSD, RMS, Sperling, Wk, Wb and the 5 s Wb RMS " \
+   "percentiles), or both (adds EN 12299 N_MV, N_VD, N_VA per point from " \
+   "the lateral Wd and vertical Wb percentiles; one conicity)"}, \
+  {"vertical-spectrum", OPT_VSPECTRUM, "S", "vertical track spectrum (default tbt3352-vertical)"}, \
+  {"outside", OPT_OUTSIDE, "extend|zero", \
+   "the vertical spectrum beyond its valid range (default: the file's)"}, \
+  {"window", OPT_WINDOW, "T", "EN 12299 RMS window, s (default 5)"}, \
+  {"ax-p95", OPT_AXP95, "A", \
+   "longitudinal Wd 5 s RMS P95, m/s^2, for N_MV/N_VD/N_VA " \
+   "(default 0: longitudinal motion is not modelled)"}, \
+  {"ax-p50", OPT_AXP50, "A", "the same for the P50 (default 0)"}, \
+  {"ax-pitch", OPT_AXPITCH, NULL, \
+   "instead, the longitudinal floor acceleration of carbody pitch alone " \
+   "at floor height --hp H: (H - h_c) theta'' - g theta"}, \
+  {"hp", OPT_HP, "H", "that floor height, m (default 1.2)"}, \
+  {"lateral-wd-p95", OPT_LATP95, "A[,A..]", \
+   "vertical: EN 12299 with the lateral Wd P95 given (P50 = P95), " \
+   "one value or one per point, m/s^2"}, \
+  {"lateral-wd-rms", OPT_LATRMS, "A[,A..]", \
+   "the same with the stationary Wd RMS for both percentiles"}
+/* clang-format on */
 
 /* The vertical options (enum cli_opt_result). */
 static int vertical_option(ride_args *a, int opt, const char *arg)
@@ -136,36 +137,21 @@ static int ride_cb(int opt, const char *arg, void *u)
 
 /* Parsing shared by ride and frf: defaults, options, floor points of the
    vehicle loaded. Returns 0 to go on, or an exit status (-1 after --help). */
-static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
-                      const struct option *extra, const char *help, int conicity_list);
+static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const cli_opt *extra,
+                      const char *help, int conicity_list);
 
-#define RIDE_OPTIONS                                                                               \
-  RIDE_SETUP_OPTIONS, {"band", required_argument, 0, OPT_BAND},                                    \
-  {                                                                                                \
-    "method", required_argument, 0, OPT_METHOD                                                     \
-  }
-/* frf: the same without a track input */
-#define FRF_OPTIONS                                                                                \
-  RIDE_POINT_OPTIONS, {"band", required_argument, 0, OPT_BAND},                                    \
-  {                                                                                                \
-    "method", required_argument, 0, OPT_METHOD                                                     \
-  }
-#define RIDE_HELP                                                                                  \
-  "  --spectrum S         lateral alignment spectrum: a name in spectra/, a file (.txt), or a "    \
-  "measured\n                       PSD (.csv, two columns with units in the header, e.g. "        \
-  "n_per_m,psd_m2_per_per_m);\n                       default " RR_RIDE_SPECTRUM_DEFAULT           \
-  "\n" FRF_HELP
 /* the library's default grid (pem.h), as --band writes it */
 #define RIDE_BAND_DEFAULT                                                                          \
   RR_STR(RR_FRF_F_LO_DEFAULT) ":" RR_STR(RR_FRF_F_HI_DEFAULT) ":" RR_STR(RR_FRF_NFREQ_DEFAULT)
-#define RIDE_HEIGHT_DEFAULT RR_STR(RR_FLOOR_HEIGHT_DEFAULT)
-#define FRF_HELP                                                                                   \
-  "  --points X1,X2,..    floor points along the car, m (default +L, 0, -L)\n"                     \
-  "  --floor-height H     floor height above rail, m (default " RIDE_HEIGHT_DEFAULT ")\n"          \
-  "  --roll-gravity       the accelerometer senses a_y + g phi_c\n"                                \
-  "  --band LO:HI:N       log-spaced frequency grid, Hz (default " RIDE_BAND_DEFAULT ")\n"         \
-  "  --method M           modal (default: modal expansion + SMW) or direct (a solve per "          \
-  "frequency)\n"
+/* clang-format off */
+#define RIDE_BAND_OPTIONS \
+  {"band", OPT_BAND, "LO:HI:N", "log-spaced frequency grid, Hz (default " RIDE_BAND_DEFAULT ")"}, \
+  {"method", OPT_METHOD, "M", \
+   "modal (default: modal expansion + SMW) or direct (a solve per frequency)"}
+#define RIDE_OPTIONS RIDE_SETUP_OPTIONS, RIDE_BAND_OPTIONS
+/* frf: the same without a track input */
+#define FRF_OPTIONS RIDE_POINT_OPTIONS, RIDE_BAND_OPTIONS
+/* clang-format on */
 
 /* An option that belongs to the other direction: its message, or 0. */
 static int direction_mismatch(const ride_args *a)
@@ -203,8 +189,8 @@ static int direction_mismatch(const ride_args *a)
   return 0;
 }
 
-static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a,
-                      const struct option *extra, const char *help, int conicity_list)
+static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const cli_opt *extra,
+                      const char *help, int conicity_list)
 {
   int dir = cli_direction_scan(argc > 0 ? argv[0] : "ride", argc, argv);
   if (dir < 0) return EXIT_BADINPUT;
@@ -330,16 +316,15 @@ int cmd_ride(int argc, char **argv)
       "and the Wd-weighted RMS at each floor point. The yaw damper SDF, when on, is taken at\n"
       "each frequency (paper mode: real k_sdf(f); physical: complex). --direction vertical\n"
       "runs the vertical model instead (its vertical profile under each wheelset with its\n"
-      "delay); both adds EN 12299's mean comfort per point.\n" CLI_COMMON_HELP RIDE_HELP
-          VERTICAL_HELP
-      "  --psd FILE.csv       write f_hz, each (conicity, point) PSD ((m/s^2)^2/Hz) and "
-      "sperling_weight,\n"
-      "                       the lateral Sperling weighting |B(f)|^2 applied to the PSDs; "
-      "vertical:\n"
-      "                       f_hz, the track PSD, each point's PSD and the weightings "
-      "|W(f)|^2\n";
-  static const struct option extra[] = {
-      RIDE_OPTIONS, VERTICAL_OPTIONS, {"psd", required_argument, 0, OPT_PSD}, {0, 0, 0, 0}};
+      "delay); both adds EN 12299's mean comfort per point.\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      RIDE_OPTIONS,
+      VERTICAL_OPTIONS,
+      {"psd", OPT_PSD, "FILE.csv",
+       "write f_hz, each (conicity, point) PSD ((m/s^2)^2/Hz) and sperling_weight, the lateral "
+       "Sperling weighting |B(f)|^2 applied to the PSDs; vertical: f_hz, the track PSD, each "
+       "point's PSD and the weightings |W(f)|^2"},
+      CLI_OPT_END};
   cli_common c;
   ride_args a;
   int r = ride_parse(argc, argv, &c, &a, extra, help, 1);
@@ -383,13 +368,12 @@ int cmd_frf(int argc, char **argv)
       "1/s^2).\n"
       "--direction vertical: the vertical model's floor vertical acceleration per m of track\n"
       "profile at the leading wheelset, the others delayed (CSV f_hz,x_m,output,re,im,magnitude,\n"
-      "phase_deg; JSON f_hz[], points[]{x, re[], im[], abs[]}).\n" CLI_COMMON_HELP FRF_HELP
-      "  --direction D        lateral (default) or vertical\n"
-      "  --dofs               vertical: every coordinate's FRF too (m, rad or m sqrt(kg) per m)\n";
-  static const struct option extra[] = {FRF_OPTIONS,
-                                        {"direction", required_argument, 0, OPT_DIRECTION},
-                                        {"dofs", no_argument, 0, OPT_DOFS},
-                                        {0, 0, 0, 0}};
+      "phase_deg; JSON f_hz[], points[]{x, re[], im[], abs[]}).\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      FRF_OPTIONS,
+      {"direction", OPT_DIRECTION, "D", "lateral (default) or vertical"},
+      {"dofs", OPT_DOFS, NULL, "vertical: every coordinate's FRF too (m, rad or m sqrt(kg) per m)"},
+      CLI_OPT_END};
   cli_common c;
   ride_args a;
   int r = ride_parse(argc, argv, &c, &a, extra, help, 0);
@@ -574,14 +558,13 @@ int cmd_compare(int argc, char **argv)
       "at 350 km/h). Without VEHICLE: the built-in Type 1 and Type 2, each with its Table 2 "
       "curve.\n"
       "The SDF mode defaults to paper (self-consistent modes; k_sdf(f) in the frequency "
-      "domain).\n" CLI_COMMON_HELP RIDE_HELP "  --conicities FROM:TO:N  conicity grid\n"
-      "  --csv                " CMP_CSV_HEADER
-      "  --plot-data FILE     the same CSV to FILE too (what --plot draws)\n";
-  static const struct option extra[] = {RIDE_OPTIONS,
-                                        {"conicities", required_argument, 0, OPT_CMP_CON},
-                                        {"csv", no_argument, 0, OPT_CMP_CSV},
-                                        {"plot-data", required_argument, 0, OPT_CMP_PLOTDATA},
-                                        {0, 0, 0, 0}};
+      "domain).\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      RIDE_OPTIONS,
+      {"conicities", OPT_CMP_CON, "FROM:TO:N", "conicity grid"},
+      {"csv", OPT_CMP_CSV, NULL, "CSV output: " CMP_CSV_COLUMNS},
+      {"plot-data", OPT_CMP_PLOTDATA, "FILE", "the same CSV to FILE too (what --plot draws)"},
+      CLI_OPT_END};
   cli_common c;
   cmp_args a;
   memset(&a, 0, sizeof a);

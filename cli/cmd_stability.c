@@ -35,10 +35,9 @@ int cmd_matrices(int argc, char **argv)
       "In paper SDF mode A is taken at the curve's lowest stiffness. --direction vertical:\n"
       "the vertical model's M, C, K (7x7), BK, BC (7x4), the wheelsets' positions and\n"
       "distances, phi at the pivots, the floor rows at +L, 0, -L, A (14x14) and, with a\n"
-      "speed, the wheelsets' delays.\n" CLI_COMMON_HELP
-      "  --direction D        lateral (default) or vertical\n";
-  static const struct option extra[] = {{"direction", required_argument, 0, OPT_MODES_DIRECTION},
-                                        {0, 0, 0, 0}};
+      "speed, the wheelsets' delays.\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"direction", OPT_MODES_DIRECTION, "D", "lateral (default) or vertical"}, CLI_OPT_END};
   cli_common c;
   rr_model *m;
   int dir = cli_direction_one("matrices", argc, argv);
@@ -343,12 +342,12 @@ int cmd_modes(int argc, char **argv)
       "at phase 0 and a quarter period later, roll marked.\n"
       "--direction vertical: the vertical model's modes (no speed or conicity): frequency,\n"
       "natural frequency, damping ratio (positive when stable), energy shares, "
-      "names.\n" CLI_COMMON_HELP
-      "  --shape-data FILE    write those panels' body outlines (gnuplot data) to FILE\n"
-      "  --direction D        lateral (default) or vertical\n";
-  static const struct option extra[] = {{"shape-data", required_argument, 0, OPT_SHAPES},
-                                        {"direction", required_argument, 0, OPT_MODES_DIRECTION},
-                                        {0, 0, 0, 0}};
+      "names.\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"shape-data", OPT_SHAPES, "FILE",
+       "write those panels' body outlines (gnuplot data) to FILE"},
+      {"direction", OPT_MODES_DIRECTION, "D", "lateral (default) or vertical"},
+      CLI_OPT_END};
   cli_common c;
   rr_model *m;
   modes_args a = {0};
@@ -408,10 +407,9 @@ int cmd_robust(int argc, char **argv)
       "usage: railride robust [VEHICLE] [--n-conicity N] [--json]\n"
       "Robust stability indices (paper Table 1): zeta_low at 250 km/h, conicity 0.05;\n"
       "zeta_high at 350 km/h, 0.40; std_zeta: population standard deviation of the index\n"
-      "at 350 km/h over N (default 8) conicities from 0.05 to 0.40.\n" CLI_COMMON_HELP
-      "  --n-conicity N       number of conicities for std_zeta\n";
-  static const struct option extra[] = {{"n-conicity", required_argument, 0, OPT_NCON},
-                                        {0, 0, 0, 0}};
+      "at 350 km/h over N (default 8) conicities from 0.05 to 0.40.\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"n-conicity", OPT_NCON, "N", "number of conicities for std_zeta"}, CLI_OPT_END};
   cli_common c;
   robust_args a = {.ro = rr_robust_opts_default()};
   RUN_PARSE(CLI_READS_JSON | CLI_READS_INDEX | CLI_READS_GRAVITY, extra, robust_cb, &a, help);
@@ -556,14 +554,13 @@ int cmd_critical(int argc, char **argv)
       "frequency and shape, has zeta >= 0: a scan at --step (default " CRIT_STEP_TEXT
       "), then bisection to\n" CRIT_TOL_TEXT
       ". Reports the mode that goes unstable. With several conicities, one result each\n"
-      "(JSON: {\"results\": [...]}).\n" CLI_COMMON_HELP
-      "  --vmin, --vmax KMH   speed range\n  --step KMH           scan step\n"
-      "  --index-modes        only the stability index's modes count (the index reaching 0)\n";
-  static const struct option extra[] = {{"vmin", required_argument, 0, OPT_VMIN},
-                                        {"vmax", required_argument, 0, OPT_VMAX},
-                                        {"step", required_argument, 0, OPT_STEP},
-                                        {"index-modes", no_argument, 0, OPT_INDEX_MODES},
-                                        {0, 0, 0, 0}};
+      "(JSON: {\"results\": [...]}).\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {{"vmin", OPT_VMIN, "KMH", "lowest speed of the range"},
+                                  {"vmax", OPT_VMAX, "KMH", "highest speed of the range"},
+                                  {"step", OPT_STEP, "KMH", "scan step"},
+                                  {"index-modes", OPT_INDEX_MODES, NULL,
+                                   "only the stability index's modes count (the index reaching 0)"},
+                                  CLI_OPT_END};
   cli_common c;
   rr_critical_opts co = rr_critical_opts_default();
   crit_args a = {.vmin = RR_CRITICAL_V_MIN_KMH, /* co's, in km/h */
@@ -830,14 +827,12 @@ int cmd_locus(int argc, char **argv)
       "branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_"
       "frames,\n"
       "e_wheelsets,roll_share,hunting_related,frame_roll_share (e_*: kinetic energy "
-      "shares)\n" CLI_COMMON_HELP
-      "  --over P             parameter swept (--over before --range)\n  --range FROM:TO:N    its "
-      "values\n"
-      "  --limit N            most points accepted (default 1e5)\n";
-  static const struct option extra[] = {{"over", required_argument, 0, OPT_PARAM},
-                                        {"range", required_argument, 0, OPT_RANGE},
-                                        {"limit", required_argument, 0, OPT_GLIMIT},
-                                        {0, 0, 0, 0}};
+      "shares)\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"over", OPT_PARAM, "P", "parameter swept (--over before --range)"},
+      {"range", OPT_RANGE, "FROM:TO:N", "its values"},
+      {"limit", OPT_GLIMIT, "N", "most points accepted (default " RR_STR(CLI_LIMIT_LOCUS) ")"},
+      CLI_OPT_END};
   cli_common c;
   grid_args a = {.limit = CLI_LIMIT_LOCUS};
   RUN_PARSE(CLI_READS_SPEED | CLI_READS_CONICITY | CLI_READS_JSON | CLI_READS_INDEX |
@@ -1003,15 +998,14 @@ int cmd_map(int argc, char **argv)
       "index_source: hunting, unstable_outside_hunting, or none with empty index cells).\n"
       "--shares adds the hunting mode's (the least damped hunting-related one below fmax)\n"
       "frequency and kinetic-energy shares (paper Fig. 14), empty where there is none:\n"
-      "hunting_freq_hz,hunting_e_carbody,hunting_e_frames,hunting_e_wheelsets.\n" CLI_COMMON_HELP
-      "  --speeds FROM:TO:N   speed grid, km/h\n  --conicities FROM:TO:N  conicity grid\n"
-      "  --limit N            most points accepted (default 1e6)\n"
-      "  --shares             the hunting mode's energy shares too (a full modal solve a point)\n";
-  static const struct option extra[] = {{"speeds", required_argument, 0, OPT_SPEEDS},
-                                        {"conicities", required_argument, 0, OPT_CONICITIES},
-                                        {"limit", required_argument, 0, OPT_GLIMIT},
-                                        {"shares", no_argument, 0, OPT_SHARES},
-                                        {0, 0, 0, 0}};
+      "hunting_freq_hz,hunting_e_carbody,hunting_e_frames,hunting_e_wheelsets.\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"speeds", OPT_SPEEDS, "FROM:TO:N", "speed grid, km/h"},
+      {"conicities", OPT_CONICITIES, "FROM:TO:N", "conicity grid"},
+      {"limit", OPT_GLIMIT, "N", "most points accepted (default " RR_STR(CLI_LIMIT_GRID) ")"},
+      {"shares", OPT_SHARES, NULL,
+       "the hunting mode's energy shares too (a full modal solve a point)"},
+      CLI_OPT_END};
   cli_common c;
   grid_args a = {.s_from = 100,
                  .s_to = 500,

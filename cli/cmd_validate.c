@@ -248,33 +248,27 @@ int cmd_validate(int argc, char **argv)
       "1/3-octave band powers compared with the PEM within the spread expected from the number\n"
       "of averages. The yaw damper SDF must be none or physical (paper mode has no time "
       "form).\n" CLI_COMMON_HELP
-      "  --duration S         record length, s (default " CLI_VALIDATE_DURATION ")\n  --seed "
-      "N             realisation seed (default 1)\n"
-      "  --fs HZ              sample rate (default 256)\n  --nseg N             Welch segment "
-      "length (default 4096)\n"
-      "  --spectrum S         spectrum name or file (default wuhan-guangzhou)\n  --points X1,..    "
-      "   floor points (default +L, 0, -L)\n"
-      "  --floor-height H     (default 1.2 m)\n  --roll-gravity       sense a_y + g phi_c\n"
-      "  --psd FILE.csv       write f_hz, the Welch and PEM PSDs of each point ((m/s^2)^2/Hz) and\n"
-      "                       welch_sigma_rel, the relative spread of one Welch bin\n"
-      "  --limit N            most samples (duration x fs) accepted (default 4194304)\n"
-      "  --track-amplitudes A gaussian (default: random complex line coefficients, a Gaussian\n"
-      "                       track whose powers scatter) or fixed (random phases only)\n"
-      "  --direction D        lateral (default) or vertical: the vertical model against its own\n"
-      "                       run (railride validate --direction vertical --help)\n"
       "Verdict: PASS when the RMS, the Sperling index and every band lie within 4 sigma of the\n"
       "realisation's expectation and GB/T 5599 from the Welch PSD within 4 of its sigma of the\n"
       "PEM's; FAIL exits with status 1.\n";
-  static const struct option extra[] = {{"duration", required_argument, 0, OPT_DURATION},
-                                        {"seed", required_argument, 0, OPT_SEED},
-                                        {"fs", required_argument, 0, OPT_FS},
-                                        {"nseg", required_argument, 0, OPT_NSEG},
-                                        {"psd", required_argument, 0, OPT_VPSD},
-                                        {"limit", required_argument, 0, OPT_VLIMIT},
-                                        {"track-amplitudes", required_argument, 0, OPT_AMPS},
-                                        {"direction", required_argument, 0, OPT_VDIR},
-                                        RIDE_SETUP_OPTIONS,
-                                        {0, 0, 0, 0}};
+  static const cli_opt extra[] = {
+      {"duration", OPT_DURATION, "S", "record length, s (default " CLI_VALIDATE_DURATION ")"},
+      {"seed", OPT_SEED, "N", "realisation seed (default 1)"},
+      {"fs", OPT_FS, "HZ", "sample rate (default 256)"},
+      {"nseg", OPT_NSEG, "N", "Welch segment length (default 4096)"},
+      {"psd", OPT_VPSD, "FILE.csv",
+       "write f_hz, the Welch and PEM PSDs of each point ((m/s^2)^2/Hz) and welch_sigma_rel, the "
+       "relative spread of one Welch bin"},
+      {"limit", OPT_VLIMIT, "N",
+       "most samples (duration x fs) accepted (default " RR_STR(CLI_LIMIT_SAMPLES) ")"},
+      {"track-amplitudes", OPT_AMPS, "A",
+       "gaussian (default: random complex line coefficients, a Gaussian track whose powers "
+       "scatter) or fixed (random phases only)"},
+      {"direction", OPT_VDIR, "D",
+       "lateral (default) or vertical: the vertical model against its own run (railride validate "
+       "--direction vertical --help)"},
+      RIDE_SETUP_OPTIONS,
+      CLI_OPT_END};
   int dir = cli_direction_one("validate", argc, argv);
   if (dir < 0) return EXIT_BADINPUT;
   if (dir == CLI_DIR_VERTICAL) return validate_vertical(argc, argv);

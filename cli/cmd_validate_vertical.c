@@ -233,34 +233,27 @@ int validate_vertical(int argc, char **argv)
       "the PEM's, the RMS, the Sperling index (weighting applied to the record's lines) and the\n"
       "1/3-octave band powers (centres 0.5-20 Hz) against their expectation with the\n"
       "realisation's own spread, and the 5 s Wb RMS P95 of the record against the gamma "
-      "law's.\n" CLI_COMMON_HELP "  --direction vertical this command\n"
-      "  --vertical-spectrum S  vertical track spectrum (default tbt3352-vertical)\n"
-      "  --outside extend|zero  the spectrum beyond its valid range (default: the file's)\n"
-      "  --duration S         record length, s (default " CLI_VALIDATE_DURATION ")\n"
-      "  --seed N             realisation seed (default 1)\n"
-      "  --fs HZ              sample rate (default 256)\n"
-      "  --nseg N             Welch segment length (default 4096)\n"
-      "  --window T           EN 12299 RMS window, s (default 5)\n"
-      "  --track-amplitudes A gaussian (default) or fixed (random phases only)\n"
-      "  --points X1,..       floor points (default +L, 0, -L)\n"
-      "  --psd FILE.csv       write f_hz, each point's Welch PSD and the PEM's ((m/s^2)^2/Hz)\n"
-      "  --limit N            most samples (duration x fs) accepted (default 4194304)\n"
+      "law's.\n" CLI_COMMON_HELP
       "Verdict: PASS when the line FRF is within 1e-3 of max |H| and the RMS, Sperling, P95 and\n"
       "every band within 4 sigma; FAIL exits with status 1.\n";
-  static const struct option extra[] = {
-      {"duration", required_argument, 0, OPT_VV_DURATION},
-      {"seed", required_argument, 0, OPT_VV_SEED},
-      {"fs", required_argument, 0, OPT_VV_FS},
-      {"nseg", required_argument, 0, OPT_VV_NSEG},
-      {"psd", required_argument, 0, OPT_VV_PSD},
-      {"limit", required_argument, 0, OPT_VV_LIMIT},
-      {"track-amplitudes", required_argument, 0, OPT_VV_AMPS},
-      {"direction", required_argument, 0, OPT_VV_DIR},
-      {"vertical-spectrum", required_argument, 0, OPT_VV_SPECTRUM},
-      {"window", required_argument, 0, OPT_VV_WINDOW},
-      {"outside", required_argument, 0, OPT_VV_OUTSIDE},
-      {"points", required_argument, 0, OPT_POINTS},
-      {0, 0, 0, 0}};
+  static const cli_opt extra[] = {
+      {"direction", OPT_VV_DIR, "vertical", "this command"},
+      {"vertical-spectrum", OPT_VV_SPECTRUM, "S",
+       "vertical track spectrum (default tbt3352-vertical)"},
+      {"outside", OPT_VV_OUTSIDE, "extend|zero",
+       "the spectrum beyond its valid range (default: the file's)"},
+      {"duration", OPT_VV_DURATION, "S", "record length, s (default " CLI_VALIDATE_DURATION ")"},
+      {"seed", OPT_VV_SEED, "N", "realisation seed (default 1)"},
+      {"fs", OPT_VV_FS, "HZ", "sample rate (default 256)"},
+      {"nseg", OPT_VV_NSEG, "N", "Welch segment length (default 4096)"},
+      {"window", OPT_VV_WINDOW, "T", "EN 12299 RMS window, s (default 5)"},
+      {"track-amplitudes", OPT_VV_AMPS, "A", "gaussian (default) or fixed (random phases only)"},
+      {"points", OPT_POINTS, "X1,..", "floor points (default +L, 0, -L)"},
+      {"psd", OPT_VV_PSD, "FILE.csv",
+       "write f_hz, each point's Welch PSD and the PEM's ((m/s^2)^2/Hz)"},
+      {"limit", OPT_VV_LIMIT, "N",
+       "most samples (duration x fs) accepted (default " RR_STR(CLI_LIMIT_SAMPLES) ")"},
+      CLI_OPT_END};
   cli_common c;
   vval_args a = {.vo = rr_vertical_validate_opts_default(), .limit = CLI_LIMIT_SAMPLES};
   rr_vehicle tmp;

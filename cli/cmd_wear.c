@@ -275,23 +275,19 @@ int cmd_wear(int argc, char **argv)
       "function (1.0-7.5 mm, JSON), the stability index and verdict at the speed (default\n"
       "350 km/h), the linear critical speed (" CLI_CRITICAL_RANGE
       ", any mode) and the Sperling index at\n"
-      "the floor points +L, 0, -L (PEM, the Wuhan-Guangzhou alignment).\n" CLI_COMMON_HELP
-      "  --wheels P1,P2,..    wheel profile files (lateral vertical, mm), at most 32\n"
-      "  --rail R             the rail profile file\n"
-      "  --csv                CSV output\n"
-      "  --nonlinear          also the nonlinear vehicle on each profile's contact functions\n"
-      "                       (dr(y), contact angles): its Hopf point, the speeds with hunting\n"
-      "                       cycles scanning up and down " WEAR_NL_RANGE " steps, 10 s to\n"
-      "                       settle each) and the bifurcation's kind (subcritical: cycles below\n"
-      "                       the speed where rest loses stability); slow: seconds a profile\n"
-      "  --plot-data FILE     write what --plot draws (gnuplot data: the conicity functions,\n"
-      "                       then a row per profile)\n";
-  static const struct option extra[] = {{"wheels", required_argument, 0, OPT_WHEELS},
-                                        {"rail", required_argument, 0, OPT_WRAIL},
-                                        {"csv", no_argument, 0, OPT_WCSV},
-                                        {"plot-data", required_argument, 0, OPT_WPLOTDATA},
-                                        {"nonlinear", no_argument, 0, OPT_WNONLINEAR},
-                                        {0, 0, 0, 0}};
+      "the floor points +L, 0, -L (PEM, the Wuhan-Guangzhou alignment).\n" CLI_COMMON_HELP;
+  static const cli_opt extra[] = {
+      {"wheels", OPT_WHEELS, "P1,P2,..", "wheel profile files (lateral vertical, mm), at most 32"},
+      {"rail", OPT_WRAIL, "R", "the rail profile file"},
+      {"csv", OPT_WCSV, NULL, "CSV output"},
+      {"nonlinear", OPT_WNONLINEAR, NULL,
+       "also the nonlinear vehicle on each profile's contact functions (dr(y), contact angles): "
+       "its Hopf point, the speeds with hunting cycles scanning up and down " WEAR_NL_RANGE
+       " steps, 10 s to settle each) and the bifurcation's kind (subcritical: cycles below the "
+       "speed where rest loses stability); slow: seconds a profile"},
+      {"plot-data", OPT_WPLOTDATA, "FILE",
+       "write what --plot draws (gnuplot data: the conicity functions, then a row per profile)"},
+      CLI_OPT_END};
   cli_common c;
   wear_args a = {0};
   int r = cli_parse(argc, argv, &c, CLI_READS_SPEED | CLI_READS_JSON | CLI_READS_INDEX, extra,

@@ -11,6 +11,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "cli.h"
+#include "plot.h"
 
 void cli_common_init(cli_common *c)
 {
@@ -254,9 +255,8 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols)
   return arr;
 }
 
-static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
-                      const struct option *extra, cli_extra_cb cb, void *user,
-                      const char *usage_text, int list);
+static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, const cli_opt *extra,
+                      cli_extra_cb cb, void *user, const char *usage_text, int list);
 
 int cli_getopt_error(const char *cmd, int opt, const char *word)
 {
@@ -266,55 +266,114 @@ int cli_getopt_error(const char *cmd, int opt, const char *word)
   return cli_bad("%s: unknown option '%s' (see --help)", cmd, word);
 }
 
-int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+int cli_parse(int argc, char **argv, cli_common *c, unsigned reads, const cli_opt *extra,
               cli_extra_cb cb, void *user, const char *usage_text)
 {
   return parse_impl(argc, argv, c, reads, extra, cb, user, usage_text, 0);
 }
 
-int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const struct option *extra,
+int cli_parse_list(int argc, char **argv, cli_common *c, unsigned reads, const cli_opt *extra,
                    cli_extra_cb cb, void *user, const char *usage_text)
 {
   return parse_impl(argc, argv, c, reads, extra, cb, user, usage_text, 1);
 }
 
-/* The shared options' help lines, each with what reading it takes. */
-static const struct {
-  unsigned reads, unless; /* shown when the command has every flag of reads and none of unless */
-  const char *text;
-} common_help[] = {
-    {0, CLI_VEHICLE_PAIR,
-     "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default type1\n"},
-    {CLI_VEHICLE_PAIR, 0,
-     "  VEHICLE              vehicle file (INI) or built-in name (type1, type2); default both\n"
-     "                       built-ins, each with its own curve\n"},
-    {CLI_READS_SPEED, 0, "  --speed KMH          speed, km/h (a unit may be given: \"97 m/s\")\n"},
-    {CLI_READS_CONICITY, 0, "  --conicity L         equivalent conicity\n"},
-    {CLI_READS_CONICITY, 0,
-     "  --profiles W[,R]     instead: the equivalent conicity of wheel and rail profiles (EN "
-     "15302,\n"
-     "                       at 3 mm; the rail defaults to the vehicle file's [contact] rail)\n"},
-    {CLI_READS_PROFILES, 0,
-     "  --profiles W[,R]     wheel and rail profiles: the nonlinear model reads their contact\n"
-     "                       functions (dr(y), contact angles) in place of lambda(a) and the\n"
-     "                       flange spring (the rail defaults to the vehicle file's)\n"},
-    {CLI_READS_INDEX, 0,
-     "  --fmax HZ            highest frequency counted in the stability index (default 10)\n"},
-    {CLI_READS_INDEX, 0,
-     "  --wmin W             least wheelset energy share of a hunting mode (default 1e-3)\n"},
-    {CLI_READS_INDEX, 0,
-     "  --rmax R             roll energy share a hunting mode stays below (default 0.5)\n"},
-    {0, 0, "  --sdf MODE           override the yaw damper SDF: none, paper, physical\n"},
-    {CLI_READS_GRAVITY, 0,
-     "  --gravity-stiffness  add the gravitational stiffness (docs/model.md, contact)\n"},
-    {CLI_READS_JSON, 0, "  --json               JSON output\n"},
-    {CLI_READS_PROGRESS, 0,
-     "  --progress           progress with an ETA on stderr even when it is not a terminal\n"},
-    {0, 0, "  --help               this text\n"},
+/* The shared options, each with what reading it takes: shown (and parsed)
+   when the command has every flag of reads and none of unless. A row with
+   id 0 is the positional VEHICLE (help only). */
+typedef struct common_row {
+  cli_opt o;
+  unsigned reads, unless;
+} common_row;
+static const common_row common_rows[] = {
+    {{"VEHICLE", 0, NULL, "vehicle file (INI) or built-in name (type1, type2); default type1"},
+     0,
+     CLI_VEHICLE_PAIR},
+    {{"VEHICLE", 0, NULL,
+      "vehicle file (INI) or built-in name (type1, type2); default both built-ins, each with its "
+      "own curve"},
+     CLI_VEHICLE_PAIR,
+     0},
+    {{"speed", OPT_SPEED, "KMH", "speed, km/h (a unit may be given: \"97 m/s\")"},
+     CLI_READS_SPEED,
+     0},
+    {{"conicity", OPT_CONICITY, "L", "equivalent conicity"}, CLI_READS_CONICITY, 0},
+    {{"profiles", OPT_PROFILES, "W[,R]",
+      "instead: the equivalent conicity of wheel and rail profiles (EN 15302, at 3 mm; the rail "
+      "defaults to the vehicle file's [contact] rail)"},
+     CLI_READS_CONICITY,
+     0},
+    {{"profiles", OPT_PROFILES, "W[,R]",
+      "wheel and rail profiles: the nonlinear model reads their contact functions (dr(y), contact "
+      "angles) in place of lambda(a) and the flange spring (the rail defaults to the vehicle "
+      "file's)"},
+     CLI_READS_PROFILES,
+     0},
+    {{"fmax", OPT_FMAX, "HZ", "highest frequency counted in the stability index (default 10)"},
+     CLI_READS_INDEX,
+     0},
+    {{"wmin", OPT_WMIN, "W", "least wheelset energy share of a hunting mode (default 1e-3)"},
+     CLI_READS_INDEX,
+     0},
+    {{"rmax", OPT_RMAX, "R", "roll energy share a hunting mode stays below (default 0.5)"},
+     CLI_READS_INDEX,
+     0},
+    {{"sdf", OPT_SDF, "MODE", "override the yaw damper SDF: none, paper, physical"}, 0, 0},
+    {{"gravity-stiffness", OPT_GRAVITY, NULL,
+      "add the gravitational stiffness (docs/model.md, contact)"},
+     CLI_READS_GRAVITY,
+     0},
+    {{"json", OPT_JSON, NULL, "JSON output"}, CLI_READS_JSON, 0},
+    {{"progress", OPT_PROGRESS_ALL, NULL,
+      "progress with an ETA on stderr even when it is not a terminal"},
+     CLI_READS_PROGRESS,
+     0},
 };
+#define NCOMMON (sizeof common_rows / sizeof common_rows[0])
+static const cli_opt help_row = {"help", OPT_HELP, NULL, "this text"};
 
-/* The help text with the shared options the command reads where its marker is. */
-static void print_help(const char *text, unsigned reads)
+/* One row: "  --name VALUE" (or "  VEHICLE") padded to the column, then its
+   help wrapped at word boundaries to CLI_HELP_WIDTH, each further line
+   indented to the column. */
+static void opt_row(FILE *fp, const cli_opt *o)
+{
+  const char *v = o->value ? o->value : ""; /* "=A:B" for values that may start with '-' */
+  int col = fprintf(fp, "  %s%s%s%s", o->id ? "--" : "", o->name, *v && *v != '=' ? " " : "", v);
+  int pad = col < CLI_HELP_COLUMN - 1 ? CLI_HELP_COLUMN - col : 2;
+  fprintf(fp, "%*s", pad, "");
+  int start = col += pad; /* where the line's first word goes */
+  for (const char *p = o->help; *p;) {
+    while (*p == ' ') p++;
+    size_t w = strcspn(p, " ");
+    if (!w) break;
+    if (col > start && col + 1 + (int)w > CLI_HELP_WIDTH) {
+      fprintf(fp, "\n%*s", CLI_HELP_COLUMN, "");
+      col = start = CLI_HELP_COLUMN;
+    } else if (col > start) {
+      fputc(' ', fp);
+      col++;
+    }
+    fwrite(p, 1, w, fp);
+    col += (int)w;
+    p += w;
+  }
+  fputc('\n', fp);
+}
+
+void cli_opt_help(FILE *fp, const cli_opt *t)
+{
+  for (int i = 0; t && t[i].name; i++) opt_row(fp, &t[i]);
+}
+
+static int shown(const common_row *r, unsigned reads)
+{
+  return (r->reads & reads) == r->reads && !(r->unless & reads);
+}
+
+/* The help text with, where its marker is, the shared options the command
+   reads (reads_all: none when it parses its own) and then its own. */
+static void print_help(const char *cmd, const char *text, unsigned reads, int with_common,
+                       const cli_opt *own)
 {
   const char *m = strstr(text, CLI_COMMON_HELP);
   if (!m) {
@@ -322,10 +381,38 @@ static void print_help(const char *text, unsigned reads)
     return;
   }
   fwrite(text, 1, (size_t)(m - text), stdout);
-  for (size_t i = 0; i < sizeof common_help / sizeof common_help[0]; i++)
-    if ((common_help[i].reads & reads) == common_help[i].reads && !(common_help[i].unless & reads))
-      fputs(common_help[i].text, stdout);
+  for (size_t i = 0; with_common && i < NCOMMON; i++)
+    if (shown(&common_rows[i], reads)) opt_row(stdout, &common_rows[i].o);
+  cli_opt_help(stdout, own);
+  cli_opt_help(stdout, cli_plot_options(cmd)); /* main takes them out before the command runs */
+  if (with_common) opt_row(stdout, &help_row);
   fputs(m + strlen(CLI_COMMON_HELP), stdout);
+}
+
+void cli_help_print(const char *cmd, const char *text, const cli_opt *t)
+{
+  print_help(cmd, text, 0, 0, t);
+}
+
+int cli_opt_getopt(const cli_opt *t, struct option *out, int cap)
+{
+  int n = 0;
+  for (int i = 0; t[i].name; i++) {
+    int dup = 0; /* one id may have two help rows (--profiles) */
+    for (int j = 0; j < n; j++) dup |= out[j].val == t[i].id;
+    if (dup || !t[i].id) continue;
+    if (n >= cap - 1) return -1;
+    out[n++] = (struct option){t[i].name, t[i].value ? required_argument : no_argument, 0, t[i].id};
+  }
+  out[n] = (struct option){0, 0, 0, 0};
+  return n;
+}
+
+static const char *row_name(const cli_opt *t, int opt)
+{
+  for (int i = 0; t[i].name; i++)
+    if (t[i].id == opt) return t[i].name;
+  return "?";
 }
 
 static const char *opt_name(const struct option *opts, int opt)
@@ -378,9 +465,12 @@ int cli_option_checks(const char *cmd, char **argv, const struct option *opts, i
   return 0;
 }
 
-int cli_next_option(const char *cmd, int argc, char **argv, const struct option *opts,
-                    cli_opt_state *s, int *opt)
+int cli_next_option(const char *cmd, int argc, char **argv, const cli_opt *t, cli_opt_state *s,
+                    int *opt)
 {
+  struct option opts[CLI_OPTS_MAX];
+  if (cli_opt_getopt(t, opts, CLI_OPTS_MAX) < 0)
+    return cli_bad("%s: more than %d options (a bug)", cmd, CLI_OPTS_MAX - 1), -1;
   int li = -1;
   opterr = 0;
   *opt = getopt_long(argc, argv, ":h", opts, &li);
@@ -392,16 +482,15 @@ int cli_next_option(const char *cmd, int argc, char **argv, const struct option 
   return cli_option_checks(cmd, argv, opts, *opt, li, s->seen, &s->nseen) ? -1 : 1;
 }
 
-static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
-                      const struct option *extra, cli_extra_cb cb, void *user,
-                      const char *usage_text, int list)
+static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, const cli_opt *extra,
+                      cli_extra_cb cb, void *user, const char *usage_text, int list)
 {
-  static const struct option common[] = {CLI_COMMON_OPTIONS};
-  struct option opts[64];
+  cli_opt opts[CLI_OPTS_MAX]; /* every shared option (one it does not read is refused below) */
   int n = 0;
-  for (size_t i = 0; i < sizeof common / sizeof common[0]; i++) opts[n++] = common[i];
-  for (int i = 0; extra && extra[i].name && n < 63; i++) opts[n++] = extra[i];
-  memset(&opts[n], 0, sizeof opts[n]);
+  for (size_t i = 0; i < NCOMMON; i++) opts[n++] = common_rows[i].o;
+  opts[n++] = help_row;
+  for (int i = 0; extra && extra[i].name && n < CLI_OPTS_MAX - 1; i++) opts[n++] = extra[i];
+  opts[n] = (cli_opt)CLI_OPT_END;
   cli_common_init(c);
   c->conicity_list = list;
   optind = 1;
@@ -410,12 +499,12 @@ static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads,
   while ((got = cli_next_option(argv[0], argc, argv, opts, &os, &opt)) != 0) {
     if (got < 0) return EXIT_BADINPUT;
     if (opt == 'h' || opt == OPT_HELP) {
-      print_help(usage_text, reads);
+      print_help(argv[0], usage_text, reads, 1, extra);
       return CLI_HELP_SHOWN;
     }
     if (reads_of(opt) && !(reads_of(opt) & reads))
       return cli_bad("%s: option '--%s' is not one this command reads (see --help)", argv[0],
-                     opt_name(opts, opt));
+                     row_name(opts, opt));
     int r = cli_common_option(c, opt, optarg);
     if (r == CLI_OPT_NOT_MINE && cb) r = cb(opt, optarg, user);
     if (r == CLI_OPT_TAKEN) continue;

@@ -57,12 +57,6 @@ static void usage(FILE *fp)
 }
 
 /* --help (or -h) among a command's arguments. */
-static int asks_help(int argc, char **argv)
-{
-  for (int i = 2; i < argc; i++)
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
-  return 0;
-}
 
 static int run(int argc, char **argv)
 {
@@ -89,10 +83,7 @@ static int run(int argc, char **argv)
       }
       int handled, r = cli_plot_run(cmds[i].name, cmds[i].fn, argc - 1, argv + 1, &handled);
       if (handled) return r;
-      r = cmds[i].fn(argc - 1, argv + 1);
-      if (!r && asks_help(argc, argv) && cli_plot_help(cmds[i].name)) /* main handles --plot */
-        fputs(cli_plot_help(cmds[i].name), stdout);
-      return r;
+      return cmds[i].fn(argc - 1, argv + 1); /* its --help lists main's --plot too */
     }
   fprintf(stderr, "railride: unknown command '%s' (railride --help lists them)\n", argv[1]);
   return EXIT_BADINPUT;

@@ -805,15 +805,30 @@ static int script_arg(const char *gp, const char *out)
   return 0;
 }
 
-const char *cli_plot_help(const char *cmd)
+/* The options cli_plot_run takes out of a command's argv. */
+enum { OPT_PLOT = 4000, OPT_PLOT_SCRIPT };
+static const cli_opt plot_opts[] = {
+    {"plot", OPT_PLOT, "FILE",
+     "draw the result with gnuplot into FILE.png, .svg or .pdf (standard output as without it)"},
+    {"plot-script", OPT_PLOT_SCRIPT, "S.gp",
+     "with --plot: also the gnuplot script and its data (S.csv), to restyle; `gnuplot S.gp` in "
+     "S's folder redraws FILE there"},
+    CLI_OPT_END};
+
+const cli_opt *cli_plot_options(const char *cmd)
 {
   for (int i = 0; i < NKINDS; i++)
-    if (!strcmp(kinds[i].cmd, cmd))
-      return "  --plot FILE          draw the result with gnuplot into FILE.png, .svg or .pdf\n"
-             "                       (standard output as without it)\n"
-             "  --plot-script S.gp   with --plot: also the gnuplot script and its data (S.csv),\n"
-             "                       to restyle; `gnuplot S.gp` in S's folder redraws FILE there\n";
+    if (!strcmp(kinds[i].cmd, cmd)) return plot_opts;
   return NULL;
+}
+
+/* 1 when word is "--NAME" of plot_opts' row id. */
+static int is_plot_opt(const char *word, int id)
+{
+  for (int i = 0; plot_opts[i].name; i++)
+    if (plot_opts[i].id == id)
+      return !strncmp(word, "--", 2) && !strcmp(word + 2, plot_opts[i].name);
+  return 0;
 }
 
 int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv, int *handled)
@@ -821,8 +836,8 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   *handled = 0;
   int at = -1, sat = -1;
   for (int i = 1; i < argc; i++) {
-    if (!strcmp(argv[i], "--plot")) at = i;
-    if (!strcmp(argv[i], "--plot-script")) sat = i;
+    if (is_plot_opt(argv[i], OPT_PLOT)) at = i;
+    if (is_plot_opt(argv[i], OPT_PLOT_SCRIPT)) sat = i;
   }
   if (at < 0 && sat < 0) return 0;
   *handled = 1;

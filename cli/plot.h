@@ -6,7 +6,9 @@
 /* When argv holds --plot FILE: *handled = 1 and the command's exit status
    (the command fn run without it, then the picture drawn); else *handled = 0. */
 int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv, int *handled);
-/* The --plot line of cmd's --help, or NULL when cmd draws nothing. */
-const char *cli_plot_help(const char *cmd);
+#include "cli.h"
+/* The options main takes for cmd before it runs (--plot, --plot-script),
+   for its --help; NULL when cmd draws nothing. */
+const cli_opt *cli_plot_options(const char *cmd);
 
 #endif
