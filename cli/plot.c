@@ -18,6 +18,11 @@ extern char **environ;
 #include "parallel.h"
 #include "plot.h"
 
+/* A picture's main title goes on with what it is of on a second line: the
+   command line's vehicle, speed, conicity and tread (RR_CTX, set by
+   write_script; not read as enhanced text, so file names show as written). */
+#define GP_CTX ".\"\\n\".RR_CTX noenhanced"
+
 #define PLOT_W 900
 #define PLOT_H 600
 
@@ -66,7 +71,7 @@ static void script_damper(FILE *gp, const char *d, int argc, char **argv)
 {
   const char *el = arg_after(argc, argv, "--element");
   fprintf(gp,
-          "set title '%s damper as a Maxwell element: dynamic stiffness over frequency'\n"
+          "set title '%s damper as a Maxwell element: dynamic stiffness over frequency'" GP_CTX "\n"
           "set logscale x; set autoscale xfix; set key outside bottom center horizontal\n"
           "set xlabel 'frequency (Hz)'; set ylabel 'stiffness (MN/m)'\n"
           "set y2label 'dissipation factor loss/storage'; set y2tics; set ytics nomirror\n"
@@ -83,7 +88,7 @@ static void script_locus(FILE *gp, const char *d, int argc, char **argv)
   const char *over = arg_after(argc, argv, "--over");
   int by_conicity = over && !strcmp(over, "conicity");
   fprintf(gp,
-          "set title 'Root locus over %s'\n"
+          "set title 'Root locus over %s'" GP_CTX "\n"
           "set xlabel 'real part (1/s)'; set ylabel 'frequency (Hz)'; set cblabel '%s'\n"
           "set xzeroaxis; set yzeroaxis; set palette rgb 33,13,10\n"
           "set arrow from 0, graph 0 to 0, graph 1 nohead dt 2 lw 1.5\n"
@@ -95,16 +100,18 @@ static void script_locus(FILE *gp, const char *d, int argc, char **argv)
 /* A filled map over the first two columns (gridded: a blank line between
    rows, see gridded()), interpolated, with the zero contour drawn when the
    values cross zero (a stability index: blue stable, red unstable, white 0).
-   overlay: a further splot clause drawn as a zero contour, or "". */
+   overlay: a further splot clause drawn as a zero contour, or "". panel: one
+   of a multiplot's (its title without the context, which the whole has). */
 static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const char *yl,
                        const char *zl, const char *title, int centred, const char *overlay,
-                       double sx, double sy)
+                       double sx, double sy, int panel)
 {
   char t[300], x[200], y[200], z[200];
+  gp_str(t, sizeof t, title);
   fprintf(gp,
-          "set title %s\nset xlabel %s; set ylabel %s; set cblabel %s\n"
+          "set title %s%s\nset xlabel %s; set ylabel %s; set cblabel %s\n"
           "stats '%s' u %d nooutput\n",
-          gp_str(t, sizeof t, title), gp_str(x, sizeof x, xl), gp_str(y, sizeof y, yl),
+          t, panel ? "" : GP_CTX, gp_str(x, sizeof x, xl), gp_str(y, sizeof y, yl),
           gp_str(z, sizeof z, zl), d, zcol);
   if (centred)
     fprintf(gp, "m = (abs(STATS_min) > abs(STATS_max)) ? abs(STATS_min) : abs(STATS_max)\nset "
@@ -127,15 +134,14 @@ static void script_map(FILE *gp, const char *d, int argc, char **argv)
 {
   if (!has_arg(argc, argv, "--shares")) {
     map_script(gp, d, 3, "speed (km/h)", "conicity", "stability index",
-               "Vehicle stability index (negative is stable)", 1, "", 1, 1);
+               "Vehicle stability index (negative is stable)", 1, "", 1, 1, 0);
     return;
   }
   /* paper Fig. 14: where the hunting mode's energy sits, carbody or bogies */
-  fprintf(gp, "set multiplot layout 1,2 title 'Hunting mode: kinetic-energy shares'\n"
+  fprintf(gp, "set multiplot layout 1,2 title 'Hunting mode: kinetic-energy shares'" GP_CTX "\n"
               "set cbrange [0:1]\n");
-  map_script(gp, d, 9, "speed (km/h)", "conicity", "", "carbody", 0, "", 1,
-             1); /* one colour bar label */
-  map_script(gp, d, 10, "speed (km/h)", "conicity", "share", "bogie frames", 0, "", 1, 1);
+  map_script(gp, d, 9, "speed (km/h)", "conicity", "", "carbody", 0, "", 1, 1, 1);
+  map_script(gp, d, 10, "speed (km/h)", "conicity", "share", "bogie frames", 0, "", 1, 1, 1);
   fprintf(gp, "unset multiplot\n");
 }
 
@@ -186,7 +192,7 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
     char t[300], a[200], b[200];
     snprintf(title, sizeof title, "%s along %s", o ? o : "objective", xk);
     fprintf(gp,
-            "set title %s\nset xlabel %s; set ylabel %s\n"
+            "set title %s" GP_CTX "\nset xlabel %s; set ylabel %s\n"
             "plot '%s' u ($1/%.17g):2 w lp pt 7 ps 0.6 lw 2 notitle\n",
             gp_str(t, sizeof t, title), gp_str(a, sizeof a, xl),
             gp_str(b, sizeof b, o ? o : "objective"), d, sx);
@@ -208,7 +214,7 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
              ", '' skip 1 u ($1/sx):($2/sy):($%d - $5) w l nosurface lw 2 dt 2 lc 'dark-green' "
              "t 'k = c w'", /* skip: the header's quoted comma would break the grid */
              kx ? 1 : 2);
-  map_script(gp, d, 3, xl, yl, o ? o : "objective", title, centred, overlay, sx, sy);
+  map_script(gp, d, 3, xl, yl, o ? o : "objective", title, centred, overlay, sx, sy, 0);
 }
 
 /* The PSDs (columns 2 .. n-1) and, on the right axis, the Sperling
@@ -233,7 +239,8 @@ static void script_psd_vertical(FILE *gp, const char *d, int nweights)
   fputs(psd_labels, gp);
   if (nweights == 4) fputs("other = 'vertical, '\n", gp); /* --direction both */
   fprintf(gp,
-          "set title 'Carbody floor acceleration PSDs (PEM) and the EN 12299 Wb weighting'\n"
+          "set title 'Carbody floor acceleration PSDs (PEM) and the EN 12299 Wb weighting'" GP_CTX
+          "\n"
           "set datafile separator ','\n"
           "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
           "format y '%%.0e'\n"
@@ -257,16 +264,18 @@ static void script_psd(FILE *gp, const char *d, int argc, char **argv)
     return;
   }
   fputs(psd_labels, gp);
-  fprintf(gp,
-          "set title 'Carbody floor lateral acceleration PSD (PEM) and the Sperling weighting'\n"
-          "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
-          "format y '%%.0e'\n"
-          "set logscale y2; set y2label 'Sperling weighting |B(f)|^2'; set y2tics; set ytics "
-          "nomirror; set key below\n"
-          "stats '%s' skip 1 nooutput; n = STATS_columns\n"
-          "plot for [i=2:n-1] '%s' u 1:i w l lw 2 t label(columnhead(i)), "
-          "'' u 1:n axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'Sperling weighting (right)'\n",
-          d, d);
+  fprintf(
+      gp,
+      "set title 'Carbody floor lateral acceleration PSD (PEM) and the Sperling weighting'" GP_CTX
+      "\n"
+      "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
+      "format y '%%.0e'\n"
+      "set logscale y2; set y2label 'Sperling weighting |B(f)|^2'; set y2tics; set ytics "
+      "nomirror; set key below\n"
+      "stats '%s' skip 1 nooutput; n = STATS_columns\n"
+      "plot for [i=2:n-1] '%s' u 1:i w l lw 2 t label(columnhead(i)), "
+      "'' u 1:n axes x1y2 w l lw 1.5 dt 2 lc 'black' t 'Sperling weighting (right)'\n",
+      d, d);
 }
 
 /* Welch PSDs of the time run, the PEM expectation, and around the PEM the
@@ -275,20 +284,22 @@ static void script_validate(FILE *gp, const char *d, int argc, char **argv)
 {
   (void)argc;
   (void)argv;
-  fprintf(gp,
-          "set title 'Time-domain run (Welch) against the PEM (band: 2 sigma of a Welch bin)'\n"
-          "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
-          "format y '%%.0e'\n"
-          "stats '%s' skip 1 nooutput; n = (STATS_columns - 2) / 2; s = STATS_columns\n"
-          "set style fill transparent solid 0.25 noborder; set xrange [0.25:35]; set key below\n"
-          "pos(v) = v > 0 ? v : 1/0\n"
-          "stats '%s' u (pos(column(2 + n))) nooutput; set yrange [STATS_min / 10:*]\n"
-          "plot for [i=2+n:1+2*n] '%s' u 1:(pos(column(i) * (1 - 2 * column(s)))):(pos(column(i) * "
-          "(1 + 2 * column(s)))) "
-          "w filledcurves lc i-n-1 notitle, "
-          "for [i=2:1+n] '' u 1:(pos(column(i))) w l lw 1 lc i-1 t columnhead(i), "
-          "for [i=2+n:1+2*n] '' u 1:(pos(column(i))) w l lw 2.5 dt 2 lc i-n-1 t columnhead(i)\n",
-          d, d, d);
+  fprintf(
+      gp,
+      "set title 'Time-domain run (Welch) against the PEM (band: 2 sigma of a Welch bin)'" GP_CTX
+      "\n"
+      "set logscale xy; set xlabel 'frequency (Hz)'; set ylabel 'PSD ((m/s^2)^2/Hz)'; set "
+      "format y '%%.0e'\n"
+      "stats '%s' skip 1 nooutput; n = (STATS_columns - 2) / 2; s = STATS_columns\n"
+      "set style fill transparent solid 0.25 noborder; set xrange [0.25:35]; set key below\n"
+      "pos(v) = v > 0 ? v : 1/0\n"
+      "stats '%s' u (pos(column(2 + n))) nooutput; set yrange [STATS_min / 10:*]\n"
+      "plot for [i=2+n:1+2*n] '%s' u 1:(pos(column(i) * (1 - 2 * column(s)))):(pos(column(i) * "
+      "(1 + 2 * column(s)))) "
+      "w filledcurves lc i-n-1 notitle, "
+      "for [i=2:1+n] '' u 1:(pos(column(i))) w l lw 1 lc i-1 t columnhead(i), "
+      "for [i=2+n:1+2*n] '' u 1:(pos(column(i))) w l lw 2.5 dt 2 lc i-n-1 t columnhead(i)\n",
+      d, d, d);
 }
 
 static void script_compare(FILE *gp, const char *d, int argc, char **argv)
@@ -298,7 +309,7 @@ static void script_compare(FILE *gp, const char *d, int argc, char **argv)
   fprintf(
       gp,
       "set datafile separator ','\nset multiplot layout 1,3 title 'Yaw damper: SDF against "
-      "constant series stiffness'\n"
+      "constant series stiffness'" GP_CTX "\n"
       "set xlabel 'conicity'; set ylabel 'stability index'; set key bottom\n"
       "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):3 w lp lw 2 t v.' "
       "constant', "
@@ -319,7 +330,7 @@ static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)
 {
   if (arg_after(argc, argv, "--method") && !strcmp(arg_after(argc, argv, "--method"), "scan")) {
     fprintf(gp,
-            "set title 'Limit cycles by direct integration (scan)'\n"
+            "set title 'Limit cycles by direct integration (scan)'" GP_CTX "\n"
             "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'\n"
             "plot '%s' u ((strcol(1) eq 'up') ? $2 : 1/0):($3*1e3) w lp pt 7 t 'speed rising', "
             "'' u ((strcol(1) eq 'down') ? $2 : 1/0):($3*1e3) w lp pt 6 dt 2 t 'speed falling'\n",
@@ -334,7 +345,7 @@ static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)
   if (sp && sscanf(sp, "%lf:%lf", &lo, &hi) != 2) lo = 100, hi = 600;
   fprintf(
       gp,
-      "set title 'Hunting limit cycles (continuation): stable solid, unstable hollow'\n"
+      "set title 'Hunting limit cycles (continuation): stable solid, unstable hollow'" GP_CTX "\n"
       "set xlabel 'speed (km/h)'; set ylabel 'leading wheelset amplitude (mm)'; set key top left\n"
       "stats '%s' skip 1 u 1 every ::0::0 nooutput; hopf = STATS_min\n"
       "lo = %.17g; hi = %.17g; set xrange [lo < hopf ? lo : hopf:hi > hopf ? hi : hopf]\n"
@@ -391,24 +402,29 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
   int npairs = nobj * (nobj - 1) / 2;
   char a[200], b[200];
   if (npairs < 1) { /* one objective: its values over the front */
-    fprintf(gp, "set title 'Pareto front'\nset ylabel %s\nplot '%s' u 0:%d w p pt 7 notitle\n",
+    fprintf(gp,
+            "set title 'Pareto front'" GP_CTX
+            "\nset ylabel %s\nplot '%s' u 0:%d w p pt 7 notitle\n",
             gp_str(a, sizeof a, names[0]), d, obj[0]);
     return;
   }
   if (nobj == 3) { /* the paper's Fig. 3: the first two, coloured by the third */
     char c[200];
     fprintf(gp,
-            "set title 'Pareto front (NSGA-II)'; set format x '%%.3g'; set format y '%%.3g'\n"
+            "set title 'Pareto front (NSGA-II)'" GP_CTX
+            "; set format x '%%.3g'; set format y '%%.3g'\n"
             "set xlabel %s; set ylabel %s; set cblabel %s; set palette rgb 33,13,10\n"
             "plot '%s' u %d:%d:%d w p pt 7 ps 0.6 palette notitle\n",
             gp_str(a, sizeof a, names[0]), gp_str(b, sizeof b, names[1]),
             gp_str(c, sizeof c, names[2]), d, obj[0], obj[1], obj[2]);
     return;
   }
-  fprintf(gp,
-          "set xtics rotate by -45; set format x '%%.2g'; set format y '%%.2g'\n"
-          "set multiplot layout 1,%d title 'Pareto front (NSGA-II): the objectives two by two'\n",
-          npairs < 3 ? npairs : 3);
+  fprintf(
+      gp,
+      "set xtics rotate by -45; set format x '%%.2g'; set format y '%%.2g'\n"
+      "set multiplot layout 1,%d title 'Pareto front (NSGA-II): the objectives two by two'" GP_CTX
+      "\n",
+      npairs < 3 ? npairs : 3);
   for (int i = 0, shown = 0; i < nobj && shown < 3; i++)
     for (int j = i + 1; j < nobj && shown < 3; j++, shown++)
       fprintf(gp,
@@ -440,8 +456,8 @@ static void script_modes(FILE *gp, const char *d, int argc, char **argv)
           "set xrange [-16:16]; set yrange [-3.5:3.5]; set ytics 2; set xtics 5\n"
           "set tmargin 2; set bmargin 2.5; set lmargin 7; set rmargin 2\n"
           "set multiplot layout %d,%d title 'Mode shapes in plan view: lateral and yaw "
-          "(exaggerated; grey at rest, red phase 0, blue dashed a quarter period later)' "
-          "font ',11'\n",
+          "(exaggerated; grey at rest, red phase 0, blue dashed a quarter period later)'" GP_CTX
+          " font ',11'\n",
           rows > 0 ? rows : 1, cols);
   for (int p = 0; p < np; p++)
     fprintf(
@@ -474,7 +490,7 @@ static void script_contact(FILE *gp, const char *d, int argc, char **argv)
   fprintf(
       gp,
       "set datafile separator whitespace; set key top left font ',8'\n"
-      "set multiplot layout 3,2 title %s font ',10'\n"
+      "set multiplot layout 3,2 title %s" GP_CTX " font ',10'\n"
       "set title 'right wheel on its rail (grey y = 0, red at the flange)' font ',9'\n"
       "set xlabel 'lateral from the track centre (mm)'; set ylabel 'vertical (mm)'\n"
       "set size ratio -1\n"
@@ -522,7 +538,7 @@ static void script_wear(FILE *gp, const char *d, int argc, char **argv)
   if (f) fclose(f);
   fprintf(gp,
           "set datafile separator whitespace; set key top left font ',8'\n"
-          "set multiplot layout 2,2 title %s font ',10'\n"
+          "set multiplot layout 2,2 title %s" GP_CTX " font ',10'\n"
           "set title 'equivalent conicity (EN 15302)' font ',9'\n"
           "set xlabel 'amplitude (mm)'; set ylabel 'tan gamma_e'\nplot ",
           title);
@@ -652,8 +668,7 @@ static int write_script(const plot_kind *k, const char *script, const char *out,
           "noautotitle\n",
           terminal_for(out), pic);
   char lit[320];
-  fprintf(gp, "set label 1001 %s at screen 0.01, screen 0.98 left font ',9' tc 'grey30'\n",
-          gp_str(lit, sizeof lit, ctx));
+  fprintf(gp, "RR_CTX = %s\n", gp_str(lit, sizeof lit, ctx));
   k->script(gp, data, argc, argv);
   if (ferror(gp) | fclose(gp))
     return cli_bad("--plot: cannot write a scratch file: %s", strerror(errno));
