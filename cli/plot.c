@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <math.h>
 #include <spawn.h>
 #include <stdlib.h>
 #include <string.h>
@@ -83,10 +84,84 @@ static void script_damper(FILE *gp, const char *d, int argc, char **argv)
           el && !strcmp(el, "lateral") ? "Lateral" : "Yaw", d);
 }
 
+/* A root locus's branch at its least damped point (largest stability index). */
+typedef struct locus_peak {
+  int branch, hunting;
+  double re, freq, zeta, e[3]; /* e: carbody, frames, wheelsets kinetic-energy shares */
+} locus_peak;
+#define LOCUS_LABELS 6 /* branches named on a locus: more clutter it */
+
+/* The branches of locus CSV d (rows: branch,speed,conicity,freq,re,im,zeta,
+   mac,e_c,e_f,e_w,roll,hunting,...) at their least damped points into all
+   (cap of them), and the data's extent: re_lo, re_hi, f_lo, f_hi in span.
+   Returns how many. */
+static int locus_branches(const char *d, locus_peak *all, int cap, double span[4])
+{
+  FILE *f = fopen(d, "r");
+  if (!f) return 0;
+  int n = 0;
+  char line[1024];
+  span[0] = span[2] = INFINITY;
+  span[1] = span[3] = -INFINITY;
+  while (fgets(line, sizeof line, f)) {
+    locus_peak r;
+    double sp, con, im, mac, roll;
+    if (sscanf(line, "%d,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%d", &r.branch, &sp, &con,
+               &r.freq, &r.re, &im, &r.zeta, &mac, &r.e[0], &r.e[1], &r.e[2], &roll,
+               &r.hunting) != 13)
+      continue; /* the header */
+    span[0] = fmin(span[0], r.re), span[1] = fmax(span[1], r.re);
+    span[2] = fmin(span[2], r.freq), span[3] = fmax(span[3], r.freq);
+    int k = 0;
+    while (k < n && all[k].branch != r.branch) k++;
+    if (k == n && n < cap)
+      all[n++] = r; /* a new branch */
+    else if (k < n && r.zeta > all[k].zeta)
+      all[k] = r;
+  }
+  fclose(f);
+  return n;
+}
+
+/* The LOCUS_LABELS least damped branches, each labelled at its least damped
+   point with the body that holds most of its kinetic energy (fixed words: no
+   data reaches gnuplot as code); a branch whose point lies on one already
+   labelled (within 3% of the plot) is left out. */
+static void locus_labels(FILE *gp, const char *d)
+{
+  static const char *const body[] = {"carbody", "bogie frames", "wheelsets"};
+  locus_peak all[256], pk[LOCUS_LABELS];
+  double span[4];
+  int n = locus_branches(d, all, 256, span), m = 0;
+  double wr = fmax(span[1] - span[0], 1e-12), wf = fmax(span[3] - span[2], 1e-12);
+  for (int it = 0; it < n && m < LOCUS_LABELS; it++) {
+    int best = it; /* selection: the it-th least damped */
+    for (int k = it + 1; k < n; k++)
+      if (all[k].zeta > all[best].zeta) best = k;
+    locus_peak t = all[it];
+    all[it] = all[best];
+    all[best] = t;
+    int near = 0;
+    for (int j = 0; j < m; j++)
+      near |=
+          fabs(pk[j].re - all[it].re) < 0.03 * wr && fabs(pk[j].freq - all[it].freq) < 0.03 * wf;
+    if (near) continue;
+    locus_peak *p = &pk[m++];
+    *p = all[it];
+    int b = p->e[1] > p->e[0] ? 1 : 0;
+    if (p->e[2] > p->e[b]) b = 2;
+    fprintf(gp,
+            "set label %d '%s%s, zeta %.3f' at %.17g, %.17g right point pt 6 ps 1.5 "
+            "offset -1,0.7 font ',9' front\n",
+            100 + m, body[b], p->hunting ? " (hunting)" : "", p->zeta, p->re, p->freq);
+  }
+}
+
 static void script_locus(FILE *gp, const char *d, int argc, char **argv)
 {
   const char *over = arg_after(argc, argv, "--over");
   int by_conicity = over && !strcmp(over, "conicity");
+  locus_labels(gp, d);
   fprintf(gp,
           "set title 'Root locus over %s'" GP_CTX "\n"
           "set xlabel 'real part (1/s)'; set ylabel 'frequency (Hz)'; set cblabel '%s'\n"

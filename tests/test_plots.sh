@@ -61,6 +61,10 @@ svg_has "map: the vehicle file named (getopt reorders the arguments)" "paper-des
 svg_has "map: the vehicle file named after the options" "paper-design-B.ini" map --speeds 200:300:2 --conicities 0.1:0.2:2 "$SRC/examples/paper-design-B.ini"
 svg_has "bifurcation: the Hopf point" "Hopf 5[0-9.]* km/h" bifurcation --profile worn --speeds 100:600
 svg_has "bifurcation: the straight-running branch" "straight running, unstable" bifurcation --profile worn --speeds 100:600
+# locus: the least damped branch named at its least damped point, the label's zeta the CSV's
+loc="locus --over speed --range 100:500:9 --conicity 0.17"
+top=$("$RR" $loc | awk -F, 'NR > 1 && (m == "" || $7 > m) {m = $7; b = $9 > $10 && $9 > $11 ? "carbody" : $10 > $11 ? "bogie frames" : "wheelsets"} END {printf "%s[a-z ()]*, zeta %.3f", b, m}')
+svg_has "locus: the least damped mode named ($top)" "$top" $loc
 svg_has "map --shares: the bogie panel" "bogie frames" map --speeds 200:600:4 --conicities 0.05:0.5:4 --shares
 svg_has "damper: the series stiffness, in MN/m" "series stiffness k_s(f)" damper "$SRC/examples/type1-sdf-paper.ini"
 svg_has "damper: engineering units" "stiffness (MN/m)" damper
