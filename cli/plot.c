@@ -68,9 +68,58 @@ static int has_arg(int argc, char **argv, const char *opt)
   return 0;
 }
 
+/* The series stiffnesses of damper CSV d when it holds several curves (the
+   first frequency on more than one row: --k K1,K2,..): how many, into k. */
+static int damper_curves(const char *d, double *k, int cap)
+{
+  FILE *f = fopen(d, "r");
+  if (!f) return 0;
+  char line[512];
+  int n = 0;
+  double f0 = NAN, fr, kk;
+  while (fgets(line, sizeof line, f))
+    if (sscanf(line, "%lf,%lf", &fr, &kk) == 2) {
+      if (isnan(f0)) f0 = fr;
+      if (fr == f0 && n < cap) k[n++] = kk;
+    }
+  fclose(f);
+  return n;
+}
+
+/* Several series stiffnesses (paper Fig. 2): storage stiffness and
+   equivalent damping over frequency, a curve each. */
+static void damper_family(FILE *gp, const char *d, const char *el, const double *k, int n)
+{
+  fprintf(gp,
+          "set multiplot layout 1,2 title '%s damper as a Maxwell element for several series "
+          "stiffnesses'" GP_CTX "\n"
+          "set logscale x; set autoscale xfix; set key top left; set xlabel 'frequency (Hz)'\n",
+          el);
+  static const char *const what[2][3] = {
+      {"storage_n_per_m", "1e6", "equivalent stiffness (MN/m)"},
+      {"eq_damping_n_s_per_m", "1e3", "equivalent damping (kN s/m)"}};
+  for (int p = 0; p < 2; p++) {
+    fprintf(gp, "set ylabel '%s'\nplot ", what[p][2]);
+    for (int i = 0; i < n; i++)
+      fprintf(gp,
+              "%s'%s' u 'freq_hz':(column('k_series_n_per_m') == %.17g ? column('%s')/%s : 1/0) "
+              "w l lw 2 t 'k_s = %.4g MN/m'",
+              i ? ", " : "", d, k[i], what[p][0], what[p][1], k[i] / 1e6);
+    fprintf(gp, "\n");
+    if (!p) fprintf(gp, "set key top right\n");
+  }
+  fprintf(gp, "unset multiplot\n");
+}
+
 static void script_damper(FILE *gp, const char *d, int argc, char **argv)
 {
   const char *el = arg_after(argc, argv, "--element");
+  double k[16];
+  int n = damper_curves(d, k, 16);
+  if (n > 1) {
+    damper_family(gp, d, el && !strcmp(el, "lateral") ? "Lateral" : "Yaw", k, n);
+    return;
+  }
   fprintf(gp,
           "set title '%s damper as a Maxwell element: dynamic stiffness over frequency'" GP_CTX "\n"
           "set logscale x; set autoscale xfix; set key outside bottom center horizontal\n"

@@ -28,10 +28,10 @@ fig() {   # fig ID "PAPER" "RAILRIDE" "DIFFERS" ARGS...: railride ARGS --plot ID
 <a href=\"$id.csv\">data (CSV)</a><br><code>$(printf '%s' "$cmd" | sed 's/&/\&amp;/g; s/</\&lt;/g')</code></figcaption></figure>"
 }
 
-fig fig2 "Fig. 2, the yaw damper as a Maxwell element: storage and loss stiffness over frequency for several series stiffnesses." \
-  "Type 1's yaw damper (c = 4000 kN s/m, k = 10 MN/m): series, storage and loss stiffness and the dissipation factor from 0.1 to 30 Hz." \
-  "one series stiffness per figure (run again with --k for others)." \
-  damper
+fig fig2 "Fig. 2, the yaw damper as a Maxwell element: its characteristics over frequency for several series stiffnesses." \
+  "Type 1's yaw damper (c = 4000 kN s/m) with series stiffnesses 2.5, 5, 10 and 20 MN/m: equivalent (storage) stiffness and equivalent damping (loss / omega) from 0.1 to 30 Hz." \
+  "the series stiffnesses are chosen around Type 1's 10 MN/m; the loss stiffness and the dissipation factor are in the CSV (one series stiffness: railride damper draws them)." \
+  damper --k "2.5 MN/m,5 MN/m,10 MN/m,20 MN/m"
 fig fig3 "Fig. 3, the Pareto front of the NSGA-II optimisation: zeta_low against zeta_high, coloured by std_zeta, clusters A-D marked." \
   "the same front from examples/paper-optimisation.ini with 200 designs over 30 generations (the paper: 5000 over 100), coloured by std_zeta." \
   "a smaller run, so a sparser front; the clusters are not marked (their designs are examples/paper-design-A.ini to D.ini)." \

@@ -87,6 +87,12 @@ for g, name in enumerate(("carbody", "frames", "wheelsets")):
 PY
 "$RR" damper --freqs 0.1:10:5 > "$tmp/d.csv" || bad "damper exit"
 grep -q '^freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_per_m,dissipation$' "$tmp/d.csv" && ok || bad "damper header"
+# --k K1,K2: one curve per stiffness, the rows of the single runs in turn
+"$RR" damper --freqs 0.1:10:5 --k "5 MN/m,2e7" > "$tmp/dk.csv" 2> /dev/null &&
+  "$RR" damper --freqs 0.1:10:5 --k 5e6 > "$tmp/dk1.csv" 2> /dev/null &&
+  "$RR" damper --freqs 0.1:10:5 --k 20e6 | tail -n +2 >> "$tmp/dk1.csv" &&
+  cmp -s "$tmp/dk.csv" "$tmp/dk1.csv" && ok || bad "damper --k list"
+[ "$("$RR" damper --freqs 1:2:2 --k 5e6,1e7,2e7 --json | grep -c '"omega_opt"')" -eq 3 ] && ok || bad "damper --k list JSON curves"
 # the help names the columns the run writes, and compare's help one default for VEHICLE
 [ "$("$RR" damper --help | sed -n 's/^CSV columns: //p')" = "$(head -1 "$tmp/d.csv")" ] && ok || bad "damper --help columns"
 "$RR" compare --help > "$tmp/cmph.txt" && [ "$(grep -c '^  VEHICLE' "$tmp/cmph.txt")" -eq 1 ] && grep -q 'default both' "$tmp/cmph.txt" && ok || bad "compare --help VEHICLE default"

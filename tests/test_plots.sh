@@ -67,6 +67,7 @@ top=$("$RR" $loc | awk -F, 'NR > 1 && (m == "" || $7 > m) {m = $7; b = $9 > $10 
 svg_has "locus: the least damped mode named ($top)" "$top" $loc
 svg_has "map --shares: the bogie panel" "bogie frames" map --speeds 200:600:4 --conicities 0.05:0.5:4 --shares
 svg_has "damper: the series stiffness, in MN/m" "series stiffness k_s(f)" damper "$SRC/examples/type1-sdf-paper.ini"
+svg_has "damper: a curve per series stiffness" "k_s = 20 MN/m" damper --k "5 MN/m,10 MN/m,20 MN/m"
 svg_has "damper: engineering units" "stiffness (MN/m)" damper
 svg_has "optimise: three objectives, the third as colour" "std_zeta" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 3 --output "$tmp/po3"
 # a constrained problem's picture shows its objectives only
