@@ -174,6 +174,11 @@ void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep);
 /* A CSV number, or an empty field where there is none (a NaN marks "no
    such mode"): railride never writes nan or inf. */
 void cli_csv_num(FILE *fp, double x, char sep);
+/* What a column of optimise's Pareto CSV holds: a variable (a vehicle-file
+   key with its unit, section.key_unit), the feasibility flags (feasible,
+   violation), or an objective (anything else: zeta_low, "index@350,0.17"). */
+enum cli_pareto_col { CLI_COL_VAR, CLI_COL_OBJ, CLI_COL_FLAG };
+enum cli_pareto_col cli_pareto_column(const char *name);
 /* A file name option's value: one that reads as an option ("--help") is
    refused with a message (EXIT_BADINPUT), else 0. */
 int cli_file_arg(const char *opt, const char *arg);
@@ -309,6 +314,8 @@ int cmd_validate(int argc, char **argv);
 int cmd_optimise(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
 int cmd_keys(int argc, char **argv);
+/* cmd_pareto.c */
+int cmd_pareto(int argc, char **argv);
 int cmd_contact(int argc, char **argv);
 int cmd_wear(int argc, char **argv);
 int cmd_objectives(int argc, char **argv);

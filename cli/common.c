@@ -553,6 +553,12 @@ void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep)
   cli_csv_field(fp, name, sep);
 }
 
+enum cli_pareto_col cli_pareto_column(const char *name)
+{
+  if (!strcmp(name, "feasible") || !strcmp(name, "violation")) return CLI_COL_FLAG;
+  return strchr(name, '.') && !strchr(name, '@') && !strchr(name, ',') ? CLI_COL_VAR : CLI_COL_OBJ;
+}
+
 int cli_file_arg(const char *opt, const char *arg)
 {
   if (arg[0] == '-' && arg[1] == '-')

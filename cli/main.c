@@ -44,6 +44,8 @@ static const struct {
      ONE_RANK},
     {"wear", cmd_wear, "wheel profiles (wear stages) on their rail: conicity, stability, ride",
      ONE_RANK},
+    {"pareto", cmd_pareto, "clusters of an optimise run's Pareto set and their parameters",
+     ONE_RANK},
     {"keys", cmd_keys, "the vehicle-file keys: units, physical ranges, meanings", ONE_RANK},
     {"objectives", cmd_objectives, "the objective names of problem files and sweeps", ONE_RANK},
 };
@@ -55,8 +57,6 @@ static void usage(FILE *fp)
               "--version)\n\ncommands:\n");
   for (int i = 0; i < NCMDS; i++) fprintf(fp, "  %-15s %s\n", cmds[i].name, cmds[i].what);
 }
-
-/* --help (or -h) among a command's arguments. */
 
 static int run(int argc, char **argv)
 {

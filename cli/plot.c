@@ -24,6 +24,10 @@ extern char **environ;
    write_script; not read as enhanced text, so file names show as written). */
 #define GP_CTX ".\"\\n\".RR_CTX noenhanced"
 
+/* The second contour of index maps: the paper's Fig. 5 marks where the
+   index reaches -0.3 (well damped). */
+#define PLOT_INDEX_CONTOUR -0.3
+
 #define PLOT_W 900
 #define PLOT_H 600
 
@@ -249,9 +253,23 @@ static void map_script(FILE *gp, const char *d, int zcol, const char *xl, const 
           "set autoscale xfix; set autoscale yfix\n" /* the axes end where the data end */
           "sx = %.17g; sy = %.17g  # axis units: SI / (sx, sy)\n"
           "splot '%s' u ($1/sx):($2/sy):%d w pm3d notitle, '' u ($1/sx):($2/sy):%d w l nosurface "
-          "lw %s lc 'black' %s%s\n",
-          sx, sy, d, zcol, zcol, centred ? "3" : "1", centred ? "t 'index = 0'" : "notitle",
-          overlay);
+          "lw %s lc 'black' %s",
+          sx, sy, d, zcol, zcol, centred ? "3" : "1",
+          centred ? "t (STATS_min < 0 && STATS_max > 0 ? 'index = 0' : '')" : "notitle");
+  if (centred) /* the paper's Fig. 5 contour too, as z + 0.3 at the one level 0 (the header
+                  skipped: an expression would make it a point and break the grid) */
+    fprintf(
+        gp,
+        ", '' skip 1 u ($1/sx):($2/sy):($%d - (" RR_STR(
+            PLOT_INDEX_CONTOUR) ")) w l nosurface lw 2 "
+                                "dt 2 lc 'black' t (STATS_min < (" RR_STR(
+                                    PLOT_INDEX_CONTOUR) ") && STATS_max > "
+                                                        "(" RR_STR(
+                                                            PLOT_INDEX_CONTOUR) ") ? 'index "
+                                                                                "= " RR_STR(
+                                                                                    PLOT_INDEX_CONTOUR) "' : '')",
+        zcol);
+  fprintf(gp, "%s\n", overlay);
 }
 
 static void script_map(FILE *gp, const char *d, int argc, char **argv)
@@ -515,9 +533,7 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
     if (q && *p == '"') p++;
     if (*p == ',') p++;
     col++;
-    int is_var = strchr(name, '.') && !strchr(name, '@') && !strchr(name, ',');
-    int is_flag = !strcmp(name, "feasible") || !strcmp(name, "violation"); /* not objectives */
-    if (!is_var && !is_flag) {
+    if (cli_pareto_column(name) == CLI_COL_OBJ) {
       obj[nobj] = col;
       snprintf(names[nobj], sizeof names[nobj], "%s", name);
       nobj++;
@@ -688,6 +704,160 @@ static void script_wear(FILE *gp, const char *d, int argc, char **argv)
           np > 0 ? np : 1, d, d, d);
 }
 
+/* A CSV column's vehicle-file key: the name less its unit suffix
+   ("yaw_damper.damping_n_s_per_m" -> "yaw_damper.damping"), or the name. */
+static void column_key(const char *col, char *key, size_t n)
+{
+  snprintf(key, n, "%s", col);
+  for (char *u = strrchr(key, '_'); u && !rr_vehicle_key_find(key); u = strrchr(key, '_')) *u = 0;
+  if (!rr_vehicle_key_find(key)) snprintf(key, n, "%s", col);
+}
+
+/* What the pareto plot needs of `pareto --csv`'s data: the columns (0-based)
+   of the objectives and variables, the cluster letters present, and each
+   variable's range over the set. */
+#define PP_MAX 32
+typedef struct pareto_plot {
+  int nobj, obj[PP_MAX], nvar, var[PP_MAX], ncl, col_cluster;
+  char name[PP_MAX * 2][128], letters[27];
+  double lo[PP_MAX * 2], hi[PP_MAX * 2];
+} pareto_plot;
+
+static int pareto_plot_read(const char *d, pareto_plot *pp)
+{
+  FILE *f = fopen(d, "r");
+  char line[8192];
+  memset(pp, 0, sizeof *pp);
+  if (!f || !fgets(line, sizeof line, f)) {
+    if (f) fclose(f);
+    return -1;
+  }
+  line[strcspn(line, "\r\n")] = 0;
+  int col = 0;
+  for (char *p = line; *p && col < PP_MAX * 2; col++) { /* header fields, quotes allowed */
+    int k = 0, q = *p == '"';
+    p += q;
+    while (*p && (q ? *p != '"' : *p != ',') && k < 127) pp->name[col][k++] = *p++;
+    p += q && *p == '"';
+    p += *p == ',';
+    const char *nm = pp->name[col];
+    pp->lo[col] = INFINITY, pp->hi[col] = -INFINITY;
+    if (!strcmp(nm, "cluster"))
+      pp->col_cluster = col;
+    else if (cli_pareto_column(nm) == CLI_COL_VAR && pp->nvar < PP_MAX)
+      pp->var[pp->nvar++] = col;
+    else if (cli_pareto_column(nm) == CLI_COL_OBJ && pp->nobj < PP_MAX)
+      pp->obj[pp->nobj++] = col;
+  }
+  while (fgets(line, sizeof line, f)) { /* data rows: numbers, then the letter */
+    char *p = line;
+    for (int j = 0; j < col && *p; j++) {
+      if (j == pp->col_cluster && *p >= 'A' && *p <= 'Z' && !strchr(pp->letters, *p))
+        pp->letters[pp->ncl++] = *p;
+      double v = strtod(p, NULL);
+      pp->lo[j] = fmin(pp->lo[j], v), pp->hi[j] = fmax(pp->hi[j], v);
+      p += strcspn(p, ",");
+      p += *p == ',';
+    }
+  }
+  fclose(f);
+  for (int a = 1; a < pp->ncl; a++) /* A, B, ... in order */
+    for (int b = a; b > 0 && pp->letters[b] < pp->letters[b - 1]; b--) {
+      char t = pp->letters[b];
+      pp->letters[b] = pp->letters[b - 1], pp->letters[b - 1] = t;
+    }
+  return pp->nobj >= 2 && pp->ncl ? 0 : -1;
+}
+
+/* A scatter of columns x, y (0-based; scaled by sx, sy) with a colour and a
+   letter per cluster. */
+static void pareto_scatter(FILE *gp, const char *d, const pareto_plot *pp, int x, int y, double sx,
+                           double sy)
+{
+  fprintf(gp, "plot ");
+  for (int q = 0; q < pp->ncl; q++)
+    fprintf(gp,
+            "%s'%s' u (strcol(%d) eq '%c' ? $%d/%.17g : 1/0):($%d/%.17g) w p pt 7 ps 0.6 lc %d t "
+            "'cluster %c'",
+            q ? ", " : "", d, pp->col_cluster + 1, pp->letters[q], x + 1, sx, y + 1, sy, q + 1,
+            pp->letters[q]);
+  fprintf(gp, "\n");
+}
+
+/* The paper's Figs. 3, 4 and 6 from `pareto --csv`: the front coloured by
+   cluster (the first two objectives, and the second against the third),
+   each cluster's variables over their range on the set, and the yaw
+   damper's damping against its series stiffness (else the first two
+   variables). */
+static void script_pareto(FILE *gp, const char *d, int argc, char **argv)
+{
+  (void)argc, (void)argv;
+  pareto_plot pp;
+  char a[200], b[200], ka[128], kb[128], la[200], lb[200];
+  if (pareto_plot_read(d, &pp)) {
+    fprintf(gp, "set title 'no clusters to draw'\nplot 0 notitle\n");
+    return;
+  }
+  fprintf(
+      gp,
+      "set multiplot layout 2,2 title 'Pareto set in clusters (k-means over the objectives)'" GP_CTX
+      "\n"
+      "set key at screen 0.5, screen 0.905 center horizontal font ',9'; set tmargin 4\n"
+      "set format x '%%.3g'; set format y '%%.3g'; set xtics rotate by -30 font ',9'\n");
+  int o0 = pp.obj[0], o1 = pp.obj[1], o2 = pp.nobj > 2 ? pp.obj[2] : pp.obj[0];
+  fprintf(gp, "set title 'the front' font ',10'; set xlabel %s; set ylabel %s\n",
+          gp_str(a, sizeof a, pp.name[o0]), gp_str(b, sizeof b, pp.name[o1]));
+  pareto_scatter(gp, d, &pp, o0, o1, 1, 1);
+  fprintf(gp,
+          "set title 'the front, second and third objectives' font ',10'; set xlabel %s; set "
+          "ylabel %s\n",
+          gp_str(a, sizeof a, pp.name[o1]), gp_str(b, sizeof b, pp.name[o2]));
+  pareto_scatter(gp, d, &pp, o1, o2, 1, 1);
+  /* the variables: each over [least, greatest] on the set, the clusters side by side */
+  fprintf(gp,
+          "set title 'variables over their range on the set' font ',10'; set xlabel ''; "
+          "set ylabel 'fraction of range'; set yrange [-0.05:1.05]; set format x '%%g'\n"
+          "set xrange [0.5:%d.5]; set xtics (",
+          pp.nvar);
+  for (int j = 0; j < pp.nvar; j++) {
+    column_key(pp.name[pp.var[j]], ka, sizeof ka);
+    for (char *p = ka; *p; p++)
+      if (*p == '.' || *p == '_') *p = ' ';
+    fprintf(gp, "%s%s %d", j ? ", " : "", gp_str(a, sizeof a, ka), j + 1);
+  }
+  fprintf(gp, ") rotate by -15 font ',7'\nplot ");
+  for (int j = 0; j < pp.nvar; j++)
+    for (int q = 0; q < pp.ncl; q++) {
+      int c = pp.var[j];
+      double w = pp.hi[c] > pp.lo[c] ? pp.hi[c] - pp.lo[c] : 1;
+      fprintf(gp,
+              "%s'%s' u (strcol(%d) eq '%c' ? %.17g : 1/0):(($%d - %.17g)/%.17g) w p pt 7 ps 0.4 "
+              "lc %d %s%c%s",
+              j || q ? ", " : "", d, pp.col_cluster + 1, pp.letters[q],
+              j + 1 + 0.6 * ((q + 0.5) / pp.ncl - 0.5), c + 1, pp.lo[c], w, q + 1,
+              j ? "notitle" : "t 'cluster ", j ? ' ' : pp.letters[q], j ? "" : "'");
+    }
+  fprintf(
+      gp,
+      "\nset xrange [*:*]; set yrange [*:*]; set xtics auto norotate font ''; set format x '%%g'; "
+      "set format y '%%g'\n");
+  if (pp.nvar >= 2) { /* the paper's Fig. 6: yaw damping against series stiffness */
+    int x = pp.var[0], y = pp.var[1];
+    for (int j = 0; j < pp.nvar; j++) {
+      column_key(pp.name[pp.var[j]], ka, sizeof ka);
+      if (!strcmp(ka, "yaw_damper.series_stiffness")) x = pp.var[j];
+      if (!strcmp(ka, "yaw_damper.damping")) y = pp.var[j];
+    }
+    column_key(pp.name[x], ka, sizeof ka);
+    column_key(pp.name[y], kb, sizeof kb);
+    double sx = axis_label(ka, la, sizeof la), sy = axis_label(kb, lb, sizeof lb);
+    fprintf(gp, "set title 'the designs, two variables' font ',10'; set xlabel %s; set ylabel %s\n",
+            gp_str(a, sizeof a, la), gp_str(b, sizeof b, lb));
+    pareto_scatter(gp, d, &pp, x, y, sx, sy);
+  }
+  fprintf(gp, "unset multiplot\n");
+}
+
 static const plot_kind kinds[] = {
     {"wear", NULL, "--plot-data", 0, script_wear},
     {"contact", NULL, "--plot-data", 0, script_contact},
@@ -701,6 +871,7 @@ static const plot_kind kinds[] = {
     {"compare", NULL, "--plot-data", 0, script_compare},
     {"bifurcation", NULL, "--plot-data", 0, script_bifurcation},
     {"optimise", NULL, NULL, 0, script_optimise},
+    {"pareto", NULL, "--plot-data", 0, script_pareto},
     {"optimize", NULL, NULL, 0, script_optimise},
 };
 #define NKINDS (int)(sizeof kinds / sizeof kinds[0])
@@ -944,29 +1115,12 @@ static int script_arg(const char *gp, const char *out)
   return 0;
 }
 
-/* The options cli_plot_run takes out of a command's argv. */
-enum { OPT_PLOT = 4000, OPT_PLOT_SCRIPT };
-static const cli_opt plot_opts[] = {
-    {"plot", OPT_PLOT, "FILE",
-     "draw the result with gnuplot into FILE.png, .svg or .pdf (standard output as without it)"},
-    {"plot-script", OPT_PLOT_SCRIPT, "S.gp",
-     "with --plot: also the gnuplot script and its data (S.csv), to restyle; `gnuplot S.gp` in "
-     "S's folder redraws FILE there"},
-    CLI_OPT_END};
-
-const cli_opt *cli_plot_options(const char *cmd)
-{
-  for (int i = 0; i < NKINDS; i++)
-    if (!strcmp(kinds[i].cmd, cmd)) return plot_opts;
-  return NULL;
-}
-
-/* 1 when word is "--NAME" of plot_opts' row id. */
+/* 1 when word is "--NAME" of the plot options' row id. */
 static int is_plot_opt(const char *word, int id)
 {
-  for (int i = 0; plot_opts[i].name; i++)
-    if (plot_opts[i].id == id)
-      return !strncmp(word, "--", 2) && !strcmp(word + 2, plot_opts[i].name);
+  const cli_opt *t = cli_plot_rows();
+  for (int i = 0; t[i].name; i++)
+    if (t[i].id == id) return !strncmp(word, "--", 2) && !strcmp(word + 2, t[i].name);
   return 0;
 }
 
@@ -984,7 +1138,7 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   const plot_kind *k = NULL;
   for (int i = 0; i < NKINDS; i++)
     if (!strcmp(kinds[i].cmd, cmd)) k = &kinds[i];
-  if (!k)
+  if (!k || !cli_plot_options(cmd)) /* both lists, or neither: the help says what runs */
     return cli_bad("%s: --plot is not an option of this command (it has no curve or map to draw)",
                    cmd);
   if (at + 1 >= argc) return cli_bad("--plot: a file name ending in .svg, .png or .pdf expected");

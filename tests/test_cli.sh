@@ -93,6 +93,44 @@ grep -q '^freq_hz,k_series_n_per_m,storage_n_per_m,loss_n_per_m,eq_damping_n_s_p
   "$RR" damper --freqs 0.1:10:5 --k 20e6 | tail -n +2 >> "$tmp/dk1.csv" &&
   cmp -s "$tmp/dk.csv" "$tmp/dk1.csv" && ok || bad "damper --k list"
 [ "$("$RR" damper --freqs 1:2:2 --k 5e6,1e7,2e7 --json | grep -c '"omega_opt"')" -eq 3 ] && ok || bad "damper --k list JSON curves"
+# pareto: four separated groups of a front found whole (quoted objective names, an infeasible
+# design left out); the JSON's centres the means of their members, the CSV the file's rows
+python3 - "$tmp/front.csv" <<'PY'
+import sys
+rows = ['yaw_damper.damping_n_s_per_m,"index@350,0.17",zeta_high,feasible,violation']
+centres = [(-0.3, 0.1), (-0.1, -0.3), (0.05, -0.05), (-0.2, 0.05)]
+for i in range(24):
+    g, j = i % 4, i // 4
+    a, b = centres[g]
+    rows.append("%g,%.6f,%.6f,1,0" % (1e5 * (i + 1), a + 0.004 * (j - 2.5), b + 0.003 * ((j * 5) % 6 - 2.5)))
+rows.append("1e6,-0.9,-0.9,0,0.5")
+open(sys.argv[1], "w").write("\n".join(rows) + "\n")
+PY
+"$RR" pareto "$tmp/front.csv" --csv > "$tmp/front-cl.csv" && "$RR" pareto "$tmp/front.csv" --json > "$tmp/front.json" &&
+python3 - "$tmp/front.csv" "$tmp/front-cl.csv" "$tmp/front.json" <<'PY' && ok || bad "pareto clusters"
+import csv, json, sys
+src = open(sys.argv[1]).read().splitlines()
+out = list(csv.reader(open(sys.argv[2])))
+js = json.load(open(sys.argv[3]))
+assert out[0][-1] == "cluster" and out[0][1] == "index@350,0.17", out[0]
+assert [",".join(r[:-1]) for r in out[1:]] == src[1:], "rows as written"
+lab = [r[-1] for r in out[1:]]
+assert lab[-1] == "" and js["labels"][-1] is None, "the infeasible design is not clustered"
+want = {0: "A", 3: "B", 1: "C", 2: "D"}  # named by ascending first objective: -0.3, -0.2, -0.1, 0.05
+assert all(lab[i] == want[i % 4] for i in range(24)), lab
+for c in js["clusters"]:
+    mem = [r for r in out[1:] if r[-1] == c["name"]]
+    assert c["designs"] == len(mem) == 6
+    for k, col in (("index@350,0.17", 1), ("zeta_high", 2)):
+        assert abs(c["centre"][k] - sum(float(r[col]) for r in mem) / 6) < 1e-12, (c, k)
+    v = c["variables"]["yaw_damper.damping_n_s_per_m"]
+    assert v["min"] == min(float(r[0]) for r in mem) and v["max"] == max(float(r[0]) for r in mem)
+PY
+printf 'a.b_n,zeta_low\n1,0.1\n2,x\n' > "$tmp/front-bad.csv"
+expect2 "pareto: a bad number names file and line" "front-bad.csv:3: column 'zeta_low'" "$RR" pareto "$tmp/front-bad.csv"
+head -2 "$tmp/front-bad.csv" > "$tmp/front-one.csv"
+expect2 "pareto: more clusters than designs" "5 clusters asked of 1" "$RR" pareto "$tmp/front-one.csv" --clusters 5
+expect2 "pareto: no file" "cannot read" "$RR" pareto "$tmp/none.csv"
 # the help names the columns the run writes, and compare's help one default for VEHICLE
 [ "$("$RR" damper --help | sed -n 's/^CSV columns: //p')" = "$(head -1 "$tmp/d.csv")" ] && ok || bad "damper --help columns"
 "$RR" compare --help > "$tmp/cmph.txt" && [ "$(grep -c '^  VEHICLE' "$tmp/cmph.txt")" -eq 1 ] && grep -q 'default both' "$tmp/cmph.txt" && ok || bad "compare --help VEHICLE default"

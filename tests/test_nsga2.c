@@ -431,8 +431,76 @@ static void test_objective_at(void)
         "objective_at: a short buffer refused");
 }
 
+/* k-means: four separated groups found whole and numbered by their first
+   coordinate; on a cloud without groups, Lloyd's fixed point (each point
+   nearest its own centre, each centre its members' mean) checked directly. */
+static void test_kmeans(void)
+{
+  static const double cx[4] = {3, -1, 7, 1}, cy[4] = {100, 300, 200, 0}; /* y 100x x's size */
+  enum { PER = 6, N = 4 * PER };
+  double x[N * 2];
+  int truth[N], label[N], it;
+  for (int i = 0; i < N; i++) { /* interleaved groups, a fixed scatter in each */
+    int g = i % 4, j = i / 4;
+    x[2 * i] = cx[g] + 0.1 * ((j * 7) % 5 - 2);
+    x[2 * i + 1] = cy[g] + 10 * ((j * 3) % 4 - 1.5);
+    truth[i] = g;
+  }
+  double c[8];
+  rr_error e;
+  CHECK(rr_kmeans(N, 2, x, 4, 1, label, c, &it, &e) == 0, "kmeans: %s", e.msg);
+  static const int order[4] = {2, 0, 3, 1}; /* group g is numbered by its x centre: -1, 1, 3, 7 */
+  for (int i = 0; i < N; i++)
+    CHECK(label[i] == order[truth[i]], "kmeans: point %d in %d, expected %d", i, label[i],
+          order[truth[i]]);
+  for (int g = 0; g < 4; g++) CHECK_CLOSE(c[2 * order[g]], cx[g], 0, 0.05, "kmeans centre x");
+  /* a cloud: the fixed point, in the scaled coordinates */
+  enum { M = 200, K = 5 };
+  double y[M * 3], cc[K * 3], lo[3], hi[3];
+  int lab[M];
+  uint64_t r = 12345;
+  for (int i = 0; i < M * 3; i++) {
+    r = r * 6364136223846793005ULL + 1442695040888963407ULL;
+    y[i] = (double)(r >> 11) / 9007199254740992.0 * (i % 3 == 2 ? 1e6 : 1);
+  }
+  CHECK(rr_kmeans(M, 3, y, K, 1, lab, cc, &it, &e) == 0 && it > 1, "kmeans cloud: %s", e.msg);
+  for (int j = 0; j < 3; j++) {
+    lo[j] = INFINITY, hi[j] = -INFINITY;
+    for (int i = 0; i < M; i++)
+      lo[j] = fmin(lo[j], y[3 * i + j]), hi[j] = fmax(hi[j], y[3 * i + j]);
+  }
+  int bad_near = 0, cnt[K] = {0};
+  double mean[K * 3] = {0};
+  for (int i = 0; i < M; i++) {
+    double best = INFINITY;
+    int bq = -1;
+    for (int q = 0; q < K; q++) {
+      double d = 0;
+      for (int j = 0; j < 3; j++) {
+        double t = (y[3 * i + j] - cc[3 * q + j]) / (hi[j] - lo[j]);
+        d += t * t;
+      }
+      if (d < best - 1e-12) best = d, bq = q;
+    }
+    bad_near += bq != lab[i];
+    cnt[lab[i]]++;
+    for (int j = 0; j < 3; j++) mean[3 * lab[i] + j] += y[3 * i + j];
+  }
+  CHECK(bad_near == 0, "kmeans cloud: %d points not in their nearest centre's group", bad_near);
+  for (int q = 0; q < K; q++) {
+    CHECK(cnt[q] > 0, "kmeans cloud: group %d empty", q);
+    for (int j = 0; j < 3 && cnt[q]; j++)
+      CHECK_CLOSE(cc[3 * q + j], mean[3 * q + j] / cnt[q], 1e-12, 1e-12, "kmeans centre = mean");
+    if (q) CHECK(cc[3 * q] >= cc[3 * (q - 1)], "kmeans: groups numbered by first coordinate");
+  }
+  CHECK(rr_kmeans(3, 2, x, 4, 1, label, NULL, NULL, &e) == RR_EINVAL, "kmeans k > n refused");
+  x[3] = NAN;
+  CHECK(rr_kmeans(N, 2, x, 4, 1, label, NULL, NULL, &e) == RR_EINVAL, "kmeans NaN refused");
+}
+
 int main(void)
 {
+  test_kmeans();
   check_spectra_env();
   test_sort(2);
   test_sort(3);

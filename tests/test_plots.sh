@@ -68,6 +68,11 @@ svg_has "locus: the least damped mode named ($top)" "$top" $loc
 svg_has "map --shares: the bogie panel" "bogie frames" map --speeds 200:600:4 --conicities 0.05:0.5:4 --shares
 svg_has "damper: the series stiffness, in MN/m" "series stiffness k_s(f)" damper "$SRC/examples/type1-sdf-paper.ini"
 svg_has "damper: a curve per series stiffness" "k_s = 20 MN/m" damper --k "5 MN/m,10 MN/m,20 MN/m"
+svg_has "sweep: the paper's -0.3 contour" "index = -0.3" sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:6" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:6" --objective "index@350,0.17"
+"$RR" map --speeds 200:300:3 --conicities 0.1:0.2:3 --plot "$tmp/t.svg" > /dev/null 2>&1 && ! grep -q "index = 0" "$tmp/t.svg" && ok || bad "map: no zero-contour key where the index does not cross 0"
+"$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 3 --output "$tmp/pp" > /dev/null 2>&1
+svg_has "pareto: the clusters named" "cluster D" pareto "$tmp/pp-pareto.csv"
+svg_has "pareto: the yaw damper's variables in engineering units" "yaw damper damping (kN s/m)" pareto "$tmp/pp-pareto.csv"
 svg_has "damper: engineering units" "stiffness (MN/m)" damper
 svg_has "optimise: three objectives, the third as colour" "std_zeta" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 3 --output "$tmp/po3"
 # a constrained problem's picture shows its objectives only

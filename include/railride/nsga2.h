@@ -84,6 +84,19 @@ RR_API int rr_nondominated_ranks(int n, int m, const double *f, int *rank, int *
 RR_API int rr_hypervolume(int n, int m, const double *f, const double *ref, double *hv,
                           rr_error *err);
 
+/* k-means clustering of a Pareto set (the paper's clusters A-D): n points
+ * of m coordinates (x, n x m, row-major) into k groups, Lloyd's iterations
+ * to a fixed point from a deterministic farthest-point start (the first
+ * centre the point with the smallest first coordinate, each next the point
+ * farthest from the centres so far; ties to the lower index). With scale,
+ * each coordinate is mapped to [0, 1] over the points first, so that
+ * objectives of different size weigh alike. label (n) receives 0 .. k-1,
+ * numbered by ascending first coordinate of the centre; centre (k x m, may
+ * be NULL) the centres in the points' own units; *iterations (may be NULL)
+ * the Lloyd passes. Needs 1 <= k <= n and finite coordinates. */
+RR_API int rr_kmeans(int n, int m, const double *x, int k, int scale, int *label, double *centre,
+                     int *iterations, rr_error *err);
+
 #ifdef __cplusplus
 }
 #endif
