@@ -174,6 +174,9 @@ void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep);
 /* A CSV number, or an empty field where there is none (a NaN marks "no
    such mode"): railride never writes nan or inf. */
 void cli_csv_num(FILE *fp, double x, char sep);
+/* How many clusters a Pareto set is named in (pareto, and the letters on
+   optimise's three-objective picture): the paper's A-D. */
+#define CLI_PARETO_CLUSTERS 4
 /* What a column of optimise's Pareto CSV holds: a variable (a vehicle-file
    key with its unit, section.key_unit), the feasibility flags (feasible,
    violation), or an objective (anything else: zeta_low, "index@350,0.17"). */

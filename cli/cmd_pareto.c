@@ -12,8 +12,7 @@
 #define PARETO_COLS_MAX 64
 #define PARETO_ROWS_MAX 1000000
 #define PARETO_LINE_MAX 8192
-#define PARETO_K_DEFAULT 4 /* the paper's clusters A-D */
-#define PARETO_K_MAX 26    /* named by letters */
+#define PARETO_K_MAX 26 /* named by letters */
 
 typedef struct pareto_set {
   const char *path;
@@ -271,7 +270,8 @@ static int pareto_parse(int argc, char **argv, pareto_args *a, const char *help,
 {
   static const cli_opt opts[] = {
       {"clusters", OPT_PK, "K",
-       "how many clusters, 1 to " RR_STR(PARETO_K_MAX) " (default " RR_STR(PARETO_K_DEFAULT) ")"},
+       "how many clusters, 1 to " RR_STR(PARETO_K_MAX) " (default " RR_STR(
+           CLI_PARETO_CLUSTERS) ")"},
       {"csv", OPT_PCSV, NULL, "the file's rows with a cluster column added (empty: infeasible)"},
       {"json", OPT_PJSON, NULL,
        "JSON output: each cluster's centre and variables, each row's label"},
@@ -313,7 +313,7 @@ int cmd_pareto(int argc, char **argv)
       "ascending first objective. With constraints only the feasible designs are clustered.\n"
       "Prints each cluster's size, objective centre and its variables' mean and "
       "range.\n" CLI_COMMON_HELP;
-  pareto_args a = {.k = PARETO_K_DEFAULT};
+  pareto_args a = {.k = CLI_PARETO_CLUSTERS};
   int json = 0;
   int r = pareto_parse(argc, argv, &a, help, &json);
   if (r) return r == CLI_HELP_SHOWN ? 0 : r;

@@ -511,33 +511,119 @@ static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)
 
 /* The Pareto front: the objectives (the columns that are not section.key
    variables) two by two. The front's file is named in the run's summary. */
+/* What the Pareto plots need of a front's CSV (optimise's, or `pareto
+   --csv`'s): the columns (0-based) of the objectives and variables, the
+   feasibility flag and the cluster letters when present, and each column's
+   range over the set. */
+#define PP_MAX 32
+typedef struct pareto_plot {
+  int nobj, obj[PP_MAX], nvar, var[PP_MAX], ncl, col_cluster, col_feasible, ncol;
+  char name[PP_MAX * 2][128], letters[27];
+  double lo[PP_MAX * 2], hi[PP_MAX * 2];
+} pareto_plot;
+
+static int pareto_plot_read(const char *d, pareto_plot *pp)
+{
+  FILE *f = fopen(d, "r");
+  char line[8192];
+  memset(pp, 0, sizeof *pp);
+  pp->col_cluster = pp->col_feasible = -1;
+  if (!f || !fgets(line, sizeof line, f)) {
+    if (f) fclose(f);
+    return -1;
+  }
+  line[strcspn(line, "\r\n")] = 0;
+  int col = 0;
+  for (char *p = line; *p && col < PP_MAX * 2; col++) { /* header fields, quotes allowed */
+    int k = 0, q = *p == '"';
+    p += q;
+    while (*p && (q ? *p != '"' : *p != ',') && k < 127) pp->name[col][k++] = *p++;
+    p += q && *p == '"';
+    p += *p == ',';
+    const char *nm = pp->name[col];
+    pp->lo[col] = INFINITY, pp->hi[col] = -INFINITY;
+    if (!strcmp(nm, "feasible")) pp->col_feasible = col;
+    if (!strcmp(nm, "cluster"))
+      pp->col_cluster = col;
+    else if (cli_pareto_column(nm) == CLI_COL_VAR && pp->nvar < PP_MAX)
+      pp->var[pp->nvar++] = col;
+    else if (cli_pareto_column(nm) == CLI_COL_OBJ && pp->nobj < PP_MAX)
+      pp->obj[pp->nobj++] = col;
+  }
+  while (fgets(line, sizeof line, f)) { /* data rows: numbers, then the letter */
+    char *p = line;
+    for (int j = 0; j < col && *p; j++) {
+      if (j == pp->col_cluster && *p >= 'A' && *p <= 'Z' && !strchr(pp->letters, *p))
+        pp->letters[pp->ncl++] = *p;
+      double v = strtod(p, NULL);
+      pp->lo[j] = fmin(pp->lo[j], v), pp->hi[j] = fmax(pp->hi[j], v);
+      p += strcspn(p, ",");
+      p += *p == ',';
+    }
+  }
+  fclose(f);
+  pp->ncol = col;
+  for (int a = 1; a < pp->ncl; a++) /* A, B, ... in order */
+    for (int b = a; b > 0 && pp->letters[b] < pp->letters[b - 1]; b--) {
+      char t = pp->letters[b];
+      pp->letters[b] = pp->letters[b - 1], pp->letters[b - 1] = t;
+    }
+  return pp->nobj >= 1 ? 0 : -1;
+}
+
+/* The k-means clusters of front d's feasible designs over their objectives,
+   as `railride pareto` makes them (the same call on the same rows): the
+   centres' first two objectives into c (k x 2). Returns 0, or -1 when the
+   front has fewer than k designs. */
+static int front_clusters(const char *d, const pareto_plot *pp, int k, double *c)
+{
+  FILE *f = fopen(d, "r");
+  int n = 0, cap = 0, m = pp->nobj, r = -1;
+  double *x = NULL, row[PP_MAX * 2], *ctr = malloc(sizeof(double) * (size_t)k * m);
+  int *lab = NULL;
+  char line[8192];
+  if (!f || !ctr || !fgets(line, sizeof line, f)) goto done;
+  while (fgets(line, sizeof line, f)) {
+    char *p = line;
+    for (int j = 0; j < pp->ncol; j++, p += *p == ',') row[j] = strtod(p, &p);
+    if (pp->col_feasible >= 0 && row[pp->col_feasible] == 0) continue;
+    if (n == cap) {
+      double *nx = realloc(x, sizeof(double) * (size_t)(cap = cap ? 2 * cap : 256) * m);
+      if (!nx) goto done;
+      x = nx;
+    }
+    for (int j = 0; j < m; j++) x[(size_t)n * m + j] = row[pp->obj[j]];
+    n++;
+  }
+  rr_error e;
+  if (n >= k && (lab = malloc(sizeof(int) * (size_t)n)) &&
+      !rr_kmeans(n, m, x, k, 1, lab, ctr, NULL, &e)) {
+    for (int q = 0; q < k; q++)
+      c[2 * q] = ctr[(size_t)q * m], c[2 * q + 1] = ctr[(size_t)q * m + 1];
+    r = 0;
+  }
+done:
+  if (f) fclose(f);
+  free(x);
+  free(ctr);
+  free(lab);
+  return r;
+}
+
 static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
 {
   (void)argc;
   (void)argv;
-  FILE *f = fopen(d, "r");
-  char head[4096] = "";
-  if (f) {
-    if (!fgets(head, sizeof head, f)) head[0] = 0;
-    fclose(f);
+  pareto_plot pp;
+  if (pareto_plot_read(d, &pp)) {
+    fprintf(gp, "set title 'no objectives to draw'\nplot 0 notitle\n");
+    return;
   }
-  head[strcspn(head, "\r\n")] = 0;
-  int obj[8], nobj = 0, col = 0;
+  int obj[8], nobj = pp.nobj < 8 ? pp.nobj : 8;
   char names[8][128];
-  for (char *p = head; *p && nobj < 8;) { /* CSV fields, quotes allowed */
-    char name[128];
-    int k = 0, q = *p == '"';
-    if (q) p++;
-    while (*p && (q ? *p != '"' : *p != ',') && k < 127) name[k++] = *p++;
-    name[k] = 0;
-    if (q && *p == '"') p++;
-    if (*p == ',') p++;
-    col++;
-    if (cli_pareto_column(name) == CLI_COL_OBJ) {
-      obj[nobj] = col;
-      snprintf(names[nobj], sizeof names[nobj], "%s", name);
-      nobj++;
-    }
+  for (int j = 0; j < nobj; j++) {
+    obj[j] = pp.obj[j] + 1; /* gnuplot's columns from 1 */
+    snprintf(names[j], sizeof names[j], "%s", pp.name[pp.obj[j]]);
   }
   int npairs = nobj * (nobj - 1) / 2;
   char a[200], b[200];
@@ -550,6 +636,13 @@ static void script_optimise(FILE *gp, const char *d, int argc, char **argv)
   }
   if (nobj == 3) { /* the paper's Fig. 3: the first two, coloured by the third */
     char c[200];
+    double cc[2 * CLI_PARETO_CLUSTERS];
+    if (!front_clusters(d, &pp, CLI_PARETO_CLUSTERS, cc)) { /* railride pareto's A-D */
+      fprintf(gp, "set style textbox opaque noborder\n");
+      for (int q = 0; q < CLI_PARETO_CLUSTERS; q++)
+        fprintf(gp, "set label %d '%c' at %.17g, %.17g center boxed font ',13' front\n", 200 + q,
+                'A' + q, cc[2 * q], cc[2 * q + 1]);
+    }
     fprintf(gp,
             "set title 'Pareto front (NSGA-II)'" GP_CTX
             "; set format x '%%.3g'; set format y '%%.3g'\n"
@@ -711,62 +804,6 @@ static void column_key(const char *col, char *key, size_t n)
   snprintf(key, n, "%s", col);
   for (char *u = strrchr(key, '_'); u && !rr_vehicle_key_find(key); u = strrchr(key, '_')) *u = 0;
   if (!rr_vehicle_key_find(key)) snprintf(key, n, "%s", col);
-}
-
-/* What the pareto plot needs of `pareto --csv`'s data: the columns (0-based)
-   of the objectives and variables, the cluster letters present, and each
-   variable's range over the set. */
-#define PP_MAX 32
-typedef struct pareto_plot {
-  int nobj, obj[PP_MAX], nvar, var[PP_MAX], ncl, col_cluster;
-  char name[PP_MAX * 2][128], letters[27];
-  double lo[PP_MAX * 2], hi[PP_MAX * 2];
-} pareto_plot;
-
-static int pareto_plot_read(const char *d, pareto_plot *pp)
-{
-  FILE *f = fopen(d, "r");
-  char line[8192];
-  memset(pp, 0, sizeof *pp);
-  if (!f || !fgets(line, sizeof line, f)) {
-    if (f) fclose(f);
-    return -1;
-  }
-  line[strcspn(line, "\r\n")] = 0;
-  int col = 0;
-  for (char *p = line; *p && col < PP_MAX * 2; col++) { /* header fields, quotes allowed */
-    int k = 0, q = *p == '"';
-    p += q;
-    while (*p && (q ? *p != '"' : *p != ',') && k < 127) pp->name[col][k++] = *p++;
-    p += q && *p == '"';
-    p += *p == ',';
-    const char *nm = pp->name[col];
-    pp->lo[col] = INFINITY, pp->hi[col] = -INFINITY;
-    if (!strcmp(nm, "cluster"))
-      pp->col_cluster = col;
-    else if (cli_pareto_column(nm) == CLI_COL_VAR && pp->nvar < PP_MAX)
-      pp->var[pp->nvar++] = col;
-    else if (cli_pareto_column(nm) == CLI_COL_OBJ && pp->nobj < PP_MAX)
-      pp->obj[pp->nobj++] = col;
-  }
-  while (fgets(line, sizeof line, f)) { /* data rows: numbers, then the letter */
-    char *p = line;
-    for (int j = 0; j < col && *p; j++) {
-      if (j == pp->col_cluster && *p >= 'A' && *p <= 'Z' && !strchr(pp->letters, *p))
-        pp->letters[pp->ncl++] = *p;
-      double v = strtod(p, NULL);
-      pp->lo[j] = fmin(pp->lo[j], v), pp->hi[j] = fmax(pp->hi[j], v);
-      p += strcspn(p, ",");
-      p += *p == ',';
-    }
-  }
-  fclose(f);
-  for (int a = 1; a < pp->ncl; a++) /* A, B, ... in order */
-    for (int b = a; b > 0 && pp->letters[b] < pp->letters[b - 1]; b--) {
-      char t = pp->letters[b];
-      pp->letters[b] = pp->letters[b - 1], pp->letters[b - 1] = t;
-    }
-  return pp->nobj >= 2 && pp->ncl ? 0 : -1;
 }
 
 /* A scatter of columns x, y (0-based; scaled by sx, sy) with a colour and a
@@ -1088,6 +1125,45 @@ static const char *base_name(const char *path)
   return b ? b + 1 : path;
 }
 
+/* Script file path with every quoted 'from' replaced by 'to' (data paths:
+   plain names, no quote inside). */
+static int rename_data(const char *path, const char *from, const char *to)
+{
+  FILE *f = fopen(path, "r");
+  char *text = NULL;
+  size_t n = 0, cap = 0, k;
+  char buf[4096];
+  while (f && (k = fread(buf, 1, sizeof buf, f)) > 0) {
+    if (n + k + 1 > cap) {
+      char *t = realloc(text, cap = 2 * (n + k + 1));
+      if (!t) break;
+      text = t;
+    }
+    memcpy(text + n, buf, k);
+    n += k;
+  }
+  int bad = !f || ferror(f) || !text;
+  if (f) fclose(f);
+  if (bad) {
+    free(text);
+    return cli_bad("--plot-script: cannot read a scratch file");
+  }
+  text[n] = 0;
+  char q[PATH_MAX + 2];
+  snprintf(q, sizeof q, "'%s'", from);
+  FILE *o = fopen(path, "w");
+  for (char *p = text, *hit; o && *p; p = hit + strlen(q)) {
+    if (!(hit = strstr(p, q))) {
+      fputs(p, o);
+      break;
+    }
+    fprintf(o, "%.*s'%s'", (int)(hit - p), p, to);
+  }
+  free(text);
+  if (!o || ferror(o) | fclose(o)) return cli_bad("--plot-script: cannot write a scratch file");
+  return 0;
+}
+
 /* --plot-script S.gp: the script that drew the picture, for the user to
    restyle, beside its data S.csv; both name their files without a folder,
    so that `gnuplot S.gp` run in S's folder redraws the --plot file there. */
@@ -1099,7 +1175,10 @@ static int user_script(const plot_kind *k, const char *dir, const char *gp, cons
   snprintf(csv, sizeof csv, "%.*s.csv", (int)len, gp);
   snprintf(csv_name, sizeof csv_name, "%s", base_name(csv));
   snprintf(script, sizeof script, "%s/user.gp", dir);
-  int r = write_script(k, script, out, base_name(out), csv_name, ctx, argc, argv);
+  /* made from the data itself (some scripts read it: labels, clusters), then
+     pointed at the copy beside it */
+  int r = write_script(k, script, out, base_name(out), data, ctx, argc, argv);
+  if (!r) r = rename_data(script, data, csv_name);
   if (!r) r = cli_out_copy(data, csv, "--plot-script");
   return r ? r : cli_out_copy(script, gp, "--plot-script");
 }

@@ -33,8 +33,8 @@ fig fig2 "Fig. 2, the yaw damper as a Maxwell element: its characteristics over 
   "the series stiffnesses are chosen around Type 1's 10 MN/m; the loss stiffness and the dissipation factor are in the CSV (one series stiffness: railride damper draws them)." \
   damper --k "2.5 MN/m,5 MN/m,10 MN/m,20 MN/m"
 fig fig3 "Fig. 3, the Pareto front of the NSGA-II optimisation: zeta_low against zeta_high, coloured by std_zeta, clusters A-D marked." \
-  "the same front from examples/paper-optimisation.ini with 200 designs over 30 generations (the paper: 5000 over 100), coloured by std_zeta." \
-  "a smaller run, so a sparser front; the clusters are marked in fig4 below (railride pareto)." \
+  "the same front from examples/paper-optimisation.ini with 200 designs over 30 generations (the paper: 5000 over 100), coloured by std_zeta; the letters A-D sit at the centres of the clusters of railride pareto (fig4)." \
+  "a smaller run, so a sparser front; the clusters come from k-means, named by ascending zeta_low, so their letters need not be the paper's." \
   optimise "$HERE/examples/paper-optimisation.ini" --population 200 --generations 30 --output fig3
 fig fig4 "Figs. 3, 4 and 6: the front's clusters A-D, the distribution of each cluster's suspension parameters, and the optimal yaw damping and series stiffness." \
   "fig3's front in four clusters by k-means over the three objectives (each scaled to [0, 1]): the front coloured by cluster (zeta_low against zeta_high, and zeta_high against std_zeta), each parameter over its range on the front per cluster, and the designs' yaw damping against series stiffness." \

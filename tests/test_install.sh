@@ -93,6 +93,23 @@ for r, p in zip(rows, pts):
         assert abs(float(r[k]) - p[k]) <= 5e-7, (k, r[k], p[k])
 PY
 fi
+# examples/stability.c, the index as an optimiser's loop computes it: each row's index is
+# the installed CLI's (modes --json) to 1e-10 (the batch runs another QR path: ~1e-12 apart)
+cc -std=c11 -Wall -Werror $FLAGS "$src/examples/stability.c" $(PKG_CONFIG_PATH="$lib/pkgconfig" pkg-config --cflags --libs railride) \
+  -o "$tmp/stability_example" && (cd "$tmp" && ./stability_example > "$tmp/stability_example.csv") && ok || bad "examples/stability.c builds and runs"
+if command -v python3 > /dev/null; then
+  python3 - "$tmp/stability_example.csv" "$tmp/prefix/bin/railride" <<'PY' && ok || bad "examples/stability.c agrees with railride modes"
+import csv, json, subprocess, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 5, rows
+for r in rows:
+    out = subprocess.run([sys.argv[2], "modes", "--speed", r["speed_kmh"], "--conicity", r["conicity"], "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    d = json.loads(out)
+    assert abs(float(r["stability_index"]) - d["stability_index"]) <= 1e-10, (r, d["stability_index"])
+    assert abs(float(r["zeta_max"]) - d["zeta_max"]) <= 1e-10, (r, d["zeta_max"])
+PY
+fi
 mv "$tmp/prefix" "$tmp/moved"
 (cd / && "$tmp/moved/bin/railride" ride --speed 300 --conicity 0.2 --json > "$tmp/ride2.json") && cmp -s "$tmp/ride.json" "$tmp/ride2.json" \
   && ok || bad "relocated tree: the CLI finds its library and spectra"

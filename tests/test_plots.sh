@@ -71,6 +71,17 @@ svg_has "damper: a curve per series stiffness" "k_s = 20 MN/m" damper --k "5 MN/
 svg_has "sweep: the paper's -0.3 contour" "index = -0.3" sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:6" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:6" --objective "index@350,0.17"
 "$RR" map --speeds 200:300:3 --conicities 0.1:0.2:3 --plot "$tmp/t.svg" > /dev/null 2>&1 && ! grep -q "index = 0" "$tmp/t.svg" && ok || bad "map: no zero-contour key where the index does not cross 0"
 "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 3 --output "$tmp/pp" > /dev/null 2>&1
+# optimise's three-objective front: the letters A-D at railride pareto's cluster centres
+mkdir -p "$tmp/f3" && (cd "$tmp/f3" && "$RR" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 3 --output f3 --plot f3.svg --plot-script f3.gp > /dev/null 2>&1) &&
+  "$RR" pareto "$tmp/f3/f3-pareto.csv" --json > "$tmp/f3/cl.json" &&
+  python3 - "$tmp/f3/f3.gp" "$tmp/f3/cl.json" <<'PY' && ok || bad "optimise: the clusters' letters at pareto's centres"
+import json, re, sys
+marks = re.findall(r"set label 20\d '([A-D])' at ([^,]+), ([^ ]+) ", open(sys.argv[1]).read())
+cl = {c["name"]: c["centre"] for c in json.load(open(sys.argv[2]))["clusters"]}
+assert len(marks) == 4 == len(cl), marks
+for name, x, y in marks:
+    assert abs(float(x) - cl[name]["zeta_low"]) < 1e-12 and abs(float(y) - cl[name]["zeta_high"]) < 1e-12, (name, x, y, cl[name])
+PY
 svg_has "pareto: the clusters named" "cluster D" pareto "$tmp/pp-pareto.csv"
 svg_has "pareto: the yaw damper's variables in engineering units" "yaw damper damping (kN s/m)" pareto "$tmp/pp-pareto.csv"
 svg_has "damper: engineering units" "stiffness (MN/m)" damper
@@ -82,14 +93,22 @@ svg_has "optimise: three objectives, the third as colour" "std_zeta" optimise "$
 head -1 "$tmp/map.out" | grep -q '^speed_kmh,conicity,stability_index' && ok || bad "map --plot: the CSV still printed"
 "$RR" compare --conicities 0.1:0.2:2 --csv --plot "$tmp/cc.png" | head -1 | grep -q '^vehicle,conicity,stability_index_const' && ok || bad "compare --csv --plot: the CSV still printed"
 # --plot leaves standard output as it is without it (the wall time of a run aside)
+# (every command that draws)
 for args in "compare --conicities 0.05:0.5:3" "bifurcation --profile worn --speeds 100:560" \
-            "bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4"; do
-  "$RR" $args 2>/dev/null | sed 's/([0-9.]* s)//; s/, [0-9.]* s)/)/' > "$tmp/plain.out"
-  "$RR" $args --plot "$tmp/same.png" 2>/dev/null | sed 's/([0-9.]* s)//; s/, [0-9.]* s)/)/' > "$tmp/plot.out"
+            "bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4" \
+            "damper" "damper --k 5e6,1e7" "modes --speed 350 --conicity 0.17" \
+            "locus --over conicity --range 0.05:0.6:5 --speed 300" "map --speeds 200:500:3 --conicities 0.05:0.5:3" \
+            "sweep --x yaw_damper.damping=1e5:4e6:3 --y yaw_damper.series_stiffness=1e6:3e7:3 --objective index@350,0.17" \
+            "ride --speed 300 --conicity 0.2" "validate --speed 300 --conicity 0.2 --duration 16 --fs 128 --nseg 256" \
+            "wear $tmp/wear.ini --wheels $P/RUIC519A.dat,$P/RUIC519I.dat" \
+            "contact --wheel $P/RUIC519A.dat --rail $P/SUIC519A.dat --rail-gmp -32.5" \
+            "pareto $tmp/pp-pareto.csv" "optimise $SRC/examples/paper-optimisation.ini --population 8 --generations 1 --output $tmp/same"; do
+  "$RR" $args 2>/dev/null | sed 's/([0-9.]* s)//; s/, [0-9.]* s)/)/; s/ in [0-9.]* s.*$/ in T s/' > "$tmp/plain.out"
+  "$RR" $args --plot "$tmp/same.png" 2>/dev/null | sed 's/([0-9.]* s)//; s/, [0-9.]* s)/)/; s/ in [0-9.]* s.*$/ in T s/' > "$tmp/plot.out"
   cmp -s "$tmp/plain.out" "$tmp/plot.out" && [ -s "$tmp/plain.out" ] && ok || bad "$args --plot changes standard output"
 done
 # every command that draws lists --plot in its --help, and no other does
-for c in damper modes locus map sweep ride validate compare bifurcation optimise wear contact; do
+for c in damper modes locus map sweep ride validate compare bifurcation optimise wear contact pareto; do
   "$RR" $c --help | grep -q '^  --plot FILE' && ok || bad "$c --help: no --plot"
 done
 "$RR" keys --help | grep -q -- '--plot' && bad "keys --help lists --plot" || ok
