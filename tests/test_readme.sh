@@ -45,6 +45,25 @@ done < <(awk '/^```sh/ {inb = 1; next} /^```/ {inb = 0} inb' "$SRC/README.md" |
          sed -e ':a' -e '/\\$/{N;s/\\\n *//;ba}' | grep -E '^(build/railride|mpirun|srun) ')
 [ "$n" -ge 10 ] && ok || bad "README: only $n railride commands found"
 
+# the examples: each vehicle file loads and solves, each problem file runs (briefly), and
+# each command an example's comment gives ("#   railride ...") runs
+for f in "$SRC"/examples/*.ini; do
+  b=examples/$(basename "$f")
+  if grep -q '^\[problem\]' "$f"; then
+    build/railride optimise "$b" --population 8 --generations 1 --output ex-opt > /dev/null 2>&1 && ok || bad "$b: optimise fails"
+  else
+    build/railride modes "$b" --speed 300 --conicity 0.2 > /dev/null 2>&1 && ok || bad "$b: modes fails"
+  fi
+  grep '^#   railride ' "$f" | sed 's/^#   railride/build\/railride/; s/ *(.*//' | shorten | while IFS= read -r cmd; do
+    bash -c "$cmd" > ex.txt 2> ex.err && echo ok || echo "bad $cmd: $(head -1 ex.err)"
+  done > ex-runs.txt
+  while IFS= read -r res; do [ "$res" = ok ] && ok || bad "$b: '${res#bad }'"; done < ex-runs.txt
+done
+# type1-rising-tread.ini's comment: subcritical, the Hopf point at 603.8 km/h and the fold at 574.45
+build/railride bifurcation examples/type1-rising-tread.ini --speeds 100:620 > rising.txt 2>&1 &&
+  has_speed "603.8 km/h" rising.txt && has_speed "574.45 km/h" rising.txt && grep -q subcritical rising.txt && ok ||
+  bad "type1-rising-tread.ini: not the bifurcation its comment gives ($(grep -m1 -i 'hopf' rising.txt))"
+
 # the Python block, as written (numpy and the shared library needed)
 if [ -n "${RAILRIDE_LIB:-}" ] && /usr/bin/python3 -c "import numpy" 2> /dev/null; then
   awk '/^```python/ {inb = 1; next} /^```/ {inb = 0} inb' "$SRC/README.md" > readme.py
