@@ -16,6 +16,12 @@ unset RAILRIDE_SPECTRA_DIR
 
 cmake --install "$BUILD" --prefix "$tmp/prefix" > "$tmp/install.log" 2>&1 || { cat "$tmp/install.log"; bad "cmake --install"; }
 lib=$(dirname "$(find "$tmp/prefix" -name 'librailride.so' | head -1)")
+# every document an installed header cites is installed beside it
+missing=""
+for d in $(grep -rhoE 'docs/[a-z-]+\.md' "$tmp/prefix/include/railride" | sort -u); do
+  [ -s "$tmp/prefix/share/doc/railride/${d#docs/}" ] || missing="$missing $d"
+done
+[ -z "$missing" ] && ok || bad "the headers cite documents not installed:$missing"
 [ -n "$lib" ] && ok || bad "no librailride.so installed"
 
 cat > "$tmp/main.c" <<'C'

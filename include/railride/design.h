@@ -19,17 +19,22 @@ extern "C" {
 #define RR_DESIGN_MAX_VARS 32
 #define RR_DESIGN_MAX_OBJS 16
 
+/* The list below is a table: the formatter must not reflow it. */
+/* clang-format off */
 /* Objectives, written as strings:
- *   zeta_low, zeta_high, std_zeta       robust indices (paper Table 1)
- *   index@KMH,L                         vehicle stability index
- *   critical_speed@L                    km/h (10-600 range; 600 when stable to the end)
- *   sperling@KMH,L[,X]                  Sperling W (filter method) at floor point x = X m (default
- * 0) sperling_gb@..., wd_rms@..., rms@...  other ride indices, same arguments each optionally
- * followed by modifiers, ';'-separated: sdf=none|paper|physical             the yaw damper's SDF
- * for this objective spectrum=NAME                       ride indices: track spectrum (default
- * wuhan-guangzhou) fmax=HZ, wmin=W, rmax=R             stability objectives: the index's rule
- *   index_modes                         critical_speed: only the index's modes count
- * e.g. "index@350,0.17;fmax=20;wmin=0;rmax=1". */
+ *   zeta_low, zeta_high, std_zeta   robust indices (paper Table 1)
+ *   index@KMH,L                     vehicle stability index
+ *   critical_speed@L                km/h (10-600 range; 600 when stable to the end)
+ *   sperling@KMH,L[,X]              Sperling W (filter method) at floor point x = X m (default 0)
+ *   sperling_gb@..., wd_rms@..., rms@...   other ride indices, same arguments
+ * each optionally followed by modifiers, ';'-separated:
+ *   sdf=none|paper|physical         the yaw damper's SDF for this objective
+ *   spectrum=NAME                   ride indices: track spectrum (default wuhan-guangzhou)
+ *   fmax=HZ, wmin=W, rmax=R         stability objectives: the index's rule
+ *   index_modes                     critical_speed: only the index's modes count
+ * e.g. "index@350,0.17;fmax=20;wmin=0;rmax=1". The full list: docs/cli.md
+ * (railride objectives), installed under share/doc/railride. */
+/* clang-format on */
 typedef struct rr_design rr_design;
 
 /* The objective names, for listings: name, its arguments after '@', its

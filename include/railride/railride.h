@@ -1,6 +1,8 @@
 /* railride: lateral dynamics and ride comfort of high-speed trains.
  * Pipeline: vehicle file -> elements (system) -> M, C, K, B (model) ->
- * modal analysis / frequency response (PEM) / time simulation -> comfort. */
+ * modal analysis / frequency response (PEM) / time simulation -> comfort.
+ * The headers cite docs/model.md, docs/contact.md, docs/vertical.md and
+ * docs/cli.md: installed beside the library in share/doc/railride/. */
 #ifndef RAILRIDE_H
 #define RAILRIDE_H
 
