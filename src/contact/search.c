@@ -20,6 +20,7 @@ typedef struct wheel_view {
   const double *x, *z, *k;
   int n;
   double s;
+  const rr_zrange *zmin; /* its least heights (no roll), or NULL: every candidate evaluated */
 } wheel_view;
 
 /* A rail with its segment slopes, and scratch for the candidates' depths
@@ -32,7 +33,140 @@ typedef struct rail_view {
   double *dr, *dw; /* depth at each rail vertex, each wheel vertex (scratch) */
   int *kr,
       *kw; /* the wheel segment under each rail vertex, the rail segment under each wheel vertex */
+  const rr_zrange *zmax;   /* its greatest heights, with the wheel's zmin */
+  double *ub;              /* scratch: each block's bound */
+  double *bmax_r, *bmax_w; /* scratch: each block's deepest (-inf: skipped) */
+  int *seg_r, *seg_w;      /* per side: each block's end segments, kept as guesses */
 } rail_view;
+
+#define BLOCK 32      /* candidates bounded together */
+#define BOUND_MM 1e-9 /* margin on a block's bound: the interpolation rounds */
+
+/* The first index j in [lo, hi) with !(x[j] + shift < lim), x increasing. */
+static int first_not_below(const double *x, int lo, int hi, double shift, double lim)
+{
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (x[mid] + shift < lim)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+/* The segment of at on polyline x (rr_poly_segment's), walked from the guess
+ *k (the same block's last time: the shift moves by a grid step). */
+static int segment_from(const double *x, int n, double at, int *k)
+{
+  int j = *k;
+  while (j > 0 && x[j] > at) j--;
+  while (j < n - 2 && x[j + 1] <= at) j++;
+  return *k = j;
+}
+
+/* Depths of rail vertices ja .. jend-1 over the wheel into dr (the walk from
+   segment k); the deepest of them. */
+static double rail_block(const rail_view *r, const wheel_view *w, int ja, int jend, int k)
+{
+  const double *v = r->x, *zr = r->z, *u = w->x, *zw = w->z, *kw = w->k, s = w->s;
+  int n = w->n;
+  double dmax = -INFINITY;
+  for (int j = ja; j < jend; j++) {
+    double x = v[j] - s;
+    while (k < n - 2 && u[k + 1] <= x) k++;
+    double d = r->dr[j] = zr[j] - (kw[k] * (x - u[k]) + zw[k]);
+    dmax = d > dmax ? d : dmax;
+  }
+  return dmax;
+}
+
+/* Depths of wheel vertices ia .. iend-1 under the rail into dw. */
+static double wheel_block(const rail_view *r, const wheel_view *w, int ia, int iend, int k)
+{
+  const double *v = r->x, *zr = r->z, *kr = r->k, *u = w->x, *zw = w->z, s = w->s;
+  int m = r->n;
+  double dmax = -INFINITY;
+  for (int i = ia; i < iend; i++) {
+    double x = u[i] + s;
+    while (k < m - 2 && v[k + 1] <= x) k++;
+    double d = r->dw[i] = (kr[k] * (x - v[k]) + zr[k]) - zw[i];
+    dmax = d > dmax ? d : dmax;
+  }
+  return dmax;
+}
+
+/* The candidates lo .. hi-1 of one kind (rail vertices, wheel: 0, 1) in
+   blocks of BLOCK indices: a block whose bound (its highest rail point less
+   the lowest wheel point over its span) is below the deepest so far less
+   the tie margin holds no candidate and is skipped (bmax -inf); the others'
+   deepest go to bmax. The highest bound goes first. Returns the deepest. */
+static double blocks(const rail_view *r, const wheel_view *w, int wheel, int lo, int hi,
+                     double dmax, double *bmax, int *seg)
+{
+  const double *x = wheel ? w->x : r->x, *o = wheel ? r->x : w->x;
+  int no = wheel ? r->n : w->n, b0 = lo / BLOCK, b1 = (hi + BLOCK - 1) / BLOCK, top = -1;
+  double sh = wheel ? w->s : -w->s; /* a candidate's coordinate on the other profile */
+  for (int b = b0; b < b1; b++) {
+    int a = b * BLOCK > lo ? b * BLOCK : lo, e = ((b + 1) * BLOCK < hi ? (b + 1) * BLOCK : hi) - 1;
+    int ka = segment_from(o, no, x[a] + sh, &seg[2 * b]),
+        kb = segment_from(o, no, x[e] + sh, &seg[2 * b + 1]) + 1;
+    r->ub[b] = wheel ? rr_zrange_query(r->zmax, ka, kb) - rr_zrange_query(w->zmin, a, e)
+                     : rr_zrange_query(r->zmax, a, e) - rr_zrange_query(w->zmin, ka, kb);
+    bmax[b] = -INFINITY;
+    if (top < 0 || r->ub[b] > r->ub[top]) top = b;
+  }
+  for (int it = b0 - 1; it < b1; it++) {
+    int b = it < b0 ? top : it;
+    if (b < 0 || bmax[b] > -INFINITY || r->ub[b] + BOUND_MM < dmax - TIE_MM) continue;
+    int a = b * BLOCK > lo ? b * BLOCK : lo, e = (b + 1) * BLOCK < hi ? (b + 1) * BLOCK : hi;
+    bmax[b] = wheel ? wheel_block(r, w, a, e, seg[2 * b]) : rail_block(r, w, a, e, seg[2 * b]);
+    dmax = bmax[b] > dmax ? bmax[b] : dmax;
+  }
+  return dmax;
+}
+
+/* The first candidate lo .. hi-1 (then the extra one) within the tie margin
+   of dmax and below the rail coordinate lim, looking only into blocks whose
+   deepest reaches the margin: its index, or -1. */
+static int first_tie(const double *d, const double *bmax, int lo, int hi, int extra, double dmax,
+                     const double *x, double sh, double lim)
+{
+  for (int b = lo / BLOCK; b * BLOCK < hi; b++) {
+    if (!(bmax[b] >= dmax - TIE_MM)) continue;
+    for (int j = b * BLOCK > lo ? b * BLOCK : lo; j < hi && j < (b + 1) * BLOCK; j++) {
+      if (!(x[j] + sh < lim)) return -1;
+      if (d[j] >= dmax - TIE_MM) return j;
+    }
+  }
+  return extra >= 0 && x[extra] + sh < lim && d[extra] >= dmax - TIE_MM ? extra : -1;
+}
+
+/* deepest() with the candidates bounded a block at a time (no roll: the
+   profiles' height ranges known); the same depths, deepest and tie. */
+static double deepest_bounded(const rail_view *r, const wheel_view *w, int *kind, int *at)
+{
+  const double *v = r->x, *u = w->x, s = w->s;
+  int m = r->n, n = w->n, jx = -1, ix = -1;
+  double dmax = -INFINITY;
+  int j0 = first_not_below(v, 0, m, -s, u[0]), j1 = first_not_below(v, j0, m, -s, u[n - 1]);
+  if (j1 < m && v[j1] - s == u[n - 1]) { /* the last wheel point's own value (numpy.interp) */
+    double d = r->dr[jx = j1] = r->z[j1] - w->z[n - 1];
+    dmax = d > dmax ? d : dmax;
+  }
+  int i0 = first_not_below(u, 0, n, s, v[0]), i1 = first_not_below(u, i0, n, s, v[m - 1]);
+  if (i1 < n && u[i1] + s == v[m - 1]) {
+    double d = r->dw[ix = i1] = r->z[m - 1] - w->z[i1];
+    dmax = d > dmax ? d : dmax;
+  }
+  dmax = blocks(r, w, 0, j0, j1, dmax, r->bmax_r, r->seg_r);
+  dmax = blocks(r, w, 1, i0, i1, dmax, r->bmax_w, r->seg_w);
+  int j = first_tie(r->dr, r->bmax_r, j0, j1, jx, dmax, v, 0, INFINITY);
+  int i = first_tie(r->dw, r->bmax_w, i0, i1, ix, dmax, u, s, j >= 0 ? v[j] : INFINITY);
+  *kind = i >= 0 ? 1 : j >= 0 ? 0 : -1;
+  *at = i >= 0 ? i : j;
+  return dmax;
+}
 
 /* The deepest overlap d = z_r - z_w over the candidates, and the tie with
    the smallest rail coordinate: *kind 0 a rail vertex (index *at), 1 a
@@ -40,6 +174,7 @@ typedef struct rail_view {
    One merge walk computes every depth; the ties are then read back. */
 static double deepest(const rail_view *r, const wheel_view *w, int *kind, int *at)
 {
+  if (w->zmin && r->zmax) return deepest_bounded(r, w, kind, at);
   const double *restrict v = r->x, *restrict zr = r->z, *restrict kr = r->k, *restrict u = w->x,
                          *restrict zw = w->z, *restrict kw = w->k, s = w->s;
   double *restrict ddr = r->dr, *restrict ddw = r->dw;
@@ -145,10 +280,15 @@ static int side_contact(const rail_view *r, const wheel_view *w, rr_contact_side
   return 1;
 }
 
-/* Scratch of one execute call: candidates' depths and a turned wheel. */
+/* Scratch of one execute call: candidates' depths and a turned wheel; with
+   no roll, each side's height ranges (the wheel's least, the rail's
+   greatest) and the blocks' bounds. */
 typedef struct search_ws {
-  double *dr, *dw, *tx, *tz, *tk;
-  int *kr[2], *kw[2]; /* per side: segment guesses (search, rail_view) */
+  double *dr, *dw, *tx, *tz, *tk, *ub, *bmax_r, *bmax_w;
+  int *kr[2], *kw[2];       /* per side: segment guesses (search, rail_view) */
+  int *seg_r[2], *seg_w[2]; /* per side: the blocks' end segments */
+  rr_zrange zmin[2], zmax[2];
+  int bounded;
 } search_ws;
 
 static rail_view rail_of(const rr_contact_plan *p, int s, const search_ws *ws)
@@ -160,7 +300,12 @@ static rail_view rail_of(const rr_contact_plan *p, int s, const search_ws *ws)
                      .dr = ws->dr,
                      .dw = ws->dw,
                      .kr = ws->kr[s],
-                     .kw = ws->kw[s]};
+                     .kw = ws->kw[s],
+                     .ub = ws->ub,
+                     .bmax_r = ws->bmax_r,
+                     .bmax_w = ws->bmax_w,
+                     .seg_r = ws->seg_r[s],
+                     .seg_w = ws->seg_w[s]};
 }
 
 /* No roll: each wheel lowered onto its rail, s = +-y + offset. */
@@ -173,8 +318,10 @@ static int state_no_roll(const rr_contact_plan *p, double y, const search_ws *ws
                      .z = w->z,
                      .k = p->wheel_k[s],
                      .n = w->n,
-                     .s = (s ? -y : y) + p->setup.offset_mm[s]};
+                     .s = (s ? -y : y) + p->setup.offset_mm[s],
+                     .zmin = ws->bounded ? &ws->zmin[s] : NULL};
     rail_view rv = rail_of(p, s, ws);
+    rv.zmax = ws->bounded ? &ws->zmax[s] : NULL;
     rr_contact_side *c = &st->side[s];
     double u;
     if (!side_contact(&rv, &wv, c, &u))
@@ -345,25 +492,50 @@ static int state_rigid(const rr_contact_plan *p, double y, double *guess, int fi
   return RR_OK;
 }
 
+/* The no-roll search's height ranges of both sides into ws (tables in t). */
+static void ws_bounds(const rr_contact_plan *p, search_ws *ws, double *t)
+{
+  for (int s = 0; s < 2; s++) {
+    const rr_polyline *w = &p->wheel[s], *r = &p->rail[s];
+    rr_zrange_build(&ws->zmin[s], t, w->z, w->n, 0);
+    t += (size_t)rr_zrange_levels(w->n) * w->n;
+    rr_zrange_build(&ws->zmax[s], t, r->z, r->n, 1);
+    t += (size_t)rr_zrange_levels(r->n) * r->n;
+  }
+  ws->bounded = 1;
+}
+
 int rr_contact_execute(const rr_contact_plan *p, const double *y_mm, int n, rr_contact_state *out,
                        rr_error *err)
 {
   int m = p->rail[0].n > p->rail[1].n ? p->rail[0].n : p->rail[1].n,
       nw = p->wheel[0].n > p->wheel[1].n ? p->wheel[0].n : p->wheel[1].n, st = RR_OK;
-  double *blk = malloc(sizeof(double) * ((size_t)m + 4 * (size_t)nw)), guess = 0;
-  int *ik = calloc(2 * ((size_t)m + (size_t)nw), sizeof *ik);
-  if (!blk || !ik) { /* one scratch block a call */
+  int nb = (m > nw ? m : nw) / BLOCK + 2, bounded = p->roll != RR_ROLL_RIGID;
+  size_t nt =
+      bounded ? 2 * ((size_t)rr_zrange_levels(nw) * nw + (size_t)rr_zrange_levels(m) * m) : 0;
+  /* one scratch block a call */
+  double *blk = malloc(sizeof(double) * ((size_t)m + 4 * (size_t)nw + 3 * (size_t)nb + nt)),
+         guess = 0;
+  int *ik = calloc(2 * ((size_t)m + (size_t)nw) + 8 * (size_t)nb, sizeof *ik);
+  if (!blk || !ik) {
     free(blk);
     free(ik);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
+  int *sg = ik + 2 * ((size_t)m + (size_t)nw); /* 2 segments a block, per kind and side */
   search_ws ws = {.dr = blk,
                   .dw = blk + m,
                   .tx = blk + m + nw,
                   .tz = blk + m + 2 * nw,
                   .tk = blk + m + 3 * nw,
+                  .ub = blk + m + 4 * nw,
+                  .bmax_r = blk + m + 4 * nw + nb,
+                  .bmax_w = blk + m + 4 * nw + 2 * nb,
                   .kr = {ik, ik + m + nw},
-                  .kw = {ik + m, ik + 2 * m + nw}};
+                  .kw = {ik + m, ik + 2 * m + nw},
+                  .seg_r = {sg, sg + 2 * nb},
+                  .seg_w = {sg + 4 * nb, sg + 6 * nb}};
+  if (bounded) ws_bounds(p, &ws, blk + m + 4 * nw + 3 * nb);
   for (int i = 0; i < n && !st; i++) {
     rr_contact_state *s = &out[i];
     memset(s, 0, sizeof *s);
