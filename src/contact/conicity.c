@@ -202,13 +202,13 @@ static void inward_sums(rr_conicity_plan *p, double yl, double yr, int kl, int k
     p->PR[j] = p->PR[j + 1] + (y[j + 1] - y[j]) * (d[j] + d[j + 1]) / 2;
 }
 
-/* The integrand (L/2) sin(theta) / sqrt(C - S(y)) at theta, for a piece in
-   segment j on the side of y0 given by left, without cancellation. */
-static double integrand(const rr_conicity_plan *p, double th, double yl, double yr, int j, int left,
-                        int kl, int kr)
+/* The integrand (L/2) sin(theta) / sqrt(C - S(y)) at theta (given by sh, ch:
+   sin and cos of theta / 2), for a piece in segment j on the side of y0
+   given by left, without cancellation. */
+static double integrand(const rr_conicity_plan *p, double sh, double ch, double yl, double yr,
+                        int j, int left, int kl, int kr)
 {
-  double L = yr - yl, sh, ch;
-  sincos(th / 2, &sh, &ch);
+  double L = yr - yl;
   double y = yl + L * sh * sh, drv = dr_at(p, j, y);
   if (left) {
     if (j == kl) return sqrt(L) * ch / sqrt(-(dr_at(p, kl, yl) + drv) / 2);
@@ -222,7 +222,8 @@ static double integrand(const rr_conicity_plan *p, double th, double yl, double 
 
 static double theta_of(double y, double yl, double yr)
 {
-  return 2 * atan2(sqrt(fmax(y - yl, 0)), sqrt(fmax(yr - y, 0)));
+  double a = y - yl, b = yr - y; /* finite: ternaries, not libm's fmax calls */
+  return 2 * atan2(sqrt(a > 0 ? a : 0), sqrt(b > 0 ? b : 0));
 }
 
 /* The integral int_{yL}^{yR} dy / sqrt(C - S(y)) in pieces between the grid points
@@ -244,9 +245,15 @@ static double wave_integral(rr_conicity_plan *p, double yl, double yr)
     double t1 = yb >= yr ? RR_PI : theta_of(yb, yl, yr);
     int left = yb <= p->y0;
     while (j < p->n - 2 && y_a >= p->y[j + 1]) j++; /* the segment from the piece's left end */
-    double h = (t1 - t0) / 2, c = (t1 + t0) / 2, sum = 0;
-    for (int q = 0; q < 8 && t1 > t0; q++)
-      sum += GL_W[q] * integrand(p, c + h * GL_X[q], yl, yr, j, left, kl, kr);
+    double h = (t1 - t0) / 2, c = (t1 + t0) / 2, sum = 0, sc, cc;
+    sincos(c / 2, &sc, &cc);                 /* the nodes' half angles by the addition theorem: */
+    for (int q = 0; q < 4 && t1 > t0; q++) { /* 5 sincos a piece, not 8 */
+      double sx, cx;
+      sincos(h * GL_X[7 - q] / 2, &sx, &cx); /* the nodes +-x_q share them */
+      sum += GL_W[q] * integrand(p, sc * cx - cc * sx, cc * cx + sc * sx, yl, yr, j, left, kl, kr);
+      sum +=
+          GL_W[7 - q] * integrand(p, sc * cx + cc * sx, cc * cx - sc * sx, yl, yr, j, left, kl, kr);
+    }
     integral += h * sum;
     t0 = t1;
     y_a = yb;
@@ -295,9 +302,10 @@ static void harmonic_sums(const rr_conicity_plan *p, double yc, double A, double
     double yb = hi, th_b = RR_PI / 2, c_b = 0, s2_b = 0;
     if (g < p->n && p->y[g] < hi) {
       yb = p->y[g++];
-      double x = fmax(-1, fmin(1, (yb - yc) / A));
+      double x = (yb - yc) / A, cx; /* finite: ternaries, not libm calls */
+      x = x < -1 ? -1 : x > 1 ? 1 : x;
       th_b = asin(x);
-      c_b = sqrt(fmax(0, 1 - x * x));
+      c_b = sqrt((cx = 1 - x * x) > 0 ? cx : 0);
       s2_b = 2 * x * c_b;
     }
     double al = p->d[j] + p->m[j] * (yc - p->y[j]), be = p->m[j];

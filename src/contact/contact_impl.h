@@ -23,15 +23,16 @@ void rr_poly_slopes(const double *x, const double *z, int n, double *k);
 /* The segment k of x with x[k] <= at < x[k+1], clipped to 0 .. n-2. */
 int rr_poly_segment(const double *x, int n, double at);
 
-/* The greatest (max) or least height of a polyline over any vertex range,
-   in O(1): a sparse table t of rr_zrange_levels(n) x n doubles. */
-typedef struct rr_zrange {
-  const double *t;
-  int n, levels, max;
-} rr_zrange;
-int rr_zrange_levels(int n);
-void rr_zrange_build(rr_zrange *q, double *t, const double *z, int n, int max);
-/* The extreme over vertices a .. b (a <= b, both inside). */
-double rr_zrange_query(const rr_zrange *q, int a, int b);
+/* A polyline in blocks of `block` segments (block q: vertices q block ..
+   (q + 1) block, the last shared with the next block): each block's chord
+   z = c + k x through its end vertices, and how far its vertices rise above
+   it (up) and fall below it (down). buf: 4 rr_chords_count(n, block). */
+typedef struct rr_chords {
+  const double *x;
+  int n, block, nb;
+  double *k, *c, *up, *down;
+} rr_chords;
+int rr_chords_count(int n, int block);
+void rr_chords_build(rr_chords *c, double *buf, const double *x, const double *z, int n, int block);
 
 #endif

@@ -20,7 +20,7 @@ typedef struct wheel_view {
   const double *x, *z, *k;
   int n;
   double s;
-  const rr_zrange *zmin; /* its least heights (no roll), or NULL: every candidate evaluated */
+  const rr_chords *ch; /* its blocks' chords (no roll), or NULL: every candidate evaluated */
 } wheel_view;
 
 /* A rail with its segment slopes, and scratch for the candidates' depths
@@ -33,7 +33,7 @@ typedef struct rail_view {
   double *dr, *dw; /* depth at each rail vertex, each wheel vertex (scratch) */
   int *kr,
       *kw; /* the wheel segment under each rail vertex, the rail segment under each wheel vertex */
-  const rr_zrange *zmax;   /* its greatest heights, with the wheel's zmin */
+  const rr_chords *ch;     /* its blocks' chords, with the wheel's */
   double *ub;              /* scratch: each block's bound */
   double *bmax_r, *bmax_w; /* scratch: each block's deepest (-inf: skipped) */
   int *seg_r, *seg_w;      /* per side: each block's end segments, kept as guesses */
@@ -96,6 +96,33 @@ static double wheel_block(const rail_view *r, const wheel_view *w, int ia, int i
   return dmax;
 }
 
+/* A bound on the depths of candidates a .. e of one kind (block b of its
+   profile) over blocks qa .. qb of the other: at every candidate the rail
+   lies below its chord + up and the wheel above its chord - down, so the
+   depth lies below the lines' difference, linear along the candidates: its
+   greater end value over each overlap of the two blocks. */
+static double chord_bound(const rail_view *r, const wheel_view *w, int wheel, int b, int a, int e,
+                          int qa, int qb)
+{
+  const rr_chords *cr = r->ch, *cw = w->ch, *co = wheel ? cr : cw;
+  const double *x = wheel ? w->x : r->x, s = w->s, sh = wheel ? -w->s : w->s;
+  double ub = -INFINITY;
+  for (int q = qa; q <= qb; q++) { /* x: the candidates' own coordinate */
+    int oa = q * BLOCK, oe = oa + BLOCK < co->n - 1 ? oa + BLOCK : co->n - 1;
+    double lo = co->x[oa] + sh, hi = co->x[oe] + sh; /* the overlap (no NaN here: ternaries) */
+    lo = x[a] > lo ? x[a] : lo;
+    hi = x[e] < hi ? x[e] : hi;
+    int pr = wheel ? q : b, pw = wheel ? b : q; /* the rail's block, the wheel's */
+    for (int t = 0; t < 2; t++) {
+      double xv = t ? hi : lo, xr = wheel ? xv + s : xv, xw = xr - s;
+      double f =
+          (cr->c[pr] + cr->k[pr] * xr + cr->up[pr]) - (cw->c[pw] + cw->k[pw] * xw - cw->down[pw]);
+      ub = f > ub ? f : ub;
+    }
+  }
+  return ub;
+}
+
 /* The candidates lo .. hi-1 of one kind (rail vertices, wheel: 0, 1) in
    blocks of BLOCK indices: a block whose bound (its highest rail point less
    the lowest wheel point over its span) is below the deepest so far less
@@ -110,9 +137,8 @@ static double blocks(const rail_view *r, const wheel_view *w, int wheel, int lo,
   for (int b = b0; b < b1; b++) {
     int a = b * BLOCK > lo ? b * BLOCK : lo, e = ((b + 1) * BLOCK < hi ? (b + 1) * BLOCK : hi) - 1;
     int ka = segment_from(o, no, x[a] + sh, &seg[2 * b]),
-        kb = segment_from(o, no, x[e] + sh, &seg[2 * b + 1]) + 1;
-    r->ub[b] = wheel ? rr_zrange_query(r->zmax, ka, kb) - rr_zrange_query(w->zmin, a, e)
-                     : rr_zrange_query(r->zmax, a, e) - rr_zrange_query(w->zmin, ka, kb);
+        kb = segment_from(o, no, x[e] + sh, &seg[2 * b + 1]);
+    r->ub[b] = chord_bound(r, w, wheel, b, a, e, ka / BLOCK, kb / BLOCK);
     bmax[b] = -INFINITY;
     if (top < 0 || r->ub[b] > r->ub[top]) top = b;
   }
@@ -174,7 +200,7 @@ static double deepest_bounded(const rail_view *r, const wheel_view *w, int *kind
    One merge walk computes every depth; the ties are then read back. */
 static double deepest(const rail_view *r, const wheel_view *w, int *kind, int *at)
 {
-  if (w->zmin && r->zmax) return deepest_bounded(r, w, kind, at);
+  if (w->ch && r->ch) return deepest_bounded(r, w, kind, at);
   const double *restrict v = r->x, *restrict zr = r->z, *restrict kr = r->k, *restrict u = w->x,
                          *restrict zw = w->z, *restrict kw = w->k, s = w->s;
   double *restrict ddr = r->dr, *restrict ddw = r->dw;
@@ -287,7 +313,7 @@ typedef struct search_ws {
   double *dr, *dw, *tx, *tz, *tk, *ub, *bmax_r, *bmax_w;
   int *kr[2], *kw[2];       /* per side: segment guesses (search, rail_view) */
   int *seg_r[2], *seg_w[2]; /* per side: the blocks' end segments */
-  rr_zrange zmin[2], zmax[2];
+  rr_chords wch[2], rch[2]; /* per side: the wheel's and the rail's chords (no roll) */
   int bounded;
 } search_ws;
 
@@ -319,9 +345,9 @@ static int state_no_roll(const rr_contact_plan *p, double y, const search_ws *ws
                      .k = p->wheel_k[s],
                      .n = w->n,
                      .s = (s ? -y : y) + p->setup.offset_mm[s],
-                     .zmin = ws->bounded ? &ws->zmin[s] : NULL};
+                     .ch = ws->bounded ? &ws->wch[s] : NULL};
     rail_view rv = rail_of(p, s, ws);
-    rv.zmax = ws->bounded ? &ws->zmax[s] : NULL;
+    rv.ch = ws->bounded ? &ws->rch[s] : NULL;
     rr_contact_side *c = &st->side[s];
     double u;
     if (!side_contact(&rv, &wv, c, &u))
@@ -492,15 +518,15 @@ static int state_rigid(const rr_contact_plan *p, double y, double *guess, int fi
   return RR_OK;
 }
 
-/* The no-roll search's height ranges of both sides into ws (tables in t). */
+/* The no-roll search's chords of both sides into ws (tables in t). */
 static void ws_bounds(const rr_contact_plan *p, search_ws *ws, double *t)
 {
   for (int s = 0; s < 2; s++) {
     const rr_polyline *w = &p->wheel[s], *r = &p->rail[s];
-    rr_zrange_build(&ws->zmin[s], t, w->z, w->n, 0);
-    t += (size_t)rr_zrange_levels(w->n) * w->n;
-    rr_zrange_build(&ws->zmax[s], t, r->z, r->n, 1);
-    t += (size_t)rr_zrange_levels(r->n) * r->n;
+    rr_chords_build(&ws->wch[s], t, w->x, w->z, w->n, BLOCK);
+    t += 4 * (size_t)rr_chords_count(w->n, BLOCK);
+    rr_chords_build(&ws->rch[s], t, r->x, r->z, r->n, BLOCK);
+    t += 4 * (size_t)rr_chords_count(r->n, BLOCK);
   }
   ws->bounded = 1;
 }
@@ -512,7 +538,7 @@ int rr_contact_execute(const rr_contact_plan *p, const double *y_mm, int n, rr_c
       nw = p->wheel[0].n > p->wheel[1].n ? p->wheel[0].n : p->wheel[1].n, st = RR_OK;
   int nb = (m > nw ? m : nw) / BLOCK + 2, bounded = p->roll != RR_ROLL_RIGID;
   size_t nt =
-      bounded ? 2 * ((size_t)rr_zrange_levels(nw) * nw + (size_t)rr_zrange_levels(m) * m) : 0;
+      bounded ? 8 * ((size_t)rr_chords_count(nw, BLOCK) + (size_t)rr_chords_count(m, BLOCK)) : 0;
   /* one scratch block a call */
   double *blk = malloc(sizeof(double) * ((size_t)m + 4 * (size_t)nw + 3 * (size_t)nb + nt)),
          guess = 0;
