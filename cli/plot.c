@@ -444,28 +444,70 @@ static void script_validate(FILE *gp, const char *d, int argc, char **argv)
       d, d, d);
 }
 
+/* The vehicles of compare's CSV d in order, each its data rows first .. last
+   (0-based after the header): how many. */
+#define CMP_VEHICLES_MAX 8
+static int compare_vehicles(const char *d, char names[][64], int *first, int *last)
+{
+  FILE *f = fopen(d, "r");
+  char line[1024];
+  int n = 0, row = -1;
+  while (f && fgets(line, sizeof line, f)) {
+    if (row++ < 0) continue; /* the header */
+    char *nm = line;
+    if (*nm == '"') { /* a quoted field (RFC 4180): "" is a quote */
+      char *o = ++nm;
+      for (char *q = nm; *q && !(q[0] == '"' && q[1] != '"'); q++) *o++ = *q == '"' ? *++q : *q;
+      *o = 0;
+    } else {
+      nm[strcspn(nm, ",")] = 0;
+    }
+    if (n && !strcmp(names[n - 1], nm)) {
+      last[n - 1] = row - 1;
+    } else if (n < CMP_VEHICLES_MAX) {
+      snprintf(names[n], 64, "%s", nm);
+      first[n] = last[n] = row - 1;
+      n++;
+    }
+  }
+  if (f) fclose(f);
+  return n;
+}
+
+/* One panel of compare's picture: columns c (constant) and c + 1 (SDF)
+   against conicity, a curve each per vehicle (its rows; names as data). */
+static void compare_panel(FILE *gp, const char *d, const char *ylabel, int c, char names[][64],
+                          const int *first, const int *last, int n)
+{
+  fprintf(gp, "set ylabel '%s'\nplot ", ylabel);
+  for (int v = 0; v < n; v++) {
+    char t[100], nm[80];
+    snprintf(nm, sizeof nm, "%s constant", names[v]);
+    fprintf(gp, "%s'%s' skip 1 every ::%d::%d u 2:%d w lp lw 2 lc %d t %s, ", v ? ", " : "", d,
+            first[v], last[v], c, v + 1, gp_str(t, sizeof t, nm));
+    snprintf(nm, sizeof nm, "%s SDF", names[v]);
+    fprintf(gp, "'%s' skip 1 every ::%d::%d u 2:%d w lp lw 2 dt 2 lc %d t %s", d, first[v], last[v],
+            c + 1, v + 1, gp_str(t, sizeof t, nm));
+  }
+  fprintf(gp, "\nunset key\n"); /* one key, above the panels */
+}
+
 static void script_compare(FILE *gp, const char *d, int argc, char **argv)
 {
   (void)argc;
   (void)argv;
+  char names[CMP_VEHICLES_MAX][64];
+  int first[CMP_VEHICLES_MAX], last[CMP_VEHICLES_MAX], n = compare_vehicles(d, names, first, last);
   fprintf(
       gp,
       "set datafile separator ','\nset multiplot layout 1,3 title 'Yaw damper: SDF against "
       "constant series stiffness'" GP_CTX "\n"
-      "set xlabel 'conicity'; set ylabel 'stability index'; set key bottom\n"
-      "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):3 w lp lw 2 t v.' "
-      "constant', "
-      "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):4 w lp lw 2 dt 2 t v.' SDF'\n"
-      "set ylabel 'Sperling index W'; set key top left\n"
-      "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):5 w lp lw 2 t v.' "
-      "constant', "
-      "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):6 w lp lw 2 dt 2 t v.' SDF'\n"
-      "set ylabel 'EN 12299 N_MV (with the vertical model)'; set key top left\n"
-      "plot for [v in 'type1 type2'] '%s' u ((strcol(1) eq v) ? $2 : 1/0):7 w lp lw 2 t v.' "
-      "constant', "
-      "for [v in 'type1 type2'] '' u ((strcol(1) eq v) ? $2 : 1/0):8 w lp lw 2 dt 2 t v.' SDF'\n"
-      "unset multiplot\n",
-      d, d, d);
+      "set key at screen 0.5, screen 0.875 center horizontal maxrows 1 font ',9'; set tmargin 5\n"
+      "set xlabel 'conicity'; set format x '%%.2g'; set xtics rotate by -45\n");
+  compare_panel(gp, d, "stability index", 3, names, first, last, n);
+  compare_panel(gp, d, "Sperling index W", 5, names, first, last, n);
+  compare_panel(gp, d, "EN 12299 N_MV (with the vertical model)", 7, names, first, last, n);
+  fprintf(gp, "unset multiplot\n");
 }
 
 static void script_bifurcation(FILE *gp, const char *d, int argc, char **argv)

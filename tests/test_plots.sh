@@ -84,6 +84,8 @@ for name, x, y in marks:
 PY
 svg_has "pareto: the clusters named" "cluster D" pareto "$tmp/pp-pareto.csv"
 svg_has "pareto: the yaw damper's variables in engineering units" "yaw damper damping (kN s/m)" pareto "$tmp/pp-pareto.csv"
+printf '[vehicle]\nbase = type2\nname = CRH380A\n' > "$tmp/crh.ini"
+svg_has "compare: a vehicle file's own name on its curves" "CRH380A SDF" compare "$tmp/crh.ini" --conicities 0.05:0.4:3
 svg_has "damper: engineering units" "stiffness (MN/m)" damper
 svg_has "optimise: three objectives, the third as colour" "std_zeta" optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 3 --output "$tmp/po3"
 # a constrained problem's picture shows its objectives only
