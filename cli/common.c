@@ -383,9 +383,14 @@ static void print_help(const char *cmd, const char *text, unsigned reads, int wi
   fwrite(text, 1, (size_t)(m - text), stdout);
   for (size_t i = 0; with_common && i < NCOMMON; i++)
     if (shown(&common_rows[i], reads)) opt_row(stdout, &common_rows[i].o);
-  cli_opt_help(stdout, own);
+  const cli_opt *help = with_common ? &help_row : NULL; /* --help last */
+  for (int i = 0; own && own[i].name; i++)
+    if (own[i].id == 'h')
+      help = &own[i];
+    else
+      opt_row(stdout, &own[i]);
   cli_opt_help(stdout, cli_plot_options(cmd)); /* main takes them out before the command runs */
-  if (with_common) opt_row(stdout, &help_row);
+  if (help) opt_row(stdout, help);
   fputs(m + strlen(CLI_COMMON_HELP), stdout);
 }
 
