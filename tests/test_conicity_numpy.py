@@ -38,4 +38,42 @@ for c in cases:
         worst = np.abs(mine[both] - theirs[both]).max() if both.any() else 0.0
         check(same_def and worst < 1e-10 and both.sum() >= 1,
               "%s %s: %d amplitudes, largest difference %.2e" % (name, key, both.sum(), worst))
+
+
+def brute_side(u, zw, v, zr, s):
+    """The exhaustive search of the contract for shifts s: every rail vertex and every
+    shifted wheel vertex a candidate, the gauge-most tie within 1e-9 mm: the wheel's z
+    at contact and the rail coordinate (independent of railride's bounded search)."""
+    S = s[:, None]
+    uj = v[None, :] - S
+    dr_ = np.where((uj >= u[0]) & (uj <= u[-1]), zr[None, :] - np.interp(uj, u, zw), -np.inf)
+    vi = u[None, :] + S
+    dw = np.where((vi >= v[0]) & (vi <= v[-1]), np.interp(vi, v, zr) - zw[None, :], -np.inf)
+    dmax = np.maximum(dr_.max(axis=1), dw.max(axis=1))[:, None]
+    vr = np.where(dr_ >= dmax - 1e-9, v[None, :], np.inf).min(axis=1)
+    vw = np.where(dw >= dmax - 1e-9, vi, np.inf).min(axis=1)
+    vc = np.minimum(vr, vw)
+    zc = np.where(vw < vr, zw[np.argmin(np.where(dw >= dmax - 1e-9, vi, np.inf), axis=1)],
+                  np.interp(vc - s, u, zw))
+    return zc, vc
+
+
+# The contact search (railride skips blocks it can bound; the exhaustive search must agree):
+# each Annex D wheel on the rail as stored, wheel origin over rail origin, 2001 y, no roll
+R = np.loadtxt(os.path.join(prof, "SUIC519A.dat"), comments="#")
+y = np.round(np.linspace(-10, 10, 2001), 10)
+for wheel in ("RUIC519A", "RUIC519B", "RUIC519H", "RUIC519I"):
+    W = np.loadtxt(os.path.join(prof, wheel + ".dat"), comments="#")
+    args = [cli, "contact", "--wheel", os.path.join(prof, wheel + ".dat"), "--rail",
+            os.path.join(prof, "SUIC519A.dat"), "--rail-gmp=-32.5", "--json"]
+    d = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
+    zR, vR = brute_side(W[:, 0], W[:, 1], R[:, 0], R[:, 1], y)
+    zL, vL = brute_side(W[:, 0], W[:, 1], R[:, 0], R[:, 1], -y)
+    dr = zL - zR  # (r0 - zR) - (r0 - zL)
+    worst = np.abs(dr - np.array(d["dr_mm"])).max()
+    at = max(np.abs(np.array(d["contact_rail_right_mm"]) - vR).max(),
+             np.abs(np.array(d["contact_rail_left_mm"]) - vL).max())
+    check(np.allclose(np.array(d["y_mm"]), y, atol=1e-12, rtol=0) and worst < 1e-12 and at < 1e-12,
+          "%s: contact search against the exhaustive one: dr differs by %.2e, the rail points by %.2e"
+          % (wheel, worst, at))
 done("conicity against numpy")
