@@ -131,6 +131,7 @@ static double chord_bound(const rail_view *r, const wheel_view *w, int wheel, in
 static double blocks(const rail_view *r, const wheel_view *w, int wheel, int lo, int hi,
                      double dmax, double *bmax, int *seg)
 {
+  if (hi <= lo) return dmax; /* none of this kind (lo may be the profile's end) */
   const double *x = wheel ? w->x : r->x, *o = wheel ? r->x : w->x;
   int no = wheel ? r->n : w->n, b0 = lo / BLOCK, b1 = (hi + BLOCK - 1) / BLOCK, top = -1;
   double sh = wheel ? w->s : -w->s; /* a candidate's coordinate on the other profile */
@@ -158,7 +159,7 @@ static double blocks(const rail_view *r, const wheel_view *w, int wheel, int lo,
 static int first_tie(const double *d, const double *bmax, int lo, int hi, int extra, double dmax,
                      const double *x, double sh, double lim)
 {
-  for (int b = lo / BLOCK; b * BLOCK < hi; b++) {
+  for (int b = lo / BLOCK; lo < hi && b * BLOCK < hi; b++) {
     if (!(bmax[b] >= dmax - TIE_MM)) continue;
     for (int j = b * BLOCK > lo ? b * BLOCK : lo; j < hi && j < (b + 1) * BLOCK; j++) {
       if (!(x[j] + sh < lim)) return -1;
