@@ -167,6 +167,9 @@ cJSON *cli_json_matrix(const double *A, int rows, int cols);
 /* One CSV field, quoted (RFC 4180) when it holds a comma, quote or newline,
    then the separator sep. */
 void cli_csv_field(FILE *fp, const char *text, char sep);
+/* Splits a CSV line in place into at most cap fields (RFC 4180 quotes,
+   the line end dropped); returns the count. */
+int cli_csv_split(char *line, char **fields, int cap);
 /* A vehicle-file key as a CSV column name with its SI unit appended
    (yaw_damper.damping_n_s_per_m); dimensionless keys as they are. */
 void cli_csv_key_field(FILE *fp, const char *section_dot_key, char sep);

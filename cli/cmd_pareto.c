@@ -30,42 +30,10 @@ typedef struct pareto_args {
   int k, csv;
 } pareto_args;
 
-/* Splits a CSV line in place into at most cap fields (RFC 4180 quotes);
-   returns the count. */
-static int csv_split(char *s, char **f, int cap)
-{
-  int n = 0;
-  s[strcspn(s, "\r\n")] = 0;
-  while (n < cap) {
-    char *out = s;
-    f[n++] = s;
-    if (*s == '"') { /* quoted: "" is a quote */
-      for (char *p = s + 1; *p; p++) {
-        if (*p == '"' && p[1] != '"') {
-          s = p + 1;
-          break;
-        }
-        *out++ = *p;
-        if (*p == '"') p++;
-        s = p + 1;
-      }
-      *out = 0;
-    } else {
-      s += strcspn(s, ",");
-    }
-    if (*s != ',') {
-      *s = 0;
-      return n;
-    }
-    *s++ = 0;
-  }
-  return n;
-}
-
 static int read_header(pareto_set *ps, char *line)
 {
   char *f[PARETO_COLS_MAX + 1];
-  ps->ncol = csv_split(line, f, PARETO_COLS_MAX + 1);
+  ps->ncol = cli_csv_split(line, f, PARETO_COLS_MAX + 1);
   if (ps->ncol > PARETO_COLS_MAX)
     return cli_bad("%s:1: more than %d columns", ps->path, PARETO_COLS_MAX);
   ps->feasible_col = -1;
@@ -87,7 +55,7 @@ static int read_row(pareto_set *ps, char *line, int ln)
   char copy[PARETO_LINE_MAX], *f[PARETO_COLS_MAX + 1];
   snprintf(copy, sizeof copy, "%s", line);
   copy[strcspn(copy, "\r\n")] = 0;
-  int n = csv_split(line, f, PARETO_COLS_MAX + 1);
+  int n = cli_csv_split(line, f, PARETO_COLS_MAX + 1);
   if (n != ps->ncol)
     return cli_bad("%s:%d: %d fields, the header has %d", ps->path, ln, n, ps->ncol);
   double *row = ps->v + (size_t)ps->nrow * ps->ncol;

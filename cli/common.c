@@ -519,6 +519,38 @@ static int parse_impl(int argc, char **argv, cli_common *c, unsigned reads, cons
   return r ? r : cli_profile_conicity(c, reads);
 }
 
+/* Splits a CSV line in place into at most cap fields (RFC 4180 quotes);
+   returns the count. */
+int cli_csv_split(char *s, char **f, int cap)
+{
+  int n = 0;
+  s[strcspn(s, "\r\n")] = 0;
+  while (n < cap) {
+    char *out = s;
+    f[n++] = s;
+    if (*s == '"') { /* quoted: "" is a quote */
+      for (char *p = s + 1; *p; p++) {
+        if (*p == '"' && p[1] != '"') {
+          s = p + 1;
+          break;
+        }
+        *out++ = *p;
+        if (*p == '"') p++;
+        s = p + 1;
+      }
+      *out = 0;
+    } else {
+      s += strcspn(s, ",");
+    }
+    if (*s != ',') {
+      *s = 0;
+      return n;
+    }
+    *s++ = 0;
+  }
+  return n;
+}
+
 void cli_csv_field(FILE *fp, const char *text, char sep)
 {
   if (!strpbrk(text, ",\"\r\n")) {

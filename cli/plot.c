@@ -454,14 +454,8 @@ static int compare_vehicles(const char *d, char names[][64], int *first, int *la
   int n = 0, row = -1;
   while (f && fgets(line, sizeof line, f)) {
     if (row++ < 0) continue; /* the header */
-    char *nm = line;
-    if (*nm == '"') { /* a quoted field (RFC 4180): "" is a quote */
-      char *o = ++nm;
-      for (char *q = nm; *q && !(q[0] == '"' && q[1] != '"'); q++) *o++ = *q == '"' ? *++q : *q;
-      *o = 0;
-    } else {
-      nm[strcspn(nm, ",")] = 0;
-    }
+    char *nm;
+    cli_csv_split(line, &nm, 1); /* the first field: the vehicle's name */
     if (n && !strcmp(names[n - 1], nm)) {
       last[n - 1] = row - 1;
     } else if (n < CMP_VEHICLES_MAX) {
@@ -574,23 +568,19 @@ static int pareto_plot_read(const char *d, pareto_plot *pp)
     if (f) fclose(f);
     return -1;
   }
-  line[strcspn(line, "\r\n")] = 0;
-  int col = 0;
-  for (char *p = line; *p && col < PP_MAX * 2; col++) { /* header fields, quotes allowed */
-    int k = 0, q = *p == '"';
-    p += q;
-    while (*p && (q ? *p != '"' : *p != ',') && k < 127) pp->name[col][k++] = *p++;
-    p += q && *p == '"';
-    p += *p == ',';
-    const char *nm = pp->name[col];
-    pp->lo[col] = INFINITY, pp->hi[col] = -INFINITY;
-    if (!strcmp(nm, "feasible")) pp->col_feasible = col;
+  char *fld[PP_MAX * 2];
+  int col = cli_csv_split(line, fld, PP_MAX * 2);
+  for (int j = 0; j < col; j++) { /* the header's fields */
+    snprintf(pp->name[j], sizeof pp->name[j], "%s", fld[j]);
+    const char *nm = pp->name[j];
+    pp->lo[j] = INFINITY, pp->hi[j] = -INFINITY;
+    if (!strcmp(nm, "feasible")) pp->col_feasible = j;
     if (!strcmp(nm, "cluster"))
-      pp->col_cluster = col;
+      pp->col_cluster = j;
     else if (cli_pareto_column(nm) == CLI_COL_VAR && pp->nvar < PP_MAX)
-      pp->var[pp->nvar++] = col;
+      pp->var[pp->nvar++] = j;
     else if (cli_pareto_column(nm) == CLI_COL_OBJ && pp->nobj < PP_MAX)
-      pp->obj[pp->nobj++] = col;
+      pp->obj[pp->nobj++] = j;
   }
   while (fgets(line, sizeof line, f)) { /* data rows: numbers, then the letter */
     char *p = line;
