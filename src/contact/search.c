@@ -124,10 +124,10 @@ static double chord_bound(const rail_view *r, const wheel_view *w, int wheel, in
 }
 
 /* The candidates lo .. hi-1 of one kind (rail vertices, wheel: 0, 1) in
-   blocks of BLOCK indices: a block whose bound (its highest rail point less
-   the lowest wheel point over its span) is below the deepest so far less
-   the tie margin holds no candidate and is skipped (bmax -inf); the others'
-   deepest go to bmax. The highest bound goes first. Returns the deepest. */
+   blocks of BLOCK indices: a block whose bound (chord_bound) is below the
+   deepest so far less the tie margin holds no candidate and is skipped
+   (bmax -inf); the others' deepest go to bmax. The highest bound goes first.
+   Returns the deepest. */
 static double blocks(const rail_view *r, const wheel_view *w, int wheel, int lo, int hi,
                      double dmax, double *bmax, int *seg)
 {
