@@ -19,14 +19,10 @@ import numpy as np
 
 import numpy_conicity as nc
 
-W = np.loadtxt("profiles/en15302/RUIC519A.dat", comments="#")
-R = np.loadtxt("profiles/en15302/SUIC519A.dat", comments="#")
-u, zw, v, zr = W[:, 0], W[:, 1], R[:, 0], R[:, 1]
-r0 = 460.0
-
-
-def side(s):
-    """Contact on one side for the shifts s (ny,): the wheel's z at contact and validity."""
+def search_side(u, zw, v, zr, s):
+    """The exact polyline search for the shifts s (ny,), all at once: every rail vertex and
+    every shifted wheel vertex a candidate, the gauge-most of the ties within 1e-9 mm. The
+    wheel's z at contact, the rail coordinate of the contact, and validity."""
     S = s[:, None]
     # rail vertices over the wheel: d = z_r - z_w(v_j - s)
     uj = v[None, :] - S
@@ -44,7 +40,16 @@ def side(s):
     zc = np.where(vw < vr, zw[np.argmin(np.where(dw >= dmax - 1e-9, vi, np.inf), axis=1)],
                   np.interp(vc - s, u, zw))
     lo, hi = np.maximum(v[0], u[0] + s), np.minimum(v[-1], u[-1] + s)
-    return zc, (vc - lo > 1e-9) & (hi - vc > 1e-9)
+    return zc, vc, (vc - lo > 1e-9) & (hi - vc > 1e-9)
+
+
+r0 = 460.0
+
+
+def side(s):
+    """Contact on one side for the shifts s (ny,): the wheel's z at contact and validity."""
+    zc, _, ok = search_side(W[:, 0], W[:, 1], R[:, 0], R[:, 1], s)
+    return zc, ok
 
 
 def run():
@@ -54,28 +59,31 @@ def run():
     return y, (r0 - zR) - (r0 - zL), okR & okL
 
 
-AMPS = np.round(np.arange(66) * 0.1 + 1.0, 10)
-t, tc = [], []
-for _ in range(5):
-    t0 = time.perf_counter()
-    y, dr, ok = run()
-    t1 = time.perf_counter()
-    y0, tg_a, tg_b, tg_c = nc.conicity(y, dr, ok, AMPS)
-    t2 = time.perf_counter()
-    t.append(t1 - t0)
-    tc.append(t2 - t0)
-print("numpy_contact_search_ms %.1f  (valid %d of %d)" % (1e3 * sorted(t)[2], ok.sum(), y.size))
-print("numpy_contact_all_ms %.1f  (search + the conicity function, 66 amplitudes, three methods;"
-      " tan_gamma_e at 3 mm %.5f)" % (1e3 * sorted(tc)[2], tg_a[20]))
-if len(sys.argv) > 1:
-    import json
-    g = json.load(open(sys.argv[1]))
-    m = ok & np.array(g["valid"], bool)
-    print("numpy_contact_dr_max_diff_mm %.2e" % np.abs(dr[m] - np.array(g["dr_mm"])[m]).max())
-    for name, mine in (("tan_gamma_e", tg_a), ("tan_gamma_e_harmonic", tg_b),
-                       ("tan_gamma_e_regression", tg_c)):
-        theirs = np.array([np.nan if x is None else x for x in g[name]], float)
-        both = np.isfinite(mine) & np.isfinite(theirs)
-        print("numpy_%s_max_diff %.2e  (%d of %d defined in both, %d disagree on defined)"
-              % (name, np.abs(mine[both] - theirs[both]).max(), both.sum(), mine.size,
-                 (np.isfinite(mine) != np.isfinite(theirs)).sum()))
+if __name__ == "__main__":  # the benchmark (the test suite imports search_side only)
+    W = np.loadtxt("profiles/en15302/RUIC519A.dat", comments="#")
+    R = np.loadtxt("profiles/en15302/SUIC519A.dat", comments="#")
+    AMPS = np.round(np.arange(66) * 0.1 + 1.0, 10)
+    t, tc = [], []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        y, dr, ok = run()
+        t1 = time.perf_counter()
+        y0, tg_a, tg_b, tg_c = nc.conicity(y, dr, ok, AMPS)
+        t2 = time.perf_counter()
+        t.append(t1 - t0)
+        tc.append(t2 - t0)
+    print("numpy_contact_search_ms %.1f  (valid %d of %d)" % (1e3 * sorted(t)[2], ok.sum(), y.size))
+    print("numpy_contact_all_ms %.1f  (search + the conicity function, 66 amplitudes, three methods;"
+          " tan_gamma_e at 3 mm %.5f)" % (1e3 * sorted(tc)[2], tg_a[20]))
+    if len(sys.argv) > 1:
+        import json
+        g = json.load(open(sys.argv[1]))
+        m = ok & np.array(g["valid"], bool)
+        print("numpy_contact_dr_max_diff_mm %.2e" % np.abs(dr[m] - np.array(g["dr_mm"])[m]).max())
+        for name, mine in (("tan_gamma_e", tg_a), ("tan_gamma_e_harmonic", tg_b),
+                           ("tan_gamma_e_regression", tg_c)):
+            theirs = np.array([np.nan if x is None else x for x in g[name]], float)
+            both = np.isfinite(mine) & np.isfinite(theirs)
+            print("numpy_%s_max_diff %.2e  (%d of %d defined in both, %d disagree on defined)"
+                  % (name, np.abs(mine[both] - theirs[both]).max(), both.sum(), mine.size,
+                     (np.isfinite(mine) != np.isfinite(theirs)).sum()))

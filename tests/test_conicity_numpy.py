@@ -15,6 +15,7 @@ src = os.environ.get("RR_SOURCE_DIR", os.path.join(os.path.dirname(__file__), ".
 sys.path.insert(0, os.path.join(src, "bench"))
 sys.path.insert(0, os.path.dirname(__file__))
 import numpy_conicity as nc  # noqa: E402
+import numpy_contact  # noqa: E402  (the exhaustive search of the contract)
 from pycheck import check, done  # noqa: E402
 
 cli = os.environ["RR_CLI"]
@@ -40,24 +41,6 @@ for c in cases:
               "%s %s: %d amplitudes, largest difference %.2e" % (name, key, both.sum(), worst))
 
 
-def brute_side(u, zw, v, zr, s):
-    """The exhaustive search of the contract for shifts s: every rail vertex and every
-    shifted wheel vertex a candidate, the gauge-most tie within 1e-9 mm: the wheel's z
-    at contact and the rail coordinate (independent of railride's bounded search)."""
-    S = s[:, None]
-    uj = v[None, :] - S
-    dr_ = np.where((uj >= u[0]) & (uj <= u[-1]), zr[None, :] - np.interp(uj, u, zw), -np.inf)
-    vi = u[None, :] + S
-    dw = np.where((vi >= v[0]) & (vi <= v[-1]), np.interp(vi, v, zr) - zw[None, :], -np.inf)
-    dmax = np.maximum(dr_.max(axis=1), dw.max(axis=1))[:, None]
-    vr = np.where(dr_ >= dmax - 1e-9, v[None, :], np.inf).min(axis=1)
-    vw = np.where(dw >= dmax - 1e-9, vi, np.inf).min(axis=1)
-    vc = np.minimum(vr, vw)
-    zc = np.where(vw < vr, zw[np.argmin(np.where(dw >= dmax - 1e-9, vi, np.inf), axis=1)],
-                  np.interp(vc - s, u, zw))
-    return zc, vc
-
-
 # The contact search (railride skips blocks it can bound; the exhaustive search must agree):
 # each Annex D wheel on the rail as stored, wheel origin over rail origin, 2001 y, no roll
 R = np.loadtxt(os.path.join(prof, "SUIC519A.dat"), comments="#")
@@ -67,8 +50,8 @@ for wheel in ("RUIC519A", "RUIC519B", "RUIC519H", "RUIC519I"):
     args = [cli, "contact", "--wheel", os.path.join(prof, wheel + ".dat"), "--rail",
             os.path.join(prof, "SUIC519A.dat"), "--rail-gmp=-32.5", "--json"]
     d = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
-    zR, vR = brute_side(W[:, 0], W[:, 1], R[:, 0], R[:, 1], y)
-    zL, vL = brute_side(W[:, 0], W[:, 1], R[:, 0], R[:, 1], -y)
+    zR, vR, _ = numpy_contact.search_side(W[:, 0], W[:, 1], R[:, 0], R[:, 1], y)
+    zL, vL, _ = numpy_contact.search_side(W[:, 0], W[:, 1], R[:, 0], R[:, 1], -y)
     dr = zL - zR  # (r0 - zR) - (r0 - zL)
     worst = np.abs(dr - np.array(d["dr_mm"])).max()
     at = max(np.abs(np.array(d["contact_rail_right_mm"]) - vR).max(),
