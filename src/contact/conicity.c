@@ -226,13 +226,52 @@ static double theta_of(double y, double yl, double yr)
   return 2 * atan2(sqrt(a > 0 ? a : 0), sqrt(b > 0 ? b : 0));
 }
 
-/* The integral int_{yL}^{yR} dy / sqrt(C - S(y)) in pieces between the grid points
-   (and y0), 8 Gauss-Legendre nodes in theta each. */
+/* C - S(y) at y in segment j, strictly inside the turning segments kl .. kr
+   (from the inward sums: no cancellation). */
+static double gap_inner(const rr_conicity_plan *p, double y, int j, int left)
+{
+  double drv = dr_at(p, j, y);
+  return left ? p->PL[j] - (y - p->y[j]) * (p->d[j] + drv) / 2
+              : p->PR[j + 1] + (p->y[j + 1] - y) * (drv + p->d[j + 1]) / 2;
+}
+
+/* A piece [ya, yb] at least FAR_WIDTHS of its widths from both turning
+   points: 1 / sqrt(C - S) is analytic well beyond it, so Gauss-Legendre in y
+   itself is exact to rounding (error ~ rho^-16, rho > 8 for the nearest
+   singularity), with no trigonometry. */
+#define FAR_WIDTHS 2.0
+static double piece_far(const rr_conicity_plan *p, double ya, double yb, int j, int left)
+{
+  double h = (yb - ya) / 2, c = (yb + ya) / 2, sum = 0;
+  for (int q = 0; q < 8; q++) sum += GL_W[q] / sqrt(gap_inner(p, c + h * GL_X[q], j, left));
+  return h * sum;
+}
+
+/* A piece next to a turning point, in theta (y = yL + L sin^2(theta / 2),
+   which takes the inverse square root out): theta t0 .. t1. */
+static double piece_near(rr_conicity_plan *p, double t0, double t1, double yl, double yr, int j,
+                         int left, int kl, int kr)
+{
+  double h = (t1 - t0) / 2, c = (t1 + t0) / 2, sum = 0, sc, cc;
+  sincos(c / 2, &sc, &cc);                 /* the nodes' half angles by the addition theorem: */
+  for (int q = 0; q < 4 && t1 > t0; q++) { /* 5 sincos a piece, not 8 */
+    double sx, cx;
+    sincos(h * GL_X[7 - q] / 2, &sx, &cx); /* the nodes +-x_q share them */
+    sum += GL_W[q] * integrand(p, sc * cx - cc * sx, cc * cx + sc * sx, yl, yr, j, left, kl, kr);
+    sum +=
+        GL_W[7 - q] * integrand(p, sc * cx + cc * sx, cc * cx - sc * sx, yl, yr, j, left, kl, kr);
+  }
+  return h * sum;
+}
+
+/* The integral int_{yL}^{yR} dy / sqrt(C - S(y)) in pieces between the grid
+   points (and y0), 8 Gauss-Legendre nodes each: in theta next to the turning
+   points, in y away from them. */
 static double wave_integral(rr_conicity_plan *p, double yl, double yr)
 {
   int kl = seg(p, yl), kr = seg(p, yr);
   inward_sums(p, yl, yr, kl, kr);
-  double t0 = 0, integral = 0, y_a = yl;
+  double t0 = 0, integral = 0, y_a = yl; /* t0: theta at y_a (NaN: not yet known) */
   int g = kl + 1, y0_done = 0, j = kl;
   while (y_a < yr) {
     double yb = yr; /* the piece's end: the next grid point inside, y0, or yR */
@@ -242,20 +281,18 @@ static double wave_integral(rr_conicity_plan *p, double yl, double yr)
       y0_done = 1;
     }
     if (g < p->n && p->y[g] <= yb) g++;
-    double t1 = yb >= yr ? RR_PI : theta_of(yb, yl, yr);
     int left = yb <= p->y0;
     while (j < p->n - 2 && y_a >= p->y[j + 1]) j++; /* the segment from the piece's left end */
-    double h = (t1 - t0) / 2, c = (t1 + t0) / 2, sum = 0, sc, cc;
-    sincos(c / 2, &sc, &cc);                 /* the nodes' half angles by the addition theorem: */
-    for (int q = 0; q < 4 && t1 > t0; q++) { /* 5 sincos a piece, not 8 */
-      double sx, cx;
-      sincos(h * GL_X[7 - q] / 2, &sx, &cx); /* the nodes +-x_q share them */
-      sum += GL_W[q] * integrand(p, sc * cx - cc * sx, cc * cx + sc * sx, yl, yr, j, left, kl, kr);
-      sum +=
-          GL_W[7 - q] * integrand(p, sc * cx + cc * sx, cc * cx - sc * sx, yl, yr, j, left, kl, kr);
+    double far = FAR_WIDTHS * (yb - y_a);
+    if (j > kl && j < kr && y_a - yl >= far && yr - yb >= far) {
+      integral += piece_far(p, y_a, yb, j, left);
+      t0 = NAN; /* theta at the next piece's start, if it needs it, from y */
+    } else {
+      if (isnan(t0)) t0 = theta_of(y_a, yl, yr);
+      double t1 = yb >= yr ? RR_PI : theta_of(yb, yl, yr);
+      integral += piece_near(p, t0, t1, yl, yr, j, left, kl, kr);
+      t0 = t1;
     }
-    integral += h * sum;
-    t0 = t1;
     y_a = yb;
   }
   return integral;
@@ -293,10 +330,13 @@ static void wavelength_method(rr_conicity_plan *p, double A, rr_conicity *out)
 
 /* (b) Harmonic linearisation: the mean M(y_c) and the first harmonic of dr
    along y_c + A sin(theta), in closed form per segment piece (cos theta =
-   sqrt(1 - x^2), sin 2 theta = 2 x cos theta at x = s / A). */
-static void harmonic_sums(const rr_conicity_plan *p, double yc, double A, double *M, double *tg)
+   sqrt(1 - x^2), sin 2 theta = 2 x cos theta at x = s / A); with dM/dy_c,
+   the mean of dr's slope (sum of m_j dtheta / pi), for Newton's step. */
+static void harmonic_sums(const rr_conicity_plan *p, double yc, double A, double *M, double *dM,
+                          double *tg)
 {
-  double lo = yc - A, hi = yc + A, y_a = lo, m = 0, t = 0, th_a = -RR_PI / 2, c_a = 0, s2_a = 0;
+  double lo = yc - A, hi = yc + A, y_a = lo, m = 0, t = 0, dm = 0, th_a = -RR_PI / 2, c_a = 0,
+         s2_a = 0;
   int j = seg(p, lo), g = j + 1;
   while (y_a < hi) {
     double yb = hi, th_b = RR_PI / 2, c_b = 0, s2_b = 0;
@@ -311,6 +351,7 @@ static void harmonic_sums(const rr_conicity_plan *p, double yc, double A, double
     double al = p->d[j] + p->m[j] * (yc - p->y[j]), be = p->m[j];
     double dth = th_b - th_a, dcos = c_b - c_a;
     m += al * dth - be * A * dcos;
+    dm += be * dth;
     t += -(al / A) * dcos + be * (dth / 2 - (s2_b - s2_a) / 4);
     th_a = th_b;
     c_a = c_b;
@@ -319,51 +360,68 @@ static void harmonic_sums(const rr_conicity_plan *p, double yc, double A, double
     if (j < p->n - 2 && y_a >= p->y[j + 1]) j++; /* the next piece's segment, from its left end */
   }
   *M = m / RR_PI;
+  *dM = dm / RR_PI;
   *tg = t / RR_PI;
 }
 
-/* y_c where M = 0: M rises with y_c; regula falsi (Illinois) on the bracket
-   until it is 1e-12 mm wide or M vanishes. */
-static void harmonic_method(const rr_conicity_plan *p, double A, rr_conicity *out)
+#define HARMONIC_TOL_MM 1e-12 /* y_c's bracket width, or Newton's last step */
+
+/* y_c where M = 0 inside the bracket [lo, hi] (M(lo) < 0 < M(hi)): Newton's
+   step while it stays inside the bracket, else regula falsi (Illinois),
+   until the bracket or the step is HARMONIC_TOL_MM or M vanishes. The first
+   harmonic at the last centre evaluated, into tg. */
+static double harmonic_root(const rr_conicity_plan *p, double A, double lo, double hi, double Ml,
+                            double Mh, double *tg)
 {
-  double lo = fmax(p->y0 - A, p->y[0] + A), hi = fmin(p->y0 + A, p->y[p->n - 1] - A), Ml, Mh, tg;
-  if (lo > hi) return;
-  harmonic_sums(p, lo, A, &Ml, &tg);
-  if (Ml > 0) return;
-  harmonic_sums(p, hi, A, &Mh, &tg);
-  if (Mh < 0) return;
-  double yc = NAN, tg_c = tg;
-  if (Ml == 0) { /* a root at an end of the bracket */
-    yc = lo;
-    harmonic_sums(p, lo, A, &Ml, &tg_c);
-  } else if (Mh == 0) {
-    yc = hi;
-  }
-  for (int it = 0, side = 0; it < 200 && hi - lo > 1e-12 && Ml < 0 && Mh > 0; it++) {
-    double x = lo - Ml * (hi - lo) / (Mh - Ml), M;
+  double x = NAN, M, dM, newton = NAN;
+  for (int it = 0, side = 0; it < 200 && hi - lo > HARMONIC_TOL_MM; it++) {
+    int nt = newton > lo && newton < hi;
+    x = nt ? newton : lo - Ml * (hi - lo) / (Mh - Ml);
     if (!(x > lo && x < hi)) x = (lo + hi) / 2;
-    harmonic_sums(p, x, A, &M, &tg);
-    yc = x;
-    tg_c = tg; /* the first harmonic at the latest centre: no evaluation again */
+    harmonic_sums(p, x, A, &M, &dM, tg);
     if (M == 0) break;
-    if (M < 0) {
+    int s = M < 0 ? -1 : 1;
+    if (!nt && side == s) { /* Illinois: the stale end's weight halved */
+      if (s < 0)
+        Mh /= 2;
+      else
+        Ml /= 2;
+    }
+    side = s;
+    if (s < 0) {
       lo = x;
       Ml = M;
-      if (side == -1) Mh /= 2; /* Illinois: the stale end's weight halved */
-      side = -1;
     } else {
       hi = x;
       Mh = M;
-      if (side == 1) Ml /= 2;
-      side = 1;
     }
+    newton = dM > 0 ? x - M / dM : NAN;
+    if (fabs(newton - x) <= HARMONIC_TOL_MM) break;
   }
-  if (isnan(yc)) { /* the bracket already 1e-12 wide */
-    yc = (lo + hi) / 2;
-    harmonic_sums(p, yc, A, &Ml, &tg_c);
+  if (isnan(x)) { /* the bracket already HARMONIC_TOL_MM wide */
+    x = (lo + hi) / 2;
+    harmonic_sums(p, x, A, &M, &dM, tg);
+  }
+  return x;
+}
+
+/* y_c where M = 0: the bracket's ends checked (M rises with y_c there), the
+   root found between them. */
+static void harmonic_method(const rr_conicity_plan *p, double A, rr_conicity *out)
+{
+  double lo = fmax(p->y0 - A, p->y[0] + A), hi = fmin(p->y0 + A, p->y[p->n - 1] - A), Ml, Mh, dM,
+         tg;
+  if (lo > hi) return;
+  harmonic_sums(p, lo, A, &Ml, &dM, &tg);
+  if (Ml > 0) return;
+  double yc = lo;
+  if (Ml < 0) {
+    harmonic_sums(p, hi, A, &Mh, &dM, &tg);
+    if (Mh < 0) return;
+    yc = Mh == 0 ? hi : harmonic_root(p, A, lo, hi, Ml, Mh, &tg);
   }
   out->harmonic_centre_mm = yc;
-  out->tan_gamma_e_harmonic = tg_c;
+  out->tan_gamma_e_harmonic = tg;
 }
 
 /* (c) The least-squares line through dr over y0 +- A: half its slope. */
