@@ -217,7 +217,7 @@ static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_mo
     if (needs_shape(o)) {
       rr_mode md;
       shape_of(ws, wr[j] + I * wi[j], ws->x);
-      rr_mode_shares(m, ws->x, &md);
+      rr_mode_energy(m, ws->x, &md);
       if (!rr_modal_hunting_related(&md, o)) continue;
     }
     out->hunting_index = ws->candz[i];

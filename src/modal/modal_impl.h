@@ -54,6 +54,8 @@ void rr_mode_fill(rr_mode *md, double re, double im, double anorm);
 int rr_modal_hunting_related(const rr_mode *md, const rr_modal_opts *o);
 /* Energy and roll shares and the name of a mode from its q shape. */
 void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md);
+/* The shares alone (md's name untouched): what the hunting rule reads. */
+void rr_mode_energy(const rr_model *m, const double complex *phi, rr_mode *md);
 /* Unit norm, largest component real and positive. */
 void rr_shape_normalise(double complex *phi, int n);
 /* Sorts, classifies against o, and sets the index and zeta_max. */

@@ -192,9 +192,12 @@ static void name_mode(const rr_model *m, const double complex *phi, const double
   snprintf(buf, len, "%s %s%s", s.word, motion, phase);
 }
 
-void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md)
+/* The shares into md; the groups' energies (not normalised) into eg, the
+   total returned. */
+static double energy_shares(const rr_model *m, const double complex *phi, rr_mode *md, double *eg)
 {
-  double tot = 0, roll = 0, froll = 0, eg[RR_NGROUPS] = {0, 0, 0};
+  double tot = 0, roll = 0, froll = 0;
+  for (int g = 0; g < RR_NGROUPS; g++) eg[g] = 0;
   for (int i = 0; i < m->n; i++) {
     double t = dof_energy(m, phi, i);
     eg[m->group[i]] += t;
@@ -208,7 +211,19 @@ void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md)
   for (int g = 0; g < RR_NGROUPS; g++) md->energy[g] = tot > 0 ? eg[g] / tot : 0;
   md->roll_share = tot > 0 ? roll / tot : 0;
   md->frame_roll_share = tot > 0 ? froll / tot : 0;
-  if (tot > 0)
+  return tot;
+}
+
+void rr_mode_energy(const rr_model *m, const double complex *phi, rr_mode *md)
+{
+  double eg[RR_NGROUPS];
+  energy_shares(m, phi, md, eg);
+}
+
+void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md)
+{
+  double eg[RR_NGROUPS];
+  if (energy_shares(m, phi, md, eg) > 0)
     name_mode(m, phi, eg, md->name, sizeof md->name);
   else
     snprintf(md->name, sizeof md->name, "none");
