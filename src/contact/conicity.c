@@ -284,7 +284,7 @@ static double wave_integral(rr_conicity_plan *p, double yl, double yr)
     int left = yb <= p->y0;
     while (j < p->n - 2 && y_a >= p->y[j + 1]) j++; /* the segment from the piece's left end */
     double far = FAR_WIDTHS * (yb - y_a);
-    if (j > kl && j < kr && y_a - yl >= far && yr - yb >= far) {
+    if (j > kl && j < kr && yb > y_a && y_a - yl >= far && yr - yb >= far) {
       integral += piece_far(p, y_a, yb, j, left);
       t0 = NAN; /* theta at the next piece's start, if it needs it, from y */
     } else {

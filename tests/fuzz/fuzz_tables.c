@@ -1,7 +1,8 @@
 /* The nonlinear model's two-column readers: tread profile tables (then the
  * conicity over 0-30 mm) and measured alignment records (then sampled for
- * the Type 1 vehicle's contacts at 300 km/h), and wheel and rail profiles
- * (then in contact with themselves). The first input byte picks the reader. */
+ * the Type 1 vehicle's contacts at 300 km/h), wheel and rail profiles
+ * (then in contact with themselves), and dr(y) tables (then their equivalent
+ * conicity by the three methods). The first input byte picks the reader. */
 #include "fuzz_common.h"
 #include "railride/contact.h"
 #include <math.h>
@@ -57,10 +58,38 @@ static void polyline(const uint8_t *data, size_t size)
   rr_polyline_free(&p);
 }
 
+/* A dr(y) table from the bytes (y rising in steps of 0.01-2.56 mm, dr from
+   16-bit integers in um): each method's conicity is finite or undefined
+   (NaN), never infinite. */
+static void conicity(const uint8_t *data, size_t size)
+{
+  enum { NMAX = 400 };
+  double y[NMAX], dr[NMAX];
+  int n = 0;
+  for (size_t i = 0; i + 2 < size && n < NMAX; i += 3, n++) {
+    y[n] = (n ? y[n - 1] : -0.005 * (double)(size / 3)) + 0.01 * (1 + data[i]);
+    dr[n] = (int16_t)(data[i + 1] | data[i + 2] << 8) * 1e-3;
+  }
+  rr_conicity_plan *cp;
+  rr_error e;
+  if (rr_conicity_plan_new(y, dr, NULL, n, &cp, &e)) return;
+  const double A[4] = {0.5, 1, 3, 7.5};
+  for (int k = 0; k < 4; k++) {
+    rr_conicity c;
+    rr_conicity_eval(cp, A[k], 750, 460, &c);
+    if (isinf(c.tan_gamma_e) || isinf(c.tan_gamma_e_harmonic) || isinf(c.tan_gamma_e_regression))
+      abort();
+    if (!isnan(c.tan_gamma_e) && !(isfinite(c.turning_mm[0]) && isfinite(c.turning_mm[1]))) abort();
+  }
+  rr_conicity_plan_free(cp);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
   if (size < 1) return 0;
-  if (data[0] % 3 == 1)
+  if (data[0] == 255) /* apart from the three readers: the seeds keep their reader */
+    conicity(data + 1, size - 1);
+  else if (data[0] % 3 == 1)
     record(data + 1, size - 1);
   else if (data[0] % 3 == 2)
     polyline(data + 1, size - 1);
