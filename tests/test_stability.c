@@ -517,6 +517,42 @@ static void test_locus_every_mode(void)
          late8a, late8b, late_low);
 }
 
+/* A table whose stiffness spans seven decades (found by fuzz_sdf_table):
+   branches whose steps halve without end are lost after a bounded number of
+   steps, by both trackings, instead of walking the range in ever smaller
+   steps; the index still gives the verdict. */
+static void test_sdf_steep_table(void)
+{
+  rr_vehicle v;
+  rr_vehicle_default(&v);
+  v.sdf_mode = RR_SDF_PAPER;
+  v.sdf = (rr_sdf_curve){.kind = RR_CURVE_TABLE,
+                         .n = 2,
+                         .has_loss = 1,
+                         .f_hz = {1.0, 10.0},
+                         .k_storage = {10e6, 12.6e13},
+                         .k_loss = {2.9e6, 0}};
+  rr_model *m;
+  rr_modal_ws *ws;
+  rr_error e;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
+  CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  rr_modal_opts fast = rr_modal_opts_default(), ref = fast;
+  ref.tracking = RR_TRACK_REFERENCE;
+  const rr_modal_opts *opts[2] = {&fast, &ref};
+  for (int t = 0; t < 2; t++) {
+    rr_stability s;
+    CHECK_OK(rr_modal_stability(m, opts[t], ws, &s, &e), e);
+    CHECK(s.source == RR_INDEX_NONE ||
+              (s.index >= -1 && s.index <= 1 && rr_modal_stable(s.zeta_max) == (s.index < 0)),
+          "steep SDF table (%s tracking): index %g is not the verdict (zeta_max %g)",
+          t ? "reference" : "fast", s.index, s.zeta_max);
+  }
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
+}
+
 int main(void)
 {
   test_roll_out_hunting_in();
@@ -524,6 +560,7 @@ int main(void)
   test_verdict_any_mode();
   test_objective_modifiers();
   test_sdf_fast_vs_reference();
+  test_sdf_steep_table();
   test_sign_is_verdict();
   test_typical_inertias();
   test_locus_every_mode();

@@ -29,6 +29,7 @@
 #define FIRST_STEPS 32 /* first step (k_hi - k_lo) / 32 */
 #define ROOT_TOL 1e-9  /* bisection to |dk| <= 1e-9 k_hi */
 #define STEP_MIN 1e-12 /* a branch is lost below steps of 1e-12 k_hi */
+#define WALK_TRIES 256 /* or after this many steps tried: a sane curve needs ~32 */
 #define NEWTON_MAXIT 30
 #define NEWTON_TOL_GRID                                                                            \
   1e-4              /* relative eigenvalue update at which a grid solve stops: the                 \
@@ -85,7 +86,11 @@ static int ref_branch(const rr_model *m, rr_modal_ws *ws, const rr_modal_result 
   copy_shape(phia, phi, n);
   double k = k_lo, h = h_of(m, k, cur.im), step = (k_hi - k_lo) / FIRST_STEPS, ka = k, kb = k;
   int found = h >= 0, lost = 0;
-  while (!found && !lost) {
+  for (int tries = 0; !found && !lost; tries++) {
+    if (tries == WALK_TRIES) { /* steps halved without end: a curve over many decades */
+      lost = 1;
+      break;
+    }
     double kn = fmin(k + step, k_hi), mac;
     if ((st = solve_at(m, kn, ws, rb, err))) return st;
     int j = best_match(rb, phi, n, &mac);
@@ -298,7 +303,7 @@ static int walk(const tracker *tr, double complex s0, bracket *br, point *last)
   push(hist, &nh, tr->k_lo, s0);
   double k = tr->k_lo, step = (tr->k_hi - tr->k_lo) / FIRST_STEPS;
   double complex s = s0;
-  while (k < tr->k_hi) {
+  for (int tries = 0; k < tr->k_hi && tries < WALK_TRIES; tries++) {
     double kn = fmin(k + step, tr->k_hi);
     double complex sn = predict(hist, nh, kn);
     copy_shape(tr->xn, tr->phi, n);
