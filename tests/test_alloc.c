@@ -181,6 +181,16 @@ static void stability(const char *vehicle)
   CHECK(n == 0 && !st, "modal_stability (%s): %ld allocations", vehicle, n);
   ALLOCS(st |= rr_modal_stability_batch(m, NULL, ws, 4, sp, lam, s, &e), n);
   CHECK(n == 0 && !st, "modal_stability_batch (%s): %ld allocations", vehicle, n);
+  /* two designs' points in the same lanes */
+  rr_model *two[4] = {m, NULL, m, NULL};
+  CHECK_OK(rr_model_clone(m, &two[1], &e), e);
+  two[3] = two[1];
+  rr_robust rb[2];
+  ALLOCS(st |= rr_modal_stability_many(two, NULL, ws, 4, sp, lam, s, &e), n);
+  CHECK(n == 0 && !st, "modal_stability_many (%s): %ld allocations", vehicle, n);
+  ALLOCS(st |= rr_robust_indices_many(two, 2, NULL, NULL, ws, rb, &e), n);
+  CHECK(n == 0 && !st, "robust_indices_many (%s): %ld allocations", vehicle, n);
+  rr_model_free(two[1]);
   rr_modal_ws_free(ws);
   rr_model_free(m);
 }

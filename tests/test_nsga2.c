@@ -395,6 +395,84 @@ static void test_design(void)
   rr_design_free(d);
 }
 
+/* Designs evaluated in groups (the robust indices of several designs in the
+   same SIMD lanes) give what one by one gives, bit for bit: two full groups
+   and a partial one, a design refused, two rules and three SDF variants
+   (physical adds states; paper mode takes the single-point route). */
+static void test_design_groups(void)
+{
+  rr_vehicle v;
+  rr_error e;
+  CHECK_OK(rr_vehicle_builtin("type2", &v, &e), e);
+  const char *keys[3] = {"primary.longitudinal_stiffness", "yaw_damper.damping",
+                         "yaw_damper.series_stiffness"};
+  const char *objs[6] = {"zeta_low",          "zeta_high", "std_zeta;sdf=physical",
+                         "zeta_high;fmax=20", "std_zeta",  "zeta_low;sdf=paper"};
+  rr_design *d;
+  CHECK_OK(rr_design_new(&v, 3, keys, 6, objs, &d, &e), e);
+  enum { N = 19 };
+  double X[3 * N], F[6 * N], Fs[6 * N];
+  unsigned s = 7;
+  const double lo[3] = {10e6, 100e3, 1e6}, hi[3] = {120e6, 4000e3, 30e6};
+  for (int i = 0; i < 3 * N; i++) {
+    s = s * 1664525u + 1013904223u;
+    X[i] = lo[i % 3] + (hi[i % 3] - lo[i % 3]) * ((s >> 8) / 16777216.0);
+  }
+  X[3 * 5] = -1; /* refused: negative stiffness */
+  int want = 0;
+  for (int i = 0; i < N; i++) want += rr_design_evaluate(d, X + 3 * i, Fs + 6 * i, &e) != RR_OK;
+  CHECK(want >= 1 && want <= 3, "the refused design fails one by one, most succeed (%d failures)",
+        want);
+  for (int t = 1; t <= 2; t++) {
+    int failed = -1;
+    CHECK_OK(rr_design_evaluate_batch(d, N, X, F, t, &failed, &e), e);
+    CHECK(failed == want, "%d threads: %d failures, one by one %d", t, failed, want);
+    CHECK(!memcmp(F, Fs, sizeof F), "%d threads: groups equal one by one, bit for bit", t);
+  }
+  rr_design_free(d);
+
+  /* rr_robust_indices_many against rr_robust_indices model by model; a
+     workspace made for another layout is refused */
+  rr_model *m[3];
+  rr_modal_ws *ws;
+  for (int i = 0; i < 3; i++) {
+    v.primary_kx = X[3 * i];
+    CHECK_OK(rr_model_from_vehicle(&v, &m[i], &e), e);
+  }
+  CHECK_OK(rr_modal_ws_new(m[0], &ws, &e), e);
+  rr_robust many[3], one;
+  CHECK_OK(rr_robust_indices_many(m, 3, NULL, NULL, ws, many, &e), e);
+  for (int i = 0; i < 3; i++) {
+    CHECK_OK(rr_robust_indices(m[i], NULL, NULL, ws, &one, &e), e);
+    CHECK(!memcmp(&one, &many[i], sizeof one), "model %d: many equals one, bit for bit", i);
+  }
+  /* a one-body model's workspace */
+  rr_system *sys;
+  rr_model *tiny;
+  rr_modal_ws *small;
+  CHECK_OK(rr_system_new(&sys, &e), e);
+  rr_body_spec b = {.name = "b", .group = RR_GROUP_WHEELSET, .mass = 1000, .dofs = RR_DOF_Y};
+  int bi = -1;
+  CHECK_OK(rr_system_add_body(sys, &b, &bi, &e), e);
+  rr_element_spec k = {.name = "k",
+                       .body_a = bi,
+                       .body_b = RR_GROUND,
+                       .direction = RR_DIR_Y,
+                       .law = RR_LAW_SPRING,
+                       .k = 1e6};
+  CHECK_OK(rr_system_add_element(sys, &k, NULL, &e), e);
+  CHECK_OK(rr_model_new(sys, &tiny, &e), e);
+  rr_system_free(sys);
+  CHECK_OK(rr_modal_ws_new(tiny, &small, &e), e);
+  CHECK(rr_robust_indices_many(m, 2, NULL, NULL, small, many, &e) == RR_EINVAL &&
+            strstr(e.msg, "workspace"),
+        "models of another layout than the workspace's: refused (%s)", e.msg);
+  rr_model_free(tiny);
+  rr_modal_ws_free(small);
+  rr_modal_ws_free(ws);
+  for (int i = 0; i < 3; i++) rr_model_free(m[i]);
+}
+
 /* rr_objective_at: the operating point replaced, the point x and the
    modifiers kept, the text checked. */
 static void test_objective_at(void)
@@ -515,6 +593,7 @@ int main(void)
   test_resume();
   check_cleanup();
   test_design();
+  test_design_groups();
   test_objective_at();
   return check_done("nsga2");
 }

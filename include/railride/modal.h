@@ -122,6 +122,14 @@ RR_API int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, r
 RR_API int rr_modal_stability_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
                                     const double *speed_ms, const double *conicity,
                                     rr_stability *out, rr_error *err);
+/* The same with point p on models[p]: models of one vehicle layout (the one
+ * ws was made for; another is RR_EINVAL), such as the designs of one
+ * optimiser generation, whose points then share the SIMD lanes. out[p]
+ * equals rr_modal_stability on models[p] to the last bit; every model's
+ * operating point is restored. Allocation-free. */
+RR_API int rr_modal_stability_many(rr_model *const *models, const rr_modal_opts *o, rr_modal_ws *ws,
+                                   int npts, const double *speed_ms, const double *conicity,
+                                   rr_stability *out, rr_error *err);
 
 /* Modal assurance criterion of two complex vectors. */
 RR_API double rr_mac(const rr_complex *a, const rr_complex *b, int n);

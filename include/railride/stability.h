@@ -32,6 +32,14 @@ typedef struct rr_robust {
  * restored. */
 RR_API int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r,
                              rr_modal_ws *ws, rr_robust *out, rr_error *err);
+/* The same for nmodels models of one vehicle layout (the designs of an
+ * optimiser generation, say), their points sharing the SIMD lanes through
+ * rr_modal_stability_many: out[i] equals rr_robust_indices on models[i] to
+ * the last bit. On an error no out[i] is valid (evaluate the models one by
+ * one to find which failed). Operating points are restored. */
+RR_API int rr_robust_indices_many(rr_model *const *models, int nmodels, const rr_modal_opts *o,
+                                  const rr_robust_opts *r, rr_modal_ws *ws, rr_robust *out,
+                                  rr_error *err);
 
 /* Critical speed: the lowest speed in [v_min, v_max] (m/s) at which some
  * oscillatory mode, of any frequency and shape, has zeta >= 0 (index_modes:

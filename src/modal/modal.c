@@ -297,51 +297,91 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
   return st;
 }
 
-/* One group of up to RR_QR_LANES_MAX points: their state matrices in SIMD
-   lanes; a lane that fails, or a group of one, takes the single-point route. */
-static int batch_group(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int nb,
+/* One group of up to RR_QR_LANES_MAX points, point c on model mods[c]: their
+   state matrices in SIMD lanes; a lane that fails, a group of one, or
+   state matrices of unequal order take the single-point route. */
+static int batch_group(rr_model *const *mods, const rr_modal_opts *o, rr_modal_ws *ws, int nb,
                        const double *v, const double *lam, rr_stability *out, rr_error *err)
 {
   int N = 0, fail[RR_QR_LANES_MAX] = {0}, st = RR_OK;
   const double *mats[RR_QR_LANES_MAX];
   double anorm[RR_QR_LANES_MAX];
   size_t NN = (size_t)ws->N * (size_t)ws->N;
-  int lanes = nb > 1 && !paper_sdf(m);
+  int lanes = nb > 1;
   for (int c = 0; c < nb && lanes; c++) {
     double *A = ws->Ab + (size_t)c * NN;
-    if ((st = rr_model_set_operating(m, v[c], lam[c], err))) return st;
-    if ((st = rr_state_matrix_merged(m, 0, A, &N, err))) return st;
+    int Nc;
+    if (paper_sdf(mods[c])) {
+      lanes = 0;
+      break;
+    }
+    if ((st = rr_model_set_operating(mods[c], v[c], lam[c], err))) return st;
+    if ((st = rr_state_matrix_merged(mods[c], 0, A, &Nc, err))) return st;
+    if (c > 0 && Nc != N) lanes = 0;
+    N = Nc;
     mats[c] = A;
     anorm[c] = rr_modal_max_abs(A, N);
   }
   if (N > 64) lanes = 0;
   if (lanes) rr_eig_batch(N, nb, rr_eig_batch_lanes(), mats, ws->wrb, ws->wib, ws->qrw, fail);
   for (int c = 0; c < nb; c++) {
-    if ((st = rr_model_set_operating(m, v[c], lam[c], err))) return st;
+    if ((st = rr_model_set_operating(mods[c], v[c], lam[c], err))) return st;
     if (lanes && !fail[c]) {
-      stability_from_eigs(m, o, ws, N, ws->wrb + (size_t)c * (size_t)N,
+      stability_from_eigs(mods[c], o, ws, N, ws->wrb + (size_t)c * (size_t)N,
                           ws->wib + (size_t)c * (size_t)N, anorm[c], &out[c]);
       st = check_finite(&out[c], err);
     } else {
-      st = rr_modal_stability(m, o, ws, &out[c], err);
+      st = rr_modal_stability(mods[c], o, ws, &out[c], err);
     }
     if (st) return st;
   }
   return RR_OK;
 }
 
+/* A model the workspace was not made for would overrun it. */
+static int check_fits(const rr_model *m, const rr_modal_ws *ws, rr_error *err)
+{
+  if (m->n == ws->n && rr_modal_state_cap(m) <= ws->N) return RR_OK;
+  return rr_seterr(err, RR_EINVAL, "modal workspace made for another vehicle layout (%d dof)",
+                   ws->n);
+}
+
+/* The groups of npts points, point p on mods[p * mstride] (mstride 0: one
+   model); every model's operating point is restored, in reverse order so
+   that a model met twice gets its first one. */
+static int stability_points(rr_model *const *mods, int mstride, const rr_modal_opts *o,
+                            rr_modal_ws *ws, int npts, const double *v, const double *lam,
+                            rr_stability *out, rr_error *err)
+{
+  rr_modal_opts def = rr_modal_opts_default();
+  if (!o) o = &def;
+  int st = RR_OK, W = rr_eig_batch_lanes();
+  for (int p0 = 0; p0 < npts && !st; p0 += W) {
+    int nb = npts - p0 < W ? npts - p0 : W;
+    rr_model *g[RR_QR_LANES_MAX];
+    double v0[RR_QR_LANES_MAX], l0[RR_QR_LANES_MAX];
+    for (int c = 0; c < nb; c++) {
+      g[c] = mods[(size_t)(p0 + c) * (size_t)mstride];
+      if ((st = check_fits(g[c], ws, err))) return st;
+      v0[c] = rr_model_speed(g[c]);
+      l0[c] = rr_model_conicity(g[c]);
+    }
+    st = batch_group(g, o, ws, nb, v + p0, lam + p0, out + p0, err);
+    for (int c = nb - 1; c >= 0; c--) rr_model_set_operating(g[c], v0[c], l0[c], NULL);
+  }
+  return st;
+}
+
 int rr_modal_stability_batch(rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int npts,
                              const double *speed_ms, const double *conicity, rr_stability *out,
                              rr_error *err)
 {
-  rr_modal_opts def = rr_modal_opts_default();
-  if (!o) o = &def;
-  double v0 = rr_model_speed(m), l0 = rr_model_conicity(m);
-  int st = RR_OK, W = rr_eig_batch_lanes();
-  for (int p0 = 0; p0 < npts && !st; p0 += W) {
-    int nb = npts - p0 < W ? npts - p0 : W;
-    st = batch_group(m, o, ws, nb, speed_ms + p0, conicity + p0, out + p0, err);
-  }
-  rr_model_set_operating(m, v0, l0, NULL);
-  return st;
+  return stability_points(&m, 0, o, ws, npts, speed_ms, conicity, out, err);
+}
+
+int rr_modal_stability_many(rr_model *const *models, const rr_modal_opts *o, rr_modal_ws *ws,
+                            int npts, const double *speed_ms, const double *conicity,
+                            rr_stability *out, rr_error *err)
+{
+  return stability_points(models, 1, o, ws, npts, speed_ms, conicity, out, err);
 }

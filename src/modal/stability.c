@@ -36,51 +36,84 @@ static void robust_verdict(rr_robust *out, const rr_stability *s, double v, doub
   }
 }
 
-int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r, rr_modal_ws *ws,
-                      rr_robust *out, rr_error *err)
+/* Robust point p of r (its speed and conicity): zeta_low's, zeta_high's,
+   then the conicity sweep at v_high. */
+static void robust_point(const rr_robust_opts *r, int p, double *v, double *lam)
+{
+  *v = p == 0 ? r->v_low_ms : r->v_high_ms;
+  *lam = p == 0 ? r->conicity_low : p == 1 ? r->conicity_high : sweep_conicity(r, p - 2);
+}
+
+#define ROBUST_BLOCK 8 /* models whose sums one robust_block call keeps */
+
+/* The robust indices of nm <= ROBUST_BLOCK models: their points one
+   after another (model i's at i npts ..), in calls of CHUNK points that
+   group them in lanes; each model's sums in its points' order. */
+static int robust_block(rr_model *const *models, int nm, const rr_modal_opts *o,
+                        const rr_robust_opts *r, rr_modal_ws *ws, rr_robust *out, rr_error *err)
+{
+  int nc = r->n_conicity;
+  /* the sweep's end point equal to zeta_high's is not solved twice */
+  int reuse = sweep_conicity(r, nc - 1) == r->conicity_high;
+  int npts = 2 + nc - reuse, total = nm * npts;
+  double sum[ROBUST_BLOCK] = {0}, sum2[ROBUST_BLOCK] = {0};
+  for (int i = 0; i < nm; i++)
+    out[i] = (rr_robust){.zeta_max = -1, .unstable_speed_ms = NAN, .unstable_conicity = NAN};
+  enum { CHUNK = 16 }; /* points per call: a multiple of the lane counts */
+  for (int g0 = 0; g0 < total; g0 += CHUNK) {
+    double v[CHUNK], lam[CHUNK];
+    rr_model *mods[CHUNK];
+    rr_stability z[CHUNK];
+    int nb = total - g0 < CHUNK ? total - g0 : CHUNK;
+    for (int c = 0; c < nb; c++) {
+      mods[c] = models[(g0 + c) / npts];
+      robust_point(r, (g0 + c) % npts, &v[c], &lam[c]);
+    }
+    int st = rr_modal_stability_many(mods, o, ws, nb, v, lam, z, err);
+    if (st) return st;
+    for (int c = 0; c < nb; c++) {
+      int i = (g0 + c) / npts, p = (g0 + c) % npts;
+      if (p == 0) out[i].zeta_low = z[c].index;
+      if (p == 1) out[i].zeta_high = z[c].index;
+      if (p >= 2) {
+        sum[i] += z[c].index;
+        sum2[i] += z[c].index * z[c].index;
+      }
+      robust_verdict(&out[i], &z[c], v[c], lam[c]);
+    }
+  }
+  for (int i = 0; i < nm; i++) {
+    if (reuse) {
+      sum[i] += out[i].zeta_high;
+      sum2[i] += out[i].zeta_high * out[i].zeta_high;
+    }
+    double mean = sum[i] / nc;
+    double var = sum2[i] / nc - mean * mean;
+    out[i].std_zeta = sqrt(var > 0 ? var : 0);
+  }
+  return RR_OK;
+}
+
+int rr_robust_indices_many(rr_model *const *models, int nmodels, const rr_modal_opts *o,
+                           const rr_robust_opts *r, rr_modal_ws *ws, rr_robust *out, rr_error *err)
 {
   rr_robust_opts def = rr_robust_opts_default();
   if (!r) r = &def;
-  int nc = r->n_conicity;
-  if (nc < 1) return rr_seterr(err, RR_EINVAL, "robust: conicity count must be >= 1");
-  /* points: zeta_low's, zeta_high's, then the conicity sweep at v_high,
-     whose end point equal to zeta_high's is not solved twice; evaluated in
-     groups that share one instruction stream */
-  int reuse = sweep_conicity(r, nc - 1) == r->conicity_high;
-  int npts = 2 + nc - reuse;
-  double sum = 0, sum2 = 0;
-  *out = (rr_robust){.zeta_max = -1, .unstable_speed_ms = NAN, .unstable_conicity = NAN};
-  enum { CHUNK = 16 }; /* points per call: the call groups them in lanes */
-  for (int p0 = 0; p0 < npts; p0 += CHUNK) {
-    double v[CHUNK], lam[CHUNK];
-    rr_stability z[CHUNK];
-    int nb = npts - p0 < CHUNK ? npts - p0 : CHUNK;
-    for (int c = 0; c < nb; c++) {
-      int p = p0 + c;
-      v[c] = p == 0 ? r->v_low_ms : r->v_high_ms;
-      lam[c] = p == 0 ? r->conicity_low : p == 1 ? r->conicity_high : sweep_conicity(r, p - 2);
-    }
-    int st = rr_modal_stability_batch(m, o, ws, nb, v, lam, z, err);
+  if (r->n_conicity < 1) return rr_seterr(err, RR_EINVAL, "robust: conicity count must be >= 1");
+  if (nmodels < 0 || (nmodels > 0 && (!models || !out)))
+    return rr_seterr(err, RR_EINVAL, "robust: need nmodels >= 0 and the arrays");
+  for (int i0 = 0; i0 < nmodels; i0 += ROBUST_BLOCK) {
+    int nm = nmodels - i0 < ROBUST_BLOCK ? nmodels - i0 : ROBUST_BLOCK;
+    int st = robust_block(models + i0, nm, o, r, ws, out + i0, err);
     if (st) return st;
-    for (int c = 0; c < nb; c++) {
-      int p = p0 + c;
-      if (p == 0) out->zeta_low = z[c].index;
-      if (p == 1) out->zeta_high = z[c].index;
-      if (p >= 2) {
-        sum += z[c].index;
-        sum2 += z[c].index * z[c].index;
-      }
-      robust_verdict(out, &z[c], v[c], lam[c]);
-    }
   }
-  if (reuse) {
-    sum += out->zeta_high;
-    sum2 += out->zeta_high * out->zeta_high;
-  }
-  double mean = sum / nc;
-  double var = sum2 / nc - mean * mean;
-  out->std_zeta = sqrt(var > 0 ? var : 0);
   return RR_OK;
+}
+
+int rr_robust_indices(rr_model *m, const rr_modal_opts *o, const rr_robust_opts *r, rr_modal_ws *ws,
+                      rr_robust *out, rr_error *err)
+{
+  return rr_robust_indices_many(&m, 1, o, r, ws, out, err);
 }
 
 rr_critical_opts rr_critical_opts_default(void)

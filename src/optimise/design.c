@@ -22,6 +22,9 @@
 /* One model per SDF variant an objective asks for: the vehicle's own, none,
    paper, physical. */
 #define MAX_MODELS 4
+/* Designs evaluated together when every objective is a robust index: their
+   points share the SIMD lanes (8 designs of 9 points fill 9 groups of 8). */
+#define DESIGN_GROUP 8
 enum { MO_FMAX = 1, MO_WMIN = 2, MO_RMAX = 4 };
 
 enum obj_kind {
@@ -78,6 +81,7 @@ struct rr_design {
   rr_system *scratch;
   int nclones;
   rr_design **clones;
+  rr_model *member[DESIGN_GROUP - 1][MAX_MODELS]; /* models of a group's other designs */
 };
 
 /* rr_critical_opts_default's range, for the objective's description */
@@ -151,6 +155,7 @@ static int is_vertical_only(int kind) { return kind > OBJ_N_MV; }
 #define OBJ_FMAX_MAX_HZ 1e6
 /* The objectives made of the stability index (which may be undefined). */
 static int is_index(int kind) { return kind <= OBJ_INDEX; }
+static int is_robust(int kind) { return kind <= OBJ_STD_ZETA; }
 static int is_stability(int kind) { return !is_ride(kind); }
 
 /* A finite number, the whole token. */
@@ -373,6 +378,7 @@ void rr_design_free(rr_design *d)
   for (int i = 0; i < d->nmodels; i++) {
     rr_model_free(d->model[i]);
     rr_modal_ws_free(d->ws[i]);
+    for (int j = 0; j < DESIGN_GROUP - 1; j++) rr_model_free(d->member[j][i]);
   }
   rr_system_free(d->scratch);
   for (int i = 0; i < d->nclones; i++) rr_design_free(d->clones[i]);
@@ -381,9 +387,9 @@ void rr_design_free(rr_design *d)
 }
 
 /* The vehicle as a model variant sees it. */
-static void variant(const rr_design *d, int sdf, rr_vehicle *v)
+static void variant(const rr_vehicle *cur, int sdf, rr_vehicle *v)
 {
-  *v = d->cur;
+  *v = *cur;
   if (sdf >= 0) v->sdf_mode = sdf;
 }
 
@@ -398,7 +404,7 @@ static int model_slot(rr_design *d, int sdf, const char *text, int *slot, rr_err
   if (d->nmodels >= MAX_MODELS)
     return rr_seterr(err, RR_EINVAL, "objective '%s': too many SDF variants", text);
   rr_vehicle v;
-  variant(d, sdf, &v);
+  variant(&d->cur, sdf, &v);
   if (v.sdf_mode != RR_SDF_NONE && v.sdf.kind == RR_CURVE_UNSET)
     return rr_seterr(err, RR_EINVAL, "objective '%s': the vehicle has no SDF curve", text);
   int m = d->nmodels++, st;
@@ -563,13 +569,19 @@ typedef struct robust_cache {
   rr_robust rb[RR_DESIGN_MAX_OBJS];
 } robust_cache;
 
-static int robust_value(rr_design *d, const objective *o, const rr_modal_opts *mo, robust_cache *rc,
-                        double *f, rr_error *err)
+static int robust_find(const robust_cache *rc, int model, const rr_modal_opts *mo)
 {
   int k = 0;
-  while (k < rc->n && !(rc->model[k] == o->model && same_rule(&rc->mo[k], mo))) k++;
+  while (k < rc->n && !(rc->model[k] == model && same_rule(&rc->mo[k], mo))) k++;
+  return k;
+}
+
+static int robust_value(rr_design *d, rr_model *const *models, const objective *o,
+                        const rr_modal_opts *mo, robust_cache *rc, double *f, rr_error *err)
+{
+  int k = robust_find(rc, o->model, mo);
   if (k == rc->n) {
-    int st = rr_robust_indices(d->model[o->model], mo, NULL, d->ws[o->model], &rc->rb[k], err);
+    int st = rr_robust_indices(models[o->model], mo, NULL, d->ws[o->model], &rc->rb[k], err);
     if (st) return st;
     rc->model[k] = o->model;
     rc->mo[k] = *mo;
@@ -623,9 +635,10 @@ static int vertical_value(rr_design *d, objective *o, rr_model *m, double *f, rr
   return RR_OK;
 }
 
-static int objective_value(rr_design *d, objective *o, robust_cache *rc, double *f, rr_error *err)
+static int objective_value(rr_design *d, rr_model *const *models, objective *o, robust_cache *rc,
+                           double *f, rr_error *err)
 {
-  rr_model *m = d->model[o->model];
+  rr_model *m = models[o->model];
   rr_modal_ws *ws = d->ws[o->model];
   rr_modal_opts mo = rule_of(d, o);
   int st;
@@ -633,7 +646,7 @@ static int objective_value(rr_design *d, objective *o, robust_cache *rc, double 
   switch (o->kind) {
   case OBJ_ZETA_LOW:
   case OBJ_ZETA_HIGH:
-  case OBJ_STD_ZETA: return robust_value(d, o, &mo, rc, f, err);
+  case OBJ_STD_ZETA: return robust_value(d, models, o, &mo, rc, f, err);
   case OBJ_INDEX: {
     rr_stability s;
     if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
@@ -655,10 +668,10 @@ static int objective_value(rr_design *d, objective *o, robust_cache *rc, double 
   }
 }
 
-int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
+/* Design x into d->cur and the models (rebuilt). */
+static int design_set(rr_design *d, const double *x, rr_model *const *models, rr_error *err)
 {
   int st = RR_OK;
-  for (int i = 0; i < d->nobj; i++) f[i] = NAN;
   d->cur = d->base;
   for (int i = 0; i < d->nvar; i++) {
     if (!isfinite(x[i]))
@@ -668,11 +681,20 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
   if ((st = rr_vehicle_check(&d->cur, err))) return st;
   for (int m = 0; m < d->nmodels && !st; m++) {
     rr_vehicle v;
-    variant(d, d->model_sdf[m], &v);
-    st = rr_model_rebuild(d->model[m], &v, d->scratch, err);
+    variant(&d->cur, d->model_sdf[m], &v);
+    st = rr_model_rebuild(models[m], &v, d->scratch, err);
   }
-  robust_cache rc = {.n = 0};
-  for (int i = 0; i < d->nobj && !st; i++) st = objective_value(d, &d->obj[i], &rc, &f[i], err);
+  return st;
+}
+
+/* The objectives of the design the models hold, rc holding robust indices
+   already known; every f NaN on an error. */
+static int design_objectives(rr_design *d, rr_model *const *models, robust_cache *rc, double *f,
+                             rr_error *err)
+{
+  int st = RR_OK;
+  for (int i = 0; i < d->nobj && !st; i++)
+    st = objective_value(d, models, &d->obj[i], rc, &f[i], err);
   for (int i = 0; i < d->nobj && !st; i++)
     if (isnan(f[i]) && is_index(d->obj[i].kind))
       st = rr_seterr(err, RR_EUNDEF,
@@ -686,15 +708,90 @@ int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
   return st;
 }
 
+int rr_design_evaluate(rr_design *d, const double *x, double *f, rr_error *err)
+{
+  for (int i = 0; i < d->nobj; i++) f[i] = NAN;
+  int st = design_set(d, x, d->model, err);
+  robust_cache rc = {.n = 0};
+  return st ? st : design_objectives(d, d->model, &rc, f, err);
+}
+
+/* The models of a group's design j (0: the context's own), made on first use. */
+static rr_model *const *member_models(rr_design *d, int j)
+{
+  if (j == 0) return d->model;
+  rr_model **mm = d->member[j - 1];
+  for (int m = 0; m < d->nmodels; m++)
+    if (!mm[m] && rr_model_clone(d->model[m], &mm[m], NULL)) return NULL;
+  return mm;
+}
+
+/* Each (model, rule) pair's robust indices for the group's designs that
+   were set (ok[j]) in one call, the points of all in SIMD lanes, into their
+   caches. When the call fails each design computes its own: the same
+   numbers, and its own error. */
+static void group_robust(rr_design *d, int G, rr_model *const *const *models, const int *ok,
+                         robust_cache *rc)
+{
+  for (int i = 0; i < d->nobj; i++) {
+    const objective *o = &d->obj[i];
+    rr_modal_opts mo = rule_of(d, o);
+    rr_model *mm[DESIGN_GROUP];
+    int who[DESIGN_GROUP], n = 0;
+    for (int j = 0; j < G; j++)
+      if (ok[j] && robust_find(&rc[j], o->model, &mo) == rc[j].n) {
+        who[n] = j;
+        mm[n++] = models[j][o->model];
+      }
+    rr_robust rb[DESIGN_GROUP];
+    if (n == 0 || rr_robust_indices_many(mm, n, &mo, NULL, d->ws[o->model], rb, NULL)) continue;
+    for (int k = 0; k < n; k++) {
+      robust_cache *c = &rc[who[k]];
+      c->model[c->n] = o->model;
+      c->mo[c->n] = mo;
+      c->rb[c->n++] = rb[k];
+    }
+  }
+}
+
+/* G <= DESIGN_GROUP designs; returns how many failed. Grouped only when
+   every objective is a robust index (their results are bit for bit those of
+   rr_design_evaluate); otherwise one by one. */
+static int evaluate_group(rr_design *d, int G, const double *x, double *f)
+{
+  rr_model *const *models[DESIGN_GROUP];
+  int grouped = G > 1, ok[DESIGN_GROUP], failed = 0;
+  for (int i = 0; i < d->nobj; i++) grouped &= is_robust(d->obj[i].kind);
+  for (int j = 0; j < G && grouped; j++) grouped = (models[j] = member_models(d, j)) != NULL;
+  if (!grouped) {
+    for (int j = 0; j < G; j++)
+      failed += rr_design_evaluate(d, x + (size_t)j * (size_t)d->nvar,
+                                   f + (size_t)j * (size_t)d->nobj, NULL) != RR_OK;
+    return failed;
+  }
+  robust_cache rc[DESIGN_GROUP];
+  for (int j = 0; j < G; j++) {
+    double *fj = f + (size_t)j * (size_t)d->nobj;
+    for (int i = 0; i < d->nobj; i++) fj[i] = NAN;
+    ok[j] = design_set(d, x + (size_t)j * (size_t)d->nvar, models[j], NULL) == RR_OK;
+    rc[j].n = 0;
+  }
+  group_robust(d, G, models, ok, rc);
+  for (int j = 0; j < G; j++)
+    failed += !ok[j] || design_objectives(d, models[j], &rc[j], f + (size_t)j * (size_t)d->nobj,
+                                          NULL) != RR_OK;
+  return failed;
+}
+
 int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, int nthreads,
                              int *nfailed, rr_error *err)
 {
   if (n < 0 || (n > 0 && (!x || !f)))
     return rr_seterr(err, RR_EINVAL, "design: a batch needs n >= 0 and its arrays");
-  int nt = 1;
+  int ng = (n + DESIGN_GROUP - 1) / DESIGN_GROUP, nt = 1;
 #ifdef _OPENMP
   nt = nthreads > 0 ? nthreads : omp_get_max_threads();
-  if (nt > n) nt = n > 0 ? n : 1;
+  if (nt > ng) nt = ng > 0 ? ng : 1;
 #else
   (void)nthreads;
 #endif
@@ -716,17 +813,17 @@ int rr_design_evaluate_batch(rr_design *d, int n, const double *x, double *f, in
   }
   int failed = 0;
 #ifdef _OPENMP
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 4) reduction(+ : failed)
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1) reduction(+ : failed)
 #endif
-  for (int i = 0; i < n; i++) {
+  for (int g = 0; g < ng; g++) {
     int t = 0;
 #ifdef _OPENMP
     t = omp_get_thread_num();
 #endif
     rr_design *ctx = t == 0 ? d : d->clones[t - 1];
-    if (rr_design_evaluate(ctx, x + (size_t)i * (size_t)d->nvar, f + (size_t)i * (size_t)d->nobj,
-                           NULL))
-      failed++;
+    int i0 = g * DESIGN_GROUP, G = n - i0 < DESIGN_GROUP ? n - i0 : DESIGN_GROUP;
+    failed +=
+        evaluate_group(ctx, G, x + (size_t)i0 * (size_t)d->nvar, f + (size_t)i0 * (size_t)d->nobj);
   }
   if (nfailed) *nfailed = failed;
   return RR_OK;
