@@ -77,7 +77,8 @@ int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err)
       break;
     }
   }
-  memcpy(m->contacts, sys->contacts, (size_t)sys->ncontacts * sizeof *sys->contacts);
+  if (sys->ncontacts > 0) /* a system without wheels has no contact array at all */
+    memcpy(m->contacts, sys->contacts, (size_t)sys->ncontacts * sizeof *sys->contacts);
   memcpy(m->bodies, sys->bodies, (size_t)sys->nbodies * sizeof *sys->bodies);
   m->nbodies = sys->nbodies;
   m->ni = sys->ncontacts;
