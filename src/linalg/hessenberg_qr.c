@@ -155,8 +155,9 @@ static inline __attribute__((always_inline)) void two_roots(double x, double y, 
  * column (p, q, r), scaled to unit 1-norm into L: two small consecutive
  * subdiagonals let it start above l. The column is formed times h(m+1, m),
  * the test being scale-free: no division per row. */
-static inline __attribute__((always_inline)) void
-sweep_start(double *a, int ld, int st, int l, int nn, double x, double y, double w, qr_lane *L)
+static inline __attribute__((always_inline)) void sweep_start(double *a, int ld, int st, int l,
+                                                              int nn, double x, double y, double w,
+                                                              int clear, qr_lane *L)
 {
   int m;
   double p = 0, q = 0, r = 0, s, z;
@@ -174,7 +175,9 @@ sweep_start(double *a, int ld, int st, int l, int nn, double x, double y, double
     if (u + v == v) break;
   }
   s = 1 / (fabs(p) + fabs(q) + fabs(r));
-  for (int i = m + 2; i <= nn; i++) {
+  /* the previous sweep's bulge entries below the subdiagonal, unless that
+     sweep cleared them as it went (the lanes' sweep does) */
+  for (int i = m + 2; clear && i <= nn; i++) {
     E(i, i - 2) = 0;
     if (i != m + 2) E(i, i - 3) = 0;
   }
@@ -189,7 +192,8 @@ sweep_start(double *a, int ld, int st, int l, int nn, double x, double y, double
 /* Takes the roots that have converged at the bottom of the active block and
  * prepares the next double-shift sweep: rows l..nn, starting at row m with
  * first column (p, q, r). Sets status 1 when every root is found. */
-static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *wr, double *wi)
+static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *wr, double *wi,
+                         int clear)
 {
   int nn = L->nn;
   while (nn >= 0) {
@@ -222,7 +226,7 @@ static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *w
       w = -0.4375 * s * s;
     }
     ++L->its;
-    sweep_start(a, ld, st, l, nn, x, y, w, L);
+    sweep_start(a, ld, st, l, nn, x, y, w, clear, L);
     return;
   }
   L->nn = nn;
@@ -303,7 +307,7 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
   qr_lane L;
   lane_init(a, n, n, 1, &L);
   for (;;) {
-    lane_advance(a, n, n, 1, &L, wr, wi);
+    lane_advance(a, n, n, 1, &L, wr, wi, 1);
     if (L.status) return L.status < 0 ? -1 : 0;
     sweep1(a, n, &L);
   }

@@ -16,8 +16,19 @@
 #define vd QR_CAT(vd, QRW)
 #define vl QR_CAT(vl, QRW)
 #define sweep_lanes QR_CAT(sweep_lanes, QRW)
+#define reflector_lanes QR_CAT(reflector_lanes, QRW)
+#define columns_lanes QR_CAT(columns_lanes, QRW)
 #define elmhes_lanes QR_CAT(elmhes_lanes, QRW)
 #define eig_lanes QR_CAT(eig_lanes, QRW)
+/* The 8-lane bodies carry the AVX-512 target themselves: GCC lowers a
+   function's vector operations for its own target before inlining it, so a
+   default-target body would reach eig_batch8 with every lane compare split
+   into scalar compares and inserts. */
+#if QRW == 8
+#define QR_TARGET __attribute__((target("arch=x86-64-v4")))
+#else
+#define QR_TARGET
+#endif
 typedef double vd __attribute__((vector_size(8 * QRW)));
 typedef long long vl __attribute__((vector_size(8 * QRW)));
 
@@ -35,17 +46,94 @@ typedef long long vl __attribute__((vector_size(8 * QRW)));
 
 #define V(i, j) b[(size_t)(i) * (size_t)ld + (size_t)(j)]
 
-static inline __attribute__((always_inline)) void sweep_lanes(vd *b, int ld, const qr_lane *lanes,
-                                                              const int *go)
+/* Step k's reflectors, one per lane, into f[0..4] = (x, y, z, q, r); lanes
+ * whose sweep does not cover k get the identity (zeros). A lane's first step
+ * takes its (p0, q0, r0); the others read column k - 1, whose subdiagonal
+ * entry V(k, k - 1) is set here. lm, ln: each lane's first and last step
+ * (ld and -1 for an idle lane); neg: the lane's sweep starts below its l. */
+QR_TARGET static inline __attribute__((always_inline)) void
+reflector_lanes(vd *b, int ld, int k, const vl *lm, const vl *ln, const vl *neg, const vd *p0,
+                const vd *q0, const vd *r0, vd *f)
+{
+  const vd zero = {0}, one = zero + 1;
+  const vl kv = (vl){0} + k;
+  vl on = (kv >= *lm) & (kv <= *ln), first = kv == *lm, last = kv == *ln, negate = first & *neg;
+  vd p = *p0, q = *q0, r = *r0, x = one;
+  if (k > 0) {
+    vd pb = V(k, k - 1), qb = V(k + 1, k - 1), rb = vsel(last, zero, V(k + 2, k - 1));
+    vd xb = vabs(pb) + vabs(qb) + vabs(rb);
+    vl scale = (xb != 0) & ((xb < 1e-100) | (xb > 1e100));
+    if (vany(scale & ~first)) {
+      vd ix = one / vsel(scale, xb, one);
+      pb *= ix;
+      qb *= ix;
+      rb *= ix;
+    }
+    xb = vsel(scale, xb, one);
+    p = vsel(first, *p0, pb);
+    q = vsel(first, *q0, qb);
+    r = vsel(first, *r0, rb);
+    x = vsel(first, one, xb);
+  }
+  vd nrm = p * p + q * q + r * r;
+  for (int c = 0; c < QRW; c++) nrm[c] = sqrt(nrm[c]);
+  vd s = vsel(p >= 0, nrm, -nrm);
+  on &= s != 0;
+  if (k > 0) {
+    vd old = V(k, k - 1);
+    V(k, k - 1) = vsel(on & first, vsel(negate, -old, old), vsel(on, -s * x, old));
+    /* the bulge entries just read are not read again: cleared here rather
+       than by the next sweep's start (lane_advance with clear = 0) */
+    vl used = on & ~first;
+    V(k + 1, k - 1) = vsel(used, zero, V(k + 1, k - 1));
+    V(k + 2, k - 1) = vsel(used & ~last, zero, V(k + 2, k - 1));
+  }
+  s = vsel(on, s, one);
+  vd is = one / s;
+  p += s;
+  vd ip = one / p;
+  f[0] = vsel(on, p * is, zero);
+  f[1] = vsel(on, q * is, zero);
+  f[2] = vsel(on, r * is, zero);
+  f[3] = vsel(on, q * ip, zero);
+  f[4] = vsel(on, r * ip, zero);
+}
+
+/* Step k's reflectors f applied to the rows i0..i1 of columns k..k + 2. */
+QR_TARGET static inline __attribute__((always_inline)) void
+columns_lanes(vd *b, int ld, int k, int i0, int i1, const vd *f)
+{
+  vd x = f[0], y = f[1], z = f[2], q = f[3], r = f[4];
+  for (int i = i0; i <= i1; i++) {
+    vd *ri = &V(i, k);
+    vd a0 = ri[0], a1 = ri[1], a2 = ri[2], pp = x * a0 + y * a1 + z * a2;
+    ri[2] = a2 - pp * r;
+    ri[1] = a1 - pp * q;
+    ri[0] = a0 - pp;
+  }
+}
+
+/* One sweep of every lane. Software-pipelined: after step k's row updates,
+ * its column updates of rows k + 1..k + 3 (the ones step k + 1's reflector
+ * reads) come first, then step k + 1's reflector, then step k's column
+ * updates of the rows above, which nothing reads until later, so that the
+ * reflector's sqrt and divisions run under them. Each entry still gets its
+ * operations in the same order as step by step: bit-identical. */
+QR_TARGET static inline __attribute__((always_inline)) void
+sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
 {
   int kmin = ld, kmax = -1, lmin = ld, nmax = -1;
   vd p0, q0, r0;
+  vl lm, ln, neg;
   for (int c = 0; c < QRW; c++) {
+    const qr_lane *L = &lanes[c];
+    lm[c] = go[c] ? L->m : ld;
+    ln[c] = go[c] ? L->nn - 1 : -1;
+    neg[c] = go[c] && L->l != L->m ? -1 : 0;
     if (!go[c]) {
       p0[c] = q0[c] = r0[c] = 0;
       continue;
     }
-    const qr_lane *L = &lanes[c];
     kmin = MIN(kmin, L->m);
     kmax = MAX(kmax, L->nn - 1);
     lmin = MIN(lmin, L->l);
@@ -54,70 +142,31 @@ static inline __attribute__((always_inline)) void sweep_lanes(vd *b, int ld, con
     q0[c] = L->q;
     r0[c] = L->r;
   }
-  const vd zero = {0}, one = zero + 1;
+  if (kmax < kmin) return;
+  vd f[5], g[5] = {{0}};
+  reflector_lanes(b, ld, kmin, &lm, &ln, &neg, &p0, &q0, &r0, f);
   for (int k = kmin; k <= kmax; k++) {
-    vl on = {0}, first = {0}, last = {0}, negate = {0};
-    for (int c = 0; c < QRW; c++) {
-      const qr_lane *L = &lanes[c];
-      on[c] = go[c] && k >= L->m && k <= L->nn - 1 ? -1 : 0;
-      first[c] = go[c] && k == L->m ? -1 : 0;
-      last[c] = go[c] && k == L->nn - 1 ? -1 : 0;
-      negate[c] = go[c] && k == L->m && L->l != L->m ? -1 : 0;
-    }
-    vd p = p0, q = q0, r = r0, x = one;
-    if (k > 0) {
-      vd pb = V(k, k - 1), qb = V(k + 1, k - 1), rb = vsel(last, zero, V(k + 2, k - 1));
-      vd xb = vabs(pb) + vabs(qb) + vabs(rb);
-      vl scale = (xb != 0) & ((xb < 1e-100) | (xb > 1e100));
-      if (vany(scale & ~first)) {
-        vd ix = one / vsel(scale, xb, one);
-        pb *= ix;
-        qb *= ix;
-        rb *= ix;
-      }
-      xb = vsel(scale, xb, one);
-      p = vsel(first, p0, pb);
-      q = vsel(first, q0, qb);
-      r = vsel(first, r0, rb);
-      x = vsel(first, one, xb);
-    }
-    vd nrm = p * p + q * q + r * r;
-    for (int c = 0; c < QRW; c++) nrm[c] = sqrt(nrm[c]);
-    vd s = vsel(p >= 0, nrm, -nrm);
-    on &= s != 0;
-    if (k > 0) {
-      vd old = V(k, k - 1);
-      V(k, k - 1) = vsel(on & first, vsel(negate, -old, old), vsel(on, -s * x, old));
-    }
-    s = vsel(on, s, one);
-    vd is = one / s;
-    p += s;
-    vd ip = one / p;
-    x = vsel(on, p * is, zero);
-    vd y = vsel(on, q * is, zero), z = vsel(on, r * is, zero);
-    q = vsel(on, q * ip, zero);
-    r = vsel(on, r * ip, zero);
+    vd x = f[0], y = f[1], z = f[2], q = f[3], r = f[4];
     vd *rk = &V(k, 0), *rk1 = &V(k + 1, 0), *rk2 = &V(k + 2, 0);
+    /* each entry loaded once into a local: through the pointers, which the
+       compiler must assume may alias, every store forced the others' reloads */
     for (int j = k; j <= nmax; j++) {
-      vd pp = rk[j] + q * rk1[j] + r * rk2[j];
-      rk2[j] -= pp * z;
-      rk1[j] -= pp * y;
-      rk[j] -= pp * x;
+      vd a0 = rk[j], a1 = rk1[j], a2 = rk2[j], pp = a0 + q * a1 + r * a2;
+      rk2[j] = a2 - pp * z;
+      rk1[j] = a1 - pp * y;
+      rk[j] = a0 - pp * x;
     }
-    int mmin = MIN(nmax, k + 3);
-    for (int i = lmin; i <= mmin; i++) {
-      vd *ri = &V(i, k);
-      vd pp = x * ri[0] + y * ri[1] + z * ri[2];
-      ri[2] -= pp * r;
-      ri[1] -= pp * q;
-      ri[0] -= pp;
-    }
+    int mmin = MIN(nmax, k + 3), near = MAX(lmin, k + 1);
+    columns_lanes(b, ld, k, near, mmin, f);
+    if (k < kmax) reflector_lanes(b, ld, k + 1, &lm, &ln, &neg, &p0, &q0, &r0, g);
+    columns_lanes(b, ld, k, lmin, MIN(mmin, near - 1), f);
+    for (int e = 0; e < 5; e++) f[e] = g[e];
   }
 }
 
 /* elmhes in lanes: each lane pivots on its own (row and column
  * interchanges lane by lane, together when the lanes agree). */
-static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int ld)
+QR_TARGET static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int ld)
 {
   vd y[64];
   double *s = (double *)b;
@@ -186,7 +235,7 @@ static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int
 }
 #undef V
 
-static inline __attribute__((always_inline)) int
+QR_TARGET static inline __attribute__((always_inline)) int
 eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, double *work, int *fail)
 {
   int ld = n + 1;
@@ -211,7 +260,7 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
     int any = 0;
     for (int c = 0; c < QRW; c++) {
       if (c < nb && lanes[c].status == 0)
-        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c]);
+        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c], 0);
       go[c] = c < nb && lanes[c].status == 0;
       any |= go[c];
     }
@@ -233,5 +282,8 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
 #undef vd
 #undef vl
 #undef sweep_lanes
+#undef reflector_lanes
+#undef columns_lanes
 #undef elmhes_lanes
 #undef eig_lanes
+#undef QR_TARGET
