@@ -107,12 +107,15 @@ static void lane_init(const double *a, int n, int ld, int st, qr_lane *L)
 /* The row l at which the active block nn splits off: the lowest l with a
  * negligible subdiagonal E(l, l-1) (set to zero), by the deflation test of
  * Ahues & Tisseur (LAPACK Working Note 122), as in LAPACK's dlahqr: small
- * relative to the 2 x 2 block it couples. */
-static inline __attribute__((always_inline)) int split_row(double *a, int ld, int st, int nn,
-                                                           double anorm)
+ * relative to the 2 x 2 block it couples. cand (or NULL): per row, nonzero
+ * where h <= DBL_MIN or h <= eps s, computed for all lanes at once
+ * (split_candidates), so that only those rows are read here. */
+static inline __attribute__((always_inline)) int
+split_row(double *a, int ld, int st, int nn, double anorm, const long long *cand, int cst)
 {
   int l;
   for (l = nn; l >= 1; l--) {
+    if (cand && !cand[l * cst]) continue; /* the test's first two steps fail here */
     double h = fabs(E(l, l - 1)), s;
     if (h <= DBL_MIN) {
       E(l, l - 1) = 0;
@@ -192,12 +195,13 @@ static inline __attribute__((always_inline)) void sweep_start(double *a, int ld,
 /* Takes the roots that have converged at the bottom of the active block and
  * prepares the next double-shift sweep: rows l..nn, starting at row m with
  * first column (p, q, r). Sets status 1 when every root is found. */
-static void lane_advance(double *a, int n, int ld, int st, qr_lane *L, double *wr, double *wi,
-                         int clear)
+static inline __attribute__((always_inline)) void lane_advance(double *a, int n, int ld, int st,
+                                                               qr_lane *L, double *wr, double *wi,
+                                                               int clear, const long long *cand)
 {
   int nn = L->nn;
   while (nn >= 0) {
-    int l = split_row(a, ld, st, nn, L->anorm);
+    int l = split_row(a, ld, st, nn, L->anorm, cand, st);
     double x = E(nn, nn);
     if (l == nn) { /* one root */
       wr[nn] = x + L->t;
@@ -307,7 +311,7 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
   qr_lane L;
   lane_init(a, n, n, 1, &L);
   for (;;) {
-    lane_advance(a, n, n, 1, &L, wr, wi, 1);
+    lane_advance(a, n, n, 1, &L, wr, wi, 1, NULL);
     if (L.status) return L.status < 0 ? -1 : 0;
     sweep1(a, n, &L);
   }

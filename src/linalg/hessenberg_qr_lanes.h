@@ -16,6 +16,7 @@
 #define vd QR_CAT(vd, QRW)
 #define vl QR_CAT(vl, QRW)
 #define sweep_lanes QR_CAT(sweep_lanes, QRW)
+#define split_candidates QR_CAT(split_candidates, QRW)
 #define reflector_lanes QR_CAT(reflector_lanes, QRW)
 #define columns_lanes QR_CAT(columns_lanes, QRW)
 #define elmhes_lanes QR_CAT(elmhes_lanes, QRW)
@@ -164,6 +165,24 @@ sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
   }
 }
 
+/* split_row's first two tests for every lane at once, rows 1..nn of the
+ * lanes still sweeping: the same arithmetic, so the same rows pass. */
+QR_TARGET static inline __attribute__((always_inline)) void
+split_candidates(const vd *b, int ld, const qr_lane *lanes, int nb, vl *cand)
+{
+  int top = 0;
+  vd anorm = {0};
+  for (int c = 0; c < QRW; c++) {
+    anorm[c] = lanes[c].anorm;
+    if (c < nb && lanes[c].status == 0) top = MAX(top, lanes[c].nn);
+  }
+  for (int i = 1; i <= top; i++) {
+    vd h = vabs(V(i, i - 1)), s = vabs(V(i - 1, i - 1)) + vabs(V(i, i));
+    s = vsel(s == 0, anorm, s);
+    cand[i] = (h <= DBL_MIN) | (h <= DBL_EPSILON * s);
+  }
+}
+
 /* elmhes in lanes: each lane pivots on its own (row and column
  * interchanges lane by lane, together when the lanes agree). */
 QR_TARGET static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int ld)
@@ -256,11 +275,13 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
   int go[QRW];
   double wrs[QRW][64], wis[QRW][64];
   for (int c = 0; c < QRW; c++) lane_init(s + c, n, ld, QRW, &lanes[c]);
+  vl cand[65];
   for (;;) {
+    split_candidates(b, ld, lanes, nb, cand);
     int any = 0;
     for (int c = 0; c < QRW; c++) {
       if (c < nb && lanes[c].status == 0)
-        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c], 0);
+        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c], 0, (const long long *)cand + c);
       go[c] = c < nb && lanes[c].status == 0;
       any |= go[c];
     }
@@ -282,6 +303,7 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
 #undef vd
 #undef vl
 #undef sweep_lanes
+#undef split_candidates
 #undef reflector_lanes
 #undef columns_lanes
 #undef elmhes_lanes
