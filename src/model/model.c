@@ -38,9 +38,11 @@ int rr_model_assemble(rr_model *m, const rr_system *sys, rr_error *err)
 {
   int n = m->n = sys->ndof;
   m->nmx = 0;
-  memset(m->M, 0, sizeof m->M);
-  memset(m->C0, 0, sizeof m->C0);
-  memset(m->K0, 0, sizeof m->K0);
+  /* n x n of the RR_SYS_MAX_DOF^2 arrays: clearing all of them was 96 KB a
+     design in the optimiser's loop */
+  memset(m->M, 0, sizeof(double) * (size_t)n * (size_t)n);
+  memset(m->C0, 0, sizeof(double) * (size_t)n * (size_t)n);
+  memset(m->K0, 0, sizeof(double) * (size_t)n * (size_t)n);
   m->ni = sys->ncontacts;
   for (int i = 0; i < n; i++) {
     m->mdiag[i] = sys->mass[i];

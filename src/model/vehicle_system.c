@@ -1,6 +1,5 @@
 /* The 17-DOF vehicle as a configuration of the generic layer (docs/model.md section 1-3). */
 #include <math.h>
-#include <stdio.h>
 #include "model/model_impl.h"
 #include "util/internal.h"
 
@@ -38,10 +37,11 @@ static int add_bodies(const rr_vehicle *v, rr_system *s, car_layout *car, rr_err
                      .dofs = RR_DOF_Y | RR_DOF_PSI | RR_DOF_PHI};
   int st = rr_system_add_body(s, &cb, &car->c, err);
   if (st) return st;
+  /* the names as constants: formatting them was a per cent of a design's
+     evaluation in the optimiser's loop, which rebuilds the model each time */
+  static const char *const frame[2] = {"f1", "f2"}, *const wheel[4] = {"w1", "w2", "w3", "w4"};
   for (int j = 0; j < 2; j++) {
-    char nm[8];
-    snprintf(nm, sizeof nm, "f%d", j + 1);
-    rr_body_spec fb = {.name = nm,
+    rr_body_spec fb = {.name = frame[j],
                        .group = RR_GROUP_FRAME,
                        .mass = v->frame_mass,
                        .yaw_inertia = v->frame_yaw_inertia,
@@ -51,9 +51,7 @@ static int add_bodies(const rr_vehicle *v, rr_system *s, car_layout *car, rr_err
     if ((st = rr_system_add_body(s, &fb, &car->f[j], err))) return st;
   }
   for (int i = 0; i < 4; i++) {
-    char nm[8];
-    snprintf(nm, sizeof nm, "w%d", i + 1);
-    rr_body_spec wb = {.name = nm,
+    rr_body_spec wb = {.name = wheel[i],
                        .group = RR_GROUP_WHEELSET,
                        .mass = v->wheelset_mass,
                        .yaw_inertia = v->wheelset_yaw_inertia,
@@ -74,13 +72,14 @@ static int add_element(rr_system *s, const rr_element_spec *e, rr_error *err)
    L, R), then lateral dampers (bogie 1, 2). */
 static int add_dampers(const rr_vehicle *v, rr_system *s, const car_layout *car, rr_error *err)
 {
+  static const char *const yaw[2][2] = {{"yaw_damper_b1_left", "yaw_damper_b1_right"},
+                                        {"yaw_damper_b2_left", "yaw_damper_b2_right"}},
+                           *const lateral[2] = {"lateral_damper_b1", "lateral_damper_b2"};
   int st = RR_OK;
   for (int j = 0; j < 2; j++)
     for (int side = 0; side < 2 && !st; side++) {
-      char nm[48];
-      snprintf(nm, sizeof nm, "yaw_damper_b%d_%s", j + 1, side == 0 ? "left" : "right");
       rr_element_spec e = {
-          .name = nm,
+          .name = yaw[j][side],
           .body_a = car->c,
           .body_b = car->f[j],
           .point = {car->xf[j], (side == 0 ? 1.0 : -1.0) * v->yaw_half_spacing, v->yaw_height},
@@ -92,9 +91,7 @@ static int add_dampers(const rr_vehicle *v, rr_system *s, const car_layout *car,
       st = add_element(s, &e, err);
     }
   for (int j = 0; j < 2 && !st; j++) {
-    char nm[48];
-    snprintf(nm, sizeof nm, "lateral_damper_b%d", j + 1);
-    rr_element_spec e = {.name = nm,
+    rr_element_spec e = {.name = lateral[j],
                          .body_a = car->c,
                          .body_b = car->f[j],
                          .point = {car->xf[j], 0, v->lateral_damper_height},
