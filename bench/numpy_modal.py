@@ -23,7 +23,13 @@ def timeit(fn, reps):
     return (time.perf_counter() - t0) / reps * 1e6
 
 
+quick = "index" in sys.argv[1:]  # only the figures bench/run.sh pairs with railride's
 print("numpy_eigvals_us %.1f" % timeit(lambda: np.linalg.eigvals(A), 3000))
+if quick:
+    stack = np.repeat(A[None, :, :], 200, axis=0) * (1 + 1e-9 * np.arange(200))[:, None, None]
+    print("numpy_eigvals_batched_us_per_matrix %.1f" % (timeit(lambda: np.linalg.eigvals(stack), 10) / 200))
+    print("numpy_robust_triple_batched_us %.1f" % timeit(lambda: np.linalg.eigvals(stack[:9].copy()), 300))
+    sys.exit(0)
 print("scipy_eigvals_nobalance_us %.1f" % timeit(lambda: sl.eigvals(A, check_finite=False, overwrite_a=False), 3000))
 print("numpy_eig_vectors_us %.1f" % timeit(lambda: np.linalg.eig(A), 1000))
 print("numpy_robust_triple_us %.1f" % timeit(lambda: [np.linalg.eigvals(A) for _ in range(9)], 300))

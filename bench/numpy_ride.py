@@ -119,8 +119,9 @@ def timeit(fn, reps):
     return (time.perf_counter() - t0) / reps * 1e6
 
 
-wz, wgb, awd = indices(build())
-print("numpy_ride_indices sperling %s gb %s wd %s" % (np.round(wz, 4), np.round(wgb, 4), np.round(awd, 5)))
-D = build()
-print("numpy_ride_evaluation_us %.1f  (build D %.1f us, solve and indices %.1f us)" % (
-    timeit(lambda: indices(build()), 50), timeit(build, 50), timeit(lambda: indices(D), 50)))
+if __name__ == "__main__":
+    wz, wgb, awd = indices(build())
+    print("numpy_ride_indices sperling %s gb %s wd %s" % (np.round(wz, 4), np.round(wgb, 4), np.round(awd, 5)))
+    D = build()
+    print("numpy_ride_evaluation_us %.1f  (build D %.1f us, solve and indices %.1f us)" % (
+        timeit(lambda: indices(build()), 50), timeit(build, 50), timeit(lambda: indices(D), 50)))

@@ -10,23 +10,45 @@ echo "== railride (C) =="
 taskset -c 1 "$B/bench/bench_modal"
 echo "== numpy/scipy, same state matrix (default vehicle, 350 km/h, conicity 0.17) =="
 "$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_modal.py
+echo "== stability index against numpy in alternating pairs (numpy's best: eigvals, one call over a stack for the batch and the triple) =="
+pairs=$(mktemp)
+"$B/railride" matrices --speed 350 --conicity 0.17 --json > "$pairs.json"
+for i in 1 2 3 4 5 6; do
+  a=$(taskset -c 1 $PY bench/numpy_modal.py index < "$pairs.json" | awk '{print $2}' | tr '\n' ' ')
+  b=$(taskset -c 1 "$B/bench/bench_modal" index | awk '{print $2}' | tr '\n' ' ')
+  echo "$a $b"
+done > "$pairs"
+for c in "1 4 single index" "2 5 8-lane batch, per point" "3 6 robust triple"; do
+  set -- $c
+  r=$(awk -v x="$1" -v y="$2" '{print $x / $y}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
+  shift 2
+  echo "index_vs_numpy_median_ratio $r ($*)"
+done
+echo "  pairs (us: numpy single, batched per matrix, triple; C single, batch per point, triple): $(tr '\n' ';' < "$pairs")"
+rm -f "$pairs" "$pairs.json"
 echo "== numpy/scipy: the paper-mode SDF index by the reference tracking (type1, Table 2 curve) =="
 "$B/railride" matrices examples/type1-sdf-paper.ini --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_sdf.py 1.5 8e6 6e6
 echo "== ride evaluation (C) =="
 taskset -c 1 "$B/bench/bench_ride"
 echo "== numpy, the same evaluation (D as one product of stacked coefficients, one batched solve of the lagged input sum, the indices as products) =="
 "$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_ride.py
-echo "== ride evaluation against numpy in alternating pairs (this VM's speed changes within a run) =="
+echo "== numpy by modes, the same evaluation the way railride does it (one eig, modal sums as products, the SDF as a rank-4 SMW correction): the best numpy baseline =="
+"$B/railride" matrices --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_ride_modal.py
+echo "== ride evaluation against both numpy routes in alternating triples (this VM's speed changes within a run) =="
 pairs=$(mktemp)
 "$B/railride" matrices --speed 350 --conicity 0.17 --json > "$pairs.json"
 for i in 1 2 3 4 5 6; do
   a=$(taskset -c 1 $PY bench/numpy_ride.py < "$pairs.json" | tail -1 | awk '{print $2}')
+  m=$(taskset -c 1 $PY bench/numpy_ride_modal.py < "$pairs.json" | tail -1 | awk '{print $2}')
   b=$(taskset -c 1 "$B/bench/bench_ride" | head -1 | awk '{print $2}')
-  echo "$a $b"
+  echo "$a $b $m"
 done > "$pairs"
 med=$(awk '{print $1 / $2}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
+medm=$(awk '{print $3 / $2}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
 best=$(awk '{if (!n || $1 < n) n = $1; if (!c || $2 < c) c = $2} END {printf "%.1f", n / c}' "$pairs")
-echo "ride_vs_numpy_median_ratio $med (6 pairs, us: $(tr '\n' ' ' < "$pairs")); best against best $best"
+echo "ride_vs_numpy_modal_median_ratio $medm (against the best numpy baseline)"
+echo "ride_vs_numpy_direct_median_ratio $med (a solve per frequency); best against best $best"
+echo "  triples (us: numpy direct, C, numpy modal): $(tr '\n' ';' < "$pairs")"
 echo "== vertical ride evaluation (C): 400 frequencies, 3 points, every index and the 5 s Wb percentiles; ride --direction both =="
 taskset -c 1 "$B/bench/bench_vertical"
 echo "== numpy, the same vertical evaluation written from docs/vertical.md (checked against railride's numbers) =="
@@ -67,6 +89,6 @@ for i in 1 2 3 4 5 6; do
 done > "$pairs"
 r=$(awk '{print $1 / $2}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
 echo "contact_vs_numpy_median_ratio $r (ms: numpy, C: $(tr '\n' ';' < "$pairs"))"
-rm -f "$cj"
+rm -f "$cj" "$pairs"
 echo "== nonlinear model: simulation, bifurcation diagram by continuation and by the scan =="
 OMP_NUM_THREADS=1 taskset -c 1 "$B/bench/bench_nonlinear"
