@@ -15,7 +15,10 @@
 /* AVX2 + FMA copies of a hot function, chosen at load time where the
    processor has them; the kernels it calls must be always_inline (RR_INLINE)
    so that they are compiled into each copy. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+/* RR_NO_CLONES: one copy for the compiler's target only (tests/test_isa.c
+   builds the kernels so, for the baseline x86-64, to hold the clones to it). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&       \
+    !defined(RR_NO_CLONES)
 #define RR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #define RR_HAVE_V4 1 /* an AVX-512 copy of the 8-lane batch, used where present */
 #else

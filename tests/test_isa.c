@@ -1,0 +1,154 @@
+#define _POSIX_C_SOURCE 200809L
+/* Every instruction-set copy of the eigenvalue kernels gives the same bits.
+ * The library picks its copies at load time (AVX-512, AVX2 + FMA or the
+ * baseline x86-64); this test links a second build of the same sources with
+ * one copy only, for the baseline x86-64 (SSE2, 4 lanes as two vectors: see
+ * tests/CMakeLists.txt), its symbols prefixed base_, and holds the library's
+ * copies to it on the state matrices of the default vehicle (the robust points,
+ * three SDF treatments) and on seeded random matrices that split and deflate
+ * early: eigenvalues alone (one matrix, lanes of 4 and of the widest the
+ * processor has) and the ride's eigendecomposition with its vectors. So a
+ * machine with AVX-512 checks the AVX-512, AVX2 and baseline paths against
+ * each other, whichever one the library runs. */
+#include <string.h>
+#include "check.h"
+#include "railride/railride.h"
+#include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
+#include "linalg/hessenberg_qr.h"       /* internal: eigenvalues one matrix or several at a time */
+
+int base_rr_eig_small(int n, double *a, double *wr, double *wi);
+int base_rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
+                      double *work, int *fail);
+int base_rr_eig_batch_lanes(void);
+int base_rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork);
+
+enum { NMAX = 48, NMATS = 40 };
+
+static double mats[NMATS][NMAX * NMAX];
+static int order[NMATS], nmats;
+
+/* the default vehicle's state matrices at the robust points' speeds and
+   conicities, with no SDF, the physical SDF and the paper mode */
+static void vehicle_matrices(void)
+{
+  const int sdf[3] = {RR_SDF_NONE, RR_SDF_PHYSICAL, RR_SDF_PAPER};
+  const double kmh[3] = {300, 350, 400}, lam[3] = {0.05, 0.17, 0.40};
+  for (int s = 0; s < 3; s++) {
+    rr_vehicle v;
+    rr_vehicle_default(&v);
+    v.sdf_mode = sdf[s];
+    rr_model *m;
+    rr_error e;
+    if (rr_model_from_vehicle(&v, &m, &e)) {
+      CHECK(0, "model: %s", e.msg);
+      continue;
+    }
+    for (int p = 0; p < 9; p++) {
+      CHECK_OK(rr_model_set_operating(m, kmh[p / 3] / RR_KMH, lam[p % 3], &e), e);
+      int n = rr_model_state_size(m);
+      if (n <= NMAX && !rr_model_state_matrix(m, 0, mats[nmats], &e)) order[nmats++] = n;
+    }
+    rr_model_free(m);
+  }
+}
+
+/* dense, block diagonal and triangular: lanes that split and finish early */
+static void random_matrices(void)
+{
+  unsigned long long s = 20261203;
+  for (int t = 0; nmats < NMATS; t++) {
+    int n = 5 + t % 30, kind = t % 4;
+    for (int i = 0; i < n * n; i++) {
+      s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+      double x = (double)(s >> 11) / 9007199254740992.0 - 0.5;
+      int r = i / n, c = i % n;
+      if ((kind == 2 && (r < n / 3) != (c < n / 3)) || (kind == 3 && r > c)) x = 0;
+      mats[nmats][i] = x;
+    }
+    order[nmats++] = n;
+  }
+}
+
+/* eigenvalues one matrix at a time and in lanes, each copy against the
+   baseline's single-matrix QR */
+static void check_eigenvalues(void)
+{
+  static double a[NMAX * NMAX], b[NMAX * NMAX], wr[2][8 * NMAX], wi[2][8 * NMAX];
+  double *work = malloc(sizeof(double) * rr_eig_batch_work(NMAX)),
+         *bwork = malloc(sizeof(double) * rr_eig_batch_work(NMAX));
+  int fail[8], differ = 0, batches = 0;
+  for (int k = 0; k < nmats; k++) {
+    int n = order[k];
+    memcpy(a, mats[k], sizeof(double) * (size_t)(n * n));
+    memcpy(b, mats[k], sizeof(double) * (size_t)(n * n));
+    CHECK(rr_eig_small(n, a, wr[0], wi[0]) == 0 && base_rr_eig_small(n, b, wr[1], wi[1]) == 0,
+          "matrix %d: no convergence", k);
+    differ += memcmp(wr[0], wr[1], sizeof(double) * (size_t)n) != 0 ||
+              memcmp(wi[0], wi[1], sizeof(double) * (size_t)n) != 0;
+  }
+  CHECK(differ == 0, "%d of %d matrices: the library's QR differs from the baseline copy's", differ,
+        nmats);
+  /* groups of equal order, as the library batches them */
+  for (int k = 0; k < nmats;) {
+    int nb = 1;
+    while (k + nb < nmats && nb < 8 && order[k + nb] == order[k]) nb++;
+    const double *mp[8];
+    for (int c = 0; c < nb; c++) mp[c] = mats[k + c];
+    for (int lanes = 4; lanes >= 0; lanes -= 4) { /* 0: the widest here */
+      int n = order[k];
+      CHECK(rr_eig_batch(n, nb, lanes, mp, wr[0], wi[0], work, fail) == 0 &&
+                base_rr_eig_batch(n, nb, 4, mp, wr[1], wi[1], bwork, fail) == 0,
+            "batch at %d: no convergence", k);
+      CHECK(!memcmp(wr[0], wr[1], sizeof(double) * (size_t)(nb * n)) &&
+                !memcmp(wi[0], wi[1], sizeof(double) * (size_t)(nb * n)),
+            "batch of %d at matrix %d, %d lanes: differs from the baseline copy", nb, k,
+            lanes ? lanes : rr_eig_batch_lanes());
+      batches++;
+    }
+    k += nb;
+  }
+  free(work);
+  free(bwork);
+  printf("  eigenvalues: %d matrices one at a time, %d batches, each copy equal to the baseline\n",
+         nmats, batches);
+}
+
+/* the ride's eigendecomposition: eigenvalues and vectors */
+static void check_eigdec(void)
+{
+  static double a[NMAX * NMAX], vr[2][NMAX * NMAX], work[RR_EIGDEC_LWORK(NMAX)];
+  double wr[2][NMAX], wi[2][NMAX];
+  int iwork[RR_EIGDEC_LIWORK(NMAX)], differ = 0, ok = 0;
+  for (int k = 0; k < nmats; k++) {
+    int n = order[k], st[2];
+    memcpy(a, mats[k], sizeof(double) * (size_t)(n * n));
+    st[0] = rr_eigdec(n, a, wr[0], wi[0], vr[0], work, iwork);
+    memcpy(a, mats[k], sizeof(double) * (size_t)(n * n));
+    st[1] = base_rr_eigdec(n, a, wr[1], wi[1], vr[1], work, iwork);
+    CHECK(st[0] == st[1], "eigdec, matrix %d: status %d against the baseline's %d", k, st[0],
+          st[1]);
+    if (st[0] || st[1]) continue;
+    ok++;
+    differ += memcmp(wr[0], wr[1], sizeof(double) * (size_t)n) != 0 ||
+              memcmp(wi[0], wi[1], sizeof(double) * (size_t)n) != 0 ||
+              memcmp(vr[0], vr[1], sizeof(double) * (size_t)(n * n)) != 0;
+  }
+  CHECK(ok >= 27, "eigdec: only %d matrices decomposed", ok);
+  CHECK(differ == 0, "eigdec: %d of %d matrices differ from the baseline copy", differ, ok);
+  printf("  eigendecomposition: %d matrices, values and vectors equal to the baseline\n", ok);
+}
+
+int main(void)
+{
+  __builtin_cpu_init();
+  printf("  this processor: AVX-512 %s, AVX2 %s; library lanes %d, baseline copy lanes %d\n",
+         __builtin_cpu_supports("avx512f") ? "yes" : "no",
+         __builtin_cpu_supports("avx2") ? "yes" : "no", rr_eig_batch_lanes(),
+         base_rr_eig_batch_lanes());
+  vehicle_matrices();
+  CHECK(nmats == 27, "27 vehicle state matrices, got %d", nmats);
+  random_matrices();
+  check_eigenvalues();
+  check_eigdec();
+  return check_done("test_isa");
+}
