@@ -16,15 +16,18 @@ pairs=$(mktemp)
 for i in 1 2 3 4 5 6; do
   a=$(taskset -c 1 $PY bench/numpy_modal.py index < "$pairs.json" | awk '{print $2}' | tr '\n' ' ')
   b=$(taskset -c 1 "$B/bench/bench_modal" index | awk '{print $2}' | tr '\n' ' ')
-  echo "$a $b"
+  # a design's 9 eigen-solves and the rest (one thread), as us a design
+  d=$(OMP_NUM_THREADS=1 taskset -c 1 "$B/bench/bench_batch" 2000 | awk '/^designs_per_s_1_thread/ {print 1e6 / $2}')
+  echo "$a $b $d"
 done > "$pairs"
-for c in "1 4 single index" "2 5 8-lane batch, per point" "3 6 robust triple"; do
+for c in "1 4 single index" "2 5 8-lane batch, per point" "3 6 robust triple" \
+  "3 7 a design of the paper objectives; numpy its 9 eigvals over a stack alone"; do
   set -- $c
   r=$(awk -v x="$1" -v y="$2" '{print $x / $y}' "$pairs" | sort -g | awk '{r[NR] = $1} END {printf "%.1f", (r[3] + r[4]) / 2}')
   shift 2
   echo "index_vs_numpy_median_ratio $r ($*)"
 done
-echo "  pairs (us: numpy single, batched per matrix, triple; C single, batch per point, triple): $(tr '\n' ';' < "$pairs")"
+echo "  pairs (us: numpy single, batched per matrix, triple; C single, batch per point, triple, a design): $(tr '\n' ';' < "$pairs")"
 rm -f "$pairs" "$pairs.json"
 echo "== numpy/scipy: the paper-mode SDF index by the reference tracking (type1, Table 2 curve) =="
 "$B/railride" matrices examples/type1-sdf-paper.ini --speed 350 --conicity 0.17 --json | taskset -c 1 $PY bench/numpy_sdf.py 1.5 8e6 6e6
