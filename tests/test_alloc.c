@@ -155,6 +155,8 @@ static void frf_and_comfort(rr_sdf_mode sdf)
   ALLOCS(st |= rr_ride_execute(rp, m, &sp, pt, &e), n);
   CHECK(n == 0 && !st && isfinite(pt[2].sperling), "ride_execute (sdf %d): %ld allocations", sdf,
         n);
+  ALLOCS(st |= rr_ride_design(rp, m, pt, &e), n); /* the track the execute set */
+  CHECK(n == 0 && !st && isfinite(pt[2].sperling), "ride_design (sdf %d): %ld allocations", sdf, n);
   rr_ride_plan_free(rp);
   rr_frf_plan_free(p);
   rr_comfort_plan_free(cp);
@@ -328,6 +330,20 @@ static void failures(void)
   rr_model_free(m);
   /* not rr_spectrum_open: udunits2's unit scanner exits the process when an
      allocation fails (ut_scan_bytes), a dependency's behaviour */
+  /* a design context cloned (each thread's), its ride objective on a measured
+     PSD, so that the clone copies the spectrum's table too */
+  if (check_tmpdir("alloc") == 0) {
+    const char *csv = check_write_file("track.csv", "n_per_m,psd_m2_per_cycle_per_m\n"
+                                                    "0.001,1e-3\n0.01,1e-5\n0.1,1e-7\n1,1e-9\n");
+    char obj[700];
+    snprintf(obj, sizeof obj, "sperling@350,0.17;spectrum=%s", csv);
+    const char *keys[1] = {"yaw_damper.damping"}, *objs[1] = {obj};
+    rr_design *d = NULL, *c = NULL;
+    CHECK_OK(rr_design_new(&v, 1, keys, 1, objs, &d, &e), e);
+    if (d) FAILS("design_clone", rr_design_clone(d, &c, &e), rr_design_free(c));
+    rr_design_free(d);
+    check_cleanup();
+  }
 }
 #endif
 

@@ -476,6 +476,27 @@ static void test_ride_plan(void)
     CHECK_CLOSE(sqrt(I2), pd[q].rms, 1e-13, 0, "the RMS is the PSD's integral");
   }
   rr_ride_plan_free(rp);
+  /* the two-step path an optimiser takes (the track once, then designs) gives
+     the one-call path's bits, and refuses a model at another speed */
+  rr_ride_point p2[3];
+  CHECK_OK(rr_ride_plan_new(m, &v, NULL, &rp, &e), e);
+  CHECK(rr_ride_design(rp, m, p2, &e) == RR_EINVAL, "no track set: refused (%s)", e.msg);
+  CHECK_OK(rr_ride_plan_set_track(rp, &s, 350 / RR_KMH, &e), e);
+  for (int rep = 0; rep < 2; rep++) {
+    CHECK_OK(rr_ride_design(rp, m, p2, &e), e);
+    for (int q = 0; q < 3; q++)
+      CHECK(!memcmp(&p2[q], &pt[q], sizeof p2[q]), "two-step ride, point %d: the same bits", q);
+  }
+  double Gt[400];
+  CHECK_OK(rr_pem_track(fp, &s, 350 / RR_KMH, Gt, &e), e);
+  double G2[400 * 3];
+  CHECK_OK(rr_pem_psd_track(fp, m, Gt, G2, &e), e);
+  CHECK(!memcmp(G, G2, sizeof G), "rr_pem_psd_track: rr_pem_psd's bits");
+  CHECK(rr_pem_track(fp, &s, 0, Gt, &e) == RR_EINVAL, "a zero speed refused: %s", e.msg);
+  rr_model_set_operating(m, 300 / RR_KMH, 0.2, &e);
+  CHECK(rr_ride_design(rp, m, p2, &e) == RR_EINVAL, "a model at another speed refused: %s", e.msg);
+  rr_model_set_operating(m, 350 / RR_KMH, 0.2, &e);
+  rr_ride_plan_free(rp);
   o.npoints = RR_RIDE_POINTS_MAX + 1;
   CHECK(rr_ride_plan_new(m, &v, &o, &rp, &e) == RR_EINVAL && !rp, "17 floor points refused");
   CHECK(rr_ride_evaluate(&v, 350 / RR_KMH, 0.2, "tbt3352-vertical", NULL, pt, &e) == RR_EINVAL,

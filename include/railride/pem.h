@@ -71,6 +71,15 @@ RR_API const rr_complex *rr_frf_H(const rr_frf_plan *p);
  * at each input, G_t(f) = G_s(f/v)/v. */
 RR_API int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G,
                       rr_error *err);
+/* The same in two steps, for many designs at one speed on one track (an
+ * optimiser's loop): the track's G_t(f) on the plan's grid into Gt[nfreq]
+ * (m^2/Hz) once, at v_ms (m/s), then each design's PSDs from it, the
+ * model at that speed. Evaluating the spectrum was a few per cent of a
+ * ride evaluation. */
+RR_API int rr_pem_track(const rr_frf_plan *p, const rr_spectrum *sp, double v_ms, double *Gt,
+                        rr_error *err);
+RR_API int rr_pem_psd_track(const rr_frf_plan *p, const rr_model *m, const double *Gt, double *G,
+                            rr_error *err);
 /* The response to one alignment seen by every input with its lag:
  * sum_i H_i exp(j w x_i / v) (x: the inputs' positions, m; w rad/s; v m/s). */
 RR_API rr_complex rr_pem_lagged_sum(const rr_complex *H, const double *x, int ninputs, double w,

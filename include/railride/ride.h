@@ -52,6 +52,13 @@ RR_API void rr_ride_plan_free(rr_ride_plan *p);
  * every index of every point into out[npoints] (out may be NULL). */
 RR_API int rr_ride_execute(rr_ride_plan *p, const rr_model *m, const rr_spectrum *sp,
                            rr_ride_point *out, rr_error *err);
+/* For many designs at one speed on one track (an optimiser's loop): the
+ * track's temporal PSD on the plan's grid computed once (the plan keeps no
+ * pointer to sp), then each design's evaluation, the model at v_ms (m/s);
+ * rr_ride_execute is the two in one call (and sets the plan's track). */
+RR_API int rr_ride_plan_set_track(rr_ride_plan *p, const rr_spectrum *sp, double v_ms,
+                                  rr_error *err);
+RR_API int rr_ride_design(rr_ride_plan *p, const rr_model *m, rr_ride_point *out, rr_error *err);
 /* The FRFs alone (rr_ride_frf's H), for callers that need no spectrum. */
 RR_API int rr_ride_frf_execute(rr_ride_plan *p, const rr_model *m, rr_error *err);
 RR_API int rr_ride_nfreq(const rr_ride_plan *p);

@@ -441,6 +441,8 @@ static int build(rr_design *d, rr_error *err)
     ro.npoints = 1;
     ro.x_points[0] = o->x;
     if ((st = rr_ride_plan_new(d->model[o->model], &d->cur, &ro, &o->plan, err))) return st;
+    /* the objective's speed and track are fixed: the track's PSD once */
+    if ((st = rr_ride_plan_set_track(o->plan, &o->sp, o->speed_ms, err))) return st;
   }
   return RR_OK;
 }
@@ -517,9 +519,12 @@ int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
       c->obj[i].plan = NULL;
       c->obj[i].vplan = NULL;
       st = rr_spectrum_copy(&d->obj[i].sp, &c->obj[i].sp, err);
-      if (!st) st = rr_spectrum_copy(&d->obj[i].vsp, &c->obj[i].vsp, err);
+      if (st) /* d's tables, not this context's to close */
+        c->obj[i].vsp = (rr_spectrum){.npts = 0};
+      else
+        st = rr_spectrum_copy(&d->obj[i].vsp, &c->obj[i].vsp, err);
     }
-    st = build(c, err);
+    if (!st) st = build(c, err); /* a failed copy is not overwritten by a good build */
   }
   if (st) {
     rr_design_free(c);
@@ -599,7 +604,7 @@ static int ride_value(objective *o, rr_model *m, double *f, rr_error *err)
   int st;
   rr_ride_point c;
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
-  if ((st = rr_ride_execute(o->plan, m, &o->sp, &c, err))) return st;
+  if ((st = rr_ride_design(o->plan, m, &c, err))) return st;
   *f = o->kind == OBJ_SPERLING      ? c.sperling
        : o->kind == OBJ_SPERLING_GB ? c.sperling_gb
        : o->kind == OBJ_WD_RMS      ? c.wd_rms
@@ -627,7 +632,7 @@ static int vertical_value(rr_design *d, objective *o, rr_model *m, double *f, rr
   }
   rr_window_stats wd;
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
-  if ((st = rr_ride_execute(o->plan, m, &o->sp, NULL, err))) return st;
+  if ((st = rr_ride_design(o->plan, m, NULL, err))) return st;
   const double *G = rr_ride_psd(o->plan);
   if ((st = rr_vertical_window_stats(o->vplan, G, 1, 1, RR_ISO_WD, &wd, err))) return st;
   rr_en12299_inputs in = {.ay50 = wd.p50, .ay95 = wd.p95, .az50 = p.wb_5s.p50, .az95 = p.wb_5s.p95};

@@ -713,36 +713,72 @@ double rr_pem_combine(const double complex *H, const double *x, int ni, double w
   return Gt * creal(a * conj(a));
 }
 
+/* G_t(f) = G_s(f/v)/v, refused unless finite and >= 0 over the whole band
+   the ride uses (not only the spectrum's valid range) */
+static int track_at(const rr_spectrum *sp, double f, double v, double *gt, rr_error *err)
+{
+  double Gt = rr_spectrum_eval(sp, f / v) / v; /* temporal one-sided PSD, m^2/Hz */
+  if (!(Gt >= 0 && isfinite(Gt)))
+    return rr_seterr(err, RR_EINVAL,
+                     "%s: the PSD is %s at n = %g 1/m (%g Hz at %g km/h; its valid range is "
+                     "%g .. %g 1/m)",
+                     sp->path[0] ? sp->path : sp->name, isfinite(Gt) ? "negative" : "not finite",
+                     f / v, f, v * RR_KMH, sp->valid_lo, sp->valid_hi);
+  *gt = Gt;
+  return RR_OK;
+}
+
+/* Frequency k's row of G from the FRFs and the track's G_t there. */
+static int psd_row(const rr_frf_plan *p, const rr_model *m, int k, int cached, double Gt, double *G,
+                   rr_error *err)
+{
+  double v = m->speed, f = p->f[k], w = 2 * RR_PI * f;
+  double complex lagk[RR_SYS_MAX_INPUTS];
+  const double complex *lag = lagk;
+  if (cached)
+    lag = p->lag + (size_t)k * (size_t)p->ni;
+  else
+    for (int i = 0; i < p->ni; i++) lagk[i] = cexp(I * w * m->contacts[i].x / v);
+  for (int q = 0; q < p->np; q++) {
+    const double complex *h = p->H + ((size_t)k * (size_t)p->np + (size_t)q) * (size_t)p->ni;
+    double complex a = 0;
+    for (int i = 0; i < p->ni; i++) a += h[i] * lag[i];
+    G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
+    if (!isfinite(G[k * p->np + q]))
+      return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", f);
+  }
+  return RR_OK;
+}
+
 int rr_pem_psd(const rr_frf_plan *p, const rr_model *m, const rr_spectrum *sp, double *G,
                rr_error *err)
 {
-  double v = m->speed;
-  int cached = lags_current(p, m);
-  for (int k = 0; k < p->nf; k++) {
-    double f = p->f[k], w = 2 * RR_PI * f;
-    double Gt = rr_spectrum_eval(sp, f / v) / v; /* temporal one-sided PSD, m^2/Hz */
-    if (!(Gt >= 0 && isfinite(Gt))) /* the whole band the ride uses, not only `valid` */
-      return rr_seterr(err, RR_EINVAL,
-                       "%s: the PSD is %s at n = %g 1/m (%g Hz at %g km/h; its valid range is "
-                       "%g .. %g 1/m)",
-                       sp->path[0] ? sp->path : sp->name, isfinite(Gt) ? "negative" : "not finite",
-                       f / v, f, v * RR_KMH, sp->valid_lo, sp->valid_hi);
-    double complex lagk[RR_SYS_MAX_INPUTS];
-    const double complex *lag = lagk;
-    if (cached)
-      lag = p->lag + (size_t)k * (size_t)p->ni;
-    else
-      for (int i = 0; i < p->ni; i++) lagk[i] = cexp(I * w * m->contacts[i].x / v);
-    for (int q = 0; q < p->np; q++) {
-      const double complex *h = p->H + ((size_t)k * (size_t)p->np + (size_t)q) * (size_t)p->ni;
-      double complex a = 0;
-      for (int i = 0; i < p->ni; i++) a += h[i] * lag[i];
-      G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
-      if (!isfinite(G[k * p->np + q]))
-        return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", f);
-    }
+  int cached = lags_current(p, m), st = RR_OK;
+  for (int k = 0; k < p->nf && !st; k++) {
+    double Gt = 0;
+    st = track_at(sp, p->f[k], m->speed, &Gt, err);
+    if (!st) st = psd_row(p, m, k, cached, Gt, G, err);
   }
-  return RR_OK;
+  return st;
+}
+
+int rr_pem_track(const rr_frf_plan *p, const rr_spectrum *sp, double v_ms, double *Gt,
+                 rr_error *err)
+{
+  if (!(v_ms > 0 && v_ms <= RR_SPEED_MAX_MS))
+    return rr_seterr(err, RR_EINVAL, "pem: speed %g km/h outside (0, %g] km/h", v_ms * RR_KMH,
+                     RR_SPEED_MAX_MS * RR_KMH);
+  int st = RR_OK;
+  for (int k = 0; k < p->nf && !st; k++) st = track_at(sp, p->f[k], v_ms, Gt + k, err);
+  return st;
+}
+
+int rr_pem_psd_track(const rr_frf_plan *p, const rr_model *m, const double *Gt, double *G,
+                     rr_error *err)
+{
+  int cached = lags_current(p, m), st = RR_OK;
+  for (int k = 0; k < p->nf && !st; k++) st = psd_row(p, m, k, cached, Gt[k], G, err);
+  return st;
 }
 
 int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int np,

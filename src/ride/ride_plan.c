@@ -12,7 +12,9 @@ struct rr_ride_plan {
   double x[RR_RIDE_POINTS_MAX];
   double *rows, *rows0; /* np x ndof */
   int roll_gravity;
-  double *G; /* nfreq x np */
+  double *G;      /* nfreq x np */
+  double *Gt;     /* the track's temporal PSD on the grid (rr_ride_plan_set_track), m^2/Hz */
+  double track_v; /* the speed it is for, m/s (0: none yet) */
   rr_frf_plan *frf;
   rr_comfort_plan *comfort;
 };
@@ -43,6 +45,7 @@ void rr_ride_plan_free(rr_ride_plan *p)
   free(p->rows);
   free(p->rows0);
   free(p->G);
+  free(p->Gt);
   free(p);
 }
 
@@ -84,7 +87,8 @@ int rr_ride_plan_new(const rr_model *m, const rr_vehicle *veh, const rr_ride_opt
   if (!st) {
     p->nfreq = rr_frf_nfreq(p->frf);
     p->G = malloc(sizeof(double) * (size_t)p->nfreq * (size_t)p->np);
-    if (!p->G) st = rr_seterr(err, RR_ENOMEM, "out of memory");
+    p->Gt = malloc(sizeof(double) * (size_t)p->nfreq);
+    if (!p->G || !p->Gt) st = rr_seterr(err, RR_ENOMEM, "out of memory");
   }
   if (!st)
     st = rr_comfort_plan_new(rr_frf_freqs(p->frf), p->nfreq, RR_AXIS_LATERAL, &p->comfort, err);
@@ -96,11 +100,24 @@ int rr_ride_plan_new(const rr_model *m, const rr_vehicle *veh, const rr_ride_opt
   return RR_OK;
 }
 
-int rr_ride_execute(rr_ride_plan *p, const rr_model *m, const rr_spectrum *sp, rr_ride_point *out,
-                    rr_error *err)
+int rr_ride_plan_set_track(rr_ride_plan *p, const rr_spectrum *sp, double v_ms, rr_error *err)
 {
+  p->track_v = 0;
+  int st = rr_pem_track(p->frf, sp, v_ms, p->Gt, err);
+  if (!st) p->track_v = v_ms;
+  return st;
+}
+
+int rr_ride_design(rr_ride_plan *p, const rr_model *m, rr_ride_point *out, rr_error *err)
+{
+  if (!(p->track_v > 0))
+    return rr_seterr(err, RR_EINVAL, "ride: no track set (rr_ride_plan_set_track)");
+  if (rr_model_speed(m) != p->track_v)
+    return rr_seterr(err, RR_EINVAL,
+                     "ride: the model runs at %g km/h, the track was set for %g km/h",
+                     rr_model_speed(m) * RR_KMH, p->track_v * RR_KMH);
   int st = rr_frf_plan_execute(p->frf, m, err);
-  if (!st) st = rr_pem_psd(p->frf, m, sp, p->G, err);
+  if (!st) st = rr_pem_psd_track(p->frf, m, p->Gt, p->G, err);
   for (int q = 0; q < p->np && out && !st; q++) {
     rr_comfort c;
     if ((st = rr_comfort_execute(p->comfort, p->G + q, p->np, &c, err))) break;
@@ -112,6 +129,13 @@ int rr_ride_execute(rr_ride_plan *p, const rr_model *m, const rr_spectrum *sp, r
                              .n_mv = rr_en12299_comfort(c.wd_rms)};
   }
   return st;
+}
+
+int rr_ride_execute(rr_ride_plan *p, const rr_model *m, const rr_spectrum *sp, rr_ride_point *out,
+                    rr_error *err)
+{
+  int st = rr_ride_plan_set_track(p, sp, rr_model_speed(m), err);
+  return st ? st : rr_ride_design(p, m, out, err);
 }
 
 int rr_ride_frf_execute(rr_ride_plan *p, const rr_model *m, rr_error *err)
