@@ -102,7 +102,11 @@ def indices(D):
     floor rows as one product, the weighted integrals as one product and the
     GB/T bands by precomputed interpolation."""
     X = np.linalg.solve(D, RHS)[..., 0]                 # (400, 17)
-    H = -(w**2)[:, None] * (X @ rows.T)                 # (400, 3)
+    return comfort(-(w**2)[:, None] * (X @ rows.T))     # (400, 3) floor accelerations
+
+
+def comfort(H):
+    """Sperling (filter, GB/T 5599) and the Wd RMS from the floor accelerations H (400, 3)."""
     G = (H.real**2 + H.imag**2) * Gt[:, None]
     sw = WTS.T @ G                                      # (2, 3)
     wz = 4.42 * np.sqrt(sw[0]) ** 0.3

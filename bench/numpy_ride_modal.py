@@ -90,13 +90,7 @@ def evaluate():
 
 
 def indices():
-    H = -(w**2)[:, None] * evaluate()
-    G = (H.real**2 + H.imag**2) * nr.Gt[:, None]
-    sw = nr.WTS.T @ G
-    wz = 4.42 * np.sqrt(sw[0]) ** 0.3
-    Aa = np.sqrt(2 * (G[nr.LO] + nr.TT * (G[nr.LO + 1] - G[nr.LO])) * 0.2)
-    wgb = 3.57 * ((Aa**3 * (nr.Fgb / nr.fc)[:, None]).sum(axis=0)) ** 0.1
-    return wz, wgb, np.sqrt(sw[1])
+    return nr.comfort(-(w**2)[:, None] * evaluate())
 
 
 if __name__ == "__main__":
