@@ -316,6 +316,8 @@ typedef struct optim_run {
   double *X, *F, *cv; /* population x variables, x objectives, violations */
   int *rank;
   int done_gens;
+  long evaluated; /* designs this run passed to the evaluation */
+  int resumed;
   double seconds;
 } optim_run;
 
@@ -422,6 +424,8 @@ static int run_nsga2(optim_run *r, const rr_problem *p, const optim_args *a)
   o.progress = progress;
   o.user = &r->log;
   o.generations_done = &r->done_gens;
+  o.evaluated = &r->evaluated;
+  r->resumed = a->resume != 0;
   o.ncon = p->ncon;
   o.cv_out = r->cv;
   o.checkpoint = cli_par_rank() == 0 ? r->cpath : NULL;
@@ -460,8 +464,9 @@ static int run_report(optim_run *r, const rr_problem *p, const char *problem)
     printf("  stopped by a signal after generation %d of %d: the front below is that "
            "generation's\n",
            r->done_gens, p->generations);
-  printf("  %ld designs evaluated in %.1f s (%.0f designs/s)\n", evals, r->seconds,
-         evals / r->seconds);
+  printf("  %ld designs in %.1f s (%.0f designs/s); %ld evaluated%s\n", evals, r->seconds,
+         evals / r->seconds, r->evaluated,
+         r->resumed ? " after the resume" : ", the others unchanged copies of a parent");
   printf("  Pareto front: %d designs, written to %s (also %s; history: %s)\n", nfront, r->path,
          r->jpath, r->hpath);
   if (p->ncon)
@@ -493,7 +498,9 @@ int cmd_optimise(int argc, char **argv)
       "the run's state after every generation; --resume goes on from it (the same problem,\n"
       "population and seed: the result is the uninterrupted run's; a changed problem, vehicle or\n"
       "version is refused, naming what changed). Each output replaces the previous file only\n"
-      "when written whole (the history at the end of the run). See\n"
+      "when written whole (the history at the end of the run). An offspring that is a parent's\n"
+      "unchanged copy takes that parent's values without being evaluated again (the same\n"
+      "result); the summary gives the designs evaluated. See "
       "examples/paper-optimisation.ini.\n" CLI_COMMON_HELP;
   optim_args a = {.pop = -1, .gen = -1, .threads = -1, .seed = -1, .limit = CLI_LIMIT_DESIGNS};
   int st = optim_parse(argc, argv, &a, help);

@@ -79,6 +79,46 @@ static int constr(void *user, int n, const double *x, double *f)
   return 0;
 }
 
+/* CONSTR with a count of the designs it saw */
+static int constr_counted(void *user, int n, const double *x, double *f)
+{
+  *(long *)user += n;
+  return constr(NULL, n, x, f);
+}
+
+/* An offspring that is a parent's copy takes the parent's values without an
+   evaluation: the run's result is the one evaluating every offspring gives,
+   bit for bit (a wrong parent's values would change it), with fewer designs
+   evaluated, and the count reported is the callback's. */
+static void test_copies(void)
+{
+  double lo[2] = {0.1, 0}, hi[2] = {1, 5};
+  double X[2][200], F[2][200], cv[2][100];
+  int rank[2][100];
+  long seen[2] = {0, 0}, told[2] = {-1, -1};
+  rr_error e;
+  for (int k = 0; k < 2; k++) {
+    rr_nsga2_opts o = rr_nsga2_opts_default();
+    o.population = 100;
+    o.generations = 60;
+    o.seed = 5;
+    o.ncon = 2;
+    o.cv_out = cv[k];
+    o.evaluate_copies = k;
+    o.evaluated = &told[k];
+    CHECK_OK(rr_nsga2_run(2, 2, lo, hi, constr_counted, &seen[k], &o, X[k], F[k], rank[k], &e), e);
+  }
+  CHECK(!memcmp(X[0], X[1], sizeof X[0]) && !memcmp(F[0], F[1], sizeof F[0]) &&
+            !memcmp(cv[0], cv[1], sizeof cv[0]) && !memcmp(rank[0], rank[1], sizeof rank[0]),
+        "copies' values taken from their parents: the same run bit for bit");
+  CHECK(told[0] == seen[0] && told[1] == seen[1], "evaluated %ld/%ld, the callback saw %ld/%ld",
+        told[0], told[1], seen[0], seen[1]);
+  /* 2 variables: ~8 % of the offspring are copies (no crossover, or none
+     of the pair's variables crossed, and no mutation) */
+  CHECK(seen[1] == 100 * 61 && seen[0] < seen[1] - 200 && seen[0] > seen[1] / 2,
+        "designs evaluated: %ld with the copies' reuse, %ld without", seen[0], seen[1]);
+}
+
 static int cmp_double(const void *a, const void *b)
 {
   double x = *(const double *)a, y = *(const double *)b;
@@ -589,6 +629,7 @@ int main(void)
   test_zdt(1, 2.0 / 3.0, 0.985);
   test_zdt(2, 1.0 / 3.0, 0.97);
   test_constr();
+  test_copies();
   check_tmpdir("nsga2");
   test_resume();
   check_cleanup();

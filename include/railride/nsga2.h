@@ -64,6 +64,11 @@ typedef struct rr_nsga2_opts {
                              field read is checked (counts, ranges, finite values, designs
                              within their bounds): a damaged or crafted file is an error */
   rr_nsga2_fingerprint fingerprint; /* the caller's parts of the run (n = 0: none) */
+  int evaluate_copies; /* 0 (default): an offspring equal bit for bit to one of its two parents
+                          (no crossover or mutation changed it) takes that parent's objectives
+                          and violations without an eval call, its evaluation being a repeat;
+                          1: every offspring goes to eval (a noisy or stateful eval) */
+  long *evaluated;     /* if not NULL: the designs this call passed to eval */
 } rr_nsga2_opts;
 /* The defaults given in the fields' comments. */
 RR_API rr_nsga2_opts rr_nsga2_opts_default(void);

@@ -428,14 +428,16 @@ static int better(int a, int b, const int *rank, const double *cd)
 }
 
 /* Objectives and total violations from an evaluation's rows (m + nc each). */
-static void split_eval(const double *E, int n, int m, int nc, double *F, double *CV)
+static void split_eval(const double *E, int n, int m, int nc, const int *who, double *F, double *CV)
 {
-  for (int i = 0; i < n; i++) {
-    memcpy(F + (size_t)i * (size_t)m, E + (size_t)i * (size_t)(m + nc), sizeof(double) * (size_t)m);
+  for (int r = 0; r < n; r++) {
+    size_t i = (size_t)(who ? who[r] : r);
+    memcpy(F + i * (size_t)m, E + (size_t)r * (size_t)(m + nc), sizeof(double) * (size_t)m);
+    sanitize(F + i * (size_t)m, m);
     if (!nc) continue;
     double v = 0;
     for (int k = 0; k < nc; k++) {
-      double g = E[(size_t)i * (size_t)(m + nc) + (size_t)m + (size_t)k];
+      double g = E[(size_t)r * (size_t)(m + nc) + (size_t)m + (size_t)k];
       v += isnan(g) ? INFINITY : fmax(g, 0);
     }
     CV[i] = v;
@@ -618,9 +620,10 @@ static int state_load(const char *path, nsga_state *s, rr_error *err)
    sorting's scratch. */
 typedef struct nsga_work {
   int d, m, nc, N, R;
-  double *X, *F, *cd, *X2, *F2, *ref, *col, *E, *CV, *fc;
-  int *rank, *mem, *tmp, *sel, *tmp2, *start, *idx, *r2;
-  char *block; /* every array above, one allocation (block.h) */
+  double *X, *F, *cd, *X2, *F2, *ref, *col, *E, *CV, *fc, *Xe;
+  int *rank, *mem, *tmp, *sel, *tmp2, *start, *idx, *r2, *who;
+  long evaluated; /* designs passed to eval */
+  char *block;    /* every array above, one allocation (block.h) */
 } nsga_work;
 
 static void work_free(nsga_work *w) { free(w->block); }
@@ -645,6 +648,8 @@ static void work_layout(nsga_work *w, rr_block *b)
   w->sel = rr_block_take(b, n, ib);
   w->tmp2 = rr_block_take(b, R, ib);
   w->start = rr_block_take(b, R + 1, ib);
+  w->Xe = rr_block_take(b, n * d, db);
+  w->who = rr_block_take(b, n, ib);
   if (w->nc) { /* Deb's constrained domination */
     w->CV = rr_block_take(b, R, db);
     w->fc = rr_block_take(b, R * m, db);
@@ -686,17 +691,50 @@ static int rank_all(nsga_work *w, int n, rr_error *err)
   return nf;
 }
 
-/* n designs X evaluated into F (and the violations CV); the callback's
-   failure ends the run. */
-static int evaluate(nsga_work *w, rr_nsga2_eval_fn eval, void *user, const double *X, double *F,
-                    double *CV, rr_error *err)
+/* n designs X evaluated into the rows who[] (NULL: 0..n-1) of F and of the
+   violations CV; the callback's failure ends the run. */
+static int evaluate(nsga_work *w, rr_nsga2_eval_fn eval, void *user, int n, const double *X,
+                    const int *who, double *F, double *CV, rr_error *err)
 {
-  int r = eval(user, w->N, X, w->E);
+  int r = n > 0 ? eval(user, n, X, w->E) : 0;
   if (r == RR_ESTOPPED) return rr_seterr(err, RR_ESTOPPED, "nsga2: stopped during a generation");
   if (r) return rr_seterr(err, RR_EINVAL, "nsga2: the evaluation failed (callback status %d)", r);
-  split_eval(w->E, w->N, w->m, w->nc, F, CV);
-  sanitize(F, w->N * w->m);
+  split_eval(w->E, n, w->m, w->nc, who, F, CV);
+  w->evaluated += n;
   return RR_OK;
+}
+
+/* The parent (row of X) whose copy bit for bit offspring i is, or -1: its
+   two parents are the tournament's picks for its pair. */
+static int copy_of(const nsga_work *w, int i)
+{
+  size_t d = (size_t)w->d, row = sizeof(double) * d;
+  const double *c = w->X2 + (size_t)i * d;
+  int a = w->sel[i & ~1], b = w->sel[i | 1];
+  if (!memcmp(c, w->X + (size_t)a * d, row)) return a;
+  return memcmp(c, w->X + (size_t)b * d, row) ? -1 : b;
+}
+
+/* The offspring X2 into F2 and CV's second half: a parent's copy takes the
+   parent's values (an evaluation would repeat them), the others go to eval
+   in one call. */
+static int evaluate_offspring(nsga_work *w, rr_nsga2_eval_fn eval, void *user, int copies,
+                              rr_error *err)
+{
+  size_t N = (size_t)w->N, d = (size_t)w->d, m = (size_t)w->m;
+  double *CV2 = w->CV ? w->CV + N : NULL;
+  int n = 0;
+  for (size_t i = 0; i < N; i++) {
+    int p = copies ? -1 : copy_of(w, (int)i);
+    if (p < 0) {
+      memcpy(w->Xe + (size_t)n * d, w->X2 + i * d, sizeof(double) * d);
+      w->who[n++] = (int)i;
+      continue;
+    }
+    memcpy(w->F2 + i * m, w->F + (size_t)p * m, sizeof(double) * m);
+    if (CV2) CV2[i] = w->CV[p];
+  }
+  return evaluate(w, eval, user, n, w->Xe, w->who, w->F2, CV2, err);
 }
 
 /* The initial population, uniform within the bounds, evaluated and ranked;
@@ -708,7 +746,7 @@ static int initial_population(nsga_work *w, const double *lo, const double *hi, 
   int N = w->N, d = w->d, m = w->m;
   for (int i = 0; i < N; i++)
     for (int j = 0; j < d; j++) w->X[i * d + j] = lo[j] + (hi[j] - lo[j]) * rr_rng_uniform(rng);
-  int st = evaluate(w, eval, user, w->X, w->F, w->CV, err);
+  int st = evaluate(w, eval, user, N, w->X, NULL, w->F, w->CV, err);
   if (st) return st;
   for (int k = 0; k < m; k++) {
     double a = INFINITY, b = -INFINITY;
@@ -850,7 +888,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
   if (o->generations_done) *o->generations_done = ck.g;
   for (int g = ck.g + 1; g <= o->generations && !st; g++) {
     make_offspring(&w, lo, hi, &rng, o);
-    if ((st = evaluate(&w, eval, user, w.X2, w.F2, w.CV ? w.CV + N : NULL, err))) {
+    if ((st = evaluate_offspring(&w, eval, user, o->evaluate_copies, err))) {
       if (st == RR_ESTOPPED) st = RR_OK; /* the partial generation dropped: the last whole one */
       break;
     }
@@ -879,6 +917,7 @@ int rr_nsga2_run(int d, int m, const double *lo, const double *hi, rr_nsga2_eval
     else if (o->cv_out)
       memset(o->cv_out, 0, sizeof(double) * (size_t)N);
   }
+  if (o->evaluated) *o->evaluated = w.evaluated;
   work_free(&w);
   return st;
 }
