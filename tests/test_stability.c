@@ -154,6 +154,64 @@ static void test_verdict_any_mode(void)
   rr_model_free(m);
 }
 
+/* The robust verdict against rr_modal_stability point by point, in the
+   documented order: (v_low, conicity_low), (v_high, conicity_high), then the
+   sweep upward (its end point, equal to conicity_high, once). v_low is set
+   above v_high so that the first point is unstable and the first unstable
+   one reported must be it, however the points are grouped in lanes. */
+static void test_robust_first_unstable(void)
+{
+  const double damping[3] = {4e6, 30e3, 10e3}; /* N s/m a yaw damper: stable, two unstable */
+  rr_robust_opts ro = rr_robust_opts_default();
+  ro.v_low_ms = 420 / RR_KMH;
+  ro.conicity_low = 0.30;
+  rr_model *m[3];
+  rr_modal_ws *ws;
+  rr_error e;
+  for (int i = 0; i < 3; i++) {
+    rr_vehicle v;
+    CHECK_OK(rr_vehicle_builtin("type1", &v, &e), e);
+    v.yaw_damping = damping[i];
+    CHECK_OK(rr_model_from_vehicle(&v, &m[i], &e), e);
+  }
+  CHECK_OK(rr_modal_ws_new(m[0], &ws, &e), e);
+  rr_robust many[3], one;
+  CHECK_OK(rr_robust_indices_many(m, 3, NULL, &ro, ws, many, &e), e);
+  for (int i = 0; i < 3; i++) {
+    int nc = ro.n_conicity, n = 0;
+    double zmax = -1, fv = NAN, fl = NAN, zeta0 = NAN;
+    for (int p = 0; p < 2 + nc - 1; p++) {
+      double v = p == 0 ? ro.v_low_ms : ro.v_high_ms;
+      double lam = p == 0 ? ro.conicity_low
+                   : p == 1
+                       ? ro.conicity_high
+                       : ro.conicity_min + (ro.conicity_max - ro.conicity_min) * (p - 2) / (nc - 1);
+      rr_stability s;
+      CHECK_OK(rr_model_set_operating(m[i], v, lam, &e), e);
+      CHECK_OK(rr_modal_stability(m[i], NULL, ws, &s, &e), e);
+      if (p == 0) zeta0 = s.zeta_max;
+      zmax = fmax(zmax, s.zeta_max);
+      if (!rr_modal_stable(s.zeta_max) && n++ == 0) {
+        fv = v;
+        fl = lam;
+      }
+    }
+    CHECK(i == 0 ? n == 0 : (n >= 2 && !rr_modal_stable(zeta0)),
+          "model %d: %d unstable points (the first unstable too: %g)", i, n, zeta0);
+    CHECK(many[i].n_unstable == n && many[i].zeta_max == zmax,
+          "model %d: %d unstable points, zeta_max %g (point by point %d, %g)", i,
+          many[i].n_unstable, many[i].zeta_max, n, zmax);
+    CHECK((isnan(fv) && isnan(many[i].unstable_speed_ms) && isnan(many[i].unstable_conicity)) ||
+              (many[i].unstable_speed_ms == fv && many[i].unstable_conicity == fl),
+          "model %d: first unstable point %g km/h, conicity %g (point by point %g, %g)", i,
+          many[i].unstable_speed_ms * RR_KMH, many[i].unstable_conicity, fv * RR_KMH, fl);
+    CHECK_OK(rr_robust_indices(m[i], NULL, &ro, ws, &one, &e), e);
+    CHECK(!memcmp(&one, &many[i], sizeof one), "model %d: one by one equals many", i);
+  }
+  rr_modal_ws_free(ws);
+  for (int i = 0; i < 3; i++) rr_model_free(m[i]);
+}
+
 /* Objective modifiers reach the value. */
 static void test_objective_modifiers(void)
 {
@@ -558,6 +616,7 @@ int main(void)
   test_roll_out_hunting_in();
   test_headline();
   test_verdict_any_mode();
+  test_robust_first_unstable();
   test_objective_modifiers();
   test_sdf_fast_vs_reference();
   test_sdf_steep_table();

@@ -25,7 +25,9 @@ typedef struct rr_robust {
   double zeta_low, zeta_high, std_zeta;
   double zeta_max; /* largest zeta of any oscillatory mode over all the points */
   int n_unstable;  /* points at which some oscillatory mode has zeta >= 0 */
-  double unstable_speed_ms, unstable_conicity; /* the first such point (NaN when none) */
+  /* the first such point (NaN when none), in the order (v_low, conicity_low),
+     (v_high, conicity_high), then the sweep at v_high upward */
+  double unstable_speed_ms, unstable_conicity;
 } rr_robust;
 
 /* Evaluated through rr_modal_stability_batch; the model's operating point is

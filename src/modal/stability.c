@@ -26,11 +26,18 @@ static double sweep_conicity(const rr_robust_opts *r, int i)
                  : r->conicity_min + (r->conicity_max - r->conicity_min) * i / (nc - 1);
 }
 
-/* The verdict over the robust points (any oscillatory mode, docs/model.md). */
-static void robust_verdict(rr_robust *out, const rr_stability *s, double v, double lam)
+/* The verdict over the robust points (any oscillatory mode, docs/model.md),
+   point p's stability s added: the unstable point reported is the first in
+   the points' order, *first the lowest such p so far (the points may come
+   in any order). */
+static void robust_verdict(rr_robust *out, const rr_stability *s, double v, double lam, int p,
+                           int *first)
 {
   if (s->zeta_max > out->zeta_max) out->zeta_max = s->zeta_max;
-  if (!rr_modal_stable(s->zeta_max) && out->n_unstable++ == 0) {
+  if (rr_modal_stable(s->zeta_max)) return;
+  out->n_unstable++;
+  if (p < *first) {
+    *first = p;
     out->unstable_speed_ms = v;
     out->unstable_conicity = lam;
   }
@@ -46,9 +53,23 @@ static void robust_point(const rr_robust_opts *r, int p, double *v, double *lam)
 
 #define ROBUST_BLOCK 8 /* models whose sums one robust_block call keeps */
 
-/* The robust indices of nm <= ROBUST_BLOCK models: their points one
-   after another (model i's at i npts ..), in calls of CHUNK points that
-   group them in lanes; each model's sums in its points' order. */
+/* Where the points of nm models go in a robust_block run: each model's
+   points at v_high (p >= 1) one after another, model by model, then every
+   model's p = 0 (at v_low). The points of one design at one speed deflate
+   alike in the QR iteration, so that lanes holding them waste less of
+   their shared sweeps (3 % fewer vector steps than p = 0 .. npts - 1 model
+   by model, 8 % fewer than point by point across the models). Run
+   position ix holds model *i's point *p. */
+static void block_point(int ix, int nm, int npts, int *i, int *p)
+{
+  int nh = npts - 1;
+  *i = ix < nm * nh ? ix / nh : ix - nm * nh;
+  *p = ix < nm * nh ? 1 + ix % nh : 0;
+}
+
+/* The robust indices of nm <= ROBUST_BLOCK models, their points in
+   block_point's order, in calls of CHUNK points that group them in lanes;
+   each model's sums in its points' order. */
 static int robust_block(rr_model *const *models, int nm, const rr_modal_opts *o,
                         const rr_robust_opts *r, rr_modal_ws *ws, rr_robust *out, rr_error *err)
 {
@@ -57,8 +78,11 @@ static int robust_block(rr_model *const *models, int nm, const rr_modal_opts *o,
   int reuse = sweep_conicity(r, nc - 1) == r->conicity_high;
   int npts = 2 + nc - reuse, total = nm * npts;
   double sum[ROBUST_BLOCK] = {0}, sum2[ROBUST_BLOCK] = {0};
-  for (int i = 0; i < nm; i++)
+  int first[ROBUST_BLOCK];
+  for (int i = 0; i < nm; i++) {
     out[i] = (rr_robust){.zeta_max = -1, .unstable_speed_ms = NAN, .unstable_conicity = NAN};
+    first[i] = npts;
+  }
   enum { CHUNK = 16 }; /* points per call: a multiple of the lane counts */
   for (int g0 = 0; g0 < total; g0 += CHUNK) {
     double v[CHUNK], lam[CHUNK];
@@ -66,20 +90,23 @@ static int robust_block(rr_model *const *models, int nm, const rr_modal_opts *o,
     rr_stability z[CHUNK];
     int nb = total - g0 < CHUNK ? total - g0 : CHUNK;
     for (int c = 0; c < nb; c++) {
-      mods[c] = models[(g0 + c) / npts];
-      robust_point(r, (g0 + c) % npts, &v[c], &lam[c]);
+      int i, p;
+      block_point(g0 + c, nm, npts, &i, &p);
+      mods[c] = models[i];
+      robust_point(r, p, &v[c], &lam[c]);
     }
     int st = rr_modal_stability_many(mods, o, ws, nb, v, lam, z, err);
     if (st) return st;
     for (int c = 0; c < nb; c++) {
-      int i = (g0 + c) / npts, p = (g0 + c) % npts;
+      int i, p;
+      block_point(g0 + c, nm, npts, &i, &p);
       if (p == 0) out[i].zeta_low = z[c].index;
       if (p == 1) out[i].zeta_high = z[c].index;
       if (p >= 2) {
         sum[i] += z[c].index;
         sum2[i] += z[c].index * z[c].index;
       }
-      robust_verdict(&out[i], &z[c], v[c], lam[c]);
+      robust_verdict(&out[i], &z[c], v[c], lam[c], p, &first[i]);
     }
   }
   for (int i = 0; i < nm; i++) {
