@@ -107,19 +107,22 @@ static void lane_init(const double *a, int n, int ld, int st, qr_lane *L)
 /* The row l at which the active block nn splits off: the lowest l with a
  * negligible subdiagonal E(l, l-1) (set to zero), by the deflation test of
  * Ahues & Tisseur (LAPACK Working Note 122), as in LAPACK's dlahqr: small
- * relative to the 2 x 2 block it couples. cand (or NULL): per row, nonzero
- * where h <= DBL_MIN or h <= eps s, computed for all lanes at once
- * (split_candidates), so that only those rows are read here. */
-static inline __attribute__((always_inline)) int
-split_row(double *a, int ld, int st, int nn, double anorm, const long long *cand, int cst)
+ * relative to the 2 x 2 block it couples. cand: bit l set where row l may
+ * pass; the lanes compute the test's first two steps (h <= DBL_MIN or
+ * h <= eps s) for every lane at once (split_candidates), so that only those
+ * rows are read here, highest first; the single matrix passes every bit. */
+static inline __attribute__((always_inline)) int split_row(double *a, int ld, int st, int nn,
+                                                           double anorm, unsigned long long cand)
 {
-  int l;
-  for (l = nn; l >= 1; l--) {
-    if (cand && !cand[l * cst]) continue; /* the test's first two steps fail here */
+  /* rows 1..nn (n <= 64, so nn <= 63) */
+  unsigned long long rows = cand & (nn >= 63 ? ~0ULL : (2ULL << nn) - 1) & ~1ULL;
+  while (rows) {
+    int l = 63 - __builtin_clzll(rows);
+    rows &= ~(1ULL << l);
     double h = fabs(E(l, l - 1)), s;
     if (h <= DBL_MIN) {
       E(l, l - 1) = 0;
-      break;
+      return l;
     }
     s = fabs(E(l - 1, l - 1)) + fabs(E(l, l));
     if (s == 0) s = anorm;
@@ -130,11 +133,11 @@ split_row(double *a, int ld, int st, int nn, double anorm, const long long *cand
       double ss = aa + ab;
       if (ba * (ab / ss) <= MAX(DBL_MIN, DBL_EPSILON * (bb * (aa / ss)))) {
         E(l, l - 1) = 0;
-        break;
+        return l;
       }
     }
   }
-  return l;
+  return 0;
 }
 
 /* The two roots of the trailing 2 x 2 block (rows nn - 1, nn) into wr, wi. */
@@ -197,11 +200,11 @@ static inline __attribute__((always_inline)) void sweep_start(double *a, int ld,
  * first column (p, q, r). Sets status 1 when every root is found. */
 static inline __attribute__((always_inline)) void lane_advance(double *a, int n, int ld, int st,
                                                                qr_lane *L, double *wr, double *wi,
-                                                               int clear, const long long *cand)
+                                                               int clear, unsigned long long cand)
 {
   int nn = L->nn;
   while (nn >= 0) {
-    int l = split_row(a, ld, st, nn, L->anorm, cand, st);
+    int l = split_row(a, ld, st, nn, L->anorm, cand);
     double x = E(nn, nn);
     if (l == nn) { /* one root */
       wr[nn] = x + L->t;
@@ -311,7 +314,7 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
   qr_lane L;
   lane_init(a, n, n, 1, &L);
   for (;;) {
-    lane_advance(a, n, n, 1, &L, wr, wi, 1, NULL);
+    lane_advance(a, n, n, 1, &L, wr, wi, 1, ~0ULL);
     if (L.status) return L.status < 0 ? -1 : 0;
     sweep1(a, n, &L);
   }

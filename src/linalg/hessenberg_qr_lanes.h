@@ -20,6 +20,8 @@
 #define reflector_lanes QR_CAT(reflector_lanes, QRW)
 #define columns_lanes QR_CAT(columns_lanes, QRW)
 #define elmhes_lanes QR_CAT(elmhes_lanes, QRW)
+#define swap_lane QR_CAT(swap_lane, QRW)
+#define swap_lanes QR_CAT(swap_lanes, QRW)
 #define eig_lanes QR_CAT(eig_lanes, QRW)
 /* The 8-lane bodies carry the AVX-512 target themselves: GCC lowers a
    function's vector operations for its own target before inlining it, so a
@@ -166,10 +168,12 @@ sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
 }
 
 /* split_row's first two tests for every lane at once, rows 1..nn of the
- * lanes still sweeping: the same arithmetic, so the same rows pass. */
+ * lanes still sweeping: the same arithmetic, so the same rows pass. Lane c
+ * of *cand gets bit i for each row i that passes. */
 QR_TARGET static inline __attribute__((always_inline)) void
 split_candidates(const vd *b, int ld, const qr_lane *lanes, int nb, vl *cand)
 {
+  vl bits = {0};
   int top = 0;
   vd anorm = {0};
   for (int c = 0; c < QRW; c++) {
@@ -179,12 +183,52 @@ split_candidates(const vd *b, int ld, const qr_lane *lanes, int nb, vl *cand)
   for (int i = 1; i <= top; i++) {
     vd h = vabs(V(i, i - 1)), s = vabs(V(i - 1, i - 1)) + vabs(V(i, i));
     s = vsel(s == 0, anorm, s);
-    cand[i] = (h <= DBL_MIN) | (h <= DBL_EPSILON * s);
+    vl pass = (h <= DBL_MIN) | (h <= DBL_EPSILON * s);
+    bits |= pass & ((vl){0} + (long long)(1ULL << i));
+  }
+  *cand = bits;
+}
+
+/* Rows and then columns m and pv interchanged in lane c alone. */
+QR_TARGET static inline __attribute__((always_inline)) void swap_lane(double *s, int ld, int n,
+                                                                      int m, int pv, int c)
+{
+  size_t L = QRW, P = (size_t)pv, M = (size_t)m, D = (size_t)ld, C = (size_t)c;
+  for (size_t j = M - 1; j < (size_t)n; j++) {
+    double t = s[(P * D + j) * L + C];
+    s[(P * D + j) * L + C] = s[(M * D + j) * L + C];
+    s[(M * D + j) * L + C] = t;
+  }
+  for (size_t i = 0; i < (size_t)n; i++) {
+    double t = s[(i * D + P) * L + C];
+    s[(i * D + P) * L + C] = s[(i * D + M) * L + C];
+    s[(i * D + M) * L + C] = t;
   }
 }
 
-/* elmhes in lanes: each lane pivots on its own (row and column
- * interchanges lane by lane, together when the lanes agree). */
+/* The same in the lanes of mask *mk at once. */
+QR_TARGET static inline __attribute__((always_inline)) void swap_lanes(vd *b, int ld, int n, int m,
+                                                                       int pv, const vl *mk)
+{
+  for (int j = m - 1; j < n; j++) {
+    vd u = V(pv, j), w = V(m, j);
+    V(pv, j) = vsel(*mk, w, u);
+    V(m, j) = vsel(*mk, u, w);
+  }
+  for (int i = 0; i < n; i++) {
+    vd u = V(i, pv), w = V(i, m);
+    V(i, pv) = vsel(*mk, w, u);
+    V(i, m) = vsel(*mk, u, w);
+  }
+}
+
+/* A masked vector swap costs about what 2-3 lanes' scalar swaps do. */
+#ifndef SWAP_SHARED
+#define SWAP_SHARED 3
+#endif
+
+/* elmhes in lanes: each lane pivots on its own; the lanes that share a
+ * pivot row interchange together. */
 QR_TARGET static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int ld)
 {
   vd y[64];
@@ -200,35 +244,18 @@ QR_TARGET static inline __attribute__((always_inline)) void elmhes_lanes(int n, 
       ax = vsel(gt, av, ax);
       piv = (gt & ((vl){0} + j)) | (~gt & piv);
     }
-    int same = 1;
-    for (int c = 1; c < QRW; c++) same &= piv[c] == piv[0];
-    if (same && piv[0] != m) {
-      int pv = (int)piv[0];
-      for (int j = m - 1; j < n; j++) {
-        vd t = V(pv, j);
-        V(pv, j) = V(m, j);
-        V(m, j) = t;
-      }
-      for (int i = 0; i < n; i++) {
-        vd t = V(i, pv);
-        V(i, pv) = V(i, m);
-        V(i, m) = t;
-      }
-    } else if (!same) {
-      for (int c = 0; c < QRW; c++) {
-        size_t pv = (size_t)piv[c], mm = (size_t)m, L = QRW;
-        if (pv == mm) continue;
-        for (size_t j = (size_t)m - 1; j < (size_t)n; j++) {
-          double t = s[(pv * (size_t)ld + j) * L + (size_t)c];
-          s[(pv * (size_t)ld + j) * L + (size_t)c] = s[(mm * (size_t)ld + j) * L + (size_t)c];
-          s[(mm * (size_t)ld + j) * L + (size_t)c] = t;
-        }
-        for (size_t i = 0; i < (size_t)n; i++) {
-          double t = s[(i * (size_t)ld + pv) * L + (size_t)c];
-          s[(i * (size_t)ld + pv) * L + (size_t)c] = s[(i * (size_t)ld + mm) * L + (size_t)c];
-          s[(i * (size_t)ld + mm) * L + (size_t)c] = t;
-        }
-      }
+    /* the interchanges: a pivot row that SWAP_SHARED or more lanes share as
+       whole vectors under a mask, the others lane by lane */
+    vl done = piv == ((vl){0} + m);
+    for (int c = 0; c < QRW; c++) {
+      if (done[c]) continue;
+      vl mk = piv == ((vl){0} + piv[c]);
+      done |= mk;
+      int k = 0;
+      for (int d = 0; d < QRW; d++) k += mk[d] != 0;
+      for (int d = c; d < QRW && k < SWAP_SHARED; d++)
+        if (mk[d]) swap_lane(s, ld, n, m, (int)piv[d], d);
+      if (k >= SWAP_SHARED) swap_lanes(b, ld, n, m, (int)piv[c], &mk);
     }
     vl nz = x != 0;
     if (!vany(nz)) continue;
@@ -275,13 +302,13 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
   int go[QRW];
   double wrs[QRW][64], wis[QRW][64];
   for (int c = 0; c < QRW; c++) lane_init(s + c, n, ld, QRW, &lanes[c]);
-  vl cand[65];
+  vl cand;
   for (;;) {
-    split_candidates(b, ld, lanes, nb, cand);
+    split_candidates(b, ld, lanes, nb, &cand);
     int any = 0;
     for (int c = 0; c < QRW; c++) {
       if (c < nb && lanes[c].status == 0)
-        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c], 0, (const long long *)cand + c);
+        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c], 0, (unsigned long long)cand[c]);
       go[c] = c < nb && lanes[c].status == 0;
       any |= go[c];
     }
@@ -307,5 +334,7 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
 #undef reflector_lanes
 #undef columns_lanes
 #undef elmhes_lanes
+#undef swap_lane
+#undef swap_lanes
 #undef eig_lanes
 #undef QR_TARGET
