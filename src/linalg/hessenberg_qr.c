@@ -197,10 +197,13 @@ static inline __attribute__((always_inline)) void sweep_start(double *a, int ld,
 
 /* Takes the roots that have converged at the bottom of the active block and
  * prepares the next double-shift sweep: rows l..nn, starting at row m with
- * first column (p, q, r). Sets status 1 when every root is found. */
+ * first column (p, q, r). Sets status 1 when every root is found. With xyw,
+ * the sweep's block and its shifts (x, y, w) only, into L and xyw[0..2]:
+ * the lanes find every lane's start at once (sweep_start_lanes). */
 static inline __attribute__((always_inline)) void lane_advance(double *a, int n, int ld, int st,
                                                                qr_lane *L, double *wr, double *wi,
-                                                               int clear, unsigned long long cand)
+                                                               int clear, unsigned long long cand,
+                                                               double *xyw)
 {
   int nn = L->nn;
   while (nn >= 0) {
@@ -233,7 +236,15 @@ static inline __attribute__((always_inline)) void lane_advance(double *a, int n,
       w = -0.4375 * s * s;
     }
     ++L->its;
-    sweep_start(a, ld, st, l, nn, x, y, w, clear, L);
+    if (!xyw) {
+      sweep_start(a, ld, st, l, nn, x, y, w, clear, L);
+      return;
+    }
+    L->nn = nn;
+    L->l = l;
+    xyw[0] = x;
+    xyw[1] = y;
+    xyw[2] = w;
     return;
   }
   L->nn = nn;
@@ -314,7 +325,7 @@ RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
   qr_lane L;
   lane_init(a, n, n, 1, &L);
   for (;;) {
-    lane_advance(a, n, n, 1, &L, wr, wi, 1, ~0ULL);
+    lane_advance(a, n, n, 1, &L, wr, wi, 1, ~0ULL, NULL);
     if (L.status) return L.status < 0 ? -1 : 0;
     sweep1(a, n, &L);
   }

@@ -20,6 +20,7 @@
 #define reflector_lanes QR_CAT(reflector_lanes, QRW)
 #define columns_lanes QR_CAT(columns_lanes, QRW)
 #define elmhes_lanes QR_CAT(elmhes_lanes, QRW)
+#define sweep_start_lanes QR_CAT(sweep_start_lanes, QRW)
 #define swap_lane QR_CAT(swap_lane, QRW)
 #define swap_lanes QR_CAT(swap_lanes, QRW)
 #define eig_lanes QR_CAT(eig_lanes, QRW)
@@ -227,6 +228,57 @@ QR_TARGET static inline __attribute__((always_inline)) void swap_lanes(vd *b, in
 #define SWAP_SHARED 3
 #endif
 
+/* sweep_start for every lane with go[c] at once, xyw[c] its shifts: row
+ * by row from the highest lane's nn - 2 down, each lane from its own nn - 2
+ * to where its own scan stops, with the single-matrix arithmetic, so that
+ * every lane starts where it would alone, with the same first column. */
+QR_TARGET static inline __attribute__((always_inline)) void
+sweep_start_lanes(const vd *b, int ld, qr_lane *lanes, const int *go, const double (*xyw)[3])
+{
+  vd X, Y, W, P = {0}, Q = {0}, R = {0};
+  vl lo, top, done, M = {0};
+  int mtop = -1, mbot = ld;
+  for (int c = 0; c < QRW; c++) {
+    X[c] = go[c] ? xyw[c][0] : 0;
+    Y[c] = go[c] ? xyw[c][1] : 0;
+    W[c] = go[c] ? xyw[c][2] : 0;
+    lo[c] = go[c] ? lanes[c].l : 0;
+    top[c] = go[c] ? lanes[c].nn - 2 : -1;
+    done[c] = go[c] ? 0 : -1;
+    if (!go[c]) continue;
+    mtop = MAX(mtop, lanes[c].nn - 2);
+    mbot = MIN(mbot, lanes[c].l);
+  }
+  for (int m = mtop; m >= mbot; m--) {
+    vl mv = (vl){0} + m, act = ~done & (mv <= top);
+    if (!vany(act)) continue; /* rows above every pending lane's start */
+    vd z = V(m, m), r = X - z, s = Y - z, h21 = V(m + 1, m);
+    vd p = (r * s - W) + V(m, m + 1) * h21;
+    vd q = (V(m + 1, m + 1) - z - r - s) * h21;
+    r = V(m + 2, m + 1) * h21;
+    P = vsel(act, p, P);
+    Q = vsel(act, q, Q);
+    R = vsel(act, r, R);
+    M = (act & mv) | (~act & M);
+    vl stop = mv == lo;
+    if (m > 0) {
+      vd u = vabs(V(m, m - 1)) * (vabs(q) + vabs(r));
+      vd v = vabs(p) * (vabs(V(m - 1, m - 1)) + vabs(z) + vabs(V(m + 1, m + 1)));
+      stop |= u + v == v;
+    }
+    done |= act & stop;
+    if (!vany(~done)) break;
+  }
+  for (int c = 0; c < QRW; c++) {
+    if (!go[c]) continue;
+    double sc = 1 / (fabs(P[c]) + fabs(Q[c]) + fabs(R[c]));
+    lanes[c].m = (int)M[c];
+    lanes[c].p = P[c] * sc;
+    lanes[c].q = Q[c] * sc;
+    lanes[c].r = R[c] * sc;
+  }
+}
+
 /* elmhes in lanes: each lane pivots on its own; the lanes that share a
  * pivot row interchange together. */
 QR_TARGET static inline __attribute__((always_inline)) void elmhes_lanes(int n, vd *b, int ld)
@@ -303,16 +355,19 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
   double wrs[QRW][64], wis[QRW][64];
   for (int c = 0; c < QRW; c++) lane_init(s + c, n, ld, QRW, &lanes[c]);
   vl cand;
+  double xyw[QRW][3];
   for (;;) {
     split_candidates(b, ld, lanes, nb, &cand);
     int any = 0;
     for (int c = 0; c < QRW; c++) {
       if (c < nb && lanes[c].status == 0)
-        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c], 0, (unsigned long long)cand[c]);
+        lane_advance(s + c, n, ld, QRW, &lanes[c], wrs[c], wis[c], 0, (unsigned long long)cand[c],
+                     xyw[c]);
       go[c] = c < nb && lanes[c].status == 0;
       any |= go[c];
     }
     if (!any) break;
+    sweep_start_lanes(b, ld, lanes, go, (const double(*)[3])xyw);
     sweep_lanes(b, ld, lanes, go);
   }
   int bad = 0;
@@ -334,6 +389,7 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
 #undef reflector_lanes
 #undef columns_lanes
 #undef elmhes_lanes
+#undef sweep_start_lanes
 #undef swap_lane
 #undef swap_lanes
 #undef eig_lanes
