@@ -92,11 +92,10 @@ typedef struct {
   double t, anorm, p, q, r;
 } qr_lane;
 
-static void lane_init(const double *a, int n, int ld, int st, qr_lane *L)
+/* A fresh lane for the Hessenberg matrix of order n whose entries' absolute
+ * sum (row by row, from the subdiagonal on) is anorm. */
+static void lane_init(int n, double anorm, qr_lane *L)
 {
-  double anorm = 0;
-  for (int i = 0; i < n; i++)
-    for (int j = i > 0 ? i - 1 : 0; j < n; j++) anorm += fabs(E(i, j));
   L->nn = n - 1;
   L->its = 0;
   L->t = 0;
@@ -323,7 +322,10 @@ static inline __attribute__((always_inline)) void sweep1(double *a, int n, const
 RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
 {
   qr_lane L;
-  lane_init(a, n, n, 1, &L);
+  double anorm = 0;
+  for (int i = 0; i < n; i++)
+    for (int j = i > 0 ? i - 1 : 0; j < n; j++) anorm += fabs(a[i * n + j]);
+  lane_init(n, anorm, &L);
   for (;;) {
     lane_advance(a, n, n, 1, &L, wr, wi, 1, ~0ULL, NULL);
     if (L.status) return L.status < 0 ? -1 : 0;

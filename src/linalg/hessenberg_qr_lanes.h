@@ -236,7 +236,7 @@ QR_TARGET static inline __attribute__((always_inline)) void
 sweep_start_lanes(const vd *b, int ld, qr_lane *lanes, const int *go, const double (*xyw)[3])
 {
   vd X, Y, W, P = {0}, Q = {0}, R = {0};
-  vl lo, top, done, M = {0};
+  vl lo, top, found, M = {0};
   int mtop = -1, mbot = ld;
   for (int c = 0; c < QRW; c++) {
     X[c] = go[c] ? xyw[c][0] : 0;
@@ -244,30 +244,32 @@ sweep_start_lanes(const vd *b, int ld, qr_lane *lanes, const int *go, const doub
     W[c] = go[c] ? xyw[c][2] : 0;
     lo[c] = go[c] ? lanes[c].l : 0;
     top[c] = go[c] ? lanes[c].nn - 2 : -1;
-    done[c] = go[c] ? 0 : -1;
+    found[c] = go[c] ? 0 : -1;
     if (!go[c]) continue;
     mtop = MAX(mtop, lanes[c].nn - 2);
     mbot = MIN(mbot, lanes[c].l);
   }
+  /* a row's test does not wait for the rows above: only the record of the
+     first row that stops each lane runs from row to row */
   for (int m = mtop; m >= mbot; m--) {
-    vl mv = (vl){0} + m, act = ~done & (mv <= top);
-    if (!vany(act)) continue; /* rows above every pending lane's start */
+    vl mv = (vl){0} + m;
     vd z = V(m, m), r = X - z, s = Y - z, h21 = V(m + 1, m);
     vd p = (r * s - W) + V(m, m + 1) * h21;
     vd q = (V(m + 1, m + 1) - z - r - s) * h21;
     r = V(m + 2, m + 1) * h21;
-    P = vsel(act, p, P);
-    Q = vsel(act, q, Q);
-    R = vsel(act, r, R);
-    M = (act & mv) | (~act & M);
     vl stop = mv == lo;
     if (m > 0) {
       vd u = vabs(V(m, m - 1)) * (vabs(q) + vabs(r));
       vd v = vabs(p) * (vabs(V(m - 1, m - 1)) + vabs(z) + vabs(V(m + 1, m + 1)));
       stop |= u + v == v;
     }
-    done |= act & stop;
-    if (!vany(~done)) break;
+    vl hit = ~found & (mv <= top) & stop;
+    P = vsel(hit, p, P);
+    Q = vsel(hit, q, Q);
+    R = vsel(hit, r, R);
+    M = (hit & mv) | (~hit & M);
+    found |= hit;
+    if (!vany(~found)) break;
   }
   for (int c = 0; c < QRW; c++) {
     if (!go[c]) continue;
@@ -340,20 +342,28 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
   /* vector-aligned start inside the caller's buffer */
   vd *b = (vd *)(((uintptr_t)work + sizeof(vd) - 1) & ~(uintptr_t)(sizeof(vd) - 1));
   double *s = (double *)b;
-  for (int i = 0; i <= n; i++)
-    for (int j = 0; j <= n; j++)
-      for (int c = 0; c < QRW; c++) {
-        /* idle lanes (never swept) copy lane 0, so that their pivots agree
-           and elmhes' interchanges stay whole vectors */
-        const double *src = mats[c < nb ? c : 0];
-        s[((size_t)i * (size_t)ld + (size_t)j) * QRW + (size_t)c] =
-            i < n && j < n ? src[i * n + j] : 0;
-      }
+  /* idle lanes (never swept) copy lane 0, so that their pivots are lane
+     0's and add no interchange of their own to elmhes */
+  const double *src[QRW];
+  for (int c = 0; c < QRW; c++) src[c] = mats[c < nb ? c : 0];
+  for (int i = 0; i < n; i++) {
+    for (int j = 0; j < n; j++) {
+      vd e;
+      for (int c = 0; c < QRW; c++) e[c] = src[c][i * n + j];
+      b[(size_t)i * (size_t)ld + (size_t)j] = e;
+    }
+    b[(size_t)i * (size_t)ld + (size_t)n] = (vd){0};
+  }
+  for (int j = 0; j <= n; j++) b[(size_t)n * (size_t)ld + (size_t)j] = (vd){0};
   elmhes_lanes(n, b, ld);
   qr_lane lanes[QRW];
   int go[QRW];
   double wrs[QRW][64], wis[QRW][64];
-  for (int c = 0; c < QRW; c++) lane_init(s + c, n, ld, QRW, &lanes[c]);
+  vd anorm = {0}; /* each lane's sum in rr_hqr's order */
+  for (int i = 0; i < n; i++)
+    for (int j = i > 0 ? i - 1 : 0; j < n; j++)
+      anorm += vabs(b[(size_t)i * (size_t)ld + (size_t)j]);
+  for (int c = 0; c < QRW; c++) lane_init(n, anorm[c], &lanes[c]);
   vl cand;
   double xyw[QRW][3];
   for (;;) {
