@@ -223,7 +223,9 @@ QR_TARGET static inline __attribute__((always_inline)) void swap_lanes(vd *b, in
   }
 }
 
-/* A masked vector swap costs about what 2-3 lanes' scalar swaps do. */
+/* Lanes that take one pivot row's interchange as a masked vector swap, not
+ * lane by lane: a vector swap costs about what 2-3 scalar ones do (defined
+ * once for both inclusions of this file). */
 #ifndef SWAP_SHARED
 #define SWAP_SHARED 3
 #endif
