@@ -108,6 +108,7 @@ QR_TARGET static inline __attribute__((always_inline)) void
 columns_lanes(vd *b, int ld, int k, int i0, int i1, const vd *f)
 {
   vd x = f[0], y = f[1], z = f[2], q = f[3], r = f[4];
+#pragma GCC unroll 4
   for (int i = i0; i <= i1; i++) {
     vd *ri = &V(i, k);
     vd a0 = ri[0], a1 = ri[1], a2 = ri[2], pp = x * a0 + y * a1 + z * a2;
@@ -153,7 +154,10 @@ sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
     vd x = f[0], y = f[1], z = f[2], q = f[3], r = f[4];
     vd *rk = &V(k, 0), *rk1 = &V(k + 1, 0), *rk2 = &V(k + 2, 0);
     /* each entry loaded once into a local: through the pointers, which the
-       compiler must assume may alias, every store forced the others' reloads */
+       compiler must assume may alias, every store forced the others' reloads;
+       unrolled, as the column updates are: these loops run ~20 times, and
+       their overhead was ~3 % of a batch */
+#pragma GCC unroll 4
     for (int j = k; j <= nmax; j++) {
       vd a0 = rk[j], a1 = rk1[j], a2 = rk2[j], pp = a0 + q * a1 + r * a2;
       rk2[j] = a2 - pp * z;
