@@ -28,6 +28,51 @@
     (out) = (a0_ + a1_) + (a2_ + a3_);                                                             \
   } while (0)
 
+/* four doubles as one vector (GCC's and Clang's vector extension); passed
+   by pointer, never as an argument or result, which would change the ABI
+   between the clones */
+typedef double v4d __attribute__((vector_size(32)));
+typedef long long v4l __attribute__((vector_size(32)));
+
+/* The rows r0..r3 (v4d lvalues) of a 4 x 4 block become its columns: a
+   macro, so that they stay in registers. */
+#define TRANSPOSE4(r0, r1, r2, r3)                                                                 \
+  do {                                                                                             \
+    v4d t0_ = __builtin_shufflevector(r0, r1, 0, 4, 2, 6),                                         \
+        t1_ = __builtin_shufflevector(r0, r1, 1, 5, 3, 7),                                         \
+        t2_ = __builtin_shufflevector(r2, r3, 0, 4, 2, 6),                                         \
+        t3_ = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);                                         \
+    r0 = __builtin_shufflevector(t0_, t2_, 0, 1, 4, 5);                                            \
+    r1 = __builtin_shufflevector(t1_, t3_, 0, 1, 4, 5);                                            \
+    r2 = __builtin_shufflevector(t0_, t2_, 2, 3, 6, 7);                                            \
+    r3 = __builtin_shufflevector(t1_, t3_, 2, 3, 6, 7);                                            \
+  } while (0)
+
+/* DOT4 of rows j..j + 3 at once, each row's four partial sums one vector
+ * (y's entries loaded once for the four), then transposed so that the
+ * four results are summed as DOT4 sums them: bit for bit the same. The
+ * results are added to column c. */
+static inline __attribute__((always_inline)) void dot4_rows(double *a, int n, int j,
+                                                            const double *y, int i0, int c)
+{
+  v4d acc[4] = {{0}};
+  int i = i0;
+  for (; i + 3 < n; i += 4) {
+    v4d yv;
+    memcpy(&yv, y + i, sizeof yv);
+    for (int e = 0; e < 4; e++) {
+      v4d rv;
+      memcpy(&rv, &A(j + e, i), sizeof rv);
+      acc[e] += rv * yv;
+    }
+  }
+  for (; i < n; i++)
+    for (int e = 0; e < 4; e++) acc[e][0] += A(j + e, i) * y[i];
+  TRANSPOSE4(acc[0], acc[1], acc[2], acc[3]);
+  v4d d = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+  for (int e = 0; e < 4; e++) A(j + e, c) += d[e];
+}
+
 /* Reduction to upper Hessenberg form by stabilised elementary similarity
  * transformations (Gaussian elimination with row interchanges). The step's
  * elementary transforms L_i = I + y_i e_i e_m' commute, so it is applied as
@@ -70,7 +115,9 @@ static inline __attribute__((always_inline)) void elmhes(int n, double *a, int *
       for (int j = m; j < n; j++) ri[j] -= yi * rm[j];
     }
     if (!any) continue;
-    for (int j = 0; j < n; j++) {
+    int j = 0;
+    for (; j + 3 < n; j += 4) dot4_rows(a, n, j, y, m + 1, m);
+    for (; j < n; j++) {
       double d;
       DOT4(double, &A(j, 0), y, m + 1, n, d);
       A(j, m) += d;
@@ -251,18 +298,126 @@ static inline __attribute__((always_inline)) void lane_advance(double *a, int n,
 }
 #undef E
 
+/* ---- the single sweep's rows above the bulge, four at a time ----
+ * Step k's column update reaches rows l..k + 3, strided in row-major
+ * storage. Rows l..k, above the bulge, are read by nothing else for the
+ * rest of the sweep, so they are kept transposed in blocks of four rows
+ * (t[c][b]: column c of rows l + 4b..l + 4b + 3), where a step updates a
+ * block's column with one vector operation instead of four scalar ones. A
+ * block enters once its last row has had the sweep's last row update
+ * (step l + 4b + 3, or m if that is later); until then its rows are
+ * updated one by one like the rows below. Every entry gets the same
+ * operations in the same order: the eigenvalues do not change by a bit. */
+typedef struct {
+  v4d t[64][16];
+  int nb; /* blocks entered */
+} above_rows;
+
+static inline __attribute__((always_inline)) int block_entry(int l, int m, int b)
+{
+  return l + 4 * b + 3 > m ? l + 4 * b + 3 : m;
+}
+
+/* Columns c..c + 3 of rows i0..i0 + 3 into t[c..c + 3][b], and back. */
+static inline __attribute__((always_inline)) void block_in(const double *a, int n, int i0, int c,
+                                                           int b, above_rows *u)
+{
+  v4d r0, r1, r2, r3;
+  memcpy(&r0, &A(i0, c), sizeof r0);
+  memcpy(&r1, &A(i0 + 1, c), sizeof r1);
+  memcpy(&r2, &A(i0 + 2, c), sizeof r2);
+  memcpy(&r3, &A(i0 + 3, c), sizeof r3);
+  TRANSPOSE4(r0, r1, r2, r3);
+  u->t[c][b] = r0;
+  u->t[c + 1][b] = r1;
+  u->t[c + 2][b] = r2;
+  u->t[c + 3][b] = r3;
+}
+
+static inline __attribute__((always_inline)) void block_out(double *a, int n, int i0, int c, int b,
+                                                            const above_rows *u)
+{
+  v4d r0 = u->t[c][b], r1 = u->t[c + 1][b], r2 = u->t[c + 2][b], r3 = u->t[c + 3][b];
+  TRANSPOSE4(r0, r1, r2, r3);
+  memcpy(&A(i0, c), &r0, sizeof r0);
+  memcpy(&A(i0 + 1, c), &r1, sizeof r1);
+  memcpy(&A(i0 + 2, c), &r2, sizeof r2);
+  memcpy(&A(i0 + 3, c), &r3, sizeof r3);
+}
+
+/* At step k, after its row updates: the blocks due by then enter, columns
+   k..nn (the ones later column updates reach). */
+static inline __attribute__((always_inline)) void above_enter(const double *a, int n, int l, int m,
+                                                              int k, int nn, above_rows *u)
+{
+  for (int b = u->nb; b < 16 && block_entry(l, m, b) <= k && l + 4 * b + 3 <= nn - 1; b = ++u->nb) {
+    int i0 = l + 4 * b, c = k;
+    for (; c + 3 <= nn; c += 4) block_in(a, n, i0, c, b, u);
+    for (; c <= nn; c++) /* as one vector: read back whole, it forwards */
+      u->t[c][b] = (v4d){A(i0, c), A(i0 + 1, c), A(i0 + 2, c), A(i0 + 3, c)};
+  }
+}
+
+/* Step k's column update of every block (x, y, z, q, r: its reflector). */
+static inline __attribute__((always_inline)) void
+above_update(above_rows *u, int k, int nn, double x, double y, double z, double q, double r)
+{
+  int last = k == nn - 1; /* a 2-row reflector */
+  v4d *t0 = u->t[k], *t1 = u->t[k + 1], *t2 = u->t[k + (last ? 1 : 2)];
+  for (int b = 0; b < u->nb; b++) {
+    v4d a0 = t0[b], a1 = t1[b], a2 = t2[b], pp = x * a0 + y * a1;
+    if (!last) {
+      pp = pp + z * a2;
+      t2[b] = a2 - pp * r;
+    }
+    t1[b] = a1 - pp * q;
+    t0[b] = a0 - pp;
+  }
+}
+
+/* The sweep done: the blocks back into their rows. */
+static inline __attribute__((always_inline)) void above_leave(double *a, int n, int l, int m,
+                                                              int nn, const above_rows *u)
+{
+  for (int b = 0; b < u->nb; b++) {
+    int i0 = l + 4 * b, c = block_entry(l, m, b);
+    for (; c + 3 <= nn; c += 4) block_out(a, n, i0, c, b, u);
+    for (; c <= nn; c++)
+      for (int j = 0; j < 4; j++) A(i0 + j, c) = u->t[c][b][j];
+  }
+}
+
+/* Step k's column update of row ri (entries k..k + 2); returns entry k. */
+static inline __attribute__((always_inline)) double
+column_row(double *ri, int k, int nn, double x, double y, double z, double q, double r)
+{
+  double pp = x * ri[k] + y * ri[k + 1];
+  if (k != nn - 1) {
+    pp += z * ri[k + 2];
+    ri[k + 2] -= pp * r;
+  }
+  ri[k + 1] -= pp * q;
+  return ri[k] -= pp;
+}
+
 /* One sweep on one matrix (row-major, order n): rows and columns of the
  * active block only. */
 static inline __attribute__((always_inline)) void sweep1(double *a, int n, const qr_lane *L)
 {
   int l = L->l, m = L->m, nn = L->nn;
   double p = L->p, q = L->q, r = L->r, s, x, y, z;
+  above_rows u __attribute__((aligned(32)));
+  u.nb = 0;
+  /* column k - 1 below the diagonal as step k - 1 left it, passed in
+     registers rather than reloaded (fwd: that step was not skipped) */
+  double f0 = 0, f1 = 0, f2 = 0;
+  int fwd = 0;
   for (int k = m; k <= nn - 1; k++) {
     x = 1;
     if (k != m) {
-      p = A(k, k - 1);
-      q = A(k + 1, k - 1);
-      r = k != nn - 1 ? A(k + 2, k - 1) : 0;
+      p = fwd ? f0 : A(k, k - 1);
+      q = fwd ? f1 : A(k + 1, k - 1);
+      r = k != nn - 1 ? (fwd ? f2 : A(k + 2, k - 1)) : 0;
       x = fabs(p) + fabs(q) + fabs(r);
       /* scaled only where p^2 + q^2 + r^2 could under- or overflow */
       if (x != 0 && (x < 1e-100 || x > 1e100)) {
@@ -273,7 +428,11 @@ static inline __attribute__((always_inline)) void sweep1(double *a, int n, const
       } else
         x = 1;
     }
-    if ((s = sgn(sqrt(p * p + q * q + r * r), p)) == 0) continue;
+    if ((s = sgn(sqrt(p * p + q * q + r * r), p)) == 0) {
+      above_enter(a, n, l, m, k, nn, &u);
+      fwd = 0;
+      continue;
+    }
     if (k == m) {
       if (l != m) A(k, k - 1) = -A(k, k - 1);
     } else {
@@ -305,18 +464,17 @@ static inline __attribute__((always_inline)) void sweep1(double *a, int n, const
         rk[j] -= pp * x;
       }
     }
-    int mmin = nn < k + 3 ? nn : k + 3;
-    for (int i = l; i <= mmin; i++) {
-      double *ri = &A(i, 0);
-      double pp = x * ri[k] + y * ri[k + 1];
-      if (k != nn - 1) {
-        pp += z * ri[k + 2];
-        ri[k + 2] -= pp * r;
-      }
-      ri[k + 1] -= pp * q;
-      ri[k] -= pp;
-    }
+    /* the blocks above the bulge, then the rows not in one (measured
+       faster than the rows the next step reads first) */
+    above_enter(a, n, l, m, k, nn, &u);
+    above_update(&u, k, nn, x, y, z, q, r);
+    for (int i = l + 4 * u.nb; i <= k; i++) column_row(&A(i, 0), k, nn, x, y, z, q, r);
+    f0 = column_row(&A(k + 1, 0), k, nn, x, y, z, q, r);
+    if (k + 2 <= nn) f1 = column_row(&A(k + 2, 0), k, nn, x, y, z, q, r);
+    if (k + 3 <= nn) f2 = column_row(&A(k + 3, 0), k, nn, x, y, z, q, r);
+    fwd = 1;
   }
+  above_leave(a, n, l, m, nn, &u);
 }
 
 RR_CLONES int rr_hqr(int n, double *a, double *wr, double *wi)
