@@ -19,6 +19,7 @@
 #define split_candidates QR_CAT(split_candidates, QRW)
 #define reflector_lanes QR_CAT(reflector_lanes, QRW)
 #define columns_lanes QR_CAT(columns_lanes, QRW)
+#define near_lanes QR_CAT(near_lanes, QRW)
 #define elmhes_lanes QR_CAT(elmhes_lanes, QRW)
 #define sweep_start_lanes QR_CAT(sweep_start_lanes, QRW)
 #define swap_lane QR_CAT(swap_lane, QRW)
@@ -52,19 +53,21 @@ typedef long long vl __attribute__((vector_size(8 * QRW)));
 
 /* Step k's reflectors, one per lane, into f[0..4] = (x, y, z, q, r); lanes
  * whose sweep does not cover k get the identity (zeros). A lane's first step
- * takes its (p0, q0, r0); the others read column k - 1, whose subdiagonal
- * entry V(k, k - 1) is set here. lm, ln: each lane's first and last step
+ * takes its (p0, q0, r0); the others read column k - 1 (rows k..k + 2: col,
+ * as the previous step's near_lanes left them, or from memory where col is
+ * NULL), whose subdiagonal entry V(k, k - 1) is set here. lm, ln: each lane's first and last step
  * (ld and -1 for an idle lane); neg: the lane's sweep starts below its l. */
 QR_TARGET static inline __attribute__((always_inline)) void
 reflector_lanes(vd *b, int ld, int k, const vl *lm, const vl *ln, const vl *neg, const vd *p0,
-                const vd *q0, const vd *r0, vd *f)
+                const vd *q0, const vd *r0, const vd *col, vd *f)
 {
   const vd zero = {0}, one = zero + 1;
   const vl kv = (vl){0} + k;
   vl on = (kv >= *lm) & (kv <= *ln), first = kv == *lm, last = kv == *ln, negate = first & *neg;
-  vd p = *p0, q = *q0, r = *r0, x = one;
+  vd p = *p0, q = *q0, r = *r0, x = one, pb0 = zero;
   if (k > 0) {
-    vd pb = V(k, k - 1), qb = V(k + 1, k - 1), rb = vsel(last, zero, V(k + 2, k - 1));
+    vd pb = pb0 = col ? col[0] : V(k, k - 1), qb = col ? col[1] : V(k + 1, k - 1),
+       rb = vsel(last, zero, col ? col[2] : V(k + 2, k - 1));
     vd xb = vabs(pb) + vabs(qb) + vabs(rb);
     vl scale = (xb != 0) & ((xb < 1e-100) | (xb > 1e100));
     if (vany(scale & ~first)) {
@@ -84,8 +87,7 @@ reflector_lanes(vd *b, int ld, int k, const vl *lm, const vl *ln, const vl *neg,
   vd s = vsel(p >= 0, nrm, -nrm);
   on &= s != 0;
   if (k > 0) {
-    vd old = V(k, k - 1);
-    V(k, k - 1) = vsel(on & first, vsel(negate, -old, old), vsel(on, -s * x, old));
+    V(k, k - 1) = vsel(on & first, vsel(negate, -pb0, pb0), vsel(on, -s * x, pb0));
     /* the bulge entries just read are not read again: cleared here rather
        than by the next sweep's start (lane_advance with clear = 0) */
     vl used = on & ~first;
@@ -115,6 +117,27 @@ columns_lanes(vd *b, int ld, int k, int i0, int i1, const vd *f)
     ri[2] = a2 - pp * r;
     ri[1] = a1 - pp * q;
     ri[0] = a0 - pp;
+  }
+}
+
+/* The same for rows k + 1..k + 3 (those up to i1), their column-k entries
+   also into col[0..2] for the next step's reflector (from memory where a row
+   is past i1, when there is a next step), so that it need not read them
+   back. */
+QR_TARGET static inline __attribute__((always_inline)) void
+near_lanes(vd *b, int ld, int k, int i1, int next, const vd *f, vd *col)
+{
+  vd x = f[0], y = f[1], z = f[2], q = f[3], r = f[4];
+  for (int e = 0; e < 3; e++) {
+    vd *ri = &V(k + 1 + e, k);
+    if (k + 1 + e > i1) {
+      col[e] = next ? ri[0] : (vd){0};
+      continue;
+    }
+    vd a0 = ri[0], a1 = ri[1], a2 = ri[2], pp = x * a0 + y * a1 + z * a2;
+    ri[2] = a2 - pp * r;
+    ri[1] = a1 - pp * q;
+    ri[0] = col[e] = a0 - pp;
   }
 }
 
@@ -148,8 +171,8 @@ sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
     r0[c] = L->r;
   }
   if (kmax < kmin) return;
-  vd f[5], g[5] = {{0}};
-  reflector_lanes(b, ld, kmin, &lm, &ln, &neg, &p0, &q0, &r0, f);
+  vd f[5], g[5] = {{0}}, col[3];
+  reflector_lanes(b, ld, kmin, &lm, &ln, &neg, &p0, &q0, &r0, NULL, f);
   for (int k = kmin; k <= kmax; k++) {
     vd x = f[0], y = f[1], z = f[2], q = f[3], r = f[4];
     vd *rk = &V(k, 0), *rk1 = &V(k + 1, 0), *rk2 = &V(k + 2, 0);
@@ -164,10 +187,10 @@ sweep_lanes(vd *b, int ld, const qr_lane *lanes, const int *go)
       rk1[j] = a1 - pp * y;
       rk[j] = a0 - pp * x;
     }
-    int mmin = MIN(nmax, k + 3), near = MAX(lmin, k + 1);
-    columns_lanes(b, ld, k, near, mmin, f);
-    if (k < kmax) reflector_lanes(b, ld, k + 1, &lm, &ln, &neg, &p0, &q0, &r0, g);
-    columns_lanes(b, ld, k, lmin, MIN(mmin, near - 1), f);
+    int mmin = MIN(nmax, k + 3);
+    near_lanes(b, ld, k, mmin, k < kmax, f, col);
+    if (k < kmax) reflector_lanes(b, ld, k + 1, &lm, &ln, &neg, &p0, &q0, &r0, col, g);
+    columns_lanes(b, ld, k, lmin, MIN(mmin, k), f);
     for (int e = 0; e < 5; e++) f[e] = g[e];
   }
 }
@@ -404,6 +427,7 @@ eig_lanes(int n, int nb, const double *const *mats, double *wr, double *wi, doub
 #undef split_candidates
 #undef reflector_lanes
 #undef columns_lanes
+#undef near_lanes
 #undef elmhes_lanes
 #undef sweep_start_lanes
 #undef swap_lane
