@@ -12,6 +12,20 @@
  * interchange that some lanes take and others not is a select. About 3x
  * faster than one shift at a time with the same operations. */
 #define L RR_EIGDEC_LANES
+_Static_assert(L == 8, "back_subst takes the lanes as two vectors of four");
+
+/* Four lanes' numbers (GCC's and Clang's vector extension), moved by memcpy
+   and never passed by value, so that the clones keep one ABI. */
+typedef double v4d __attribute__((vector_size(4 * sizeof(double))));
+/* A compiler barrier after a step's loads: the values are used from the
+   registers they were loaded into, not read from memory again for each use
+   (which GCC otherwise does, folding a load into every product). No
+   instruction is emitted. */
+#if defined(__GNUC__)
+#define LOADS_DONE() __asm__ volatile("" ::: "memory")
+#else
+#define LOADS_DONE() ((void)0)
+#endif
 
 typedef struct lanes {
   double *ur, *ui;           /* U of each lane's LU, n x n x L, real and imaginary parts apart */
@@ -22,57 +36,57 @@ typedef struct lanes {
 
 /* LU of the Hessenberg matrix H - mu_l I with partial pivoting: row k+1 is
  * the only candidate at step k. A zero pivot (mu an exact eigenvalue)
- * becomes eps3, as in LAPACK's dlaein. */
+ * becomes eps3, as in LAPACK's dlaein. Step k touches rows k and k+1 only,
+ * so row k+1 is still H's when it comes in: it is read from h, and each
+ * step's interchange and elimination are one pass that writes U's row k
+ * and the next working row. */
 RR_INLINE void hess_lu(int n, const double *h, const double *mr, const double *mi, double eps3,
                        const lanes *w)
 {
   double *ur = w->ur, *ui = w->ui;
-  for (int i = 0; i < n; i++) {
-    for (int j = i > 0 ? i - 1 : 0; j < n; j++)
-      for (int l = 0; l < L; l++) {
-        ur[(i * n + j) * L + l] = h[i * n + j];
-        ui[(i * n + j) * L + l] = 0;
-      }
+  const double zero = 0; /* the imaginary part of H's entries off the diagonal */
+  for (int j = 0; j < n; j++)
     for (int l = 0; l < L; l++) {
-      ur[(i * n + i) * L + l] -= mr[l];
-      ui[(i * n + i) * L + l] = -mi[l];
+      ur[j * L + l] = j == 0 ? h[0] - mr[l] : h[j];
+      ui[j * L + l] = j == 0 ? -mi[l] : zero;
     }
-  }
   for (int k = 0; k < n - 1; k++) {
     double *rk = ur + k * n * L, *ik = ui + k * n * L, *rk1 = rk + n * L, *ik1 = ik + n * L;
+    const double *hk1 = h + (k + 1) * n; /* row k + 1 of H - mu I, as it came */
     int *sw = w->sw + k * L;
-    for (int l = 0; l < L; l++)
-      sw[l] =
-          fabs(rk1[k * L + l]) + fabs(ik1[k * L + l]) > fabs(rk[k * L + l]) + fabs(ik[k * L + l]);
-    for (int j = k; j < n; j++)
-#pragma omp simd
-      for (int l = 0; l < L; l++) {
-        double a = rk[j * L + l], b = rk1[j * L + l], c = ik[j * L + l], d = ik1[j * L + l];
-        rk[j * L + l] = sw[l] ? b : a;
-        rk1[j * L + l] = sw[l] ? a : b;
-        ik[j * L + l] = sw[l] ? d : c;
-        ik1[j * L + l] = sw[l] ? c : d;
-      }
     double l_r[L], l_i[L];
+#pragma omp simd
     for (int l = 0; l < L; l++) {
-      double *pr = rk + k * L + l, pi = ik[k * L + l];
-      if (*pr == 0 && pi == 0) *pr = eps3;
-      double d = 1 / (*pr * *pr + pi * pi);
-      l_r[l] = w->lr[k * L + l] = (rk1[k * L + l] * *pr + ik1[k * L + l] * pi) * d;
-      l_i[l] = w->li[k * L + l] = (ik1[k * L + l] * *pr - rk1[k * L + l] * pi) * d;
+      double ar = rk[k * L + l], ai = ik[k * L + l], br = hk1[k], bi = zero;
+      sw[l] = fabs(br) + fabs(bi) > fabs(ar) + fabs(ai);
+      double pr = sw[l] ? br : ar, pi = sw[l] ? bi : ai, qr = sw[l] ? ar : br, qi = sw[l] ? ai : bi;
+      if (pr == 0 && pi == 0) pr = eps3;
+      rk[k * L + l] = pr;
+      ik[k * L + l] = pi;
+      double d = 1 / (pr * pr + pi * pi);
+      l_r[l] = w->lr[k * L + l] = (qr * pr + qi * pi) * d;
+      l_i[l] = w->li[k * L + l] = (qi * pr - qr * pi) * d;
     }
-    for (int j = k + 1; j < n; j++)
+    for (int j = k + 1; j < n; j++) {
+      double hj = hk1[j];
 #pragma omp simd
       for (int l = 0; l < L; l++) {
-        double a = rk[j * L + l], b = ik[j * L + l];
-        rk1[j * L + l] -= l_r[l] * a - l_i[l] * b;
-        ik1[j * L + l] -= l_r[l] * b + l_i[l] * a;
+        double ar = rk[j * L + l], ai = ik[j * L + l];
+        double br = j == k + 1 ? hj - mr[l] : hj, bi = j == k + 1 ? -mi[l] : zero;
+        double tr = sw[l] ? br : ar, ti = sw[l] ? bi : ai, qr = sw[l] ? ar : br,
+               qi = sw[l] ? ai : bi;
+        rk[j * L + l] = tr;
+        ik[j * L + l] = ti;
+        rk1[j * L + l] = qr - (l_r[l] * tr - l_i[l] * ti);
+        ik1[j * L + l] = qi - (l_r[l] * ti + l_i[l] * tr);
       }
+    }
   }
   for (int l = 0; l < L; l++)
     if (ur[(n * n - 1) * L + l] == 0 && ui[(n * n - 1) * L + l] == 0)
       ur[(n * n - 1) * L + l] = eps3;
   for (int i = 0; i < n; i++)
+#pragma omp simd
     for (int l = 0; l < L; l++) {
       double a = ur[(i * n + i) * L + l], b = ui[(i * n + i) * L + l], d = 1 / (a * a + b * b);
       w->dr[i * L + l] = a * d;
@@ -81,29 +95,50 @@ RR_INLINE void hess_lu(int n, const double *h, const double *mr, const double *m
 }
 
 /* U y = y in place; (dr, di) = 1 / diag(U), so that no division sits in the
- * recurrence. */
+ * recurrence. The 8 lanes go as two vectors of four, each loaded once: left
+ * to itself, GCC folds every load into both of its products, twice the load
+ * traffic, which bounds the loop. */
+#define BACK_LOAD(h)                                                                               \
+  v4d a##h, b##h, c##h, d##h;                                                                      \
+  memcpy(&a##h, ri + j * L + 4 * (h), sizeof a##h);                                                \
+  memcpy(&b##h, ii + j * L + 4 * (h), sizeof b##h);                                                \
+  memcpy(&c##h, yr + j * L + 4 * (h), sizeof c##h);                                                \
+  memcpy(&d##h, yi + j * L + 4 * (h), sizeof d##h)
+#define BACK_ROW(h)                                                                                \
+  do {                                                                                             \
+    v4d dr_, di_, o_;                                                                              \
+    memcpy(&dr_, w->dr + i * L + 4 * (h), sizeof dr_);                                             \
+    memcpy(&di_, w->di + i * L + 4 * (h), sizeof di_);                                             \
+    o_ = sr##h * dr_ - si##h * di_;                                                                \
+    memcpy(yr + i * L + 4 * (h), &o_, sizeof o_);                                                  \
+    o_ = sr##h * di_ + si##h * dr_;                                                                \
+    memcpy(yi + i * L + 4 * (h), &o_, sizeof o_);                                                  \
+  } while (0)
 RR_INLINE void back_subst(int n, const lanes *w)
 {
   double *yr = w->yr, *yi = w->yi;
   for (int i = n - 1; i >= 0; i--) {
     const double *ri = w->ur + i * n * L, *ii = w->ui + i * n * L;
-    double sr[L], si[L];
-    for (int l = 0; l < L; l++) {
-      sr[l] = yr[i * L + l];
-      si[l] = yi[i * L + l];
+    v4d sr0, sr1, si0, si1;
+    memcpy(&sr0, yr + i * L, sizeof sr0);
+    memcpy(&sr1, yr + i * L + 4, sizeof sr1);
+    memcpy(&si0, yi + i * L, sizeof si0);
+    memcpy(&si1, yi + i * L + 4, sizeof si1);
+    for (int j = i + 1; j < n; j++) {
+      BACK_LOAD(0);
+      BACK_LOAD(1);
+      LOADS_DONE();
+      sr0 += b0 * d0 - a0 * c0;
+      sr1 += b1 * d1 - a1 * c1;
+      si0 -= a0 * d0 + b0 * c0;
+      si1 -= a1 * d1 + b1 * c1;
     }
-    for (int j = i + 1; j < n; j++)
-#pragma omp simd
-      for (int l = 0; l < L; l++) {
-        sr[l] += ii[j * L + l] * yi[j * L + l] - ri[j * L + l] * yr[j * L + l];
-        si[l] -= ri[j * L + l] * yi[j * L + l] + ii[j * L + l] * yr[j * L + l];
-      }
-    for (int l = 0; l < L; l++) {
-      yr[i * L + l] = sr[l] * w->dr[i * L + l] - si[l] * w->di[i * L + l];
-      yi[i * L + l] = sr[l] * w->di[i * L + l] + si[l] * w->dr[i * L + l];
-    }
+    BACK_ROW(0);
+    BACK_ROW(1);
   }
 }
+#undef BACK_LOAD
+#undef BACK_ROW
 
 /* L^-1 P y in place: the LU's interchanges and multipliers. */
 RR_INLINE void forward_subst(int n, const lanes *w)

@@ -9,7 +9,7 @@
 #ifndef RR_EIGDEC_H
 #define RR_EIGDEC_H
 
-/* Shifts per inverse-iteration pass (one AVX2 vector of doubles). */
+/* Shifts per inverse-iteration pass (one AVX-512 vector of doubles, two AVX2). */
 #define RR_EIGDEC_LANES 8
 /* Workspace sizes, in doubles and ints. */
 #define RR_EIGDEC_LWORK(n)                                                                         \
