@@ -158,28 +158,42 @@ RR_INLINE void forward_subst(int n, const lanes *w)
     }
 }
 
-/* Scales lane l of y to largest component 1 (1-norm of each component). */
-RR_INLINE void normalise(int n, double *yr, double *yi, int l)
+/* Scales each lane of y to largest component 1 (1-norm of each component,
+ * the first such component where several are largest); a lane of zeros is
+ * left as it is. */
+RR_INLINE void normalise(int n, double *yr, double *yi)
 {
-  int big = 0;
-  double b = 0;
-  for (int i = 0; i < n; i++) {
-    double t = fabs(yr[i * L + l]) + fabs(yi[i * L + l]);
-    if (t > b) {
-      b = t;
-      big = i;
+  double b[L], sr[L], si[L];
+  int big[L];
+  for (int l = 0; l < L; l++) {
+    b[l] = 0;
+    big[l] = 0;
+  }
+  for (int i = 0; i < n; i++)
+#pragma omp simd
+    for (int l = 0; l < L; l++) {
+      double t = fabs(yr[i * L + l]) + fabs(yi[i * L + l]);
+      big[l] = t > b[l] ? i : big[l];
+      b[l] = t > b[l] ? t : b[l];
     }
+  for (int l = 0; l < L; l++) {
+    double br = yr[big[l] * L + l], bi = yi[big[l] * L + l], d = 1 / (br * br + bi * bi);
+    sr[l] = br * d;
+    si[l] = -bi * d;
   }
-  if (b == 0) return;
-  double br = yr[big * L + l], bi = yi[big * L + l], d = 1 / (br * br + bi * bi), sr = br * d,
-         si = -bi * d;
-  for (int i = 0; i < n; i++) {
-    double r = yr[i * L + l] * sr - yi[i * L + l] * si;
-    yi[i * L + l] = yr[i * L + l] * si + yi[i * L + l] * sr;
-    yr[i * L + l] = r;
-  }
-  yr[big * L + l] = 1;
-  yi[big * L + l] = 0;
+  for (int i = 0; i < n; i++)
+#pragma omp simd
+    for (int l = 0; l < L; l++) {
+      double r = yr[i * L + l] * sr[l] - yi[i * L + l] * si[l],
+             m = yr[i * L + l] * si[l] + yi[i * L + l] * sr[l];
+      yr[i * L + l] = b[l] != 0 ? r : yr[i * L + l];
+      yi[i * L + l] = b[l] != 0 ? m : yi[i * L + l];
+    }
+  for (int l = 0; l < L; l++)
+    if (b[l] != 0) {
+      yr[big[l] * L + l] = 1;
+      yi[big[l] * L + l] = 0;
+    }
 }
 
 /* x = D P_1 L_1 ... P_{n-2} L_{n-2} y for every lane: elmhes' and balance's
@@ -214,7 +228,7 @@ RR_INLINE void back_transform(int n, const double *a, const int *perm, const dou
       yr[i * L + l] *= dsc[i];
       yi[i * L + l] *= dsc[i];
     }
-  for (int l = 0; l < L; l++) normalise(n, yr, yi, l);
+  normalise(n, yr, yi);
 }
 
 /* The eigenvectors of up to L shifts (mr, mi) of the Hessenberg matrix a by
@@ -230,7 +244,7 @@ RR_INLINE void inverse_iteration(int n, const double *a, const int *perm, const 
     w->yi[i] = 0;
   }
   back_subst(n, w);
-  for (int l = 0; l < L; l++) normalise(n, w->yr, w->yi, l);
+  normalise(n, w->yr, w->yi);
   forward_subst(n, w);
   back_subst(n, w);
   back_transform(n, a, perm, dsc, w);
