@@ -97,7 +97,8 @@ RR_INLINE void hess_lu(int n, const double *h, const double *mr, const double *m
 /* U y = y in place; (dr, di) = 1 / diag(U), so that no division sits in the
  * recurrence. The 8 lanes go as two vectors of four, each loaded once: left
  * to itself, GCC folds every load into both of its products, twice the load
- * traffic, which bounds the loop. */
+ * traffic, which bounds the loop. BACK_LOAD(h) declares step j's a, b (U's
+ * row i) and c, d (y) of lanes 4h..4h + 3. */
 #define BACK_LOAD(h)                                                                               \
   v4d a##h, b##h, c##h, d##h;                                                                      \
   memcpy(&a##h, ri + j * L + 4 * (h), sizeof a##h);                                                \
