@@ -55,7 +55,6 @@ RR_INLINE void hess_lu(int n, const double *h, const double *mr, const double *m
     const double *hk1 = h + (k + 1) * n; /* row k + 1 of H - mu I, as it came */
     int *sw = w->sw + k * L;
     double l_r[L], l_i[L];
-#pragma omp simd
     for (int l = 0; l < L; l++) {
       double ar = rk[k * L + l], ai = ik[k * L + l], br = hk1[k], bi = zero;
       sw[l] = fabs(br) + fabs(bi) > fabs(ar) + fabs(ai);
