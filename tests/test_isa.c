@@ -1,15 +1,17 @@
 #define _POSIX_C_SOURCE 200809L
 /* Every instruction-set copy of the eigenvalue kernels gives the same bits.
  * The library picks its copies at load time (AVX-512, AVX2 + FMA or the
- * baseline x86-64); this test links a second build of the same sources with
- * one copy only, for the baseline x86-64 (SSE2, 4 lanes as two vectors: see
- * tests/CMakeLists.txt), its symbols prefixed base_, and holds the library's
- * copies to it on the state matrices of the default vehicle (the robust points,
- * three SDF treatments) and on seeded random matrices that split and deflate
- * early: eigenvalues alone (one matrix, lanes of 4 and of the widest the
- * processor has) and the ride's eigendecomposition with its vectors. So a
+ * baseline x86-64); this test links two more builds of the same sources with
+ * one copy each (see tests/CMakeLists.txt): for the baseline x86-64 (SSE2, 4
+ * lanes as two vectors), its symbols prefixed base_, and for x86-64-v3 (what
+ * the library's AVX2 clones are compiled for, which a processor with AVX-512
+ * never runs), prefixed avx2_. The library's copies and the AVX2 copy are held
+ * to the baseline on the state matrices of the default vehicle (the robust
+ * points, three SDF treatments) and on seeded random matrices that split and
+ * deflate early: eigenvalues alone (one matrix, lanes of 4 and of the widest
+ * the copy has) and the ride's eigendecomposition with its vectors. So a
  * machine with AVX-512 checks the AVX-512, AVX2 and baseline paths against
- * each other, whichever one the library runs. */
+ * each other. */
 #include <string.h>
 #include "check.h"
 #include "railride/railride.h"
@@ -21,6 +23,10 @@ int base_rr_eig_batch(int n, int nb, int lanes, const double *const *mats, doubl
                       double *work, int *fail);
 int base_rr_eig_batch_lanes(void);
 int base_rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork);
+int avx2_rr_eig_small(int n, double *a, double *wr, double *wi);
+int avx2_rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
+                      double *work, int *fail);
+int avx2_rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork);
 
 enum { NMAX = 48, NMATS = 40 };
 
@@ -69,9 +75,33 @@ static void random_matrices(void)
   }
 }
 
+/* The copies held to the baseline: the library's (the one it chose at load
+   time) and the AVX2 copy, where this processor can run it. */
+typedef struct eig_copy {
+  const char *name;
+  int (*small)(int n, double *a, double *wr, double *wi);
+  int (*batch)(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
+               double *work, int *fail);
+  int (*eigdec)(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork);
+} eig_copy;
+
+static int ncopies(void)
+{
+#if defined(__x86_64__)
+  return __builtin_cpu_supports("x86-64-v3") ? 2 : 1;
+#else
+  return 2; /* both built for the baseline */
+#endif
+}
+
+static const eig_copy copies[2] = {
+    {"the library's", rr_eig_small, rr_eig_batch, rr_eigdec},
+    {"the AVX2 copy's", avx2_rr_eig_small, avx2_rr_eig_batch, avx2_rr_eigdec},
+};
+
 /* eigenvalues one matrix at a time and in lanes, each copy against the
-   baseline's single-matrix QR */
-static void check_eigenvalues(void)
+   baseline's */
+static void check_eigenvalues(const eig_copy *cp)
 {
   static double a[NMAX * NMAX], b[NMAX * NMAX], wr[2][8 * NMAX], wi[2][8 * NMAX];
   double *work = malloc(sizeof(double) * rr_eig_batch_work(NMAX)),
@@ -81,40 +111,40 @@ static void check_eigenvalues(void)
     int n = order[k];
     memcpy(a, mats[k], sizeof(double) * (size_t)(n * n));
     memcpy(b, mats[k], sizeof(double) * (size_t)(n * n));
-    CHECK(rr_eig_small(n, a, wr[0], wi[0]) == 0 && base_rr_eig_small(n, b, wr[1], wi[1]) == 0,
+    CHECK(cp->small(n, a, wr[0], wi[0]) == 0 && base_rr_eig_small(n, b, wr[1], wi[1]) == 0,
           "matrix %d: no convergence", k);
     differ += memcmp(wr[0], wr[1], sizeof(double) * (size_t)n) != 0 ||
               memcmp(wi[0], wi[1], sizeof(double) * (size_t)n) != 0;
   }
-  CHECK(differ == 0, "%d of %d matrices: the library's QR differs from the baseline copy's", differ,
-        nmats);
+  CHECK(differ == 0, "%d of %d matrices: %s QR differs from the baseline copy's", differ, nmats,
+        cp->name);
   /* groups of equal order, as the library batches them */
   for (int k = 0; k < nmats;) {
     int nb = 1;
     while (k + nb < nmats && nb < 8 && order[k + nb] == order[k]) nb++;
     const double *mp[8];
     for (int c = 0; c < nb; c++) mp[c] = mats[k + c];
-    for (int lanes = 4; lanes >= 0; lanes -= 4) { /* 0: the widest here */
+    for (int lanes = 4; lanes >= 0; lanes -= 4) { /* 0: the widest that copy has */
       int n = order[k];
-      CHECK(rr_eig_batch(n, nb, lanes, mp, wr[0], wi[0], work, fail) == 0 &&
+      CHECK(cp->batch(n, nb, lanes, mp, wr[0], wi[0], work, fail) == 0 &&
                 base_rr_eig_batch(n, nb, 4, mp, wr[1], wi[1], bwork, fail) == 0,
             "batch at %d: no convergence", k);
       CHECK(!memcmp(wr[0], wr[1], sizeof(double) * (size_t)(nb * n)) &&
                 !memcmp(wi[0], wi[1], sizeof(double) * (size_t)(nb * n)),
-            "batch of %d at matrix %d, %d lanes: differs from the baseline copy", nb, k,
-            lanes ? lanes : rr_eig_batch_lanes());
+            "%s batch of %d at matrix %d, lanes %d: differs from the baseline copy", cp->name, nb,
+            k, lanes);
       batches++;
     }
     k += nb;
   }
   free(work);
   free(bwork);
-  printf("  eigenvalues: %d matrices one at a time, %d batches, each copy equal to the baseline\n",
-         nmats, batches);
+  printf("  eigenvalues, %s: %d matrices one at a time, %d batches, equal to the baseline\n",
+         cp->name, nmats, batches);
 }
 
 /* the ride's eigendecomposition: eigenvalues and vectors */
-static void check_eigdec(void)
+static void check_eigdec(const eig_copy *cp)
 {
   static double a[NMAX * NMAX], vr[2][NMAX * NMAX], work[RR_EIGDEC_LWORK(NMAX)];
   double wr[2][NMAX], wi[2][NMAX];
@@ -122,11 +152,11 @@ static void check_eigdec(void)
   for (int k = 0; k < nmats; k++) {
     int n = order[k], st[2];
     memcpy(a, mats[k], sizeof(double) * (size_t)(n * n));
-    st[0] = rr_eigdec(n, a, wr[0], wi[0], vr[0], work, iwork);
+    st[0] = cp->eigdec(n, a, wr[0], wi[0], vr[0], work, iwork);
     memcpy(a, mats[k], sizeof(double) * (size_t)(n * n));
     st[1] = base_rr_eigdec(n, a, wr[1], wi[1], vr[1], work, iwork);
-    CHECK(st[0] == st[1], "eigdec, matrix %d: status %d against the baseline's %d", k, st[0],
-          st[1]);
+    CHECK(st[0] == st[1], "eigdec, matrix %d: %s status %d against the baseline's %d", k, cp->name,
+          st[0], st[1]);
     if (st[0] || st[1]) continue;
     ok++;
     differ += memcmp(wr[0], wr[1], sizeof(double) * (size_t)n) != 0 ||
@@ -134,8 +164,11 @@ static void check_eigdec(void)
               memcmp(vr[0], vr[1], sizeof(double) * (size_t)(n * n)) != 0;
   }
   CHECK(ok >= 27, "eigdec: only %d matrices decomposed", ok);
-  CHECK(differ == 0, "eigdec: %d of %d matrices differ from the baseline copy", differ, ok);
-  printf("  eigendecomposition: %d matrices, values and vectors equal to the baseline\n", ok);
+  CHECK(differ == 0,
+        "eigdec: %d of %d matrices, %s values or vectors differ from the baseline copy", differ, ok,
+        cp->name);
+  printf("  eigendecomposition, %s: %d matrices, values and vectors equal to the baseline\n",
+         cp->name, ok);
 }
 
 int main(void)
@@ -148,7 +181,10 @@ int main(void)
   vehicle_matrices();
   CHECK(nmats == 27, "27 vehicle state matrices, got %d", nmats);
   random_matrices();
-  check_eigenvalues();
-  check_eigdec();
+  if (ncopies() < 2) printf("  no x86-64-v3 here: the AVX2 copy is not run\n");
+  for (int c = 0; c < ncopies(); c++) {
+    check_eigenvalues(&copies[c]);
+    check_eigdec(&copies[c]);
+  }
   return check_done("test_isa");
 }
