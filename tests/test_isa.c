@@ -4,9 +4,9 @@
  * baseline x86-64); this test links two more builds of the same sources with
  * one copy each (see tests/CMakeLists.txt): for the baseline x86-64 (SSE2, 4
  * lanes as two vectors), its symbols prefixed base_, and for x86-64-v3 (what
- * the library's AVX2 clones are compiled for, which a processor with AVX-512
- * never runs), prefixed avx2_. The library's copies and the AVX2 copy are held
- * to the baseline on the state matrices of the default vehicle (the robust
+ * the library's AVX2 clones are compiled for; a processor with AVX-512 never
+ * runs rr_eigdec's, which has an AVX-512 clone too), prefixed avx2_. The library's copies and the
+ * AVX2 copy are held to the baseline on the state matrices of the default vehicle (the robust
  * points, three SDF treatments) and on seeded random matrices that split and
  * deflate early: eigenvalues alone (one matrix, lanes of 4 and of the widest
  * the copy has) and the ride's eigendecomposition with its vectors. So a
@@ -134,8 +134,8 @@ static void check_eigenvalues(const eig_copy *cp)
             "batch at %d: no convergence", k);
       CHECK(!memcmp(wr[0], wr[1], sizeof(double) * (size_t)(nb * n)) &&
                 !memcmp(wi[0], wi[1], sizeof(double) * (size_t)(nb * n)),
-            "%s batch of %d at matrix %d, lanes %d: differs from the baseline copy", cp->name, nb,
-            k, lanes);
+            "%s batch of %d at matrix %d, lanes %d (0: the widest): differs from the baseline copy",
+            cp->name, nb, k, lanes);
       batches++;
     }
     k += nb;
