@@ -10,6 +10,7 @@
 #include "model/model_impl.h"
 #include "linalg/complex_lu.h"
 #include "linalg/eigen_decomposition.h"
+#include "linalg/real_lu.h"
 #include "util/internal.h"
 #include "util/block.h"
 
@@ -88,7 +89,7 @@ static void plan_layout(rr_frf_plan *p, int N, int lwork, rr_block *b)
   p->acc = rr_block_take(b, 2 * FCHUNK * E, d);
   p->ework = rr_block_take(b, RR_EIGDEC_LWORK(Nz), d);
   p->V = rr_block_take(b, NN, d);
-  p->rhs = rr_block_take(b, Nz * (ni + MAXU + 4 * Nz), d); /* also dgecon's 4N */
+  p->rhs = rr_block_take(b, Nz * (ni + MAXU + 2), d); /* N x nr by rows, then the estimate's 2N */
   p->iwork = rr_block_take(b, RR_EIGDEC_LIWORK(Nz) + Nz, i);
   p->vpiv = rr_block_take(b, Nz, i);
   p->lag = rr_block_take(b, nf * ni, z);
@@ -310,21 +311,19 @@ static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const
   memset(rhs, 0, sizeof(double) * (size_t)N * (size_t)nr);
   for (int i = 0; i < ni; i++)
     for (int r = 0; r < n; r++)
-      rhs[(size_t)i * (size_t)N + (size_t)n + (size_t)r] = m->B[r * ni + i] / m->mdiag[r];
+      rhs[(size_t)(n + r) * (size_t)nr + (size_t)i] = m->B[r * ni + i] / m->mdiag[r];
   for (int e = 0; e < nu; e++) {
     const rr_mx *mx = &m->mx[uel[e]];
     for (int t = 0; t < mx->nz; t++)
-      rhs[(size_t)(ni + e) * (size_t)N + (size_t)n + (size_t)mx->idx[t]] =
+      rhs[(size_t)(n + mx->idx[t]) * (size_t)nr + (size_t)(ni + e)] =
           mx->J[mx->idx[t]] / m->mdiag[mx->idx[t]];
   }
   memcpy(p->V, p->vr, sizeof(double) * (size_t)N * (size_t)N);
-  double vnorm = LAPACKE_dlange_work(LAPACK_COL_MAJOR, '1', N, N, p->V, N, NULL), rcond = 0;
-  if (LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, N, N, p->V, N, p->vpiv)) return 1;
-  if (LAPACKE_dgecon_work(LAPACK_COL_MAJOR, '1', N, p->V, N, vnorm, &rcond,
-                          rhs + (size_t)N * (size_t)nr, p->iwork) ||
-      !(rcond >= RCOND_MIN))
+  double vnorm = rr_lu_norm1(N, p->V, N);
+  if (rr_lu_factor(N, p->V, N, p->vpiv) ||
+      !(rr_lu_rcond1(N, p->V, N, vnorm, rhs + (size_t)N * (size_t)nr, p->iwork) >= RCOND_MIN))
     return 1;
-  LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', N, nr, p->V, N, p->vpiv, rhs, N);
+  rr_lu_solve_rows(N, p->V, N, p->vpiv, nr, rhs, nr);
   double complex x[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
   for (int j = 0; j < N; j++) {
     if (p->wi[j] < 0) continue; /* a pair is stored once, by its Im > 0 member */
@@ -335,9 +334,9 @@ static int residues_fast(rr_frf_plan *p, const rr_model *m, int N, int nu, const
     /* real-basis coefficients (g_re, g_im) of the pair's columns are
        (2 Re beta, -2 Im beta) */
 #define BETA(col)                                                                                  \
-  (pair ? 0.5 * (rhs[(size_t)(col) * (size_t)N + (size_t)j] -                                      \
-                 I * rhs[(size_t)(col) * (size_t)N + (size_t)j + 1])                               \
-        : rhs[(size_t)(col) * (size_t)N + (size_t)j])
+  (pair ? 0.5 * (rhs[(size_t)j * (size_t)nr + (size_t)(col)] -                                     \
+                 I * rhs[(size_t)(j + 1) * (size_t)nr + (size_t)(col)])                            \
+        : rhs[(size_t)j * (size_t)nr + (size_t)(col)])
     for (int i = 0; i < ni; i++) p->b[j * ni + i] = BETA(i);
     for (int e = 0; e < nu; e++) p->c[j * MAXU + e] = BETA(ni + e);
 #undef BETA
