@@ -15,7 +15,8 @@
 #include "util/block.h"
 
 #define MAXU 8
-#define FCHUNK 200 /* frequencies per GEMM: the weights and sums stay in cache */
+#define FCHUNK 200 /* frequencies per GEMM (a multiple of FV): the weights and sums stay in cache  \
+                    */
 
 struct rr_frf_plan {
   int n, ni, np, nf, Nmax, method, use_dgeev;
@@ -29,7 +30,7 @@ struct rr_frf_plan {
   double complex *lam, *o, *o0, *b, *u, *c; /* per mode: np, np, ni, nU, nU */
   double *T;        /* 2 nt x E: per term (pair or real mode) the residue entries' real parts, then
                        imaginary parts */
-  double *Wt, *acc; /* per frequency chunk: 2 FCHUNK x 2 nt weights, 2 FCHUNK x E sums */
+  double *Wt, *acc; /* per frequency chunk: K x 2 FCHUNK weights, E x 2 FCHUNK sums */
   double *ework, *V, *rhs; /* eigdec workspace, LU of the eigenvector basis, its right-hand sides */
   int *iwork, *vpiv;
   double complex *lag; /* nf x ni: exp(j w x_i / v) at lag_speed */
@@ -379,10 +380,11 @@ static void smw_matrix(const double complex *dK, const double complex *Z, int nu
    elements, in lanes across the frequencies (real and imaginary parts apart;
    the per-frequency complex algebra had been a tenth of the evaluation). */
 #define FV 4 /* frequencies a step: one AVX2 vector */
+_Static_assert(FCHUNK % FV == 0, "a chunk is whole steps of FV frequencies");
 
 RR_INLINE void smw_lanes(const rr_model *m, const smw_set *u, const double *w, const double *kfr,
-                         const double *kfi, const double *const *re, const double *const *im,
-                         int nu, double (*m2r)[FV], double (*m2i)[FV])
+                         const double *kfi, const double *acc, int kk0, int nkp, int nu,
+                         double (*m2r)[FV], double (*m2i)[FV])
 {
   double dkr[MAXU][FV], dki[MAXU][FV], zr[MAXU * MAXU][FV], zi[MAXU * MAXU][FV];
   for (int e = 0; e < nu; e++) {
@@ -397,11 +399,13 @@ RR_INLINE void smw_lanes(const rr_model *m, const smw_set *u, const double *w, c
       dki[e][l] = (nim * dr - nr * di) * inv;
     }
   }
-  for (int e = 0; e < nu * nu; e++)
+  for (int e = 0; e < nu * nu; e++) {
+    const double *z = acc + (size_t)(u->oZ + e) * (size_t)(2 * nkp) + (size_t)kk0;
     for (int l = 0; l < FV; l++) {
-      zr[e][l] = re[l][u->oZ + e];
-      zi[e][l] = im[l][u->oZ + e];
+      zr[e][l] = z[l];
+      zi[e][l] = z[nkp + l];
     }
+  }
   if (nu > 2) { /* the general M2, one frequency at a time */
     for (int l = 0; l < FV; l++) {
       double complex dK[MAXU], Z[MAXU * MAXU], M2[MAXU * MAXU];
@@ -447,29 +451,29 @@ RR_INLINE void smw_lanes(const rr_model *m, const smw_set *u, const double *w, c
 }
 
 RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k0, int nk,
-                            int kk0, const double *acc, int E, int nu)
+                            int kk0, const double *acc, int nkp, int nu)
 {
   int ni = p->ni, np = p->np, nH = np * ni, nv = nk - kk0 < FV ? nk - kk0 : FV;
-  const double *re[FV], *im[FV];
+  /* entry e's real parts at RE(e)[0 .. FV), its imaginary parts at IM(e) */
+#define RE(e) (acc + (size_t)(e) * (size_t)(2 * nkp) + (size_t)kk0)
+#define IM(e) (RE(e) + nkp)
   double w[FV], kfr[FV], kfi[FV], m2r[MAXU * MAXU][FV], m2i[MAXU * MAXU][FV];
   for (int l = 0; l < FV; l++) { /* a short last step repeats its last frequency */
     int kk = kk0 + (l < nv ? l : nv - 1);
-    re[l] = acc + (size_t)2 * (size_t)kk * (size_t)E;
-    im[l] = re[l] + E;
     w[l] = 2 * RR_PI * p->f[k0 + kk];
     double complex kf = nu ? rr_model_series_k(m, u->uel[0], I * w[l], 0) : 0;
     kfr[l] = creal(kf);
     kfi[l] = cimag(kf);
   }
-  if (nu) smw_lanes(m, u, w, kfr, kfi, re, im, nu, m2r, m2i);
+  if (nu) smw_lanes(m, u, w, kfr, kfi, acc, kk0, nkp, nu, m2r, m2i);
   for (int q = 0; q < np; q++) {
     double gr[MAXU][FV], gi[MAXU][FV]; /* g_e = sum_h (G(q, h) + dU(q, h)) M2(h, e) */
     for (int e = 0; e < nu; e++)
       for (int l = 0; l < FV; l++) {
         double sr = 0, si = 0;
         for (int h = 0; h < nu; h++) {
-          double xr = re[l][u->oGq + q * nu + h] + u->dU[q * nu + h],
-                 xi = im[l][u->oGq + q * nu + h];
+          double xr = RE(u->oGq + q * nu + h)[l] + u->dU[q * nu + h],
+                 xi = IM(u->oGq + q * nu + h)[l];
           sr += xr * m2r[h * nu + e][l] - xi * m2i[h * nu + e][l];
           si += xr * m2i[h * nu + e][l] + xi * m2r[h * nu + e][l];
         }
@@ -479,10 +483,10 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
     for (int i = 0; i < ni; i++) {
       double hr[FV], hi[FV];
       for (int l = 0; l < FV; l++) {
-        hr[l] = re[l][u->oHq + q * ni + i] + u->dB[q * ni + i];
-        hi[l] = im[l][u->oHq + q * ni + i];
+        hr[l] = RE(u->oHq + q * ni + i)[l] + u->dB[q * ni + i];
+        hi[l] = IM(u->oHq + q * ni + i)[l];
         for (int e = 0; e < nu; e++) {
-          double ur = re[l][u->oHu + e * ni + i], ui = im[l][u->oHu + e * ni + i];
+          double ur = RE(u->oHu + e * ni + i)[l], ui = IM(u->oHu + e * ni + i)[l];
           hr[l] -= gr[e][l] * ur - gi[e][l] * ui;
           hi[l] -= gr[e][l] * ui + gi[e][l] * ur;
         }
@@ -491,19 +495,22 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
       for (int l = 0; l < nv; l++) out[(size_t)l * (size_t)nH] = hr[l] + I * hi[l];
     }
   }
+#undef RE
+#undef IM
 }
 
-/* A chunk's FRFs from its modal sums (acc: 2 nk rows of E), the usual 0, 1
-   and 2 dampers with nu a constant, so that the small loops unroll. */
+/* A chunk's FRFs from its modal sums (acc: E rows of 2 nkp, an entry's real
+   parts over the chunk's frequencies, then its imaginary parts), the usual
+   0, 1 and 2 dampers with nu a constant, so that the small loops unroll. */
 RR_CLONES static void finish_chunk(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k0,
-                                   int nk, const double *acc, int E)
+                                   int nk, int nkp, const double *acc)
 {
   for (int kk = 0; kk < nk; kk += FV) {
     switch (u->nu) {
-    case 0: finish_lanes(p, m, u, k0, nk, kk, acc, E, 0); break;
-    case 1: finish_lanes(p, m, u, k0, nk, kk, acc, E, 1); break;
-    case 2: finish_lanes(p, m, u, k0, nk, kk, acc, E, 2); break;
-    default: finish_lanes(p, m, u, k0, nk, kk, acc, E, u->nu);
+    case 0: finish_lanes(p, m, u, k0, nk, kk, acc, nkp, 0); break;
+    case 1: finish_lanes(p, m, u, k0, nk, kk, acc, nkp, 1); break;
+    case 2: finish_lanes(p, m, u, k0, nk, kk, acc, nkp, 2); break;
+    default: finish_lanes(p, m, u, k0, nk, kk, acc, nkp, u->nu);
     }
   }
 }
@@ -529,29 +536,42 @@ static void feedthrough(const rr_frf_plan *p, const rr_model *m, smw_set *u)
   }
 }
 
-/* One frequency's weights (real and imaginary parts) of the terms with
-   eigenvalues la + j lb: the pairs first, then the real modes. */
-RR_CLONES static void modal_weights(const double *la, const double *lb, int npair, int nt, double w,
-                                    double *wre, double *wim)
+/* A chunk's weights (nk frequencies, w angular, padded with zeros to nkp)
+   of the terms with eigenvalues la + j lb, the pairs first, then the real
+   modes: term t's row of W (2 nkp long) holds its real parts over the
+   frequencies, then its imaginary parts; a pair's second row (nt + t) the
+   weights of its imaginary residue. Across the frequencies, one vector of
+   them at a time. */
+RR_CLONES static void modal_weights(const double *la, const double *lb, int npair, int nt,
+                                    const double *w, int nk, int nkp, double *W)
 {
-#pragma omp simd
+  size_t ld = (size_t)(2 * nkp);
   for (int t = 0; t < npair; t++) {
     /* (s - l)(s - conj l) at s = jw: (b - w)(b + w) + a^2 - 2 j a w;
        d1 + d2 = 2 (jw - a) / den, j (d1 - d2) = -2 b / den */
-    double a = la[t], b = lb[t];
-    double dr = (b - w) * (b + w) + a * a, di = -2 * a * w, inv = 2 / (dr * dr + di * di);
-    double rr = dr * inv, ri = -di * inv;
-    wre[t] = -a * rr - w * ri;
-    wim[t] = w * rr - a * ri;
-    wre[nt + t] = -b * rr;
-    wim[nt + t] = -b * ri;
-  }
+    double a = la[t], b = lb[t], *r1 = W + (size_t)t * ld, *r2 = W + (size_t)(nt + t) * ld;
 #pragma omp simd
-  for (int t = npair; t < nt; t++) { /* d1 = 1 / (jw - a), R real */
-    double a = la[t], inv = 1 / (a * a + w * w);
-    wre[t] = -a * inv;
-    wim[t] = -w * inv;
+    for (int k = 0; k < nk; k++) {
+      double dr = (b - w[k]) * (b + w[k]) + a * a, di = -2 * a * w[k],
+             inv = 2 / (dr * dr + di * di);
+      double rr = dr * inv, ri = -di * inv;
+      r1[k] = -a * rr - w[k] * ri;
+      r1[nkp + k] = w[k] * rr - a * ri;
+      r2[k] = -b * rr;
+      r2[nkp + k] = -b * ri;
+    }
   }
+  for (int t = npair; t < nt; t++) { /* d1 = 1 / (jw - a), R real */
+    double a = la[t], *r1 = W + (size_t)t * ld;
+#pragma omp simd
+    for (int k = 0; k < nk; k++) {
+      double inv = 1 / (a * a + w[k] * w[k]);
+      r1[k] = -a * inv;
+      r1[nkp + k] = -w[k] * inv;
+    }
+  }
+  for (int t = 0; t < nt + npair; t++)
+    for (int k = nk; k < nkp; k++) W[(size_t)t * ld + (size_t)k] = W[(size_t)t * ld + nkp + k] = 0;
 }
 
 /* The state matrix with the SMW elements held at the reference stiffness
@@ -594,17 +614,19 @@ static int residue_table(rr_frf_plan *p, smw_set *u, int N, int *nt, int *npair,
     *nt += p->wi[j] >= 0;
     *npair += p->wi[j] > 0;
   }
+  int K = *nt + *npair;
   for (int j = 0, tp = 0, tq = *npair; j < N; j++) {
     if (p->wi[j] < 0) continue; /* the conjugate of a stored pair */
     int t = p->wi[j] > 0 ? tp++ : tq++;
-    double *tr = p->T + (size_t)t * (size_t)E, *ti = p->T + (size_t)(*nt + t) * (size_t)E;
+    /* column t of T (E x K), and a pair's imaginary residues in column nt + t */
+    double *tr = p->T + t, *ti = p->wi[j] > 0 ? p->T + *nt + t : NULL;
     const double complex *o = p->o + j * np, *o0 = p->o0 + j * np, *bb = p->b + j * ni,
                          *uu = p->u + j * MAXU, *cc = p->c + j * MAXU, l2 = p->lam[j] * p->lam[j];
 #define PUT(off, val)                                                                              \
   do {                                                                                             \
     double complex v_ = (val);                                                                     \
-    tr[off] = creal(v_);                                                                           \
-    ti[off] = cimag(v_);                                                                           \
+    tr[(size_t)(off) * (size_t)K] = creal(v_);                                                     \
+    if (ti) ti[(size_t)(off) * (size_t)K] = cimag(v_);                                             \
   } while (0)
     for (int q = 0; q < np; q++) {
       double complex oa = l2 * o[q] + o0[q];
@@ -643,15 +665,15 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
   double la[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES],
       lb[2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES];
   int E = residue_table(p, &su, N, &nt, &npair, la, lb), K = nt + npair;
+  double w[FCHUNK];
   for (int k0 = 0; k0 < p->nf; k0 += FCHUNK) {
-    int nk = p->nf - k0 < FCHUNK ? p->nf - k0 : FCHUNK;
-    for (int kk = 0; kk < nk; kk++) {
-      double *wre = p->Wt + (size_t)2 * (size_t)kk * (size_t)K;
-      modal_weights(la, lb, npair, nt, 2 * RR_PI * p->f[k0 + kk], wre, wre + K);
-    }
-    cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * nk, E, K, 1.0, p->Wt, K, p->T, E,
-                0.0, p->acc, E);
-    finish_chunk(p, m, &su, k0, nk, p->acc, E);
+    int nk = p->nf - k0 < FCHUNK ? p->nf - k0 : FCHUNK, nkp = (nk + FV - 1) / FV * FV;
+    for (int kk = 0; kk < nk; kk++) w[kk] = 2 * RR_PI * p->f[k0 + kk];
+    modal_weights(la, lb, npair, nt, w, nk, nkp, p->Wt);
+    /* sums (E x 2 nkp) = T (E x K) W (K x 2 nkp) */
+    cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, E, 2 * nkp, K, 1.0, p->T, K, p->Wt,
+                2 * nkp, 0.0, p->acc, 2 * nkp);
+    finish_chunk(p, m, &su, k0, nk, nkp, p->acc);
   }
   return RR_OK;
 }
