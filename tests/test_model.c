@@ -7,6 +7,7 @@
  * and its condition estimate against LAPACK's dgesv and dgecon and the exact
  * 1-norm of the inverse. */
 #include <complex.h>
+#include <float.h>
 #include <lapacke.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +16,7 @@
 #include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
 #include "linalg/hessenberg_qr.h" /* internal: eigenvalues of several matrices in SIMD lanes */
 #include "linalg/real_lu.h"       /* internal: the LU of the ride's eigenvector basis */
+#include "util/internal.h"        /* internal: rr_all_finite, the FRF plan's scan */
 
 enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
 
@@ -560,6 +562,25 @@ static void test_eigdec(void)
         res, dist);
 }
 
+/* rr_all_finite: every position (the eight-wide body and the tail) and every
+ * kind of non-finite value, beside the largest and the smallest finite ones */
+static void test_all_finite(void)
+{
+  enum { N = 37 };
+  double x[N];
+  for (int i = 0; i < N; i++) x[i] = i % 3 == 0 ? DBL_MAX * (i % 2 ? 1 : -1) : 4.9e-324 * i;
+  CHECK(rr_all_finite(N, x) && rr_all_finite(0, x), "all finite");
+  const double bad[3] = {NAN, INFINITY, -INFINITY};
+  for (int p = 0; p < N; p++)
+    for (int b = 0; b < 3; b++) {
+      double keep = x[p];
+      x[p] = bad[b];
+      CHECK(!rr_all_finite(N, x), "a %g at %d of %d", bad[b], p, N);
+      CHECK(rr_all_finite((size_t)p, x), "the %d before it are finite", p);
+      x[p] = keep;
+    }
+}
+
 /* rr_lu_* against LAPACK (dgesv's solution, dgecon's estimate: the same
  * algorithm, so the same value to rounding) and against the exact |A^-1|_1
  * from dgetri, which the estimate may not exceed: random matrices of several
@@ -812,6 +833,7 @@ int main(void)
 {
   test_eigdec();
   test_lu();
+  test_all_finite();
   test_eig_batch();
   test_index_batch();
   test_entries();

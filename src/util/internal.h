@@ -42,6 +42,19 @@ int rr_seterr(rr_error *err, int code, const char *fmt, ...) RR_PRINTF(3, 4);
 
 #define RR_G 9.81
 
+/* Whether x[0 .. n) are all finite, in one pass that vectorises: x * 0 is 0
+   for every finite x and NaN for an infinity or a NaN. The caller finds the
+   culprit only when this says no. */
+RR_INLINE int rr_all_finite(size_t n, const double *x)
+{
+  double z[8] = {0}; /* eight sums, one vector: no chain through one register */
+  size_t i = 0;
+  for (; i + 7 < n; i += 8)
+    for (int e = 0; e < 8; e++) z[e] += x[i + e] * 0;
+  for (; i < n; i++) z[0] += x[i] * 0;
+  return ((z[0] + z[1]) + (z[2] + z[3])) + ((z[4] + z[5]) + (z[6] + z[7])) == 0;
+}
+
 /* Reports a step to the caller's progress callback (if any); RR_ESTOPPED,
    with err filled, when the callback asks to stop. */
 int rr_progress_step(const rr_progress *pr, long done, long total, rr_error *err);
