@@ -15,9 +15,7 @@
 #include "util/block.h"
 
 #define MAXU 8
-#define FCHUNK                                                                                     \
-  200 /* frequencies per GEMM (a multiple of FV): the weights and sums stay in cache               \
-       */
+#define FCHUNK 200 /* frequencies per GEMM, whole FV steps: weights and sums stay in cache */
 
 struct rr_frf_plan {
   int n, ni, np, nf, Nmax, method, use_dgeev;
@@ -29,8 +27,8 @@ struct rr_frf_plan {
   double *A, *At, *vl, *vr, *wr, *wi, *work;
   int lwork;
   double complex *lam, *o, *o0, *b, *u, *c; /* per mode: np, np, ni, nU, nU */
-  double *T;        /* 2 nt x E: per term (pair or real mode) the residue entries' real parts, then
-                       imaginary parts */
+  double *T;        /* E x K: per residue entry, its real part in each term (pair or real mode),
+                       then the pairs' imaginary parts */
   double *Wt, *acc; /* per frequency chunk: K x 2 FCHUNK weights, E x 2 FCHUNK sums */
   double *ework, *V, *rhs; /* eigdec workspace, LU of the eigenvector basis, its right-hand sides */
   int *iwork, *vpiv;
@@ -594,13 +592,14 @@ static int modal_state_matrix(rr_frf_plan *p, const rr_model *m, int nu, double 
    projection of term j is lambda_j^2 o_j + o0_j and the feedthrough O A B~ =
    rows M^-1 B is added once (feedthrough()). A conjugate pair contributes R
    d1 + conj(R) d2 = Re(R) (d1 + d2) + Im(R) j (d1 - d2), so it is stored once
-   (the eigenvalue with Im > 0) and costs real-times-complex products. All
-   frequencies' sums are then one real matrix product: weights (2 nf x K: rows
-   Re, Im of each frequency; columns d1 + d2 of each term, then j (d1 - d2) of
-   each pair) times entries (K x E: Re R rows, then the pairs' Im R rows).
-   Pairs come first, then real modes (branch-free weight loops); a real
-   mode's residues are real, so its Im row is left out of the product. The
-   terms' eigenvalues go to (la, lb); returns E and sets *nt, *npair. */
+   (the eigenvalue with Im > 0) and costs real-times-complex products. A
+   chunk's sums are then one real matrix product: entries (E x K: columns Re R
+   of each term, then the pairs' Im R) times weights (K x 2 nkp: rows d1 + d2
+   of each term, then j (d1 - d2) of each pair; the real parts over the
+   frequencies, then the imaginary parts). Pairs come first, then real modes
+   (branch-free weight loops); a real mode's residues are real, so its Im
+   column is left out of the product. The terms' eigenvalues go to (la, lb);
+   returns E and sets *nt, *npair. */
 static int residue_table(rr_frf_plan *p, smw_set *u, int N, int *nt, int *npair, double *la,
                          double *lb)
 {
