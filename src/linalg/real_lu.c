@@ -183,7 +183,7 @@ RR_INLINE int sign_vector(int n, double *x, const int *sgn)
  * search over the unit vectors from the start (1/n, ..., 1/n), at most five
  * steps, then the alternating-sign vector as a safeguard. A^-1 is (LU)^-1:
  * the row interchanges permute its columns, which leaves the 1-norm alone. */
-RR_INLINE double inverse_norm1(int n, const double *lu, int lda, double *x, double *v, int *sgn)
+RR_INLINE double inverse_norm1(int n, const double *lu, int lda, double *x, int *sgn)
 {
   enum { ITMAX = 5 };
   for (int i = 0; i < n; i++) x[i] = 1.0 / n;
@@ -197,9 +197,8 @@ RR_INLINE double inverse_norm1(int n, const double *lu, int lda, double *x, doub
     memset(x, 0, sizeof(double) * (size_t)n);
     x[j] = 1;
     solve_lu(n, lu, lda, x);
-    memcpy(v, x, sizeof(double) * (size_t)n);
     double estold = est;
-    est = asum(n, v);
+    est = asum(n, x);
     /* a repeated sign vector, or no increase (cycling): converged */
     if (!sign_vector(n, x, sgn) || est <= estold) break;
     for (int i = 0; i < n; i++) sgn[i] = (int)x[i];
@@ -223,7 +222,7 @@ RR_CLONES double rr_lu_rcond1(int n, const double *lu, int lda, double anorm, do
 {
   if (n == 0) return 1;
   if (!(anorm > 0) || !isfinite(anorm)) return 0;
-  double ainv = inverse_norm1(n, lu, lda, work, work + n, iwork);
+  double ainv = inverse_norm1(n, lu, lda, work, iwork);
   if (!(ainv > 0) || !isfinite(ainv)) return 0;
   double r = (1 / ainv) / anorm;
   return isfinite(r) ? r : 0;

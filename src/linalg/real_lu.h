@@ -20,7 +20,7 @@ double rr_lu_norm1(int n, const double *a, int lda);
 /* The reciprocal condition number in the 1-norm, 1 / (|A|_1 |A^-1|_1), with
  * |A^-1|_1 estimated by Hager's method as Higham refined it (LAPACK's dgecon
  * and dlacn2): never above the true |A^-1|_1, so the estimate is never below
- * the true reciprocal. work: 2n doubles, iwork: n ints. 0 for a singular or
+ * the true reciprocal. work: n doubles, iwork: n ints. 0 for a singular or
  * non-finite case. */
 double rr_lu_rcond1(int n, const double *lu, int lda, double anorm, double *work, int *iwork);
 #endif

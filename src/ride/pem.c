@@ -89,7 +89,7 @@ static void plan_layout(rr_frf_plan *p, int N, int lwork, rr_block *b)
   p->acc = rr_block_take(b, 2 * FCHUNK * E, d);
   p->ework = rr_block_take(b, RR_EIGDEC_LWORK(Nz), d);
   p->V = rr_block_take(b, NN, d);
-  p->rhs = rr_block_take(b, Nz * (ni + MAXU + 2), d); /* N x nr by rows, then the estimate's 2N */
+  p->rhs = rr_block_take(b, Nz * (ni + MAXU + 2), d); /* N x nr by rows, then the estimate's N */
   p->iwork = rr_block_take(b, RR_EIGDEC_LIWORK(Nz) + Nz, i);
   p->vpiv = rr_block_take(b, Nz, i);
   p->lag = rr_block_take(b, nf * ni, z);
