@@ -9,7 +9,8 @@
  * AVX2 copy are held to the baseline on the state matrices of the default vehicle (the robust
  * points, three SDF treatments) and on seeded random matrices that split and
  * deflate early: eigenvalues alone (one matrix, lanes of 4 and of the widest
- * the copy has) and the ride's eigendecomposition with its vectors. So a
+ * the copy has), the ride's eigendecomposition with its vectors, and the
+ * LU, condition estimate and solve of its eigenvector basis. So a
  * machine with AVX-512 checks the AVX-512, AVX2 and baseline paths against
  * each other. */
 #include <string.h>
@@ -17,6 +18,7 @@
 #include "railride/railride.h"
 #include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
 #include "linalg/hessenberg_qr.h"       /* internal: eigenvalues one matrix or several at a time */
+#include "linalg/real_lu.h"             /* internal: the LU of the ride's eigenvector basis */
 
 int base_rr_eig_small(int n, double *a, double *wr, double *wi);
 int base_rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
@@ -27,6 +29,13 @@ int avx2_rr_eig_small(int n, double *a, double *wr, double *wi);
 int avx2_rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
                       double *work, int *fail);
 int avx2_rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork);
+#define RR_LU_COPY(p)                                                                              \
+  int p##rr_lu_factor(int n, double *a, int lda, int *piv);                                        \
+  void p##rr_lu_solve_rows(int n, const double *lu, int lda, const int *piv, int nrhs, double *x,  \
+                           int ldx);                                                               \
+  double p##rr_lu_rcond1(int n, const double *lu, int lda, double anorm, double *work, int *iwork);
+RR_LU_COPY(base_)
+RR_LU_COPY(avx2_)
 
 enum { NMAX = 48, NMATS = 40 };
 
@@ -83,6 +92,10 @@ typedef struct eig_copy {
   int (*batch)(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
                double *work, int *fail);
   int (*eigdec)(int n, double *a, double *wr, double *wi, double *vr, double *work, int *iwork);
+  int (*lu_factor)(int n, double *a, int lda, int *piv);
+  void (*lu_solve_rows)(int n, const double *lu, int lda, const int *piv, int nrhs, double *x,
+                        int ldx);
+  double (*lu_rcond1)(int n, const double *lu, int lda, double anorm, double *work, int *iwork);
 } eig_copy;
 
 static int ncopies(void)
@@ -98,8 +111,10 @@ static int ncopies(void)
 }
 
 static const eig_copy copies[2] = {
-    {"the library's", rr_eig_small, rr_eig_batch, rr_eigdec},
-    {"the AVX2 copy's", avx2_rr_eig_small, avx2_rr_eig_batch, avx2_rr_eigdec},
+    {"the library's", rr_eig_small, rr_eig_batch, rr_eigdec, rr_lu_factor, rr_lu_solve_rows,
+     rr_lu_rcond1},
+    {"the AVX2 copy's", avx2_rr_eig_small, avx2_rr_eig_batch, avx2_rr_eigdec, avx2_rr_lu_factor,
+     avx2_rr_lu_solve_rows, avx2_rr_lu_rcond1},
 };
 
 /* eigenvalues one matrix at a time and in lanes, each copy against the
@@ -174,6 +189,42 @@ static void check_eigdec(const eig_copy *cp)
          cp->name, ok);
 }
 
+/* the LU of each matrix's eigenvector basis (what the ride factors) and of
+   the matrix itself: factors, pivots, the condition estimate and a solve with
+   six right-hand sides */
+static void check_lu(const eig_copy *cp)
+{
+  enum { NRHS = 6 };
+  static double a[NMAX * NMAX], lu[2][NMAX * NMAX], x[2][NMAX * NRHS], wr[NMAX], wi[NMAX],
+      work[RR_EIGDEC_LWORK(NMAX)];
+  int iwork[RR_EIGDEC_LIWORK(NMAX)], piv[2][NMAX], differ = 0, cases = 0;
+  for (int k = 0; k < nmats; k++)
+    for (int basis = 0; basis < 2; basis++) {
+      int n = order[k];
+      memcpy(a, mats[k], sizeof(double) * (size_t)(n * n));
+      if (basis && base_rr_eigdec(n, a, wr, wi, lu[0], work, iwork)) continue;
+      if (basis) memcpy(a, lu[0], sizeof(double) * (size_t)(n * n));
+      double anorm = rr_lu_norm1(n, a, n), rc[2];
+      int st[2];
+      for (int c = 0; c < 2; c++) {
+        memcpy(lu[c], a, sizeof(double) * (size_t)(n * n));
+        st[c] = (c ? base_rr_lu_factor : cp->lu_factor)(n, lu[c], n, piv[c]);
+        rc[c] = (c ? base_rr_lu_rcond1 : cp->lu_rcond1)(n, lu[c], n, anorm, work, iwork);
+        for (int i = 0; i < n * NRHS; i++) x[c][i] = 1 + 0.25 * (i % 7) - 0.125 * (i % 3);
+        (c ? base_rr_lu_solve_rows : cp->lu_solve_rows)(n, lu[c], n, piv[c], NRHS, x[c], NRHS);
+      }
+      cases++;
+      differ += st[0] != st[1] || memcmp(piv[0], piv[1], sizeof(int) * (size_t)n) != 0 ||
+                memcmp(lu[0], lu[1], sizeof(double) * (size_t)(n * n)) != 0 ||
+                memcmp(&rc[0], &rc[1], sizeof(double)) != 0 ||
+                memcmp(x[0], x[1], sizeof(double) * (size_t)(n * NRHS)) != 0;
+    }
+  CHECK(cases >= 54 && differ == 0, "lu: %d of %d cases, %s factors, estimate or solution differ",
+        differ, cases, cp->name);
+  printf("  real LU, %s: %d matrices and bases, factors, estimates and solutions equal\n", cp->name,
+         cases);
+}
+
 int main(void)
 {
   __builtin_cpu_init();
@@ -188,6 +239,7 @@ int main(void)
   for (int c = 0; c < ncopies(); c++) {
     check_eigenvalues(&copies[c]);
     check_eigdec(&copies[c]);
+    check_lu(&copies[c]);
   }
   return check_done("test_isa");
 }
