@@ -182,6 +182,12 @@ static void test_errors(void)
   BAD("[carbody]\nmass = 38936 kg 2\n", RR_EUNIT, "bad.ini:4:", "mass", NULL);
   BAD("[carbody]\ncg_height = 1.62 m @ 100\n", RR_EUNIT, "bad.ini:4:", "cg_height", NULL);
   BAD("[carbody]\nmass = 1 kg since 2000\n", RR_EUNIT, "bad.ini:4:", "mass", NULL);
+  BAD("[carbody]\nmass = 1 kg SINCE 2000\n", RR_EUNIT, "bad.ini:4:", "mass", NULL);
+  /* division by the word (not the grammar's '/'), and the spelling whose
+     parse leaks inside udunits */
+  BAD("[primary]\nlateral_stiffness = 5 kN per mm\n", RR_EUNIT, "bad.ini:4:", "lateral_stiffness",
+      NULL);
+  BAD("[carbody]\ncg_height = 1 m Per0s\n", RR_EUNIT, "bad.ini:4:", "cg_height", NULL);
   BAD("[carbody]\nmass = 4.59 lg(re 1 kg)\n", RR_EUNIT, "bad.ini:4:", "mass", NULL);
   BAD("[primary]\nlateral_stiffness = 2e-8 m/N\n", RR_EUNIT, "bad.ini:4:", "lateral_stiffness",
       "reciprocal");

@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <udunits2.h>
 #include "railride/units.h"
 #include "util/internal.h"
@@ -59,12 +60,15 @@ int rr_units_new(rr_units **out, rr_error *err)
 
 void rr_units_free(rr_units *u) { free(u); }
 
-/* udunits words that make a unit an offset, a logarithm or a time origin. */
+/* udunits words that make a unit an offset, a logarithm or a time origin,
+   and its division by a word ("m per s"; '/' is the grammar's): udunits'
+   scanner takes them in any case, and its parser leaks a token on some
+   spellings of "per" ("m per0s"), found by fuzz_units. */
 static int keyword(const char *id, size_t n)
 {
-  static const char *const words[] = {"since", "after", "from", "ref", "lg", "log", "ln"};
+  static const char *const words[] = {"since", "after", "from", "ref", "lg", "log", "ln", "per"};
   for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
-    if (strlen(words[i]) == n && !strncmp(words[i], id, n)) return 1;
+    if (strlen(words[i]) == n && !strncasecmp(words[i], id, n)) return 1;
   return 0;
 }
 
@@ -91,7 +95,10 @@ static int plain_unit(const char *s, const char **bad)
     }
     if (isalpha(c) || c == '_' || c == '%') {
       const char *id = p;
-      while (isalpha((unsigned char)*p) || *p == '_' || *p == '%') p++;
+      if (c == '%') /* percent, a name of its own, as udunits reads it ("%per" is "%" "per") */
+        p++;
+      else
+        while (isalpha((unsigned char)*p) || *p == '_') p++;
       if (keyword(id, (size_t)(p - id))) {
         *bad = id;
         return -1;
