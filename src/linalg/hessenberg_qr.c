@@ -12,22 +12,6 @@
 #define MAX(a, b) ((a) > (b) ? (a) : (b))
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
 
-/* out = sum over i0 <= i < n of r[i] y[i], for T double or a vector of
- * lanes, in four partial sums: a single chain would wait on every add. */
-#define DOT4(T, r, y, i0, n, out)                                                                  \
-  do {                                                                                             \
-    T a0_ = {0}, a1_ = {0}, a2_ = {0}, a3_ = {0};                                                  \
-    int i_ = (i0);                                                                                 \
-    for (; i_ + 3 < (n); i_ += 4) {                                                                \
-      a0_ += (r)[i_] * (y)[i_];                                                                    \
-      a1_ += (r)[i_ + 1] * (y)[i_ + 1];                                                            \
-      a2_ += (r)[i_ + 2] * (y)[i_ + 2];                                                            \
-      a3_ += (r)[i_ + 3] * (y)[i_ + 3];                                                            \
-    }                                                                                              \
-    for (; i_ < (n); i_++) a0_ += (r)[i_] * (y)[i_];                                               \
-    (out) = (a0_ + a1_) + (a2_ + a3_);                                                             \
-  } while (0)
-
 /* four doubles as one vector (GCC's and Clang's vector extension); passed
    by pointer, never as an argument or result, which would change the ABI
    between the clones */

@@ -101,23 +101,19 @@ RR_INLINE void solve_lu(int n, const double *lu, int lda, double *x)
     if (x[j] != 0) axpy(j, x[j] /= LU_(j, j), &LU_(0, j), x);
 }
 
-/* sum a_i b_i in four partial sums (one vector), not one serial chain */
-RR_INLINE double dot(int m, const double *a, const double *b)
-{
-  double s[4] = {0, 0, 0, 0};
-  int i = 0;
-  for (; i + 3 < m; i += 4)
-    for (int e = 0; e < 4; e++) s[e] += a[i + e] * b[i + e];
-  double t = (s[0] + s[1]) + (s[2] + s[3]);
-  for (; i < m; i++) t += a[i] * b[i];
-  return t;
-}
-
-/* x = U^-T x, then x = L^-T x (dot products down the columns) */
+/* x = U^-T x, then x = L^-T x (dot products down the columns, DOT4's four partial sums) */
 RR_INLINE void solve_lu_t(int n, const double *lu, int lda, double *x)
 {
-  for (int j = 0; j < n; j++) x[j] = (x[j] - dot(j, &LU_(0, j), x)) / LU_(j, j);
-  for (int j = n - 1; j >= 0; j--) x[j] -= dot(n - j - 1, &LU_(j + 1, j), x + j + 1);
+  for (int j = 0; j < n; j++) {
+    double d;
+    DOT4(double, &LU_(0, j), x, 0, j, d);
+    x[j] = (x[j] - d) / LU_(j, j);
+  }
+  for (int j = n - 1; j >= 0; j--) {
+    double d;
+    DOT4(double, &LU_(0, j), x, j + 1, n, d);
+    x[j] -= d;
+  }
 }
 
 /* y -= t x over one row of right-hand sides */

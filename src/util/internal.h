@@ -42,6 +42,22 @@ int rr_seterr(rr_error *err, int code, const char *fmt, ...) RR_PRINTF(3, 4);
 
 #define RR_G 9.81
 
+/* out = sum over i0 <= i < n of r[i] y[i], for T double or a vector of
+ * lanes, in four partial sums: a single chain would wait on every add. */
+#define DOT4(T, r, y, i0, n, out)                                                                  \
+  do {                                                                                             \
+    T a0_ = {0}, a1_ = {0}, a2_ = {0}, a3_ = {0};                                                  \
+    int i_ = (i0);                                                                                 \
+    for (; i_ + 3 < (n); i_ += 4) {                                                                \
+      a0_ += (r)[i_] * (y)[i_];                                                                    \
+      a1_ += (r)[i_ + 1] * (y)[i_ + 1];                                                            \
+      a2_ += (r)[i_ + 2] * (y)[i_ + 2];                                                            \
+      a3_ += (r)[i_ + 3] * (y)[i_ + 3];                                                            \
+    }                                                                                              \
+    for (; i_ < (n); i_++) a0_ += (r)[i_] * (y)[i_];                                               \
+    (out) = (a0_ + a1_) + (a2_ + a3_);                                                             \
+  } while (0)
+
 /* Whether x[0 .. n) are all finite, in one pass that vectorises: x * 0 is 0
    for every finite x and NaN for an infinity or a NaN. The caller finds the
    culprit only when this says no. */
