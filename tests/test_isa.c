@@ -12,11 +12,15 @@
  * the copy has), the ride's eigendecomposition with its vectors, and the
  * LU, condition estimate and solve of its eigenvector basis. So a
  * machine with AVX-512 checks the AVX-512, AVX2 and baseline paths against
- * each other. */
+ * each other. The ride's modal-sum product (rr_gemm_nn) picks its path at
+ * run time and takes a path by name: each path it can run is held to a
+ * scalar FMA chain (libm's fma) bit for bit, and to OpenBLAS within rounding. */
+#include <float.h>
 #include <string.h>
 #include "check.h"
 #include "railride/railride.h"
 #include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
+#include "linalg/gemm.h"                /* internal: the ride's modal-sum product */
 #include "linalg/hessenberg_qr.h"       /* internal: eigenvalues one matrix or several at a time */
 #include "linalg/real_lu.h"             /* internal: the LU of the ride's eigenvector basis */
 
@@ -225,6 +229,67 @@ static void check_lu(const eig_copy *cp)
          cases);
 }
 
+/* The product's paths on the ride's shape (30 x 38 times 38 x 400) and on
+   shapes that exercise every tile and tail (rows not a multiple of 6,
+   columns not of 32, 8 or 4, k = 0): each path the processor runs equals a
+   scalar FMA chain over k in order, and so each other, bit for bit; the
+   BLAS path agrees within the rounding bound k eps sum |a b|. */
+static void check_gemm(void)
+{
+  enum { GM = 31, GN = 403, GK = 40, GA = GM * (GK + 1), GB = GK * (GN + 3), GC = GM * (GN + 2) };
+  static double a[GA], b[GB], c[3][GC], ref[GC];
+  const int shapes[][3] = {{30, 400, 38}, {30, 200, 38}, {1, 1, 1},  {7, 9, 5},     {13, 36, 40},
+                           {6, 32, 38},   {5, 48, 3},    {12, 4, 7}, {31, 403, 40}, {2, 70, 0}};
+  unsigned long long s = 20261205;
+  for (int i = 0; i < GA; i++) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    a[i] = ldexp((double)(s >> 11) / 9007199254740992.0 - 0.5, (int)(s % 21) - 10);
+  }
+  for (int i = 0; i < GB; i++) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    b[i] = (double)(s >> 11) / 9007199254740992.0 - 0.5;
+  }
+  int have = rr_gemm_isa(), chains = 0, blas = 0;
+  for (size_t t = 0; t < sizeof shapes / sizeof shapes[0]; t++) {
+    int m = shapes[t][0], n = shapes[t][1], k = shapes[t][2], lda = k + 1, ldb = n + 3,
+        ldc = n + 2; /* leading dimensions past the shape: nothing read or written beyond it */
+    for (int i = 0; i < m; i++)
+      for (int j = 0; j < n; j++) {
+        double x = 0;
+        for (int p = 0; p < k; p++) x = fma(a[i * lda + p], b[p * ldb + j], x);
+        ref[i * ldc + j] = x;
+      }
+    for (int isa = RR_GEMM_BLAS; isa <= RR_GEMM_AVX512; isa++) {
+      for (int i = 0; i < GC; i++) c[isa][i] = 12345;
+      rr_gemm_nn_isa(isa, m, n, k, a, lda, b, ldb, c[isa], ldc);
+      int bad = 0, outside = 0;
+      for (int i = 0; i < m; i++)
+        for (int j = 0; j < n; j++) {
+          double x = c[isa][i * ldc + j], r = ref[i * ldc + j], bound = 0;
+          for (int p = 0; p < k; p++) bound += fabs(a[i * lda + p] * b[p * ldb + j]);
+          bad += isa == RR_GEMM_BLAS || isa > have ? !(fabs(x - r) <= 2 * k * DBL_EPSILON * bound)
+                                                   : memcmp(&x, &r, sizeof x) != 0;
+        }
+      for (int i = 0; i < GC; i++) outside += (i / ldc >= m || i % ldc >= n) && c[isa][i] != 12345;
+      CHECK(!bad && !outside,
+            "gemm %d x %d x %d, path %d (processor has %d): %d entries off, %d written outside", m,
+            n, k, isa, have, bad, outside);
+      if (isa == RR_GEMM_BLAS || isa > have)
+        blas++;
+      else
+        chains++;
+    }
+  }
+  CHECK(have < RR_GEMM_AVX2 || chains >= 20, "gemm: only %d tile-path runs", chains);
+  printf("  modal-sum product: %d runs equal to the FMA chain bit for bit (paths up to %s), %d "
+         "within rounding of it (BLAS)\n",
+         chains,
+         have == RR_GEMM_AVX512 ? "AVX-512"
+         : have == RR_GEMM_AVX2 ? "AVX2"
+                                : "none",
+         blas);
+}
+
 int main(void)
 {
   __builtin_cpu_init();
@@ -241,5 +306,6 @@ int main(void)
     check_eigdec(&copies[c]);
     check_lu(&copies[c]);
   }
+  check_gemm();
   return check_done("test_isa");
 }

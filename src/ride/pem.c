@@ -1,7 +1,6 @@
 /* Frequency response by modal expansion (+ Sherman-Morrison-Woodbury for the
  * SDF elements that have no state-space form) or by direct solves, and the
  * pseudo-excitation method (docs/model.md section 6). */
-#include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -10,6 +9,7 @@
 #include "model/model_impl.h"
 #include "linalg/complex_lu.h"
 #include "linalg/eigen_decomposition.h"
+#include "linalg/gemm.h"
 #include "linalg/real_lu.h"
 #include "util/internal.h"
 #include "util/block.h"
@@ -671,8 +671,7 @@ static int execute_modal(rr_frf_plan *p, const rr_model *m, rr_error *err)
     for (int kk = 0; kk < nk; kk++) w[kk] = 2 * RR_PI * p->f[k0 + kk];
     modal_weights(la, lb, npair, nt, w, nk, nkp, p->Wt);
     /* sums (E x 2 nkp) = T (E x K) W (K x 2 nkp) */
-    cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, E, 2 * nkp, K, 1.0, p->T, K, p->Wt,
-                2 * nkp, 0.0, p->acc, 2 * nkp);
+    rr_gemm_nn(E, 2 * nkp, K, p->T, K, p->Wt, 2 * nkp, p->acc, 2 * nkp);
     finish_chunk(p, m, &su, k0, nk, nkp, p->acc);
   }
   return RR_OK;
