@@ -378,7 +378,7 @@ static void smw_matrix(const double complex *dK, const double complex *Z, int nu
    roll-gravity): the feedthrough, then the SMW correction for the nu SDF
    elements, in lanes across the frequencies (real and imaginary parts apart;
    the per-frequency complex algebra had been a tenth of the evaluation). */
-#define FV 4 /* frequencies a step: one AVX2 vector */
+#define FV 8 /* frequencies a step: one AVX-512 vector, two AVX2 */
 _Static_assert(FCHUNK % FV == 0, "a chunk is whole steps of FV frequencies");
 
 RR_INLINE void smw_lanes(const rr_model *m, const smw_set *u, const double *w, const double *kfr,
@@ -501,8 +501,8 @@ RR_INLINE void finish_lanes(rr_frf_plan *p, const rr_model *m, const smw_set *u,
 /* A chunk's FRFs from its modal sums (acc: E rows of 2 nkp, an entry's real
    parts over the chunk's frequencies, then its imaginary parts), the usual
    0, 1 and 2 dampers with nu a constant, so that the small loops unroll. */
-RR_CLONES static void finish_chunk(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k0,
-                                   int nk, int nkp, const double *acc)
+RR_CLONES_V4 static void finish_chunk(rr_frf_plan *p, const rr_model *m, const smw_set *u, int k0,
+                                      int nk, int nkp, const double *acc)
 {
   for (int kk = 0; kk < nk; kk += FV) {
     switch (u->nu) {
@@ -541,8 +541,8 @@ static void feedthrough(const rr_frf_plan *p, const rr_model *m, smw_set *u)
    frequencies, then its imaginary parts; a pair's second row (nt + t) the
    weights of its imaginary residue. Across the frequencies, one vector of
    them at a time. */
-RR_CLONES static void modal_weights(const double *la, const double *lb, int npair, int nt,
-                                    const double *w, int nk, int nkp, double *W)
+RR_CLONES_V4 static void modal_weights(const double *la, const double *lb, int npair, int nt,
+                                       const double *w, int nk, int nkp, double *W)
 {
   size_t ld = (size_t)(2 * nkp);
   for (int t = 0; t < npair; t++) {
