@@ -49,7 +49,9 @@ int rr_gemm_isa(void)
 {
 #if RR_GEMM_TILES
   /* libgcc and compiler-rt report AVX-512 and AVX only where the OS saves
-     their registers */
+     their registers; the init is for a caller that runs before their
+     constructors (another library's) */
+  __builtin_cpu_init();
   if (__builtin_cpu_supports("avx512f")) return RR_GEMM_AVX512;
   if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return RR_GEMM_AVX2;
 #endif
