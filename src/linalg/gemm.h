@@ -2,7 +2,7 @@
  * the ride's modal sums (30 x 38 times 38 x 400): register tiles of 6 rows by
  * up to 32 columns with the processor's widest FMA vectors. OpenBLAS, as
  * Debian ships it and as it runs under OPENBLAS_CORETYPE=Haswell, takes its
- * AVX2 kernel on an AVX-512 processor and reaches half that core's peak.
+ * AVX2 kernel on an AVX-512 processor: 44 of a Zen 5 core's 131 GF/s.
  * Every entry is one FMA chain over k in order (c = a_0 b_0, then
  * c = fma(a_k, b_k, c)), so the AVX-512 and AVX2 paths give the same bits;
  * where neither is present, cblas_dgemm does the product. */

@@ -49,13 +49,9 @@ GT_TARGET static inline __attribute__((always_inline)) void gt_rows(int mr, int 
   int j = 0;
   for (; j + GT_NV * GT_W <= n; j += GT_NV * GT_W)
     gt_tile(mr, GT_NV, k, a, lda, b + j, ldb, c + j, ldc);
-  for (int nv = GT_NV / 2; nv >= 1; nv /= 2)
-    for (; j + nv * GT_W <= n; j += nv * GT_W) {
-      if (nv == 2)
-        gt_tile(mr, 2, k, a, lda, b + j, ldb, c + j, ldc);
-      else if (nv == 1)
-        gt_tile(mr, 1, k, a, lda, b + j, ldb, c + j, ldc);
-    }
+  if (GT_NV > 2)
+    for (; j + 2 * GT_W <= n; j += 2 * GT_W) gt_tile(mr, 2, k, a, lda, b + j, ldb, c + j, ldc);
+  for (; j + GT_W <= n; j += GT_W) gt_tile(mr, 1, k, a, lda, b + j, ldb, c + j, ldc);
   for (; j < n; j++)
     for (int i = 0; i < mr; i++) {
       double s = 0;
