@@ -14,7 +14,9 @@
  * machine with AVX-512 checks the AVX-512, AVX2 and baseline paths against
  * each other. The ride's modal-sum product (rr_gemm_nn) picks its path at
  * run time and takes a path by name: each path it can run is held to a
- * scalar FMA chain (libm's fma) bit for bit, and to OpenBLAS within rounding. */
+ * scalar FMA chain (libm's fma) bit for bit, and to OpenBLAS within rounding. The
+ * shape tests' sparse solves in lanes (rr_dsl_shapes) are held to the baseline's too. */
+#include <complex.h>
 #include <float.h>
 #include <string.h>
 #include "check.h"
@@ -23,6 +25,7 @@
 #include "linalg/gemm.h"                /* internal: the ride's modal-sum product */
 #include "linalg/hessenberg_qr.h"       /* internal: eigenvalues one matrix or several at a time */
 #include "linalg/real_lu.h"             /* internal: the LU of the ride's eigenvector basis */
+#include "model/dynamic_stiffness.h"    /* internal: the shape tests' sparse solves in lanes */
 
 int base_rr_eig_small(int n, double *a, double *wr, double *wi);
 int base_rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
@@ -40,6 +43,10 @@ int avx2_rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double 
   double p##rr_lu_rcond1(int n, const double *lu, int lda, double anorm, double *work, int *iwork);
 RR_LU_COPY(base_)
 RR_LU_COPY(avx2_)
+unsigned base_rr_dsl_shapes(rr_dsl *dl, unsigned mask, const double *sr, const double *si,
+                            double complex *phi);
+unsigned avx2_rr_dsl_shapes(rr_dsl *dl, unsigned mask, const double *sr, const double *si,
+                            double complex *phi);
 
 enum { NMAX = 48, NMATS = 40 };
 
@@ -291,6 +298,57 @@ static void check_gemm(void)
          blas);
 }
 
+/* The shape tests' solves of eight operating points in lanes: the
+   library's copy and the AVX2 copy give the baseline's bits. */
+static void check_shapes(void)
+{
+  rr_vehicle veh;
+  rr_error e;
+  rr_model *m;
+  rr_vehicle_default(&veh);
+  if (rr_model_from_vehicle(&veh, &m, &e)) {
+    CHECK(0, "model: %s", e.msg);
+    return;
+  }
+  enum { L = RR_DSL_LANES };
+  int n = rr_model_ndof(m);
+  static rr_dsolver ds;
+  int *iw = calloc(RR_DSOLVER_IWORK(n), sizeof *iw);
+  double complex *zw = calloc(RR_DSOLVER_ZWORK(n), sizeof *zw), *phi[3];
+  rr_dsl dl, sizing;
+  rr_block b = {0};
+  rr_dsl_layout(&sizing, n, &b);
+  CHECK(rr_block_alloc(&b) == 0, "shape lanes' block");
+  rr_dsl_layout(&dl, n, &b);
+  double sr[L], si[L];
+  for (int l = 0; l < L; l++) {
+    CHECK_OK(rr_model_set_operating(m, (250 + 20 * l) / RR_KMH, 0.04 + 0.05 * l, &e), e);
+    rr_dsolver_init(&ds, m, iw, zw);
+    if (l == 0) rr_dsolver_factor(&ds, -0.5 + 2 * RR_PI * 2 * I, 0); /* an order to keep */
+    CHECK(rr_dsl_load(&dl, l, &ds) == 0, "shape lanes: lane %d not loaded", l);
+    sr[l] = -0.2 - 0.1 * l;
+    si[l] = 2 * RR_PI * (1.5 + 0.3 * l);
+  }
+  rr_dsl_keep_order(&dl, &ds);
+  unsigned (*fn[3])(rr_dsl *, unsigned, const double *, const double *,
+                    double complex *) = {base_rr_dsl_shapes, rr_dsl_shapes, avx2_rr_dsl_shapes};
+  unsigned bad[3];
+  for (int c = 0; c < 1 + ncopies(); c++) {
+    phi[c] = calloc(L * n, sizeof *phi[c]);
+    bad[c] = fn[c](&dl, 0xff, sr, si, phi[c]);
+    if (c == 0) continue;
+    CHECK(bad[c] == bad[0] && !memcmp(phi[c], phi[0], sizeof *phi[0] * L * n),
+          "shape lanes: %s copy differs from the baseline's",
+          c == 1 ? "the library's" : "the AVX2");
+  }
+  CHECK(bad[0] != 0xff, "shape lanes: no lane solved");
+  for (int c = 0; c < 1 + ncopies(); c++) free(phi[c]);
+  free(b.base);
+  free(iw);
+  free(zw);
+  rr_model_free(m);
+}
+
 int main(void)
 {
   __builtin_cpu_init();
@@ -308,5 +366,6 @@ int main(void)
     check_lu(&copies[c]);
   }
   check_gemm();
+  check_shapes();
   return check_done("test_isa");
 }

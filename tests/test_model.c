@@ -14,9 +14,10 @@
 #include "check.h"
 #include "railride/railride.h"
 #include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
-#include "linalg/hessenberg_qr.h" /* internal: eigenvalues of several matrices in SIMD lanes */
-#include "linalg/real_lu.h"       /* internal: the LU of the ride's eigenvector basis */
-#include "util/internal.h"        /* internal: rr_all_finite, the FRF plan's scan */
+#include "linalg/hessenberg_qr.h"    /* internal: eigenvalues of several matrices in SIMD lanes */
+#include "linalg/real_lu.h"          /* internal: the LU of the ride's eigenvector basis */
+#include "model/dynamic_stiffness.h" /* internal: the shape tests' sparse solves in lanes */
+#include "util/internal.h"           /* internal: rr_all_finite, the FRF plan's scan */
 
 enum { YC, PC, RC, YF1, PF1, RF1, YF2, PF2, RF2, YW1, PW1, YW2, PW2, YW3, PW3, YW4, PW4 };
 
@@ -802,6 +803,129 @@ static void test_index_batch(void)
   CHECK(worst < 1e-13, "index batch differs from the single-point index by %.3g", worst);
 }
 
+/* A lane's shape phi against the single solver's from ds's factors (ref:
+   2 n scratch): the relative difference; with GCC, every bit the same. */
+static double shape_vs_single(const rr_dsolver *ds, const double complex *phi, double complex *ref,
+                              int lane)
+{
+  int n = ds->n;
+  for (int i = 0; i < n; i++) ref[i] = rr_dsolver_start(i);
+  rr_dsolver_solve(ds, ref, ref + n);
+  rr_dsolver_from(ds, ref, ref + n);
+  double nrm = 0, d = 0;
+  for (int i = 0; i < n; i++) {
+    nrm = fmax(nrm, cabs(ref[n + i]));
+    d = fmax(d, cabs(ref[n + i] - phi[i]));
+#if defined(__GNUC__) && !defined(__clang__)
+    CHECK(creal(ref[n + i]) == creal(phi[i]) && cimag(ref[n + i]) == cimag(phi[i]),
+          "shape lanes: lane %d entry %d differs from the single solver's bits", lane, i);
+#endif
+  }
+  return d / nrm;
+}
+
+/* The shape solves of eight operating points in lanes against the
+ * single-point solver with the same cached pivot order: GCC's limited-range
+ * complex arithmetic, which the lanes write out, gives the same bits; other
+ * compilers' library calls round differently (within 1e-12). Lanes outside
+ * the mask are left alone; a lane the kept order does not suit is reported
+ * and solved once the order the single solver pivots for is kept; SDF
+ * elements keep a point out of the lanes. */
+static void test_shape_lanes(void)
+{
+  rr_vehicle veh;
+  rr_error e;
+  rr_model *m;
+  rr_vehicle_builtin("type1", &veh, NULL);
+  CHECK_OK(rr_model_from_vehicle(&veh, &m, &e), e);
+  int n = rr_model_ndof(m), L = RR_DSL_LANES;
+  static rr_dsolver ds;
+  int *iw = calloc(RR_DSOLVER_IWORK(n), sizeof *iw);
+  double complex *zw = calloc(RR_DSOLVER_ZWORK(n), sizeof *zw), *phi = calloc(L * n, sizeof *phi);
+  double complex *ref = calloc(2 * n, sizeof *ref);
+  rr_dsl dl, sizing;
+  rr_block b = {0};
+  rr_dsl_layout(&sizing, n, &b);
+  CHECK(rr_block_alloc(&b) == 0, "dsl block");
+  rr_dsl_layout(&dl, n, &b);
+  double v[8], lam[8], sr[8], si[8];
+  for (int l = 0; l < L; l++) {
+    v[l] = (200 + 25 * l) / RR_KMH;
+    lam[l] = 0.05 + 0.05 * l;
+    sr[l] = -0.3 - 0.2 * l; /* damped modes of 1 to 8 Hz */
+    si[l] = 2 * RR_PI * (1 + l);
+  }
+  /* the cached pivot order: a pivoting factorisation at the first point */
+  CHECK_OK(rr_model_set_operating(m, v[0], lam[0], &e), e);
+  rr_dsolver_init(&ds, m, iw, zw);
+  rr_dsolver_factor(&ds, sr[0] + I * si[0], 0);
+  CHECK(!ds.dirty, "shape lanes: the scalar solver cached no order");
+  for (int l = 0; l < L; l++) {
+    CHECK_OK(rr_model_set_operating(m, v[l], lam[l], &e), e);
+    rr_dsolver_init(&ds, m, iw, zw);
+    CHECK(rr_dsl_load(&dl, l, &ds) == 0, "shape lanes: lane %d not loaded", l);
+  }
+  CHECK(!rr_dsl_has_order(&dl), "shape lanes: an order before one was kept");
+  rr_dsl_keep_order(&dl, &ds);
+  for (int i = 0; i < L * n; i++) phi[i] = NAN;
+  unsigned bad = rr_dsl_shapes(&dl, 0x7f, sr, si, phi);
+  int compared = 0;
+  double worst = 0;
+  for (int l = 0; l < L - 1; l++) {
+    if (bad >> l & 1) continue; /* the single solver would pivot afresh */
+    CHECK_OK(rr_model_set_operating(m, v[l], lam[l], &e), e);
+    rr_dsolver_init(&ds, m, iw, zw);
+    long piv = ds.n_pivoting;
+    rr_dsolver_factor(&ds, sr[l] + I * si[l], 0);
+    CHECK(ds.n_pivoting == piv, "shape lanes: lane %d passed where the single solver pivots", l);
+    worst = fmax(worst, shape_vs_single(&ds, phi + l * n, ref, l));
+    compared++;
+  }
+  CHECK(compared >= 6, "shape lanes: only %d lanes compared", compared);
+  CHECK(worst < 1e-12, "shape lanes: %.3g from the single solver", worst);
+  for (int i = 0; i < n; i++)
+    CHECK(isnan(creal(phi[(L - 1) * n + i])), "shape lanes: lane outside the mask written");
+  /* a test the kept order does not suit: the lane reports it, and takes
+     the order the single solver pivots for once that is kept */
+  double fs = -1;
+  for (double f = 0.5; f <= 12 && fs < 0; f += 0.25) {
+    CHECK_OK(rr_model_set_operating(m, v[0], lam[0], &e), e);
+    rr_dsolver_init(&ds, m, iw, zw);
+    rr_dsl_keep_order(&dl, &ds); /* the kept order is the cache's */
+    long piv = ds.n_pivoting;
+    rr_dsolver_factor(&ds, -0.1 + 2 * RR_PI * f * I, 0);
+    if (ds.n_pivoting > piv) fs = f; /* ds's cache is now the order pivoting found */
+  }
+  CHECK(fs > 0, "shape lanes: no frequency where the cached order fails");
+  if (fs > 0) {
+    double s1r[8], s1i[8];
+    for (int l = 0; l < L; l++) s1r[l] = -0.1, s1i[l] = 2 * RR_PI * fs;
+    rr_dsl fresh = dl;
+    for (int o = 0; o < RR_DSL_ORDERS; o++) fresh.orders[o].valid = 0;
+    fresh.orders[0] = dl.orders[dl.newest]; /* the order before fs alone */
+    fresh.newest = 0;
+    unsigned b1 = rr_dsl_shapes(&fresh, 1, s1r, s1i, phi);
+    CHECK(b1 == 1, "shape lanes: the unsuited order was not reported (%#x)", b1);
+    rr_dsl_keep_order(&fresh, &ds); /* the order pivoting found at fs */
+    CHECK(rr_dsl_shapes(&fresh, 1, s1r, s1i, phi) == 0, "shape lanes: the kept order not tried");
+    double d = shape_vs_single(&ds, phi, ref, 0);
+    CHECK(d <= 1e-12, "shape lanes: the second order's shape %.3g from the single solver's", d);
+  }
+  /* SDF elements stay out */
+  rr_model *ms;
+  veh.sdf_mode = RR_SDF_PHYSICAL;
+  CHECK_OK(rr_model_from_vehicle(&veh, &ms, &e), e);
+  rr_dsolver_init(&ds, ms, iw, zw);
+  CHECK(rr_dsl_load(&dl, 0, &ds) == -1, "shape lanes: SDF elements loaded");
+  rr_model_free(ms);
+  free(b.base);
+  free(iw);
+  free(zw);
+  free(phi);
+  free(ref);
+  rr_model_free(m);
+}
+
 /* Every indexed getter answers an index out of range with its type's
    "none" (common.h): NULL, -1 or NaN, never a read outside the data. */
 static void test_getters_out_of_range(void)
@@ -836,6 +960,7 @@ int main(void)
   test_all_finite();
   test_eig_batch();
   test_index_batch();
+  test_shape_lanes();
   test_entries();
   test_locus_tracking();
   test_two_routes(RR_SDF_NONE);

@@ -92,6 +92,12 @@ static void ws_layout(rr_modal_ws *ws, rr_block *b)
   ws->wrb = rr_block_take(b, L * N, d);
   ws->wib = rr_block_take(b, L * N, d);
   ws->qrw = rr_block_take(b, rr_eig_batch_work(ws->N), d);
+  ws->candb = rr_block_take(b, L * N, i);
+  ws->candzb = rr_block_take(b, L * N, d);
+  ws->phib = rr_block_take(b, RR_DSL_LANES * n, z);
+  ws->dsl = rr_block_take(b, 1, sizeof *ws->dsl);
+  rr_dsl sizing, *dl = ws->dsl ? ws->dsl : &sizing;
+  rr_dsl_layout(dl, ws->n, b);
   for (int k = 0; k < 4; k++) { /* the tracking results: owned by the block, not freed apart */
     rr_modal_result *r = &ws->trk[k];
     *r = (rr_modal_result){.cap = ws->N, .ndof = ws->n};
@@ -127,6 +133,8 @@ int rr_modal_ws_new(const rr_model *m, rr_modal_ws **out, rr_error *err)
   return RR_OK;
 }
 
+_Static_assert(RR_DSL_LANES >= RR_QR_LANES_MAX, "a group's points each need a shape lane");
+
 static int paper_sdf(const rr_model *m) { return m->sdf_mode == RR_SDF_PAPER && m->nsdf > 0; }
 
 int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,
@@ -153,7 +161,7 @@ void rr_modal_null_vector(const rr_model *m, double complex s, rr_modal_ws *ws, 
   double nrm = 0;
   for (int i = 0; i < n * n; i++) nrm += fabs(creal(ws->D[i])) + fabs(cimag(ws->D[i]));
   rr_clu_factor(ws->D, n, ws->piv, 1e-15 * nrm / n);
-  for (int i = 0; i < n; i++) phi[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
+  for (int i = 0; i < n; i++) phi[i] = rr_dsolver_start(i);
   rr_clu_solve(ws->D, n, ws->piv, phi);
 }
 
@@ -166,7 +174,7 @@ static void shape_of(rr_modal_ws *ws, double complex s, double complex *phi)
   int n = ws->ds->n;
   double complex *t = ws->x + n;
   rr_dsolver_factor(ws->ds, s, 0);
-  for (int i = 0; i < n; i++) t[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
+  for (int i = 0; i < n; i++) t[i] = rr_dsolver_start(i);
   rr_dsolver_solve(ws->ds, t, ws->tv);
   rr_dsolver_from(ws->ds, t, phi);
 }
@@ -183,12 +191,11 @@ static void stability_resolve(rr_stability *s)
 
 static int needs_shape(const rr_modal_opts *o) { return o->w_min > 0 || o->r_max < 1; }
 
-/* Stability from the eigenvalues (wr, wi) of the model's state matrix at its
-   operating point: zeta_max over every oscillatory mode, and the index as the
-   first hunting-related candidate by decreasing zeta (a null vector of
-   D(lambda) gives its shares). */
-static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int N,
-                                const double *wr, const double *wi, double anorm, rr_stability *out)
+/* zeta_max over every oscillatory mode of the eigenvalues (wr, wi) into out
+   (whose other fields it starts), and the index candidates, the modes below
+   fmax, by decreasing zeta into cand and candz; returns their count. */
+static int index_candidates(const rr_modal_opts *o, int N, const double *wr, const double *wi,
+                            double anorm, int *cand, double *candz, rr_stability *out)
 {
   int nc = 0;
   *out = (rr_stability){
@@ -203,26 +210,55 @@ static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_mo
     }
     if (im / (2 * RR_PI) > o->fmax_hz) continue;
     int k = nc++;
-    while (k > 0 && ws->candz[k - 1] < z) {
-      ws->cand[k] = ws->cand[k - 1];
-      ws->candz[k] = ws->candz[k - 1];
+    while (k > 0 && candz[k - 1] < z) {
+      cand[k] = cand[k - 1];
+      candz[k] = candz[k - 1];
       k--;
     }
-    ws->cand[k] = j;
-    ws->candz[k] = z;
+    cand[k] = j;
+    candz[k] = z;
   }
-  if (nc > 0 && needs_shape(o)) rr_dsolver_init(ws->ds, m, ws->dsi, ws->dsz);
-  for (int i = 0; i < nc; i++) {
-    int j = ws->cand[i];
-    if (needs_shape(o)) {
-      rr_mode md;
-      shape_of(ws, wr[j] + I * wi[j], ws->x);
-      rr_mode_energy(m, ws->x, &md);
-      if (!rr_modal_hunting_related(&md, o)) continue;
-    }
-    out->hunting_index = ws->candz[i];
-    out->index_freq_hz = wi[j] / (2 * RR_PI);
-    break;
+  return nc;
+}
+
+/* Candidate i (an index into the eigenvalues' wi) is the hunting mode. */
+static void take_candidate(const double *wi, const int *cand, const double *candz, int i,
+                           rr_stability *out)
+{
+  out->hunting_index = candz[i];
+  out->index_freq_hz = wi[cand[i]] / (2 * RR_PI);
+}
+
+/* The shapes of candidates i0.. of m (ws->ds initialised at m's operating
+   point) one by one until one is hunting-related. */
+static void test_candidates(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
+                            const double *wr, const double *wi, const int *cand,
+                            const double *candz, int i0, int nc, rr_stability *out)
+{
+  for (int i = i0; i < nc; i++) {
+    int j = cand[i];
+    rr_mode md;
+    shape_of(ws, wr[j] + I * wi[j], ws->x);
+    rr_mode_energy(m, ws->x, &md);
+    if (!rr_modal_hunting_related(&md, o)) continue;
+    take_candidate(wi, cand, candz, i, out);
+    return;
+  }
+}
+
+/* Stability from the eigenvalues (wr, wi) of the model's state matrix at its
+   operating point: zeta_max over every oscillatory mode, and the index as the
+   first hunting-related candidate by decreasing zeta (a null vector of
+   D(lambda) gives its shares). */
+static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int N,
+                                const double *wr, const double *wi, double anorm, rr_stability *out)
+{
+  int nc = index_candidates(o, N, wr, wi, anorm, ws->cand, ws->candz, out);
+  if (nc > 0 && !needs_shape(o))
+    take_candidate(wi, ws->cand, ws->candz, 0, out);
+  else if (nc > 0) {
+    rr_dsolver_init(ws->ds, m, ws->dsi, ws->dsz);
+    test_candidates(m, o, ws, wr, wi, ws->cand, ws->candz, 0, nc, out);
   }
   stability_resolve(out);
 }
@@ -297,6 +333,127 @@ int rr_modal_stability_index(const rr_model *m, const rr_modal_opts *o, rr_modal
   return st;
 }
 
+/* A QR group's points whose shapes are tested in the lanes of ws->dsl (see
+ * lane_stability): point c on mods[c] at (v[c], lam[c]), its candidates at
+ * ws->candb + c N (nc[c] of them, next[c] the one to test). */
+typedef struct lane_group {
+  rr_model *const *mods;
+  const double *v, *lam;
+  int N, nc[RR_DSL_LANES], next[RR_DSL_LANES];
+  unsigned todo, single; /* points in the lanes; points the single solver takes */
+} lane_group;
+
+/* Point c's model at its operating point and ws->ds initialised there. */
+static int point_solver(const lane_group *g, int c, rr_modal_ws *ws, rr_error *err)
+{
+  int st = rr_model_set_operating(g->mods[c], g->v[c], g->lam[c], err);
+  if (!st) rr_dsolver_init(ws->ds, g->mods[c], ws->dsi, ws->dsz);
+  return st;
+}
+
+/* Candidate next[c] of point c is tested by the single solver (ws->ds at its point). */
+static void single_test(lane_group *g, int c, const rr_modal_opts *o, rr_modal_ws *ws,
+                        rr_stability *out)
+{
+  size_t off = (size_t)c * (size_t)g->N;
+  test_candidates(g->mods[c], o, ws, ws->wrb + off, ws->wib + off, ws->candb + off,
+                  ws->candzb + off, g->next[c], g->next[c] + 1, out);
+  if (!isnan(out->hunting_index) || ++g->next[c] == g->nc[c]) g->todo &= ~(1u << c);
+}
+
+/* Every point's candidates; the points that need shapes loaded into the
+   lanes (or left to the single solver), and the lanes given a pivot order:
+   ws->ds's if it has one on their pattern, else the one the first point's
+   first test finds. */
+static int lanes_start(lane_group *g, int nb, const rr_modal_opts *o, rr_modal_ws *ws,
+                       const double *anorm, const int *fail, rr_stability *out, rr_error *err)
+{
+  int st, last = -1;
+  rr_dsl_reset(ws->dsl);
+  for (int c = 0; c < nb; c++) {
+    size_t off = (size_t)c * (size_t)g->N;
+    if (fail[c]) continue;
+    g->nc[c] = index_candidates(o, g->N, ws->wrb + off, ws->wib + off, anorm[c], ws->candb + off,
+                                ws->candzb + off, &out[c]);
+    if (g->nc[c] > 0 && !needs_shape(o))
+      take_candidate(ws->wib + off, ws->candb + off, ws->candzb + off, 0, &out[c]);
+    if (g->nc[c] == 0 || !needs_shape(o)) continue;
+    if ((st = point_solver(g, c, ws, err))) return st;
+    last = c;
+    if (rr_dsl_load(ws->dsl, c, ws->ds))
+      g->single |= 1u << c;
+    else
+      g->todo |= 1u << c;
+  }
+  if (!g->todo || rr_dsl_has_order(ws->dsl)) return RR_OK;
+  if ((g->single >> last & 1) || ws->ds->dirty) {
+    int c = __builtin_ctz(g->todo);
+    if ((st = point_solver(g, c, ws, err))) return st;
+    if (ws->ds->dirty) single_test(g, c, o, ws, &out[c]);
+  }
+  rr_dsl_keep_order(ws->dsl, ws->ds);
+  return RR_OK;
+}
+
+/* Rounds until every point in the lanes has its hunting mode or has run
+   out of candidates: each tests every such point's next candidate at once;
+   a test no kept order suits goes to the single solver, whose order is kept. */
+static int lanes_rounds(lane_group *g, int nb, const rr_modal_opts *o, rr_modal_ws *ws,
+                        rr_stability *out, rr_error *err)
+{
+  while (g->todo) {
+    double sr[RR_DSL_LANES] = {0}, si[RR_DSL_LANES] = {0};
+    for (int c = 0; c < nb; c++) {
+      if (!(g->todo >> c & 1)) continue;
+      size_t off = (size_t)c * (size_t)g->N, j = (size_t)ws->candb[off + (size_t)g->next[c]];
+      sr[c] = ws->wrb[off + j];
+      si[c] = ws->wib[off + j];
+    }
+    unsigned bad = rr_dsl_shapes(ws->dsl, g->todo, sr, si, ws->phib);
+    for (int c = 0; c < nb; c++) {
+      if (!(g->todo >> c & 1)) continue;
+      if (bad >> c & 1) {
+        int st = point_solver(g, c, ws, err);
+        if (st) return st;
+        single_test(g, c, o, ws, &out[c]);
+        rr_dsl_keep_order(ws->dsl, ws->ds);
+        continue;
+      }
+      size_t off = (size_t)c * (size_t)g->N;
+      rr_mode md;
+      rr_mode_energy(g->mods[c], ws->phib + (size_t)c * (size_t)ws->n, &md);
+      if (rr_modal_hunting_related(&md, o)) {
+        take_candidate(ws->wib + off, ws->candb + off, ws->candzb + off, g->next[c], &out[c]);
+        g->todo &= ~(1u << c);
+      } else if (++g->next[c] == g->nc[c]) {
+        g->todo &= ~(1u << c);
+      }
+    }
+  }
+  return RR_OK;
+}
+
+/* The index of each point of a QR group whose QR did not fail, from its
+   eigenvalues in ws->wrb, ws->wib: its shape tests in SIMD lanes, those of
+   points whose pattern is not the lanes' by the single solver. Leaves the
+   models at any of their points. */
+static int lane_stability(rr_model *const *mods, const rr_modal_opts *o, rr_modal_ws *ws, int nb,
+                          const double *v, const double *lam, int N, const double *anorm,
+                          const int *fail, rr_stability *out, rr_error *err)
+{
+  lane_group g = {.mods = mods, .v = v, .lam = lam, .N = N};
+  int st = lanes_start(&g, nb, o, ws, anorm, fail, out, err);
+  if (!st) st = lanes_rounds(&g, nb, o, ws, out, err);
+  for (int c = 0; c < nb && !st; c++) {
+    size_t off = (size_t)c * (size_t)N;
+    if ((g.single >> c & 1) && !(st = point_solver(&g, c, ws, err)))
+      test_candidates(mods[c], o, ws, ws->wrb + off, ws->wib + off, ws->candb + off,
+                      ws->candzb + off, 0, g.nc[c], &out[c]);
+    if (!fail[c]) stability_resolve(&out[c]);
+  }
+  return st;
+}
+
 /* One group of up to RR_QR_LANES_MAX points, point c on model mods[c]: their
    state matrices in SIMD lanes; a lane that fails, a group of one, or
    state matrices of unequal order take the single-point route. */
@@ -323,14 +480,15 @@ static int batch_group(rr_model *const *mods, const rr_modal_opts *o, rr_modal_w
     anorm[c] = rr_modal_max_abs(A, N);
   }
   if (N > 64) lanes = 0;
-  if (lanes) rr_eig_batch(N, nb, rr_eig_batch_lanes(), mats, ws->wrb, ws->wib, ws->qrw, fail);
+  if (lanes) {
+    rr_eig_batch(N, nb, rr_eig_batch_lanes(), mats, ws->wrb, ws->wib, ws->qrw, fail);
+    if ((st = lane_stability(mods, o, ws, nb, v, lam, N, anorm, fail, out, err))) return st;
+  }
   for (int c = 0; c < nb; c++) {
-    if ((st = rr_model_set_operating(mods[c], v[c], lam[c], err))) return st;
     if (lanes && !fail[c]) {
-      stability_from_eigs(mods[c], o, ws, N, ws->wrb + (size_t)c * (size_t)N,
-                          ws->wib + (size_t)c * (size_t)N, anorm[c], &out[c]);
       st = check_finite(&out[c], err);
     } else {
+      if ((st = rr_model_set_operating(mods[c], v[c], lam[c], err))) return st;
       st = rr_modal_stability(mods[c], o, ws, &out[c], err);
     }
     if (st) return st;

@@ -19,10 +19,14 @@ struct rr_modal_ws {
   int *cand; /* index candidates by decreasing zeta */
   double *candz;
   double *Ab, *wrb, *wib, *qrw; /* batched index: state matrices, eigenvalues, QR lanes */
-  rr_modal_result trk[4];       /* paper mode: start, current, result; critical-speed modes */
-  double complex *branch;       /* paper mode: shapes being followed; sort scratch */
-  double complex *tv;           /* fast tracking: vectors (12 n) */
-  struct rr_dsolver *ds;        /* fast tracking: sparse D(s) solves */
+  int *candb;                   /* batched index: each point's candidates (N a point) */
+  double *candzb;
+  double complex *phib;   /* batched index: the shapes in lanes (n a lane) */
+  struct rr_dsl *dsl;     /* batched index: the shape tests in lanes */
+  rr_modal_result trk[4]; /* paper mode: start, current, result; critical-speed modes */
+  double complex *branch; /* paper mode: shapes being followed; sort scratch */
+  double complex *tv;     /* fast tracking: vectors (12 n) */
+  struct rr_dsolver *ds;  /* fast tracking: sparse D(s) solves */
   int *dsi;
   double complex *dsz;
   char *block; /* every array above, one allocation (block.h) */

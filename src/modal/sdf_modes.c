@@ -251,7 +251,7 @@ static double best_of_all(const tracker *tr, double k, const double complex *ref
     if (ws->wi[j] < 0) continue;
     double complex sj = ws->wr[j] + I * ws->wi[j];
     rr_dsolver_factor(tr->ds, sj, k);
-    for (int i = 0; i < n; i++) tr->t[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
+    for (int i = 0; i < n; i++) tr->t[i] = rr_dsolver_start(i);
     rr_dsolver_solve(tr->ds, tr->t, tr->tmp);
     double mac = rr_mac(ref, tr->t, n);
     if (mac > best) {
@@ -547,7 +547,7 @@ static int osc_start(const tracker *tr, int N, rr_modal_result *r0)
     double re = tr->ws->wr[j], im = tr->ws->wi[j];
     if (im <= 0 || !rr_modal_is_osc(re, im, tr->anorm)) continue;
     double complex s = re + I * im, *x = tr->xn;
-    for (int i = 0; i < n; i++) x[i] = 1.0 + 0.1 * i + 0.01 * I * (i % 3);
+    for (int i = 0; i < n; i++) x[i] = rr_dsolver_start(i);
     if (newton(tr, tr->k_lo, &s, x, NEWTON_TOL_ROOT)) s = re + I * im;
     rr_dsolver_from(tr->ds, x, r0->shapes + (size_t)r0->n * (size_t)n);
     rr_mode_fill(&r0->modes[r0->n], creal(s), cimag(s), tr->anorm);
