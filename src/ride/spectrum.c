@@ -42,6 +42,7 @@ typedef struct sp_ctx {
   char seen[SP_SEEN_MAX][16]; /* single-valued keys given so far */
   int nseen;
   int known; /* a spectrum key was read: the file is one, its text may be quoted */
+  int seg_line[RR_SPECTRUM_MAX_TERMS]; /* each segment's line */
 } sp_ctx;
 
 /* A real root in (0, inf) of the polynomial c[0] x^deg + ... + c[deg]
@@ -210,6 +211,7 @@ static int sp_segment(sp_ctx *c, const char *name, const char *val)
   if (s->nseg >= RR_SPECTRUM_MAX_TERMS) return sp_fail(c, RR_EINVAL, name, "too many segments");
   if (s->nseg && fabs(v[0] - s->seg_hi[s->nseg - 1]) > 1e-12 * v[0])
     return sp_fail(c, RR_EINVAL, name, "segments must be contiguous and increasing");
+  c->seg_line[s->nseg] = c->rl.line;
   s->seg_lo[s->nseg] = v[0];
   s->seg_hi[s->nseg] = v[1];
   s->seg_A[s->nseg] = v[2];
@@ -452,6 +454,28 @@ int rr_spectrum_require(const rr_spectrum *sp, const char *direction, const char
                    direction, strcmp(direction, "lateral") ? "" : " alignment", use);
 }
 
+/* Each power-law segment finite and positive over its part of the validity
+   range (the end segments extended to it): A / x^k is monotonic, so its
+   ends bound it, where sp_finish's grid could step over a narrow overflow. */
+static int segments_bounded(sp_ctx *c)
+{
+  const rr_spectrum *sp = c->sp;
+  if (sp->form != RR_FORM_POWERLAW) return RR_OK;
+  double x0 = sp->rad_per_m ? 2 * RR_PI : 1, vlo = sp->valid_lo * x0, vhi = sp->valid_hi * x0;
+  for (int i = 0; i < sp->nseg; i++) {
+    double ends[2] = {i == 0 ? vlo : fmax(sp->seg_lo[i], vlo),
+                      i == sp->nseg - 1 ? vhi : fmin(sp->seg_hi[i], vhi)};
+    for (int e = 0; e < 2 && ends[0] <= ends[1]; e++) {
+      double S = sp->scale * (sp->seg_A[i] / pow(ends[e], sp->seg_k[i]));
+      if (!(isfinite(S) && S > 0))
+        return rr_seterr(c->err, RR_EINVAL,
+                         "%s:%d: segment: PSD not finite and positive at n = %g 1/m", c->path,
+                         c->seg_line[i], ends[e] / x0);
+    }
+  }
+  return RR_OK;
+}
+
 static int sp_load_text(const char *path, rr_spectrum *sp, rr_error *err)
 {
   sp_ctx c;
@@ -486,6 +510,7 @@ static int sp_load_text(const char *path, rr_spectrum *sp, rr_error *err)
   sp->valid_lo = c.valid[0] * f;
   sp->valid_hi = c.valid[1] * f;
   sp->scale = c.psd_scale * (c.two_sided ? 2.0 : 1.0) * (sp->rad_per_m ? 2 * RR_PI : 1.0);
+  if ((st = segments_bounded(&c))) return st;
   return sp_finish(path, sp, err);
 }
 
