@@ -351,14 +351,27 @@ static int point_solver(const lane_group *g, int c, rr_modal_ws *ws, rr_error *e
   return st;
 }
 
-/* Candidate next[c] of point c is tested by the single solver (ws->ds at its point). */
-static void single_test(lane_group *g, int c, const rr_modal_opts *o, rr_modal_ws *ws,
-                        rr_stability *out)
+/* The shape of point c's candidate next[c] by the single solver (ws->ds at
+   its point) into phi. */
+static void single_shape(const lane_group *g, int c, rr_modal_ws *ws, double complex *phi)
+{
+  size_t off = (size_t)c * (size_t)g->N, j = (size_t)ws->candb[off + (size_t)g->next[c]];
+  shape_of(ws, ws->wrb[off + j] + I * ws->wib[off + j], phi);
+}
+
+/* Point c's candidate next[c], its shape phi: the hunting mode, or on to
+   the next candidate; the point leaves the lanes when settled. */
+static void settle(lane_group *g, int c, const rr_modal_opts *o, const rr_modal_ws *ws,
+                   const double complex *phi, rr_stability *out)
 {
   size_t off = (size_t)c * (size_t)g->N;
-  test_candidates(g->mods[c], o, ws, ws->wrb + off, ws->wib + off, ws->candb + off,
-                  ws->candzb + off, g->next[c], g->next[c] + 1, out);
-  if (!isnan(out->hunting_index) || ++g->next[c] == g->nc[c]) g->todo &= ~(1u << c);
+  rr_mode md;
+  rr_mode_energy(g->mods[c], phi, &md);
+  if (rr_modal_hunting_related(&md, o))
+    take_candidate(ws->wib + off, ws->candb + off, ws->candzb + off, g->next[c], out);
+  else if (++g->next[c] < g->nc[c])
+    return;
+  g->todo &= ~(1u << c);
 }
 
 /* Every point's candidates; the points that need shapes loaded into the
@@ -389,7 +402,10 @@ static int lanes_start(lane_group *g, int nb, const rr_modal_opts *o, rr_modal_w
   if ((g->single >> last & 1) || ws->ds->dirty) {
     int c = __builtin_ctz(g->todo);
     if ((st = point_solver(g, c, ws, err))) return st;
-    if (ws->ds->dirty) single_test(g, c, o, ws, &out[c]);
+    if (ws->ds->dirty) {
+      single_shape(g, c, ws, ws->phib + (size_t)c * (size_t)ws->n);
+      settle(g, c, o, ws, ws->phib + (size_t)c * (size_t)ws->n, &out[c]);
+    }
   }
   rr_dsl_keep_order(ws->dsl, ws->ds);
   return RR_OK;
@@ -412,22 +428,14 @@ static int lanes_rounds(lane_group *g, int nb, const rr_modal_opts *o, rr_modal_
     unsigned bad = rr_dsl_shapes(ws->dsl, g->todo, sr, si, ws->phib);
     for (int c = 0; c < nb; c++) {
       if (!(g->todo >> c & 1)) continue;
+      double complex *phi = ws->phib + (size_t)c * (size_t)ws->n;
       if (bad >> c & 1) {
         int st = point_solver(g, c, ws, err);
         if (st) return st;
-        single_test(g, c, o, ws, &out[c]);
+        single_shape(g, c, ws, phi);
         rr_dsl_keep_order(ws->dsl, ws->ds);
-        continue;
       }
-      size_t off = (size_t)c * (size_t)g->N;
-      rr_mode md;
-      rr_mode_energy(g->mods[c], ws->phib + (size_t)c * (size_t)ws->n, &md);
-      if (rr_modal_hunting_related(&md, o)) {
-        take_candidate(ws->wib + off, ws->candb + off, ws->candzb + off, g->next[c], &out[c]);
-        g->todo &= ~(1u << c);
-      } else if (++g->next[c] == g->nc[c]) {
-        g->todo &= ~(1u << c);
-      }
+      settle(g, c, o, ws, phi, &out[c]);
     }
   }
   return RR_OK;
