@@ -15,7 +15,8 @@
  * each other. The ride's modal-sum product (rr_gemm_nn) picks its path at
  * run time and takes a path by name: each path it can run is held to a
  * scalar FMA chain (libm's fma) bit for bit, and to OpenBLAS within rounding. The
- * shape tests' sparse solves in lanes (rr_dsl_shapes) are held to the baseline's too. */
+ * shape tests' sparse solves in lanes (rr_dsl_shapes) are held to the baseline's too, and
+ * every copy of rr_max_abs (a state matrix's largest entry) to a plain loop. */
 #include <complex.h>
 #include <float.h>
 #include <string.h>
@@ -24,6 +25,7 @@
 #include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
 #include "linalg/gemm.h"                /* internal: the ride's modal-sum product */
 #include "linalg/hessenberg_qr.h"       /* internal: eigenvalues one matrix or several at a time */
+#include "linalg/max_abs.h"             /* internal: a state matrix's largest entry */
 #include "linalg/real_lu.h"             /* internal: the LU of the ride's eigenvector basis */
 #include "model/dynamic_stiffness.h"    /* internal: the shape tests' sparse solves in lanes */
 
@@ -43,6 +45,8 @@ int avx2_rr_eigdec(int n, double *a, double *wr, double *wi, double *vr, double 
   double p##rr_lu_rcond1(int n, const double *lu, int lda, double anorm, double *work, int *iwork);
 RR_LU_COPY(base_)
 RR_LU_COPY(avx2_)
+double base_rr_max_abs(size_t n, const double *x);
+double avx2_rr_max_abs(size_t n, const double *x);
 unsigned base_rr_dsl_shapes(rr_dsl *dl, unsigned mask, const double *sr, const double *si,
                             double complex *phi);
 unsigned avx2_rr_dsl_shapes(rr_dsl *dl, unsigned mask, const double *sr, const double *si,
@@ -349,6 +353,42 @@ static void check_shapes(void)
   rr_model_free(m);
 }
 
+/* The largest |x_i| (eight lanes in four chains): every copy against a plain
+   loop, for every length to 64^2 that a state matrix can have and the tails
+   between; the largest at every position, negative, among zeros of both
+   signs and subnormals. */
+static void check_max_abs(void)
+{
+  enum { NM = 64 * 64 };
+  static double x[NM];
+  double (*fn[3])(size_t, const double *) = {base_rr_max_abs, rr_max_abs, avx2_rr_max_abs};
+  unsigned long long s = 99;
+  for (int n = 0; n <= 64; n++)
+    for (int t = 0; t < (n < 64 ? 40 : 1); t++) {
+      size_t len = (size_t)(n * n + t);
+      for (size_t i = 0; i < len; i++) {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        int k = (int)(s >> 60);
+        x[i] = k < 3   ? (k ? -0.0 : 0.0)
+               : k < 5 ? 4.9e-324 * k
+                       : ((double)(s >> 11) - 4.5e15) * 1e-12;
+      }
+      double ref = 0;
+      for (size_t i = 0; i < len; i++) ref = fabs(x[i]) > ref ? fabs(x[i]) : ref;
+      for (int c = 0; c < 1 + ncopies(); c++) {
+        CHECK(fn[c](len, x) == ref, "max_abs copy %d, %zu entries: %g against %g", c, len,
+              fn[c](len, x), ref);
+        for (size_t p = 0; p < len; p += 1 + p / 5) {
+          double keep = x[p];
+          x[p] = -1e300;
+          CHECK(fn[c](len, x) == 1e300, "max_abs copy %d, %zu entries: the largest at %zu", c, len,
+                p);
+          x[p] = keep;
+        }
+      }
+    }
+}
+
 int main(void)
 {
   __builtin_cpu_init();
@@ -367,5 +407,6 @@ int main(void)
   }
   check_gemm();
   check_shapes();
+  check_max_abs();
   return check_done("test_isa");
 }

@@ -16,7 +16,6 @@
 #include "linalg/eigen_decomposition.h" /* internal: the ride evaluation's eigendecomposition */
 #include "linalg/hessenberg_qr.h"    /* internal: eigenvalues of several matrices in SIMD lanes */
 #include "linalg/real_lu.h"          /* internal: the LU of the ride's eigenvector basis */
-#include "modal/modal_impl.h"        /* internal: rr_modal_max_abs, the QR's norm */
 #include "model/dynamic_stiffness.h" /* internal: the shape tests' sparse solves in lanes */
 #include "util/internal.h"           /* internal: rr_all_finite, the FRF plan's scan */
 
@@ -583,32 +582,6 @@ static void test_all_finite(void)
     }
 }
 
-/* rr_modal_max_abs (eight lanes in four chains) against a plain loop: every
- * order up to 64, so every tail length; the largest entry at every position,
- * negative, among zeros of both signs and subnormals. */
-static void test_max_abs(void)
-{
-  enum { NM = 64 };
-  static double a[NM * NM];
-  unsigned long long s = 99;
-  for (int n = 0; n <= NM; n++) {
-    for (int i = 0; i < n * n; i++) {
-      s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-      int k = (int)(s >> 60);
-      a[i] = k < 3 ? (k ? -0.0 : 0.0) : k < 5 ? 4.9e-324 * k : ((double)(s >> 11) - 4.5e15) * 1e-12;
-    }
-    double ref = 0;
-    for (int i = 0; i < n * n; i++) ref = fabs(a[i]) > ref ? fabs(a[i]) : ref;
-    CHECK(rr_modal_max_abs(a, n) == ref, "n %d: %g against %g", n, rr_modal_max_abs(a, n), ref);
-    for (int p = 0; p < n * n; p += 1 + p / 7) {
-      double keep = a[p];
-      a[p] = -1e300;
-      CHECK(rr_modal_max_abs(a, n) == 1e300, "n %d: the largest at %d", n, p);
-      a[p] = keep;
-    }
-  }
-}
-
 /* rr_lu_* against LAPACK (dgesv's solution, dgecon's estimate: the same
  * algorithm, so the same value to rounding) and against the exact |A^-1|_1
  * from dgetri, which the estimate may not exceed: random matrices of several
@@ -985,7 +958,6 @@ int main(void)
   test_eigdec();
   test_lu();
   test_all_finite();
-  test_max_abs();
   test_eig_batch();
   test_index_batch();
   test_shape_lanes();

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "modal/modal_impl.h"
+#include "linalg/max_abs.h"
 #include "linalg/complex_lu.h"
 #include "model/dynamic_stiffness.h"
 #include "linalg/hessenberg_qr.h"
@@ -281,7 +282,7 @@ static int eigenvalues_merged(const rr_model *m, rr_modal_ws *ws, int *Nout, dou
   int N, st = rr_state_matrix_merged(m, 0, ws->A, &N, err);
   if (st) return st;
   *Nout = N;
-  *anorm = rr_modal_max_abs(ws->A, N);
+  *anorm = rr_max_abs((size_t)N * (size_t)N, ws->A);
   if (!rr_eig_small(N, ws->A, ws->wr, ws->wi)) return RR_OK;
   if ((st = rr_state_matrix_merged(m, 0, ws->A, &N, err))) return st;
   for (int i = 0; i < N; i++) /* not converged (rare): Householder reduction and LAPACK's QR */
@@ -485,7 +486,7 @@ static int batch_group(rr_model *const *mods, const rr_modal_opts *o, rr_modal_w
     if (c > 0 && Nc != N) lanes = 0;
     N = Nc;
     mats[c] = A;
-    anorm[c] = rr_modal_max_abs(A, N);
+    anorm[c] = rr_max_abs((size_t)N * (size_t)N, A);
   }
   if (N > 64) lanes = 0;
   if (lanes) {

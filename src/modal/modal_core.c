@@ -4,11 +4,11 @@
 #include <float.h>
 #include <lapacke.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "modal/modal_impl.h"
+#include "linalg/max_abs.h"
 #include "linalg/hessenberg_qr.h"
 #include "util/internal.h"
 
@@ -39,40 +39,6 @@ int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, 
   if (info) return rr_seterr(err, RR_ELAPACK, "dgeev failed (info %d)", info);
   *Nout = N;
   return RR_OK;
-}
-
-/* max |a| is exact whatever the grouping (no NaN reaches here): eight lanes
-   in four chains, so that the compares overlap and vectorise */
-typedef double rr_v8 __attribute__((vector_size(64)));
-typedef long long rr_l8 __attribute__((vector_size(64)));
-#define MAX_ABS8(m, p)                                                                             \
-  do {                                                                                             \
-    rr_v8 a_;                                                                                      \
-    memcpy(&a_, (p), sizeof a_);                                                                   \
-    a_ = (rr_v8)((rr_l8)a_ & ((rr_l8){0} + INT64_MAX));                                            \
-    rr_l8 g_ = a_ > (m);                                                                           \
-    (m) = (rr_v8)(((rr_l8)a_ & g_) | ((rr_l8)(m) & ~g_));                                          \
-  } while (0)
-
-RR_CLONES_V4 double rr_modal_max_abs(const double *A, int N)
-{
-  rr_v8 m0 = {0}, m1 = {0}, m2 = {0}, m3 = {0};
-  int NN = N * N, i = 0;
-  for (; i + 32 <= NN; i += 32) {
-    MAX_ABS8(m0, A + i);
-    MAX_ABS8(m1, A + i + 8);
-    MAX_ABS8(m2, A + i + 16);
-    MAX_ABS8(m3, A + i + 24);
-  }
-  for (; i + 8 <= NN; i += 8) MAX_ABS8(m0, A + i);
-  double m = 0;
-  for (int k = 0; k < 8; k++) {
-    double a = m0[k] > m1[k] ? m0[k] : m1[k], b = m2[k] > m3[k] ? m2[k] : m3[k];
-    a = a > b ? a : b;
-    m = a > m ? a : m;
-  }
-  for (; i < NN; i++) m = fabs(A[i]) > m ? fabs(A[i]) : m;
-  return m;
 }
 
 void rr_mode_fill(rr_mode *md, double re, double im, double anorm)
@@ -161,7 +127,7 @@ static void sort_result(rr_modal_result *res, double complex *scratch)
 void rr_modal_collect(const rr_model *m, int N, const rr_modal_ws *ws, rr_modal_result *res)
 {
   int n = m->n;
-  double anorm = rr_modal_max_abs(ws->A, N);
+  double anorm = rr_max_abs((size_t)N * (size_t)N, ws->A);
   res->n = 0;
   res->ndof = n;
   for (int j = 0; j < N; j++) {

@@ -46,7 +46,6 @@ static inline int rr_modal_is_osc(double re, double im, double anorm)
   return im > RR_OSC_TOL * mag && mag > 100 * sqrt(DBL_EPSILON * anorm);
 }
 
-double rr_modal_max_abs(const double *A, int N);
 /* Eigen-solve of the full state matrix into ws (wr, wi, and vr with vectors). */
 int rr_modal_eig(const rr_model *m, double sdf_k, int vectors, rr_modal_ws *ws, int *N,
                  rr_error *err);

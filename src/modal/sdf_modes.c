@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "modal/modal_impl.h"
+#include "linalg/max_abs.h"
 #include "model/dynamic_stiffness.h"
 #include "linalg/hessenberg_qr.h"
 #include "util/internal.h"
@@ -523,7 +524,7 @@ static int fast_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws
   int N, st = rr_modal_eig(m, tr.k_lo, 1, ws, &N, err);
   if (st) return st;
   rr_modal_collect(m, N, ws, r0);
-  tr.anorm = rr_modal_max_abs(ws->A, N);
+  tr.anorm = rr_max_abs((size_t)N * (size_t)N, ws->A);
   if ((st = fast_track(&tr, r0, res, err))) return st;
   rr_modal_finish(res, o, ws->branch);
   return RR_OK;
@@ -566,7 +567,7 @@ int rr_sdf_modes_fast_osc(const rr_model *m, const rr_modal_opts *o, rr_modal_ws
   if (st) return st;
   memcpy(ws->At, ws->A, sizeof(double) * (size_t)N * (size_t)N);
   if (rr_eig_small(N, ws->At, ws->wr, ws->wi)) return fast_modes(m, o, ws, res, err);
-  tr.anorm = rr_modal_max_abs(ws->A, N);
+  tr.anorm = rr_max_abs((size_t)N * (size_t)N, ws->A);
   rr_modal_result *r0 = res == &ws->trk[0] ? &ws->trk[1] : &ws->trk[0];
   osc_start(&tr, N, r0);
   if ((st = fast_track(&tr, r0, res, err))) return st;
