@@ -230,13 +230,13 @@ static void take_candidate(const double *wi, const int *cand, const double *cand
   out->index_freq_hz = wi[cand[i]] / (2 * RR_PI);
 }
 
-/* The shapes of candidates i0.. of m (ws->ds initialised at m's operating
-   point) one by one until one is hunting-related. */
+/* The shapes of m's candidates (ws->ds initialised at m's operating point)
+   one by one until one is hunting-related. */
 static void test_candidates(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
                             const double *wr, const double *wi, const int *cand,
-                            const double *candz, int i0, int nc, rr_stability *out)
+                            const double *candz, int nc, rr_stability *out)
 {
-  for (int i = i0; i < nc; i++) {
+  for (int i = 0; i < nc; i++) {
     int j = cand[i];
     rr_mode md;
     shape_of(ws, wr[j] + I * wi[j], ws->x);
@@ -259,7 +259,7 @@ static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_mo
     take_candidate(wi, ws->cand, ws->candz, 0, out);
   else if (nc > 0) {
     rr_dsolver_init(ws->ds, m, ws->dsi, ws->dsz);
-    test_candidates(m, o, ws, wr, wi, ws->cand, ws->candz, 0, nc, out);
+    test_candidates(m, o, ws, wr, wi, ws->cand, ws->candz, nc, out);
   }
   stability_resolve(out);
 }
@@ -457,7 +457,7 @@ static int lane_stability(rr_model *const *mods, const rr_modal_opts *o, rr_moda
     size_t off = (size_t)c * (size_t)N;
     if ((g.single >> c & 1) && !(st = point_solver(&g, c, ws, err)))
       test_candidates(mods[c], o, ws, ws->wrb + off, ws->wib + off, ws->candb + off,
-                      ws->candzb + off, 0, g.nc[c], &out[c]);
+                      ws->candzb + off, g.nc[c], &out[c]);
     if (!fail[c]) stability_resolve(&out[c]);
   }
   return st;
