@@ -124,12 +124,14 @@ static int ride_cb(int opt, const char *arg, void *u)
   case OPT_PSD: a->psd_path = arg; return 0;
   case OPT_METHOD:
     a->lateral_only |= 1u << 8;
-    if (!strcmp(arg, "modal"))
+    if (!strcmp(arg, "sparse"))
+      a->rs.method = RR_FRF_SPARSE;
+    else if (!strcmp(arg, "modal"))
       a->rs.method = RR_FRF_MODAL;
     else if (!strcmp(arg, "direct"))
       a->rs.method = RR_FRF_DIRECT;
     else
-      return cli_bad("--method: modal or direct expected, got '%s'", arg);
+      return cli_bad("--method: sparse, modal or direct expected, got '%s'", arg);
     return 0;
   }
   return 1;
@@ -147,7 +149,8 @@ static int ride_parse(int argc, char **argv, cli_common *c, ride_args *a, const 
 #define RIDE_BAND_OPTIONS \
   {"band", OPT_BAND, "LO:HI:N", "log-spaced frequency grid, Hz (default " RIDE_BAND_DEFAULT ")"}, \
   {"method", OPT_METHOD, "M", \
-   "modal (default: modal expansion + SMW) or direct (a solve per frequency)"}
+   "sparse (default: a sparse LU per frequency), modal (modal expansion + SMW) or direct " \
+   "(a dense LU per frequency)"}
 #define RIDE_OPTIONS RIDE_SETUP_OPTIONS, RIDE_BAND_OPTIONS
 /* frf: the same without a track input */
 #define FRF_OPTIONS RIDE_POINT_OPTIONS, RIDE_BAND_OPTIONS

@@ -15,7 +15,8 @@
  * each other. The ride's modal-sum product (rr_gemm_nn) picks its path at
  * run time and takes a path by name: each path it can run is held to a
  * scalar FMA chain (libm's fma) bit for bit, and to OpenBLAS within rounding. The
- * shape tests' sparse solves in lanes (rr_dsl_shapes) are held to the baseline's too, and
+ * shape tests' sparse solves in lanes (rr_dsl_shapes) and the ride's sparse frequency
+ * responses in lanes (rr_frf_sparse_execute) are held to the baseline's too, and
  * every copy of rr_max_abs (a state matrix's largest entry) to a plain loop. */
 #include <complex.h>
 #include <float.h>
@@ -28,6 +29,7 @@
 #include "linalg/max_abs.h"             /* internal: a state matrix's largest entry */
 #include "linalg/real_lu.h"             /* internal: the LU of the ride's eigenvector basis */
 #include "model/dynamic_stiffness.h"    /* internal: the shape tests' sparse solves in lanes */
+#include "ride/frf_sparse.h"            /* internal: the ride's sparse solves in lanes */
 
 int base_rr_eig_small(int n, double *a, double *wr, double *wi);
 int base_rr_eig_batch(int n, int nb, int lanes, const double *const *mats, double *wr, double *wi,
@@ -51,6 +53,12 @@ unsigned base_rr_dsl_shapes(rr_dsl *dl, unsigned mask, const double *sr, const d
                             double complex *phi);
 unsigned avx2_rr_dsl_shapes(rr_dsl *dl, unsigned mask, const double *sr, const double *si,
                             double complex *phi);
+#define RR_FRF_SPARSE_COPY(p)                                                                      \
+  void p##rr_frf_sparse_layout(rr_frf_sparse *s, int n, int ni, int np, rr_block *b);              \
+  void p##rr_frf_sparse_execute(rr_frf_sparse *s, const rr_model *m, const double *f, int nf,      \
+                                const double *rows, const double *rows0, double complex *H);
+RR_FRF_SPARSE_COPY(base_)
+RR_FRF_SPARSE_COPY(avx2_)
 
 enum { NMAX = 48, NMATS = 40 };
 
@@ -59,20 +67,30 @@ static int order[NMATS], nmats;
 
 /* the default vehicle's state matrices at the robust points' speeds and
    conicities, with no SDF, the physical SDF and the paper mode */
+static const int vehicle_sdf[3] = {RR_SDF_NONE, RR_SDF_PHYSICAL, RR_SDF_PAPER};
+
+/* The default vehicle (into v) with SDF treatment s of vehicle_sdf; NULL on failure. */
+static rr_model *default_model(int s, rr_vehicle *v)
+{
+  rr_vehicle_default(v);
+  v->sdf_mode = vehicle_sdf[s];
+  rr_model *m;
+  rr_error e;
+  if (rr_model_from_vehicle(v, &m, &e)) {
+    CHECK(0, "model: %s", e.msg);
+    return NULL;
+  }
+  return m;
+}
+
 static void vehicle_matrices(void)
 {
-  const int sdf[3] = {RR_SDF_NONE, RR_SDF_PHYSICAL, RR_SDF_PAPER};
   const double kmh[3] = {300, 350, 400}, lam[3] = {0.05, 0.17, 0.40};
   for (int s = 0; s < 3; s++) {
     rr_vehicle v;
-    rr_vehicle_default(&v);
-    v.sdf_mode = sdf[s];
-    rr_model *m;
     rr_error e;
-    if (rr_model_from_vehicle(&v, &m, &e)) {
-      CHECK(0, "model: %s", e.msg);
-      continue;
-    }
+    rr_model *m = default_model(s, &v);
+    if (!m) continue;
     for (int p = 0; p < 9; p++) {
       CHECK_OK(rr_model_set_operating(m, kmh[p / 3] / RR_KMH, lam[p % 3], &e), e);
       int n = rr_model_state_size(m);
@@ -353,6 +371,49 @@ static void check_shapes(void)
   rr_model_free(m);
 }
 
+/* The ride's sparse frequency responses, eight frequencies a lane group
+   (403: a short last group): the default vehicle with no SDF, the physical
+   SDF (complex series stiffness) and the paper mode, with the floor rows and
+   the roll-gravity rows, every copy against the baseline's bits. */
+static void check_frf_sparse(void)
+{
+  typedef void (*layout_fn)(rr_frf_sparse *, int, int, int, rr_block *);
+  typedef void (*exec_fn)(rr_frf_sparse *, const rr_model *, const double *, int, const double *,
+                          const double *, double complex *);
+  layout_fn lay[3] = {base_rr_frf_sparse_layout, rr_frf_sparse_layout, avx2_rr_frf_sparse_layout};
+  exec_fn ex[3] = {base_rr_frf_sparse_execute, rr_frf_sparse_execute, avx2_rr_frf_sparse_execute};
+  enum { NF = 403 };
+  static double f[NF];
+  static double complex H[3][NF * 3 * 4];
+  for (int k = 0; k < NF; k++) f[k] = 0.3 * pow(100, k / (NF - 1.0));
+  for (int s = 0; s < 3; s++) {
+    rr_vehicle v;
+    rr_error e;
+    rr_model *m = default_model(s, &v);
+    if (!m) continue;
+    CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
+    int n = rr_model_ndof(m);
+    double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 64], rows0[3 * 64];
+    CHECK_OK(rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 1, rows, rows0, &e), e);
+    for (int c = 0; c < 1 + ncopies(); c++) {
+      rr_frf_sparse sp;
+      rr_block b = {0};
+      lay[c](&sp, n, 4, 3, &b);
+      CHECK(rr_block_alloc(&b) == 0, "sparse frf block");
+      lay[c](&sp, n, 4, 3, &b);
+      ex[c](&sp, m, f, NF, rows, rows0, H[c]);
+      free(b.base);
+      if (c == 0) continue;
+      CHECK(!memcmp(H[c], H[0], sizeof H[0]),
+            "sparse frf, sdf %d: %s copy differs from the "
+            "baseline's",
+            vehicle_sdf[s], c == 1 ? "the library's" : "the AVX2");
+    }
+    CHECK(cabs(H[0][0]) > 0 && isfinite(creal(H[0][NF * 12 - 1])), "sparse frf: an answer");
+    rr_model_free(m);
+  }
+}
+
 /* The largest |x_i| (eight lanes in four chains): every copy against a plain
    loop, for every length to 64^2 that a state matrix can have and the tails
    between; the largest at every position, negative, among zeros of both
@@ -408,5 +469,6 @@ int main(void)
   check_gemm();
   check_shapes();
   check_max_abs();
+  check_frf_sparse();
   return check_done("test_isa");
 }

@@ -16,14 +16,17 @@ extern "C" {
 #endif
 
 enum rr_frf_method {
-  RR_FRF_MODAL = 0,       /* modal expansion of the state-space part + SMW for the
-                             SDF elements without a state-space form (default);
-                             eigenvectors by Hessenberg inverse iteration; when their
-                             basis is ill-conditioned (near zero conicity: a
-                             defective rigid drift) the plan solves directly */
-  RR_FRF_DIRECT = 1,      /* one dense n x n complex solve of D(jw) per frequency */
-  RR_FRF_MODAL_LAPACK = 2 /* the modal expansion with dgeev's left and right vectors,
-                             always (a cross-check; poor near defective points) */
+  RR_FRF_MODAL = 0,        /* modal expansion of the state-space part + SMW for the
+                              SDF elements without a state-space form;
+                              eigenvectors by Hessenberg inverse iteration; when their
+                              basis is ill-conditioned (near zero conicity: a
+                              defective rigid drift) the plan solves directly */
+  RR_FRF_DIRECT = 1,       /* one dense n x n complex solve of D(jw) per frequency */
+  RR_FRF_MODAL_LAPACK = 2, /* the modal expansion with dgeev's left and right vectors,
+                              always (a cross-check; poor near defective points) */
+  RR_FRF_SPARSE = 3        /* a sparse LU of D(jw) per frequency, eight frequencies at
+                              a time in SIMD lanes, kept pivot orders; no modes, so
+                              no conditioning to watch (default) */
 };
 
 /* The paper's ride evaluation: 400 log-spaced frequencies 0.3-30 Hz, floor
@@ -43,7 +46,7 @@ typedef struct rr_frf_opts {
   enum rr_frf_method method;
 } rr_frf_opts;
 
-/* The defaults above, modal method, no output rows yet. */
+/* The defaults above, sparse method, no output rows yet. */
 RR_API rr_frf_opts rr_frf_opts_default(void);
 
 typedef struct rr_frf_plan rr_frf_plan;

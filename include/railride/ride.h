@@ -26,7 +26,7 @@ typedef struct rr_ride_opts {
   double x_points[RR_RIDE_POINTS_MAX]; /* m, along the carbody from its centre */
   double floor_height_m;               /* RR_FLOOR_HEIGHT_DEFAULT (1.2 m above the rail) */
   int roll_gravity;                    /* 1: the accelerometer senses a_y + g phi_c (default 0) */
-  enum rr_frf_method method;           /* RR_FRF_MODAL */
+  enum rr_frf_method method;           /* RR_FRF_SPARSE */
 } rr_ride_opts;
 RR_API rr_ride_opts rr_ride_opts_default(void);
 /* The paper's floor points for a vehicle: x = +L, 0, -L into x[3]; returns 3. */

@@ -222,6 +222,12 @@ void rr_dsolver_factor(rr_dsolver *ds, double complex s, double k_sdf)
   ds->n_pivoting++;
 }
 
+void rr_dsolver_factor_fresh(rr_dsolver *ds, double complex s, double k_sdf)
+{
+  ds->dirty = 1;
+  rr_dsolver_factor(ds, s, k_sdf);
+}
+
 void rr_dsolver_solve(const rr_dsolver *ds, double complex *b, double complex *t)
 {
   int n = ds->n;

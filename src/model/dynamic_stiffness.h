@@ -42,6 +42,9 @@ typedef struct rr_dsolver {
 void rr_dsolver_init(rr_dsolver *ds, const rr_model *m, int *iwork, double complex *zwork);
 /* Factors D(s) with the SDF elements' series stiffness k_sdf (paper mode). */
 void rr_dsolver_factor(rr_dsolver *ds, double complex s, double k_sdf);
+/* The same with partial pivoting whatever the cached order: the factors
+   then depend on s alone, not on the points factored before. */
+void rr_dsolver_factor_fresh(rr_dsolver *ds, double complex s, double k_sdf);
 /* b <- D^-1 b with the last factors; t: n scratch. */
 void rr_dsolver_solve(const rr_dsolver *ds, double complex *b, double complex *t);
 /* y = D'(s) x (derivative in s). */

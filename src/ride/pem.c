@@ -11,6 +11,7 @@
 #include "linalg/eigen_decomposition.h"
 #include "linalg/gemm.h"
 #include "linalg/real_lu.h"
+#include "ride/frf_sparse.h"
 #include "util/internal.h"
 #include "util/block.h"
 
@@ -37,7 +38,8 @@ struct rr_frf_plan {
   /* direct workspace */
   double complex *D, *X;
   int *piv;
-  char *block; /* every array above, one allocation (block.h) */
+  rr_frf_sparse sparse; /* sparse workspace */
+  char *block;          /* every array above, one allocation (block.h) */
 };
 
 void rr_frf_plan_free(rr_frf_plan *p)
@@ -56,7 +58,7 @@ rr_frf_opts rr_frf_opts_default(void)
                        .npoints = 0,
                        .rows = NULL,
                        .rows0 = NULL,
-                       .method = RR_FRF_MODAL};
+                       .method = RR_FRF_SPARSE};
 }
 
 /* The plan's arrays for nf frequencies, np points, n DOFs and N states at
@@ -96,6 +98,7 @@ static void plan_layout(rr_frf_plan *p, int N, int lwork, rr_block *b)
   p->D = rr_block_take(b, n * n, z);
   p->X = rr_block_take(b, n * (ni + MAXU), z);
   p->piv = rr_block_take(b, n, i);
+  rr_frf_sparse_layout(&p->sparse, p->n, p->ni, p->np, b);
 }
 
 /* The frequency grid: the one given, else log-spaced from f_lo to f_hi. */
@@ -123,7 +126,8 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
            hi = o->f_hi_hz > 0 ? o->f_hi_hz : RR_FRF_F_HI_DEFAULT;
     if (!(hi > lo) && nf > 1) return rr_seterr(err, RR_EINVAL, "frf: need 0 < f_lo < f_hi");
   }
-  if (o->method != RR_FRF_MODAL && o->method != RR_FRF_DIRECT && o->method != RR_FRF_MODAL_LAPACK)
+  if (o->method != RR_FRF_MODAL && o->method != RR_FRF_DIRECT && o->method != RR_FRF_MODAL_LAPACK &&
+      o->method != RR_FRF_SPARSE)
     return rr_seterr(err, RR_EINVAL, "frf: unknown method");
   rr_frf_plan *p = calloc(1, sizeof *p);
   if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
@@ -131,7 +135,7 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->np = o->npoints;
   p->ni = m->ni;
   p->nf = nf;
-  p->method = o->method == RR_FRF_DIRECT ? RR_FRF_DIRECT : RR_FRF_MODAL;
+  p->method = o->method == RR_FRF_MODAL_LAPACK ? RR_FRF_MODAL : o->method;
   p->use_dgeev = o->method == RR_FRF_MODAL_LAPACK;
   int N = 2 * m->n + m->nmx + m->nsdf + 2;
   for (int i = 0; i < m->nmx; i++) N += m->mx[i].sdf; /* room for physical mode */
@@ -707,7 +711,13 @@ int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
   if (m->ni > RR_SYS_MAX_INPUTS) return rr_seterr(err, RR_EINVAL, "frf: too many inputs");
   update_lags(p, m);
   p->route = p->use_dgeev ? RR_FRF_MODAL_LAPACK : p->method;
-  int st = p->method == RR_FRF_DIRECT ? execute_direct(p, m) : execute_modal(p, m, err);
+  int st = RR_OK;
+  if (p->method == RR_FRF_DIRECT)
+    st = execute_direct(p, m);
+  else if (p->method == RR_FRF_SPARSE)
+    rr_frf_sparse_execute(&p->sparse, m, p->f, p->nf, p->rows, p->rows0, p->H);
+  else
+    st = execute_modal(p, m, err);
   if (st) return st;
   size_t nH = (size_t)p->nf * (size_t)p->np * (size_t)p->ni;
   if (rr_all_finite(2 * nH, (const double *)p->H)) return RR_OK;

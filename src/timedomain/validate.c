@@ -47,7 +47,7 @@ static int pem_on(const rr_model *m, const rr_spectrum *sp, const rr_validate_op
                     .npoints = o->npoints,
                     .rows = o->rows,
                     .rows0 = o->rows0,
-                    .method = RR_FRF_MODAL};
+                    .method = RR_FRF_SPARSE};
   rr_frf_plan *p;
   int st = rr_frf_plan_new(m, &fo, &p, err);
   if (st) return st;

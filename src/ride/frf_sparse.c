@@ -1,0 +1,444 @@
+/* Frequency responses by sparse direct solves, a frequency a lane (see
+ * frf_sparse.h). */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+#include "ride/frf_sparse.h"
+#include "railride/sdf.h"
+#include "util/internal.h"
+
+#define L RR_FRF_LANES
+#define MXMAX (2 * RR_SYS_MAX_BODIES) /* rr_dsolver's element capacity */
+
+/* Multiply-adds of an LU of order n, at most; Maxwell J' J entries kept. */
+static size_t mac_cap(size_t n) { return n < 2 ? 1 : (n - 1) * n * (2 * n - 1) / 6; }
+static size_t mx_cap(size_t n) { return 4 * n * n + 64; }
+
+static void prog_layout(rr_frf_prog *g, size_t n, rr_block *b)
+{
+  size_t NN = n * n, M = mac_cap(n), i = sizeof(int);
+  g->cidx = rr_block_take(b, NN, i);
+  g->piv = rr_block_take(b, n, i);
+  g->ls = rr_block_take(b, n + 1, i);
+  g->lc = rr_block_take(b, NN, i);
+  g->lrow = rr_block_take(b, NN, i);
+  g->us = rr_block_take(b, n + 1, i);
+  g->uc = rr_block_take(b, NN, i);
+  g->ucol = rr_block_take(b, NN, i);
+  g->ms = rr_block_take(b, n + 1, i);
+  g->mdst = rr_block_take(b, M, i);
+  g->ml = rr_block_take(b, M, i);
+  g->mu = rr_block_take(b, M, i);
+  g->cmx = rr_block_take(b, mx_cap(n), i);
+  g->act = rr_block_take(b, n, sizeof(unsigned));
+  g->k0 = rr_block_take(b, NN, sizeof(double));
+  g->c0 = rr_block_take(b, NN, sizeof(double));
+  g->m0 = rr_block_take(b, NN, sizeof(double));
+  g->valid = 0;
+}
+
+void rr_frf_sparse_layout(rr_frf_sparse *s, int n, int ni, int np, rr_block *b)
+{
+  size_t N = (size_t)n, NN = N * N, nb = N * (size_t)ni, d = sizeof(double),
+         z = sizeof(double complex), i = sizeof(int);
+  s->ds = rr_block_take(b, 1, sizeof *s->ds); /* zeroed: no cached factors yet */
+  s->dsi = rr_block_take(b, RR_DSOLVER_IWORK(N), i);
+  s->dsz = rr_block_take(b, RR_DSOLVER_ZWORK(N), z);
+  s->t = rr_block_take(b, N, z);
+  s->b = rr_block_take(b, N, z);
+  prog_layout(&s->prog, N, b);
+  s->Dr = rr_block_take(b, NN * L, d);
+  s->Di = rr_block_take(b, NN * L, d);
+  s->br = rr_block_take(b, nb * L, d);
+  s->bi = rr_block_take(b, nb * L, d);
+  s->xr = rr_block_take(b, nb * L, d);
+  s->xi = rr_block_take(b, nb * L, d);
+  s->jj = rr_block_take(b, mx_cap(N), d);
+  s->kr = rr_block_take(b, MXMAX * L, d);
+  s->ki = rr_block_take(b, MXMAX * L, d);
+  s->rhs = rr_block_take(b, nb, d);
+  s->on = rr_block_take(b, (size_t)np, i);
+  s->oj = rr_block_take(b, (size_t)np * N, i);
+  s->ow = rr_block_take(b, (size_t)np * N, d);
+  s->ow0 = rr_block_take(b, (size_t)np * N, d);
+  s->nz = rr_block_take(b, nb, 1);
+  s->n = n;
+  s->ni = ni;
+  s->np = np;
+}
+
+/* ---- compiling the factorisation ---- */
+
+/* The structure of D: its pattern's nonzeros, the diagonal and the Maxwell
+   elements' J' J entries (whatever their values). */
+static void structure(const rr_dsolver *ds, int n, unsigned char *S)
+{
+  memset(S, 0, (size_t)n * (size_t)n);
+  for (int q = 0; q < ds->nnz; q++) S[ds->pos[q]] = 1;
+  for (int i = 0; i < n; i++) S[i * n + i] = 1;
+  for (int e = 0; e < ds->nmx; e++)
+    for (int a = 0; a < ds->mx[e].nz; a++)
+      for (int b = 0; b < ds->mx[e].nz; b++) S[ds->mx[e].idx[a] * n + ds->mx[e].idx[b]] = 1;
+}
+
+/* The factors' structure in the solver's order (leaves first: wheelsets,
+   frames, carbody; no row interchanges), by symbolic elimination, and the
+   compact index of each entry: pivots, U's rows, L's columns. */
+static void compact_entries(rr_frf_sparse *s, rr_frf_prog *g)
+{
+  int n = s->n, c = 0, nl = 0, nu = 0, *cidx = g->cidx;
+  unsigned char S[RR_SYS_MAX_DOF * RR_SYS_MAX_DOF];
+  structure(s->ds, n, S);
+  for (int i = 0; i < n * n; i++) cidx[i] = -1;
+  for (int k = 0; k < n; k++) {
+    cidx[k * n + k] = g->piv[k] = c++;
+    g->us[k] = nu;
+    for (int j = k + 1; j < n; j++)
+      if (S[k * n + j]) {
+        g->ucol[nu] = j;
+        cidx[k * n + j] = g->uc[nu++] = c++;
+      }
+    g->ls[k] = nl;
+    for (int r = k + 1; r < n; r++) {
+      if (!S[r * n + k]) continue;
+      g->lrow[nl] = r;
+      cidx[r * n + k] = g->lc[nl++] = c++;
+      for (int q = g->us[k]; q < nu; q++) S[r * n + g->ucol[q]] = 1; /* fill */
+    }
+  }
+  g->us[n] = nu;
+  g->ls[n] = nl;
+  g->ncomp = c;
+}
+
+/* Each step's multiply-adds D[dst] -= D[l] D[u]. */
+static void compile_macs(const rr_frf_sparse *s, rr_frf_prog *g)
+{
+  int n = s->n, m = 0;
+  for (int k = 0; k < n; k++) {
+    g->ms[k] = m;
+    for (int q = g->ls[k]; q < g->ls[k + 1]; q++)
+      for (int c = g->us[k]; c < g->us[k + 1]; c++) {
+        g->mdst[m] = g->cidx[g->lrow[q] * n + g->ucol[c]];
+        g->ml[m] = g->lc[q];
+        g->mu[m++] = g->uc[c];
+      }
+  }
+  g->ms[n] = m;
+  g->nmac = m;
+}
+
+/* Where the Maxwell elements' entries are. */
+static void compile_maxwell(const rr_frf_sparse *s, rr_frf_prog *g)
+{
+  const rr_dsolver *ds = s->ds;
+  int n = s->n, t = 0;
+  for (int e = 0; e < ds->nmx; e++)
+    for (int a = 0; a < ds->mx[e].nz; a++)
+      for (int b = 0; b < ds->mx[e].nz; b++)
+        g->cmx[t++] = g->cidx[ds->mx[e].idx[a] * n + ds->mx[e].idx[b]];
+}
+
+/* The model's values on g's entries (K, C, M), and the inputs each forward
+   step touches (an input's entries are structurally zero until the
+   elimination reaches them). Depends on the model as it is now. */
+static void prog_values(rr_frf_sparse *s, rr_frf_prog *g)
+{
+  const rr_dsolver *ds = s->ds;
+  int n = s->n, ni = s->ni, *cidx = g->cidx;
+  memset(g->k0, 0, sizeof(double) * (size_t)g->ncomp);
+  memset(g->c0, 0, sizeof(double) * (size_t)g->ncomp);
+  memset(g->m0, 0, sizeof(double) * (size_t)g->ncomp);
+  for (int q = 0; q < ds->nnz; q++) {
+    g->k0[cidx[ds->pos[q]]] = ds->nz_k[q];
+    g->c0[cidx[ds->pos[q]]] = ds->nz_c[q];
+  }
+  for (int i = 0; i < n; i++) g->m0[cidx[i * n + i]] = ds->mass[i];
+  unsigned in[RR_SYS_MAX_DOF] = {0}; /* the inputs present in each physical row */
+  for (int r = 0; r < n; r++)
+    for (int i = 0; i < ni; i++) in[r] |= s->rhs[r * ni + i] != 0 ? 1u << i : 0;
+  for (int k = 0; k < n; k++) {
+    g->act[k] = in[k];
+    for (int q = g->ls[k]; q < g->ls[k + 1]; q++) in[g->lrow[q]] |= g->act[k];
+  }
+}
+
+/* The factorisation compiled for ds's structure. */
+static void compile(rr_frf_sparse *s)
+{
+  rr_frf_prog *g = &s->prog;
+  compact_entries(s, g);
+  compile_macs(s, g);
+  compile_maxwell(s, g);
+  prog_values(s, g);
+  g->valid = 1;
+}
+
+/* ---- one pass: eight frequencies ---- */
+
+/* A lane vector (GCC's and Clang's vector extension), never passed by value
+   (the clones keep one ABI). Vector compares stay in the cloned functions
+   themselves: GCC lowers an inlined body's generic vector operations for
+   the body's own (default) target first, which splits a compare into
+   scalar ones. */
+typedef double vd __attribute__((vector_size(8 * L)));
+typedef long long vl __attribute__((vector_size(8 * L)));
+#define VLOAD(p) (*(const vd *)(const void *)(p))
+#define VSTORE(p, v) (*(vd *)(void *)(p) = (v))
+#define VABS(x) ((vd)((vl)(x) & ((vl){0} + INT64_MAX)))
+
+/* Element e's k_e(jw) = k c jw / (k + c jw), times its multiplicity. */
+RR_INLINE void maxwell(const rr_frf_sparse *s, int e, const vd *w, vd *ker, vd *kei)
+{
+  double c = s->ds->mx[e].c, mu = s->ds->mx[e].mult;
+  if (isinf(s->kr[e * L])) { /* a rigid series spring: the dashpot alone */
+    *ker = (vd){0};
+    *kei = mu * c * *w;
+    return;
+  }
+  vd k = VLOAD(s->kr + e * L), ki = VLOAD(s->ki + e * L);
+  vd nr = -(ki * c) * *w, ni = (k * c) * *w; /* (k + j ki) c jw */
+  vd dr = k, di = ki + c * *w, den = dr * dr + di * di;
+  *ker = mu * (nr * dr + ni * di) / den;
+  *kei = mu * (ni * dr - nr * di) / den;
+}
+
+/* D(jw) of every lane on the compiled entries: K - w^2 M + jw C from the
+   program's copies, then the Maxwell elements. */
+RR_INLINE void form(const rr_frf_sparse *s, const rr_frf_prog *g, const vd *w)
+{
+  const rr_dsolver *ds = s->ds;
+  double *Dr = s->Dr, *Di = s->Di;
+  const vd w2 = -(*w * *w);
+  for (int c = 0; c < g->ncomp; c++) {
+    VSTORE(Dr + c * L, g->k0[c] + w2 * g->m0[c]);
+    VSTORE(Di + c * L, *w * g->c0[c]);
+  }
+  for (int e = 0, t = 0; e < ds->nmx; e++) {
+    vd ker, kei;
+    maxwell(s, e, w, &ker, &kei);
+    for (int a = 0; a < ds->mx[e].nz * ds->mx[e].nz; a++, t++) {
+      double *dr = Dr + g->cmx[t] * L, *di = Di + g->cmx[t] * L;
+      VSTORE(dr, VLOAD(dr) + ker * s->jj[t]);
+      VSTORE(di, VLOAD(di) + kei * s->jj[t]);
+    }
+  }
+}
+
+/* The LU in every lane; returns the lanes whose multipliers outgrew the
+   threshold (they went on, their numbers unused). Each multiplier stays in
+   registers for its row's updates. */
+RR_CLONES_V4 static unsigned factor(rr_frf_sparse *s, const rr_frf_prog *g)
+{
+  double *Dr = s->Dr, *Di = s->Di;
+  vl bad = {0};
+  const int *dst = g->mdst;
+  for (int k = 0; k < s->n; k++) {
+    vd br = VLOAD(Dr + g->piv[k] * L), bi = VLOAD(Di + g->piv[k] * L), inv = 1 / (br * br + bi * bi);
+    vd lim = RR_DSOLVER_PIVOT_GROWTH * (VABS(br) + VABS(bi)), ir = br * inv, ii = -bi * inv;
+    const int *uc = g->uc + g->us[k];
+    int nu = g->us[k + 1] - g->us[k];
+    for (int q = g->ls[k]; q < g->ls[k + 1]; q++, dst += nu) {
+      double *pr = Dr + g->lc[q] * L, *pi = Di + g->lc[q] * L;
+      vd ar = VLOAD(pr), ai = VLOAD(pi);
+      bad |= ~(VABS(ar) + VABS(ai) <= lim);
+      vd lr = ar * ir - ai * ii, li = ar * ii + ai * ir;
+      VSTORE(pr, lr);
+      VSTORE(pi, li);
+      for (int c = 0; c < nu; c++) {
+        double *dr = Dr + dst[c] * L, *di = Di + dst[c] * L;
+        vd ur = VLOAD(Dr + uc[c] * L), ui = VLOAD(Di + uc[c] * L);
+        VSTORE(dr, VLOAD(dr) - (lr * ur - li * ui));
+        VSTORE(di, VLOAD(di) - (lr * ui + li * ur));
+      }
+    }
+  }
+  unsigned bits = 0;
+  for (int l = 0; l < L; l++) bits |= bad[l] ? 1u << l : 0;
+  return bits;
+}
+
+/* Forward substitution of every input in every lane (an input's entries
+   that are structurally zero skipped: act), then back substitution of the
+   unknowns k >= kmin. */
+RR_INLINE void solve(rr_frf_sparse *s, const rr_frf_prog *g)
+{
+  int n = s->n, ni = s->ni;
+  const double *Dr = s->Dr, *Di = s->Di;
+  vd *br = (vd *)(void *)s->br, *bi = (vd *)(void *)s->bi;
+  vd *xr = (vd *)(void *)s->xr, *xi = (vd *)(void *)s->xi;
+  for (int j = 0; j < n * ni; j++) {
+    br[j] = (vd){0} + s->rhs[j];
+    bi[j] = (vd){0};
+  }
+  for (int k = 0; k < n; k++) {
+    if (!g->act[k]) continue;
+    const vd *yr = br + k * ni, *yi = bi + k * ni;
+    for (int q = g->ls[k]; q < g->ls[k + 1]; q++) {
+      vd ar = VLOAD(Dr + g->lc[q] * L), ai = VLOAD(Di + g->lc[q] * L);
+      vd *zr = br + g->lrow[q] * ni, *zi = bi + g->lrow[q] * ni;
+      for (unsigned a = g->act[k]; a; a &= a - 1) {
+        int i = __builtin_ctz(a);
+        zr[i] -= ar * yr[i] - ai * yi[i];
+        zi[i] -= ar * yi[i] + ai * yr[i];
+      }
+    }
+  }
+  for (int k = n - 1; k >= s->kmin; k--) {
+    vd dr = VLOAD(Dr + g->piv[k] * L), di = VLOAD(Di + g->piv[k] * L), den = dr * dr + di * di;
+    vd ir = dr / den, ii = -di / den;
+    for (int i = 0; i < ni; i++) {
+      vd cr = br[k * ni + i], ci = bi[k * ni + i];
+      for (int q = g->us[k]; q < g->us[k + 1]; q++) {
+        vd ur = VLOAD(Dr + g->uc[q] * L), ui = VLOAD(Di + g->uc[q] * L);
+        int j = g->ucol[q] * ni + i;
+        cr -= ur * xr[j] - ui * xi[j];
+        ci -= ur * xi[j] + ui * xr[j];
+      }
+      xr[k * ni + i] = cr * ir - ci * ii;
+      xi[k * ni + i] = cr * ii + ci * ir;
+    }
+  }
+}
+
+/* H of the lanes in ok (H: the group's first frequency). */
+RR_INLINE void outputs(const rr_frf_sparse *s, const vd *w, unsigned ok, double complex *H)
+{
+  int n = s->n, ni = s->ni, np = s->np;
+  const vd *xr = (const vd *)(const void *)s->xr, *xi = (const vd *)(const void *)s->xi;
+  const vd w2 = -(*w * *w);
+  for (int q = 0; q < np; q++)
+    for (int i = 0; i < ni; i++) {
+      vd ar = {0}, ai = {0}, br = {0}, bi = {0};
+      for (int c = 0; c < s->on[q]; c++) {
+        int j = s->oj[q * n + c] * ni + i;
+        double a = s->ow[q * n + c], a0 = s->ow0[q * n + c];
+        ar += a * xr[j];
+        ai += a * xi[j];
+        br += a0 * xr[j];
+        bi += a0 * xi[j];
+      }
+      vd hr = w2 * ar + br, hi = w2 * ai + bi;
+      for (int l = 0; l < L; l++)
+        if (ok >> l & 1) H[((size_t)l * (size_t)np + (size_t)q) * (size_t)ni + (size_t)i] = CMPLX(hr[l], hi[l]);
+    }
+}
+
+/* Formed, factored with g, solved and output for the lanes of mask that g
+   suits; returns those. */
+RR_CLONES_V4 static unsigned pass(rr_frf_sparse *s, const rr_frf_prog *g, const double *wl,
+                                  unsigned mask, double complex *H)
+{
+  vd w;
+  memcpy(&w, wl, sizeof w);
+  form(s, g, &w);
+  unsigned ok = mask & ~factor(s, g);
+  if (ok) {
+    solve(s, g);
+    outputs(s, &w, ok, H);
+  }
+  return ok;
+}
+
+/* ---- the driver ---- */
+
+/* The inputs in the solver's order, the output rows' nonzeros and the lowest
+   unknown they read, each Maxwell element's J_a J_b; -1 when the elements
+   have more entries than the workspace holds. */
+static int setup(rr_frf_sparse *s, const rr_model *m, const double *rows, const double *rows0)
+{
+  const rr_dsolver *ds = s->ds;
+  int n = s->n, ni = s->ni, t = 0;
+  s->kmin = n;
+  for (int k = 0; k < n; k++)
+    for (int i = 0; i < ni; i++) s->rhs[k * ni + i] = m->B[ds->perm[k] * ni + i];
+  for (int q = 0; q < s->np; q++) {
+    int c = 0;
+    for (int j = 0; j < n; j++) {
+      double a = rows[q * n + ds->perm[j]], a0 = rows0 ? rows0[q * n + ds->perm[j]] : 0;
+      if (a == 0 && a0 == 0) continue;
+      s->oj[q * n + c] = j;
+      s->ow[q * n + c] = a;
+      s->ow0[q * n + c++] = a0;
+      if (j < s->kmin) s->kmin = j;
+    }
+    s->on[q] = c;
+  }
+  for (int e = 0; e < ds->nmx; e++) {
+    if ((size_t)(t + ds->mx[e].nz * ds->mx[e].nz) > mx_cap((size_t)n)) return -1;
+    for (int a = 0; a < ds->mx[e].nz; a++)
+      for (int b = 0; b < ds->mx[e].nz; b++) s->jj[t++] = ds->mx[e].J[a] * ds->mx[e].J[b];
+  }
+  return 0;
+}
+
+/* Each element's series stiffness at the lanes' frequencies (SDF elements:
+   the curve's, one curve for all). */
+static void series(rr_frf_sparse *s, const rr_model *m, const double *w)
+{
+  double kr[L], ki[L];
+  int have = 0;
+  for (int e = 0; e < s->ds->nmx; e++) {
+    double *pr = s->kr + e * L, *pi = s->ki + e * L;
+    if (!s->ds->mx[e].sdf) {
+      for (int l = 0; l < L; l++) pr[l] = s->ds->mx[e].k, pi[l] = 0;
+      continue;
+    }
+    for (int l = 0; l < L && !have; l++) {
+      double complex k = rr_sdf_series_k(&m->curve, m->sdf_mode, I * w[l]);
+      kr[l] = creal(k);
+      ki[l] = cimag(k);
+    }
+    have = 1;
+    memcpy(pr, kr, sizeof kr);
+    memcpy(pi, ki, sizeof ki);
+  }
+}
+
+/* One frequency by the scalar solver with partial pivoting, always afresh
+   (a cached order would make the result depend on the frequencies solved
+   before); H: the frequency's outputs. */
+static void scalar(rr_frf_sparse *s, const rr_model *m, double w, double complex *H)
+{
+  rr_dsolver *ds = s->ds;
+  int n = s->n, ni = s->ni;
+  double k_sdf = m->sdf_mode == RR_SDF_PAPER ? rr_sdf_storage(&m->curve, w / (2 * RR_PI)) : 0;
+  rr_dsolver_factor_fresh(ds, I * w, k_sdf);
+  for (int i = 0; i < ni; i++) {
+    for (int k = 0; k < n; k++) s->b[k] = s->rhs[k * ni + i];
+    rr_dsolver_solve(ds, s->b, s->t);
+    for (int q = 0; q < s->np; q++) {
+      double complex a = 0, a0 = 0;
+      for (int c = 0; c < s->on[q]; c++) {
+        a += s->ow[q * n + c] * s->b[s->oj[q * n + c]];
+        a0 += s->ow0[q * n + c] * s->b[s->oj[q * n + c]];
+      }
+      H[q * ni + i] = -w * w * a + a0;
+    }
+  }
+}
+
+void rr_frf_sparse_execute(rr_frf_sparse *s, const rr_model *m, const double *f, int nf,
+                           const double *rows, const double *rows0, double complex *H)
+{
+  rr_dsolver_init(s->ds, m, s->dsi, s->dsz);
+  if (s->ds->dirty) s->prog.valid = 0; /* a new pattern */
+  int lanes = !setup(s, m, rows, rows0);
+  if (lanes && !s->prog.valid) compile(s);
+  if (lanes) prog_values(s, &s->prog);
+  size_t stride = (size_t)s->np * (size_t)s->ni;
+  for (int k0 = 0; k0 < nf; k0 += L) {
+    int nk = nf - k0 < L ? nf - k0 : L;
+    double w[L];
+    for (int l = 0; l < L; l++) w[l] = 2 * RR_PI * f[k0 + (l < nk ? l : nk - 1)];
+    unsigned todo = (1u << nk) - 1;
+    if (lanes) {
+      series(s, m, w);
+      todo &= ~pass(s, &s->prog, w, todo, H + (size_t)k0 * stride);
+    }
+    for (; todo; todo &= todo - 1) {
+      int l = __builtin_ctz(todo);
+      scalar(s, m, w[l], H + (size_t)(k0 + l) * stride);
+    }
+  }
+}
