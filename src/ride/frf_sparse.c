@@ -234,7 +234,8 @@ RR_CLONES_V4 static unsigned factor(rr_frf_sparse *s, const rr_frf_prog *g)
   vl bad = {0};
   const int *dst = g->mdst;
   for (int k = 0; k < s->n; k++) {
-    vd br = VLOAD(Dr + g->piv[k] * L), bi = VLOAD(Di + g->piv[k] * L), inv = 1 / (br * br + bi * bi);
+    vd br = VLOAD(Dr + g->piv[k] * L), bi = VLOAD(Di + g->piv[k] * L),
+       inv = 1 / (br * br + bi * bi);
     vd lim = RR_DSOLVER_PIVOT_GROWTH * (VABS(br) + VABS(bi)), ir = br * inv, ii = -bi * inv;
     const int *uc = g->uc + g->us[k];
     int nu = g->us[k + 1] - g->us[k];
@@ -320,7 +321,8 @@ RR_INLINE void outputs(const rr_frf_sparse *s, const vd *w, unsigned ok, double 
       }
       vd hr = w2 * ar + br, hi = w2 * ai + bi;
       for (int l = 0; l < L; l++)
-        if (ok >> l & 1) H[((size_t)l * (size_t)np + (size_t)q) * (size_t)ni + (size_t)i] = CMPLX(hr[l], hi[l]);
+        if (ok >> l & 1)
+          H[((size_t)l * (size_t)np + (size_t)q) * (size_t)ni + (size_t)i] = CMPLX(hr[l], hi[l]);
     }
 }
 
