@@ -320,9 +320,13 @@ RR_INLINE void outputs(const rr_frf_sparse *s, const vd *w, unsigned ok, double 
         bi += a0 * xi[j];
       }
       vd hr = w2 * ar + br, hi = w2 * ai + bi;
-      for (int l = 0; l < L; l++)
-        if (ok >> l & 1)
-          H[((size_t)l * (size_t)np + (size_t)q) * (size_t)ni + (size_t)i] = CMPLX(hr[l], hi[l]);
+      for (int l = 0; l < L; l++) {
+        if (!(ok >> l & 1)) continue;
+        /* a complex is its two parts in order (C11 6.2.5) */
+        double *z = (double *)&H[((size_t)l * (size_t)np + (size_t)q) * (size_t)ni + (size_t)i];
+        z[0] = hr[l];
+        z[1] = hi[l];
+      }
     }
 }
 
