@@ -14,6 +14,7 @@
 #include "util/internal.h"
 
 #define L RR_DSL_LANES
+#include "util/lane_vector.h"         /* after L */
 #define MXMAX (2 * RR_SYS_MAX_BODIES) /* rr_dsolver's element capacity */
 
 void rr_dsl_layout(rr_dsl *dl, int n, rr_block *b)
@@ -134,19 +135,6 @@ int rr_dsl_load(rr_dsl *dl, int l, const rr_dsolver *ds)
   }
   return 0;
 }
-
-/* A lane vector (GCC's and Clang's vector extension), never passed by
-   value, so that the clones keep one ABI. The arrays' entries are whole
-   vectors, aligned (block.h), read and written through vector lvalues: a
-   vector aliases its element type (double) and nothing else, so the
-   patterns' indices stay in registers across the stores (memcpy would
-   alias them too). */
-typedef double vd __attribute__((vector_size(8 * L)));
-typedef long long vl __attribute__((vector_size(8 * L)));
-#define VLOAD(p) (*(const vd *)(const void *)(p))
-#define VSTORE(p, v) (*(vd *)(void *)(p) = (v))
-#define VABS(x) ((vd)((vl)(x) & ((vl){0} + INT64_MAX)))
-#define VSEL(m, a, b) ((vd)(((vl)(a) & (m)) | ((vl)(b) & ~(m))))
 
 /* Zero at every position the cached factors touch (form's non-dirty path). */
 RR_INLINE void clear_factor_positions(rr_dsl *dl, const rr_dsl_order *po)

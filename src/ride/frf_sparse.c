@@ -8,6 +8,7 @@
 #include "util/internal.h"
 
 #define L RR_FRF_LANES
+#include "util/lane_vector.h"         /* after L */
 #define MXMAX (2 * RR_SYS_MAX_BODIES) /* rr_dsolver's element capacity */
 
 /* Multiply-adds of an LU of order n, at most; Maxwell J' J entries kept. */
@@ -25,10 +26,7 @@ static void prog_layout(rr_frf_prog *g, size_t n, rr_block *b)
   g->us = rr_block_take(b, n + 1, i);
   g->uc = rr_block_take(b, NN, i);
   g->ucol = rr_block_take(b, NN, i);
-  g->ms = rr_block_take(b, n + 1, i);
   g->mdst = rr_block_take(b, M, i);
-  g->ml = rr_block_take(b, M, i);
-  g->mu = rr_block_take(b, M, i);
   g->cmx = rr_block_take(b, mx_cap(n), i);
   g->act = rr_block_take(b, n, sizeof(unsigned));
   g->k0 = rr_block_take(b, NN, sizeof(double));
@@ -61,7 +59,6 @@ void rr_frf_sparse_layout(rr_frf_sparse *s, int n, int ni, int np, rr_block *b)
   s->oj = rr_block_take(b, (size_t)np * N, i);
   s->ow = rr_block_take(b, (size_t)np * N, d);
   s->ow0 = rr_block_take(b, (size_t)np * N, d);
-  s->nz = rr_block_take(b, nb, 1);
   s->n = n;
   s->ni = ni;
   s->np = np;
@@ -111,21 +108,15 @@ static void compact_entries(rr_frf_sparse *s, rr_frf_prog *g)
   g->ncomp = c;
 }
 
-/* Each step's multiply-adds D[dst] -= D[l] D[u]. */
+/* Each step's multiply-adds, row by row of L: the entry each updates
+   (D[dst] -= l D[u], u running along U's row). */
 static void compile_macs(const rr_frf_sparse *s, rr_frf_prog *g)
 {
   int n = s->n, m = 0;
-  for (int k = 0; k < n; k++) {
-    g->ms[k] = m;
+  for (int k = 0; k < n; k++)
     for (int q = g->ls[k]; q < g->ls[k + 1]; q++)
-      for (int c = g->us[k]; c < g->us[k + 1]; c++) {
-        g->mdst[m] = g->cidx[g->lrow[q] * n + g->ucol[c]];
-        g->ml[m] = g->lc[q];
-        g->mu[m++] = g->uc[c];
-      }
-  }
-  g->ms[n] = m;
-  g->nmac = m;
+      for (int c = g->us[k]; c < g->us[k + 1]; c++)
+        g->mdst[m++] = g->cidx[g->lrow[q] * n + g->ucol[c]];
 }
 
 /* Where the Maxwell elements' entries are. */
@@ -175,17 +166,6 @@ static void compile(rr_frf_sparse *s)
 }
 
 /* ---- one pass: eight frequencies ---- */
-
-/* A lane vector (GCC's and Clang's vector extension), never passed by value
-   (the clones keep one ABI). Vector compares stay in the cloned functions
-   themselves: GCC lowers an inlined body's generic vector operations for
-   the body's own (default) target first, which splits a compare into
-   scalar ones. */
-typedef double vd __attribute__((vector_size(8 * L)));
-typedef long long vl __attribute__((vector_size(8 * L)));
-#define VLOAD(p) (*(const vd *)(const void *)(p))
-#define VSTORE(p, v) (*(vd *)(void *)(p) = (v))
-#define VABS(x) ((vd)((vl)(x) & ((vl){0} + INT64_MAX)))
 
 /* Element e's k_e(jw) = k c jw / (k + c jw), times its multiplicity. */
 RR_INLINE void maxwell(const rr_frf_sparse *s, int e, const vd *w, vd *ker, vd *kei)

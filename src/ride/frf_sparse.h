@@ -22,15 +22,15 @@
 
 /* The factorisation, compiled: entry lists into the compact factor array. */
 typedef struct rr_frf_prog {
-  int valid, ncomp, nmac;
-  int *cidx;                /* each position's compact index, or -1 (n x n) */
-  int *piv;                 /* compact index of pivot k (n) */
-  int *ls, *lc, *lrow;      /* L: column k's entries ls[k] .. ls[k + 1], their rows */
-  int *us, *uc, *ucol;      /* U: row k's entries, their columns */
-  int *ms, *mdst, *ml, *mu; /* step k's multiply-adds: D[dst] -= D[l] D[u] */
-  int *cmx;                 /* compact index of each Maxwell element's J' J entries */
-  unsigned *act;            /* step k's forward substitution: the inputs it touches (bits) */
-  double *k0, *c0, *m0;     /* each entry's K, C and M (zero where the model has none) */
+  int valid, ncomp;
+  int *cidx;            /* each position's compact index, or -1 (n x n) */
+  int *piv;             /* compact index of pivot k (n) */
+  int *ls, *lc, *lrow;  /* L: column k's entries ls[k] .. ls[k + 1], their rows */
+  int *us, *uc, *ucol;  /* U: row k's entries, their columns */
+  int *mdst;            /* the entry each multiply-add updates, step by step, row by row */
+  int *cmx;             /* compact index of each Maxwell element's J' J entries */
+  unsigned *act;        /* step k's forward substitution: the inputs it touches (bits) */
+  double *k0, *c0, *m0; /* each entry's K, C and M (zero where the model has none) */
 } rr_frf_prog;
 
 typedef struct rr_frf_sparse {
@@ -39,15 +39,14 @@ typedef struct rr_frf_sparse {
   int *dsi;
   double complex *dsz, *t, *b;
   rr_frf_prog prog;
-  double *Dr, *Di;   /* the compact factors (ncomp x lanes) */
-  double *br, *bi;   /* the solves' vectors (n x ni x lanes) */
-  double *xr, *xi;   /* the unknowns k >= kmin (n x ni x lanes) */
-  double *jj;        /* each Maxwell element's J_a J_b, as cmx lists them */
-  double *kr, *ki;   /* each Maxwell element's series stiffness in each lane */
-  double *rhs;       /* the inputs' columns of B, solver order (n x ni) */
-  int *on, *oj;      /* output q's nonzeros: count, unknowns (np, np x n) */
-  double *ow, *ow0;  /* their rows and rows0 entries (np x n) */
-  unsigned char *nz; /* structural nonzeros of the solves (n x ni) */
+  double *Dr, *Di;  /* the compact factors (ncomp x lanes) */
+  double *br, *bi;  /* the solves' vectors (n x ni x lanes) */
+  double *xr, *xi;  /* the unknowns k >= kmin (n x ni x lanes) */
+  double *jj;       /* each Maxwell element's J_a J_b, as cmx lists them */
+  double *kr, *ki;  /* each Maxwell element's series stiffness in each lane */
+  double *rhs;      /* the inputs' columns of B, solver order (n x ni) */
+  int *on, *oj;     /* output q's nonzeros: count, unknowns (np, np x n) */
+  double *ow, *ow0; /* their rows and rows0 entries (np x n) */
 } rr_frf_sparse;
 
 /* The workspace's arrays for n DOFs, ni inputs and np output rows (block.h). */

@@ -1,0 +1,22 @@
+/* Vectors of L doubles (GCC's and Clang's vector extension) for the lane
+ * kernels that run one problem a SIMD lane: the includer defines L first.
+ * A vector is never passed by value, so that the clones keep one ABI. The
+ * arrays' entries are whole vectors, aligned (block.h), read and written
+ * through vector lvalues: a vector aliases its element type (double) and
+ * nothing else, so index arrays stay in registers across the stores (memcpy
+ * would alias them too). Vector compares belong in the cloned functions
+ * themselves: GCC lowers an inlined body's generic vector operations for the
+ * body's own (default) target first, which splits a compare into scalar ones. */
+#ifndef RR_LANE_VECTOR_H
+#define RR_LANE_VECTOR_H
+
+#include <stdint.h>
+
+typedef double vd __attribute__((vector_size(8 * L)));
+typedef long long vl __attribute__((vector_size(8 * L)));
+#define VLOAD(p) (*(const vd *)(const void *)(p))
+#define VSTORE(p, v) (*(vd *)(void *)(p) = (v))
+#define VABS(x) ((vd)((vl)(x) & ((vl){0} + INT64_MAX)))
+#define VSEL(m, a, b) ((vd)(((vl)(a) & (m)) | ((vl)(b) & ~(m))))
+
+#endif
