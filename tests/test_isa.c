@@ -16,7 +16,8 @@
  * run time and takes a path by name: each path it can run is held to a
  * scalar FMA chain (libm's fma) bit for bit, and to OpenBLAS within rounding. The
  * shape tests' sparse solves in lanes (rr_dsl_shapes) and the ride's sparse frequency
- * responses in lanes (rr_frf_sparse_execute) are held to the baseline's too, and
+ * responses in lanes (rr_frf_sparse_execute: its generated codelets and its
+ * interpreter, every input and their lagged sum) are held to the baseline's too, and
  * every copy of rr_max_abs (a state matrix's largest entry) to a plain loop. */
 #include <complex.h>
 #include <float.h>
@@ -56,7 +57,8 @@ unsigned avx2_rr_dsl_shapes(rr_dsl *dl, unsigned mask, const double *sr, const d
 #define RR_FRF_SPARSE_COPY(p)                                                                      \
   void p##rr_frf_sparse_layout(rr_frf_sparse *s, int n, int ni, int np, rr_block *b);              \
   void p##rr_frf_sparse_execute(rr_frf_sparse *s, const rr_model *m, const double *f, int nf,      \
-                                const double *rows, const double *rows0, double complex *H);
+                                const double *rows, const double *rows0,                           \
+                                const double complex *lag, double complex *H);
 RR_FRF_SPARSE_COPY(base_)
 RR_FRF_SPARSE_COPY(avx2_)
 
@@ -371,47 +373,108 @@ static void check_shapes(void)
   rr_model_free(m);
 }
 
+/* Largest |a - b| over n complex numbers, relative to the largest |b|. */
+static double rel_diff(const double complex *a, const double complex *b, size_t n)
+{
+  double d = 0, s = 0;
+  for (size_t i = 0; i < n; i++) {
+    d = fmax(d, cabs(a[i] - b[i]));
+    s = fmax(s, cabs(b[i]));
+  }
+  return d / s;
+}
+
+enum { FRF_NF = 403, FRF_NP = 3, FRF_NI = 4 };
+typedef void (*frf_layout_fn)(rr_frf_sparse *, int, int, int, rr_block *);
+typedef void (*frf_exec_fn)(rr_frf_sparse *, const rr_model *, const double *, int, const double *,
+                            const double *, const double complex *, double complex *);
+
+/* One copy's responses: every input (lag NULL) or their lagged sum, by the
+   generated codelet or (interpret) the interpreter. */
+static void frf_copy(frf_layout_fn lay, frf_exec_fn ex, const rr_model *m, const double *f,
+                     const double *rows, const double *rows0, const double complex *lag,
+                     int interpret, double complex *H)
+{
+  rr_frf_sparse sp;
+  rr_block b = {0};
+  lay(&sp, rr_model_ndof(m), FRF_NI, FRF_NP, &b);
+  CHECK(rr_block_alloc(&b) == 0, "sparse frf block");
+  lay(&sp, rr_model_ndof(m), FRF_NI, FRF_NP, &b);
+  sp.interpret = interpret;
+  ex(&sp, m, f, FRF_NF, rows, rows0, lag, H);
+  CHECK(interpret ? sp.codelet == -1 : sp.codelet >= 0, "sparse frf: %s ran",
+        interpret ? "the interpreter" : "a codelet");
+  free(b.base);
+}
+
 /* The ride's sparse frequency responses, eight frequencies a lane group
    (403: a short last group): the default vehicle with no SDF, the physical
    SDF (complex series stiffness) and the paper mode, with the floor rows and
-   the roll-gravity rows, every copy against the baseline's bits. */
+   the roll-gravity rows, every input and the inputs' lagged sum, by the
+   codelet and by the interpreter: every copy the baseline's bits (its FMAs
+   are libm's fma, rounded once as the FMA instructions round), and each
+   copy's codelet its interpreter's. */
 static void check_frf_sparse(void)
 {
-  typedef void (*layout_fn)(rr_frf_sparse *, int, int, int, rr_block *);
-  typedef void (*exec_fn)(rr_frf_sparse *, const rr_model *, const double *, int, const double *,
-                          const double *, double complex *);
-  layout_fn lay[3] = {base_rr_frf_sparse_layout, rr_frf_sparse_layout, avx2_rr_frf_sparse_layout};
-  exec_fn ex[3] = {base_rr_frf_sparse_execute, rr_frf_sparse_execute, avx2_rr_frf_sparse_execute};
-  enum { NF = 403 };
-  static double f[NF];
-  static double complex H[3][NF * 3 * 4];
-  for (int k = 0; k < NF; k++) f[k] = 0.3 * pow(100, k / (NF - 1.0));
+  frf_layout_fn lay[3] = {base_rr_frf_sparse_layout, rr_frf_sparse_layout,
+                          avx2_rr_frf_sparse_layout};
+  frf_exec_fn ex[3] = {base_rr_frf_sparse_execute, rr_frf_sparse_execute,
+                       avx2_rr_frf_sparse_execute};
+  static double f[FRF_NF];
+  static double complex H[3][2][FRF_NF * FRF_NP * FRF_NI], lag[FRF_NF * FRF_NI];
+  for (int k = 0; k < FRF_NF; k++) f[k] = 0.3 * pow(100, k / (FRF_NF - 1.0));
   for (int s = 0; s < 3; s++) {
     rr_vehicle v;
     rr_error e;
     rr_model *m = default_model(s, &v);
     if (!m) continue;
     CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
-    int n = rr_model_ndof(m);
     double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 64], rows0[3 * 64];
     CHECK_OK(rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 1, rows, rows0, &e), e);
-    for (int c = 0; c < 1 + ncopies(); c++) {
-      rr_frf_sparse sp;
-      rr_block b = {0};
-      lay[c](&sp, n, 4, 3, &b);
-      CHECK(rr_block_alloc(&b) == 0, "sparse frf block");
-      lay[c](&sp, n, 4, 3, &b);
-      ex[c](&sp, m, f, NF, rows, rows0, H[c]);
-      free(b.base);
-      if (c == 0) continue;
-      CHECK(!memcmp(H[c], H[0], sizeof H[0]),
-            "sparse frf, sdf %d: %s copy differs from the "
-            "baseline's",
-            vehicle_sdf[s], c == 1 ? "the library's" : "the AVX2");
+    for (int k = 0; k < FRF_NF; k++)
+      for (int i = 0; i < FRF_NI; i++)
+        lag[k * FRF_NI + i] = cexp(I * 2 * RR_PI * f[k] * rr_model_input_x(m, i) / (350 / RR_KMH));
+    for (int sum = 0; sum < 2; sum++) {
+      size_t nh = (size_t)FRF_NF * FRF_NP * (sum ? 1 : FRF_NI);
+      for (int c = 0; c < 1 + ncopies(); c++) {
+        frf_copy(lay[c], ex[c], m, f, rows, rows0, sum ? lag : NULL, 0, H[c][0]);
+        frf_copy(lay[c], ex[c], m, f, rows, rows0, sum ? lag : NULL, 1, H[c][1]);
+        CHECK(!memcmp(H[c][0], H[c][1], nh * sizeof **H[c]),
+              "sparse frf, sdf %d, sum %d: the %s copy's codelet differs from its interpreter",
+              vehicle_sdf[s], sum,
+              c == 0   ? "baseline"
+              : c == 1 ? "library's"
+                       : "AVX2");
+        if (c == 2)
+          CHECK(!memcmp(H[2][0], H[1][0], nh * sizeof **H[1]),
+                "sparse frf, sdf %d, sum %d: the AVX2 copy differs from the library's",
+                vehicle_sdf[s], sum);
+      }
+      CHECK(!memcmp(H[0][0], H[1][0], nh * sizeof **H[0]),
+            "sparse frf, sdf %d, sum %d: the library's copy differs from the baseline's",
+            vehicle_sdf[s], sum);
+      if (sum) {
+        /* the lagged sum solved directly against the inputs' responses summed */
+        frf_copy(lay[1], ex[1], m, f, rows, rows0, NULL, 0, H[2][0]);
+        double complex S[FRF_NF * FRF_NP];
+        for (int k = 0; k < FRF_NF; k++)
+          for (int q = 0; q < FRF_NP; q++) {
+            S[k * FRF_NP + q] = 0;
+            for (int i = 0; i < FRF_NI; i++)
+              S[k * FRF_NP + q] += H[2][0][(k * FRF_NP + q) * FRF_NI + i] * lag[k * FRF_NI + i];
+          }
+        double ds = rel_diff(H[1][0], S, nh);
+        CHECK(ds <= 1e-12,
+              "sparse frf, sdf %d: the lagged sum within 1e-12 of the summed "
+              "responses (%.2g)",
+              vehicle_sdf[s], ds);
+      }
     }
-    CHECK(cabs(H[0][0]) > 0 && isfinite(creal(H[0][NF * 12 - 1])), "sparse frf: an answer");
+    CHECK(cabs(H[1][0][0]) > 0, "sparse frf: an answer");
     rr_model_free(m);
   }
+  printf("  sparse frf: 3 vehicles, every input and their lagged sum, codelets and interpreter: "
+         "every copy the baseline's bits\n");
 }
 
 /* The largest |x_i| (eight lanes in four chains): every copy against a plain

@@ -370,12 +370,13 @@ static void test_sparse_route(void)
   CHECK(!rr_block_alloc(&b), "sparse workspace");
   rr_frf_sparse_layout(&sp, 2, 1, 2, &b);
   double complex H[800], Hr[800], H2[800];
-  rr_frf_sparse_execute(&sp, m, f, 400, rows, NULL, H);
+  rr_frf_sparse_execute(&sp, m, f, 400, rows, NULL, NULL, H);
+  CHECK(sp.codelet == -1, "a two-DOF model: the interpreter");
   long fallbacks = sp.ds->n_pivoting;
   CHECK(fallbacks >= 3 && fallbacks < 100, "lanes solved with pivoting: %ld", fallbacks);
   double worst = frf_diff(H, rr_frf_H(pd), 400, 2);
   CHECK(worst < 1e-12, "weak wheelset: sparse vs dense rel diff %.3g", worst);
-  rr_frf_sparse_execute(&sp, m, fr, 400, rows, NULL, Hr);
+  rr_frf_sparse_execute(&sp, m, fr, 400, rows, NULL, NULL, Hr);
   int same = 1;
   for (int k = 0; k < 400; k++) same &= !memcmp(H + 2 * k, Hr + 2 * (399 - k), sizeof H[0] * 2);
   CHECK(same, "sparse: a frequency's bits in another lane");
@@ -395,6 +396,125 @@ static void test_sparse_route(void)
   rr_frf_plan_free(po);
   rr_frf_plan_free(ps);
   rr_model_free(other);
+  rr_model_free(m);
+}
+
+/* One sparse execute on a fresh workspace: every input or (lag) their
+   lagged sum, by a codelet where one fits or (interpret) the interpreter;
+   returns the codelet that ran (-1: the interpreter). */
+static int sparse_run(rr_model *m, const double *f, const double *rows, const double *rows0,
+                      const double complex *lag, int interpret, double complex *H)
+{
+  rr_frf_sparse sp;
+  rr_block b = {0};
+  int n = rr_model_ndof(m), ni = rr_model_ninputs(m);
+  rr_frf_sparse_layout(&sp, n, ni, 3, &b);
+  CHECK(!rr_block_alloc(&b), "sparse workspace");
+  rr_frf_sparse_layout(&sp, n, ni, 3, &b);
+  sp.interpret = interpret;
+  rr_frf_sparse_execute(&sp, m, f, 400, rows, rows0, lag, H);
+  free(b.base);
+  return sp.codelet;
+}
+
+/* The generated codelets: every built-in structure (two vehicles, three SDF
+   treatments, gravitational stiffness on and off, roll gravity on and off)
+   runs on one and gets the interpreter's bits, for every input and for the
+   lagged sum, which agrees with the inputs' responses summed; a structure
+   the generator never saw (a vehicle with no secondary lateral damper) runs
+   on the interpreter and agrees with the dense solve. */
+static void test_codelets(void)
+{
+  static double complex H[2][400 * 3 * 4], S[400 * 3];
+  static double complex lag[400 * 4];
+  double f[400];
+  for (int k = 0; k < 400; k++) f[k] = 0.3 * pow(100, k / 399.0);
+  int runs = 0;
+  for (int t = 0; t < 24; t++) {
+    rr_vehicle v;
+    rr_error e;
+    rr_vehicle_builtin(t < 12 ? "type1" : "type2", &v, &e);
+    v.sdf_mode = (int[]){RR_SDF_NONE, RR_SDF_PAPER, RR_SDF_PHYSICAL}[t / 4 % 3];
+    v.gravity_stiffness = t / 2 % 2;
+    rr_model *m;
+    CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+    CHECK_OK(rr_model_set_operating(m, 330 / RR_KMH, 0.25, &e), e);
+    double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 17], rows0[3 * 17];
+    CHECK_OK(rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, t % 2, rows, rows0, &e), e);
+    const double *r0 = t % 2 ? rows0 : NULL;
+    for (int k = 0; k < 400; k++)
+      for (int i = 0; i < 4; i++)
+        lag[k * 4 + i] = cexp(I * 2 * RR_PI * f[k] * rr_model_input_x(m, i) / (330 / RR_KMH));
+    for (int sum = 0; sum < 2; sum++) {
+      size_t nh = 400 * 3 * (sum ? 1 : 4);
+      int c = sparse_run(m, f, rows, r0, sum ? lag : NULL, 0, H[0]);
+      CHECK(c >= 0, "case %d: a built-in structure without a codelet", t);
+      CHECK(sparse_run(m, f, rows, r0, sum ? lag : NULL, 1, H[1]) == -1, "interpret");
+      runs += !memcmp(H[0], H[1], nh * sizeof H[0][0]);
+      CHECK(!memcmp(H[0], H[1], nh * sizeof H[0][0]),
+            "case %d, sum %d: the codelet's bits are the interpreter's", t, sum);
+    }
+    /* H[1] holds the lagged sum, H[0] every input's response */
+    sparse_run(m, f, rows, r0, NULL, 0, H[0]);
+    for (int k = 0; k < 400 * 3; k++) {
+      S[k] = 0;
+      for (int i = 0; i < 4; i++) S[k] += H[0][k * 4 + i] * lag[k / 3 * 4 + i];
+    }
+    double d = frf_diff(H[1], S, 400, 3);
+    CHECK(d < 1e-12, "case %d: the lagged sum solved against the responses summed: %.3g", t, d);
+    rr_model_free(m);
+  }
+  CHECK(runs == 48, "every case on a codelet with the interpreter's bits: %d of 48", runs);
+  /* another topology: the interpreter, and the dense solve's answers */
+  rr_vehicle v;
+  rr_error e;
+  rr_vehicle_default(&v);
+  v.lateral_damping = 0;
+  rr_model *m;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.17, &e), e);
+  rr_frf_plan *pd = floor_plan(m, RR_FRF_DIRECT, 0);
+  CHECK_OK(rr_frf_plan_execute(pd, m, &e), e);
+  double xs[3] = {v.bogie_half_spacing, 0, -v.bogie_half_spacing}, rows[3 * 17];
+  CHECK_OK(rr_vehicle_floor_rows(m, &v, xs, 3, 1.2, 0, rows, NULL, &e), e);
+  double fp[400];
+  memcpy(fp, rr_frf_freqs(pd), sizeof fp);
+  CHECK(sparse_run(m, fp, rows, NULL, NULL, 0, H[0]) == -1,
+        "no secondary lateral damper: no codelet fits");
+  double d = frf_diff(H[0], rr_frf_H(pd), 400, 12);
+  CHECK(d < 1e-12, "no secondary lateral damper: the interpreter against the dense solve %.3g", d);
+  rr_frf_plan_free(pd);
+  rr_model_free(m);
+}
+
+/* rr_pem_design, the optimiser's path: the sparse route's PSDs from the
+   lagged sum solved directly, against the plan executed and its H combined;
+   the plan's H untouched. The modal route executes the plan: the same bits. */
+static void test_pem_design(void)
+{
+  rr_model *m = vehicle_model("type1", RR_SDF_PAPER, NULL);
+  rr_error e;
+  rr_spectrum sp;
+  CHECK_OK(rr_spectrum_open("wuhan-guangzhou", &sp, &e), e);
+  static double Gt[400], G[400 * 3], Gd[400 * 3];
+  static double complex H[400 * 3 * 4];
+  for (int method = RR_FRF_MODAL; method <= RR_FRF_SPARSE; method += RR_FRF_SPARSE - RR_FRF_MODAL) {
+    rr_frf_plan *p = floor_plan(m, method, 1);
+    CHECK_OK(rr_pem_track(p, &sp, 350 / RR_KMH, Gt, &e), e);
+    CHECK_OK(rr_frf_plan_execute(p, m, &e), e);
+    CHECK_OK(rr_pem_psd_track(p, m, Gt, G, &e), e);
+    memcpy(H, rr_frf_H(p), sizeof H);
+    CHECK_OK(rr_pem_design(p, m, Gt, Gd, &e), e);
+    double worst = 0;
+    for (int k = 0; k < 400 * 3; k++) worst = fmax(worst, fabs(Gd[k] - G[k]) / G[k]);
+    if (method == RR_FRF_SPARSE) {
+      CHECK(worst < 1e-11, "pem design, sparse: the lagged sum's PSDs within %.3g", worst);
+      CHECK(!memcmp(H, rr_frf_H(p), sizeof H), "pem design: the plan's H untouched");
+    } else
+      CHECK(worst == 0, "pem design, modal: the plan executed, the same bits (%.3g)", worst);
+    rr_frf_plan_free(p);
+  }
+  rr_spectrum_close(&sp);
   rr_model_free(m);
 }
 
@@ -555,10 +675,16 @@ static void test_ride_plan(void)
   rr_frf_plan *fp = floor_plan(m, RR_FRF_SPARSE, 0);
   rr_comfort_plan *cp;
   rr_spectrum s;
-  double G[400 * 3];
+  double G[400 * 3], Gi[400 * 3], Gt0[400];
   CHECK_OK(rr_spectrum_open("wuhan-guangzhou", &s, &e), e);
+  /* the plan solves for the inputs' lagged sum (rr_pem_design) */
+  CHECK_OK(rr_pem_track(fp, &s, 350 / RR_KMH, Gt0, &e), e);
+  CHECK_OK(rr_pem_design(fp, m, Gt0, G, &e), e);
+  /* every input's response, then the PEM's sum: the same within rounding */
   CHECK_OK(rr_frf_plan_execute(fp, m, &e), e);
-  CHECK_OK(rr_pem_psd(fp, m, &s, G, &e), e);
+  CHECK_OK(rr_pem_psd(fp, m, &s, Gi, &e), e);
+  for (int k = 0; k < 400 * 3; k++)
+    CHECK_CLOSE(G[k], Gi[k], 1e-11, 0, "the lagged sum's PSD against every input's");
   CHECK_OK(rr_comfort_plan_new(rr_frf_freqs(fp), 400, RR_AXIS_LATERAL, &cp, &e), e);
   for (int q = 0; q < 3; q++) {
     rr_comfort c;
@@ -598,7 +724,7 @@ static void test_ride_plan(void)
   CHECK_OK(rr_pem_track(fp, &s, 350 / RR_KMH, Gt, &e), e);
   double G2[400 * 3];
   CHECK_OK(rr_pem_psd_track(fp, m, Gt, G2, &e), e);
-  CHECK(!memcmp(G, G2, sizeof G), "rr_pem_psd_track: rr_pem_psd's bits");
+  CHECK(!memcmp(Gi, G2, sizeof Gi), "rr_pem_psd_track: rr_pem_psd's bits");
   CHECK(rr_pem_track(fp, &s, 0, Gt, &e) == RR_EINVAL, "a zero speed refused: %s", e.msg);
   rr_model_set_operating(m, 300 / RR_KMH, 0.2, &e);
   CHECK(rr_ride_design(rp, m, p2, &e) == RR_EINVAL, "a model at another speed refused: %s", e.msg);
@@ -622,6 +748,8 @@ int main(void)
   test_modal_vs_direct();
   test_near_defective();
   test_sparse_route();
+  test_codelets();
+  test_pem_design();
   test_pem();
   test_comfort();
   test_ride_plan();

@@ -83,6 +83,13 @@ RR_API int rr_pem_track(const rr_frf_plan *p, const rr_spectrum *sp, double v_ms
                         rr_error *err);
 RR_API int rr_pem_psd_track(const rr_frf_plan *p, const rr_model *m, const double *Gt, double *G,
                             rr_error *err);
+/* A design's PSDs in one call, the FRFs included (rr_pem_psd_track's G
+ * for a plan executed on m): the sparse route solves for the inputs' lagged
+ * sum directly, one right-hand side a frequency instead of one an input,
+ * and leaves the plan's per-input H as it was; the other routes execute the
+ * plan. The optimiser's path (rr_ride_design). */
+RR_API int rr_pem_design(rr_frf_plan *p, const rr_model *m, const double *Gt, double *G,
+                         rr_error *err);
 /* The response to one alignment seen by every input with its lag:
  * sum_i H_i exp(j w x_i / v) (x: the inputs' positions, m; w rad/s; v m/s). */
 RR_API rr_complex rr_pem_lagged_sum(const rr_complex *H, const double *x, int ninputs, double w,

@@ -59,7 +59,8 @@ RR_API int rr_ride_execute(rr_ride_plan *p, const rr_model *m, const rr_spectrum
 RR_API int rr_ride_plan_set_track(rr_ride_plan *p, const rr_spectrum *sp, double v_ms,
                                   rr_error *err);
 RR_API int rr_ride_design(rr_ride_plan *p, const rr_model *m, rr_ride_point *out, rr_error *err);
-/* The FRFs alone (rr_ride_frf's H), for callers that need no spectrum. */
+/* The FRFs alone, every input's (rr_ride_frf's H), for callers that need
+ * no spectrum. */
 RR_API int rr_ride_frf_execute(rr_ride_plan *p, const rr_model *m, rr_error *err);
 RR_API int rr_ride_nfreq(const rr_ride_plan *p);
 RR_API const double *rr_ride_freqs(const rr_ride_plan *p); /* Hz */
@@ -67,7 +68,10 @@ RR_API int rr_ride_npoints(const rr_ride_plan *p);
 RR_API const double *rr_ride_points(const rr_ride_plan *p); /* x, m */
 /* After an execute: G[f * npoints + p], (m/s^2)^2/Hz. */
 RR_API const double *rr_ride_psd(const rr_ride_plan *p);
-/* The plan's FRF plan (its H, route and grid after an execute). */
+/* The plan's FRF plan: its grid and route, and its every-input H after
+ * rr_ride_frf_execute (rr_ride_execute and rr_ride_design take
+ * rr_pem_design's path: the sparse route solves for the inputs' lagged sum
+ * and leaves H as it was). */
 RR_API const rr_frf_plan *rr_ride_frf(const rr_ride_plan *p);
 /* The floor rows (npoints x ndof, m per coordinate) and, with roll gravity,
  * the rows taken without -w^2 (else NULL), for callers that drive the

@@ -24,6 +24,7 @@ struct rr_frf_plan {
   double *f;                /* nf */
   double *rows, *rows0;     /* np x n */
   double complex *H;        /* nf x np x ni */
+  double complex *Hs;       /* nf x np: the response to the inputs' lagged sum (rr_pem_design) */
   /* modal workspace */
   double *A, *At, *vl, *vr, *wr, *wi, *work;
   int lwork;
@@ -73,6 +74,7 @@ static void plan_layout(rr_frf_plan *p, int N, int lwork, rr_block *b)
   p->rows = rr_block_take(b, np * n, d);
   p->rows0 = rr_block_take(b, np * n, d);
   p->H = rr_block_take(b, nf * np * ni, z);
+  p->Hs = rr_block_take(b, nf * np, z);
   p->A = rr_block_take(b, NN, d);
   p->At = rr_block_take(b, NN, d);
   p->vl = rr_block_take(b, NN, d);
@@ -702,7 +704,8 @@ static void update_lags(rr_frf_plan *p, const rr_model *m)
   for (int i = 0; i < p->ni; i++) p->lag_x[i] = m->contacts[i].x;
 }
 
-int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
+/* The model fits the plan; the lags current. */
+static int execute_begin(rr_frf_plan *p, const rr_model *m, rr_error *err)
 {
   if (m->n != p->n || m->ni != p->ni)
     return rr_seterr(err, RR_EINVAL, "frf: plan was made for another model size");
@@ -711,21 +714,32 @@ int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
   if (m->ni > RR_SYS_MAX_INPUTS) return rr_seterr(err, RR_EINVAL, "frf: too many inputs");
   update_lags(p, m);
   p->route = p->use_dgeev ? RR_FRF_MODAL_LAPACK : p->method;
-  int st = RR_OK;
+  return RR_OK;
+}
+
+/* RR_OK when every response in H (nf x per complex) is finite. */
+static int responses_finite(const rr_frf_plan *p, const double complex *H, size_t per,
+                            rr_error *err)
+{
+  size_t nH = (size_t)p->nf * per;
+  if (rr_all_finite(2 * nH, (const double *)H)) return RR_OK;
+  size_t t = 0;
+  while (isfinite(creal(H[t])) && isfinite(cimag(H[t]))) t++;
+  return rr_seterr(err, RR_ENOCONV,
+                   "frf: response not finite at %g Hz (singular dynamic stiffness)", p->f[t / per]);
+}
+
+int rr_frf_plan_execute(rr_frf_plan *p, const rr_model *m, rr_error *err)
+{
+  int st = execute_begin(p, m, err);
+  if (st) return st;
   if (p->method == RR_FRF_DIRECT)
     st = execute_direct(p, m);
   else if (p->method == RR_FRF_SPARSE)
-    rr_frf_sparse_execute(&p->sparse, m, p->f, p->nf, p->rows, p->rows0, p->H);
+    rr_frf_sparse_execute(&p->sparse, m, p->f, p->nf, p->rows, p->rows0, NULL, p->H);
   else
     st = execute_modal(p, m, err);
-  if (st) return st;
-  size_t nH = (size_t)p->nf * (size_t)p->np * (size_t)p->ni;
-  if (rr_all_finite(2 * nH, (const double *)p->H)) return RR_OK;
-  size_t t = 0;
-  while (isfinite(creal(p->H[t])) && isfinite(cimag(p->H[t]))) t++;
-  return rr_seterr(err, RR_ENOCONV,
-                   "frf: response not finite at %g Hz (singular dynamic stiffness)",
-                   p->f[t / ((size_t)p->np * (size_t)p->ni)]);
+  return st ? st : responses_finite(p, p->H, (size_t)p->np * (size_t)p->ni, err);
 }
 
 double complex rr_pem_lagged_sum(const double complex *H, const double *x, int ni, double w,
@@ -809,6 +823,26 @@ int rr_pem_psd_track(const rr_frf_plan *p, const rr_model *m, const double *Gt, 
   int cached = lags_current(p, m), st = RR_OK;
   for (int k = 0; k < p->nf && !st; k++) st = psd_row(p, m, k, cached, Gt[k], G, err);
   return st;
+}
+
+int rr_pem_design(rr_frf_plan *p, const rr_model *m, const double *Gt, double *G, rr_error *err)
+{
+  if (p->method != RR_FRF_SPARSE) { /* the routes that give every input's response */
+    int st = rr_frf_plan_execute(p, m, err);
+    return st ? st : rr_pem_psd_track(p, m, Gt, G, err);
+  }
+  int st = execute_begin(p, m, err);
+  if (st) return st;
+  rr_frf_sparse_execute(&p->sparse, m, p->f, p->nf, p->rows, p->rows0, p->lag, p->Hs);
+  if ((st = responses_finite(p, p->Hs, (size_t)p->np, err))) return st;
+  for (int k = 0; k < p->nf; k++)
+    for (int q = 0; q < p->np; q++) {
+      double complex a = p->Hs[k * p->np + q];
+      G[k * p->np + q] = Gt[k] * (creal(a) * creal(a) + cimag(a) * cimag(a));
+      if (!isfinite(G[k * p->np + q]))
+        return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", p->f[k]);
+    }
+  return RR_OK;
 }
 
 int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int np,

@@ -116,8 +116,7 @@ int rr_ride_design(rr_ride_plan *p, const rr_model *m, rr_ride_point *out, rr_er
     return rr_seterr(err, RR_EINVAL,
                      "ride: the model runs at %g km/h, the track was set for %g km/h",
                      rr_model_speed(m) * RR_KMH, p->track_v * RR_KMH);
-  int st = rr_frf_plan_execute(p->frf, m, err);
-  if (!st) st = rr_pem_psd_track(p->frf, m, p->Gt, p->G, err);
+  int st = rr_pem_design(p->frf, m, p->Gt, p->G, err);
   for (int q = 0; q < p->np && out && !st; q++) {
     rr_comfort c;
     if ((st = rr_comfort_execute(p->comfort, p->G + q, p->np, &c, err))) break;

@@ -18,5 +18,14 @@ typedef long long vl __attribute__((vector_size(8 * L)));
 #define VSTORE(p, v) (*(vd *)(void *)(p) = (v))
 #define VABS(x) ((vd)((vl)(x) & ((vl){0} + INT64_MAX)))
 #define VSEL(m, a, b) ((vd)(((vl)(a) & (m)) | ((vl)(b) & ~(m))))
+/* a b + c rounded once in each lane: one FMA instruction where the target
+   has FMA (GCC's and Clang's vectorisers make the lane loop one), libm's
+   fma where it has not, so the same bits on every target. */
+#define VFMA(a, b, c)                                                                              \
+  __extension__({                                                                                  \
+    vd a_ = (a), b_ = (b), c_ = (c), r_;                                                           \
+    for (int l_ = 0; l_ < L; l_++) r_[l_] = __builtin_fma(a_[l_], b_[l_], c_[l_]);                 \
+    r_;                                                                                            \
+  })
 
 #endif
