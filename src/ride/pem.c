@@ -772,6 +772,17 @@ static int track_at(const rr_spectrum *sp, double f, double v, double *gt, rr_er
   return RR_OK;
 }
 
+/* The PEM's G = G_t |a|^2 at frequency k, point q (a: the response to the
+   lagged inputs), refused unless finite. */
+static int psd_put(const rr_frf_plan *p, int k, int q, double Gt, double complex a, double *G,
+                   rr_error *err)
+{
+  G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
+  if (!isfinite(G[k * p->np + q]))
+    return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", p->f[k]);
+  return RR_OK;
+}
+
 /* Frequency k's row of G from the FRFs and the track's G_t there. */
 static int psd_row(const rr_frf_plan *p, const rr_model *m, int k, int cached, double Gt, double *G,
                    rr_error *err)
@@ -787,9 +798,8 @@ static int psd_row(const rr_frf_plan *p, const rr_model *m, int k, int cached, d
     const double complex *h = p->H + ((size_t)k * (size_t)p->np + (size_t)q) * (size_t)p->ni;
     double complex a = 0;
     for (int i = 0; i < p->ni; i++) a += h[i] * lag[i];
-    G[k * p->np + q] = Gt * (creal(a) * creal(a) + cimag(a) * cimag(a));
-    if (!isfinite(G[k * p->np + q]))
-      return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", f);
+    int st = psd_put(p, k, q, Gt, a, G, err);
+    if (st) return st;
   }
   return RR_OK;
 }
@@ -835,14 +845,10 @@ int rr_pem_design(rr_frf_plan *p, const rr_model *m, const double *Gt, double *G
   if (st) return st;
   rr_frf_sparse_execute(&p->sparse, m, p->f, p->nf, p->rows, p->rows0, p->lag, p->Hs);
   if ((st = responses_finite(p, p->Hs, (size_t)p->np, err))) return st;
-  for (int k = 0; k < p->nf; k++)
-    for (int q = 0; q < p->np; q++) {
-      double complex a = p->Hs[k * p->np + q];
-      G[k * p->np + q] = Gt[k] * (creal(a) * creal(a) + cimag(a) * cimag(a));
-      if (!isfinite(G[k * p->np + q]))
-        return rr_seterr(err, RR_ENOCONV, "pem: PSD not finite at %g Hz", p->f[k]);
-    }
-  return RR_OK;
+  for (int k = 0; k < p->nf && !st; k++)
+    for (int q = 0; q < p->np && !st; q++)
+      st = psd_put(p, k, q, Gt[k], p->Hs[k * p->np + q], G, err);
+  return st;
 }
 
 int rr_vehicle_floor_rows(const rr_model *m, const rr_vehicle *veh, const double *x, int np,
