@@ -46,6 +46,26 @@ static void bench_sdf_paper(void)
   rr_model_free(m);
 }
 
+/* The 8-lane batch's cost from the lanes falling out of step: each of the
+ * eight conicities run as eight copies of itself (lanes in step throughout,
+ * the same arithmetic per lane), against the eight mixed. Returns us a point. */
+static double batch_in_step_us(rr_model *m, rr_modal_ws *ws, const double *lb, int reps)
+{
+  double vb[8], lc[8], t = 0;
+  rr_stability zb[8];
+  rr_error e;
+  for (int c = 0; c < 8; c++) {
+    for (int i = 0; i < 8; i++) {
+      vb[i] = 350 / RR_KMH;
+      lc[i] = lb[c];
+    }
+    double t0 = bench_now();
+    for (int i = 0; i < reps / 64; i++) rr_modal_stability_batch(m, NULL, ws, 8, vb, lc, zb, &e);
+    t += (bench_now() - t0) / (reps / 64) / 8;
+  }
+  return t / 8 * 1e6;
+}
+
 /* "index": only the eigenvalue figures bench/run.sh pairs with numpy's */
 int main(int argc, char **argv)
 {
@@ -81,7 +101,14 @@ int main(int argc, char **argv)
   }
   t0 = bench_now();
   for (int i = 0; i < reps / 8; i++) rr_modal_stability_batch(m, NULL, ws, 8, vb, lb, zb, &e);
-  printf("stability_index_batch_per_point_us %.1f\n", (bench_now() - t0) / (reps / 8) / 8 * 1e6);
+  double t_mixed = (bench_now() - t0) / (reps / 8) / 8 * 1e6;
+  printf("stability_index_batch_per_point_us %.1f\n", t_mixed);
+  if (!quick) {
+    double t_step = batch_in_step_us(m, ws, lb, reps);
+    printf("stability_index_batch_in_step_per_point_us %.1f  (each conicity in all 8 lanes: "
+           "the mixed batch costs %.2fx)\n",
+           t_step, t_mixed / t_step);
+  }
   rr_robust rb;
   t0 = bench_now();
   for (int i = 0; i < reps / 9; i++) rr_robust_indices(m, NULL, NULL, ws, &rb, &e);
