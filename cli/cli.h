@@ -194,7 +194,11 @@ int cli_file_arg(const char *opt, const char *arg);
    band: ...)", or "none (no hunting-related mode below F Hz; all stable)".
    mode may be NULL (the frequency alone is then named). */
 void cli_index_text(char *buf, size_t len, double index, rr_index_source src, const rr_mode *mode,
-                    double freq_hz, double fmax_hz);
+                    double freq_hz, const rr_modal_opts *o, double fmax_used);
+/* The index's band edge rule: "fixed" (--fmax) or "max(10 Hz, f_K)". */
+const char *cli_band_rule(const rr_modal_opts *o);
+/* fmax_hz (the edge used) and fmax_rule ("fixed" or "kinematic") into obj. */
+void cli_band_json(cJSON *obj, const rr_modal_opts *o, double fmax_used);
 /* An index or other number as "%.6f", or "none" when undefined (NaN). */
 const char *cli_num_or_none(char *buf, size_t len, double x);
 /* The index's source for JSON: "hunting", "unstable_outside_hunting", "none". */
@@ -238,6 +242,7 @@ typedef struct ride_setup {
   double f_lo, f_hi;
   int nfreq;
   enum rr_frf_method method;
+  rr_ride_unstable when_unstable; /* --linear-when-unstable: RR_RIDE_LINEAR */
 } ride_setup;
 typedef rr_ride_point ride_point;
 /* The library's ride options for a command's setup. */
@@ -245,7 +250,7 @@ rr_ride_opts ride_opts(const ride_setup *r);
 void ride_setup_default(ride_setup *r, const rr_vehicle *veh);
 void ride_default_points(ride_setup *r, const rr_vehicle *veh);
 /* The floor-point options every ride-type command takes. */
-enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
+enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG, OPT_LINEAR_UNSTABLE };
 /* clang-format off */
 #define RIDE_HEIGHT_DEFAULT RR_STR(RR_FLOOR_HEIGHT_DEFAULT)
 #define RIDE_POINT_OPTIONS \
@@ -257,6 +262,9 @@ enum { OPT_SPECTRUM = 3000, OPT_POINTS, OPT_HEIGHT, OPT_ROLLG };
    "lateral alignment spectrum: a name in spectra/, a file (.txt), or a measured " \
    "PSD (.csv, two columns with units in the header, e.g. n_per_m,psd_m2_per_per_m); " \
    "default " RR_RIDE_SPECTRUM_DEFAULT}, \
+  {"linear-when-unstable", OPT_LINEAR_UNSTABLE, NULL, \
+   "where some mode is unstable, give the linear response's indices (not a ride comfort) " \
+   "instead of leaving them undefined"}, \
   RIDE_POINT_OPTIONS
 /* clang-format on */
 /* Handles one of them (enum cli_opt_result). */
@@ -312,6 +320,9 @@ void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **ar
 int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r,
               ride_point *out, double *psd, double *freqs, rr_error *err);
 cJSON *ride_methods_json(void);
+/* A ride index as text: "%.3f", "unstable" where the operating point is
+   unstable and the index undefined, "none" for another NaN. */
+const char *ride_num(char *buf, size_t len, const char *fmt, double x, int stable);
 
 int cmd_ride(int argc, char **argv);
 int cmd_frf(int argc, char **argv);

@@ -61,7 +61,8 @@ int cmd_objectives(int argc, char **argv)
       "usage: railride objectives [--json]\n"
       "The objective names of problem files, `sweep --objective` and the Python Design,\n"
       "with their arguments, units and meaning. Modifiers follow ';': sdf=none|paper|physical,\n"
-      "spectrum=NAME (ride), fmax=HZ, wmin=W, rmax=R (stability), index_modes (critical_speed).\n";
+      "spectrum=NAME (ride), fmax=HZ, wmin=W, rmax=R (stability), index_modes, vmax=KMH "
+      "(critical_speed; a value at vmax is a bound, flagged).\n";
   int j = want_json(argc, argv, help);
   if (j == -1) return 0;
   if (j < -1) return cli_bad("objectives: unknown argument '%s'", argv[-2 - j]);

@@ -601,6 +601,7 @@ typedef struct sweep_run {
   const sweep_args *a;
   const cli_common *c;
   int nax, nkeys, key_of[2], op_axes, has_freq, damp_axis;
+  int has_bound; /* a critical speed: a value at the range's end is flagged */
   const char *keys[2];
   rr_design *d;
   char obj[160];
@@ -609,6 +610,7 @@ typedef struct sweep_run {
 /* A point's value and the frequency of the mode behind it. */
 typedef struct sweep_val {
   double f, freq_hz;
+  double at_bound; /* 1: f is the critical speed range's end (stable to it), not a result */
 } sweep_val;
 
 static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *e)
@@ -636,10 +638,12 @@ static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *
   int st = rr_design_evaluate(r->d, x, &out->f, e);
   if (st == RR_EUNDEF) { /* an undefined index: an empty cell, the sweep goes on */
     out->f = out->freq_hz = NAN;
+    out->at_bound = 0;
     return 0;
   }
   if (st) return cli_fail(e, st);
   out->freq_hz = rr_design_mode_freq(r->d, 0);
+  out->at_bound = rr_design_at_bound(r->d, 0);
   return 0;
 }
 
@@ -647,9 +651,11 @@ static void sweep_row(const sweep_run *r, const double *v, const sweep_val *p)
 {
   for (int ax = 0; ax < r->nax; ax++) printf("%.10g,", v[ax]);
   cli_csv_num(stdout, p->f, r->has_freq ? ',' : '\n');
-  if (r->has_freq) cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : '\n');
+  char tail = r->has_bound ? ',' : '\n';
+  if (r->has_freq) cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : tail);
   if (r->has_freq && r->damp_axis >= 0)
-    cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * p->freq_hz, '\n');
+    cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * p->freq_hz, tail);
+  if (r->has_bound) printf("%d\n", p->at_bound != 0);
 }
 
 /* Grid points lo..hi-1 (row-major over --x, --y). */
@@ -678,7 +684,9 @@ static void sweep_header(const sweep_run *run)
       cli_csv_field(stdout, a->kind[ax] == AXIS_SPEED ? "speed_kmh" : a->key[ax], ',');
   }
   cli_csv_field(stdout, a->objective, run->has_freq ? ',' : '\n');
-  if (run->has_freq) printf("mode_freq_hz%s\n", run->damp_axis >= 0 ? ",k_opt_n_per_m" : "");
+  if (run->has_freq)
+    printf("mode_freq_hz%s%s\n", run->damp_axis >= 0 ? ",k_opt_n_per_m" : "",
+           run->has_bound ? ",at_range_end" : "");
 }
 
 /* The grid's points (over MPI ranks under mpirun), then its rows: those done
@@ -753,6 +761,7 @@ int cmd_sweep(int argc, char **argv)
   /* the mode behind the value: its frequency, and on a yaw-damping axis the
      optimal-dissipation stiffness k = c 2 pi f of that mode (paper Fig. 10) */
   run.has_freq = !strncmp(a.objective, "index", 5) || !strncmp(a.objective, "critical_speed@", 15);
+  run.has_bound = !strncmp(a.objective, "critical_speed@", 15);
   if (run.op_axes) { /* the objective checked before any output */
     char probe[160];
     double v0[2] = {a.from[0], a.from[1]};

@@ -109,7 +109,8 @@ static int ride_cb(int opt, const char *arg, void *u)
   ride_args *a = u;
   int r = ride_setup_option(&a->rs, opt, arg);
   if (r >= 0) {
-    if (opt == OPT_HEIGHT || opt == OPT_ROLLG) a->lateral_only |= 1u << (opt - OPT_SPECTRUM);
+    if (opt == OPT_HEIGHT || opt == OPT_ROLLG || opt == OPT_LINEAR_UNSTABLE)
+      a->lateral_only |= 1u << (opt - OPT_SPECTRUM);
     return r;
   }
   if ((r = vertical_option(a, opt, arg)) >= 0) return r;
@@ -186,6 +187,9 @@ static int direction_mismatch(const ride_args *a)
     return cli_bad("--roll-gravity: the lateral model's (not with --direction vertical)");
   if (a->lateral_only & (1u << 8))
     return cli_bad("--method: the lateral model's (not with --direction vertical)");
+  if (a->lateral_only & (1u << (OPT_LINEAR_UNSTABLE - OPT_SPECTRUM)))
+    return cli_bad("--linear-when-unstable: the lateral model's (the vertical model has no "
+                   "creep and cannot go unstable)");
   if (a->rs.spectrum != a->lateral_default)
     return cli_bad("--spectrum is the lateral track input: with --direction vertical give "
                    "--vertical-spectrum");
@@ -253,10 +257,14 @@ static void ride_json(const cli_common *c, const ride_args *a, const ride_result
   cJSON_AddNumberToObject(root, "nfreq", a->rs.nfreq);
   cJSON_AddNumberToObject(root, "floor_height", a->rs.h_p);
   cJSON_AddItemToObject(root, "methods", ride_methods_json());
+  cJSON_AddStringToObject(root, "when_unstable",
+                          a->rs.when_unstable == RR_RIDE_LINEAR ? "linear" : "undefined");
   cJSON *res = cJSON_AddArrayToObject(root, "results");
   for (int k = 0; k < a->ncon; k++) {
     cJSON *o = cJSON_CreateObject(), *pa = cJSON_AddArrayToObject(o, "points");
     cJSON_AddNumberToObject(o, "conicity", a->conicities[k]);
+    cJSON_AddBoolToObject(o, "stable", rr->pts[k * np].stable == 1);
+    cJSON_AddNumberToObject(o, "zeta_max", rr->pts[k * np].zeta_max);
     for (int q = 0; q < np; q++) {
       const ride_point *p = &rr->pts[k * np + q];
       cJSON *po = cJSON_CreateObject();
@@ -280,12 +288,18 @@ static void ride_text(const cli_common *c, const ride_args *a, const ride_result
          c->speed_kmh, a->rs.spectrum, a->rs.f_lo, a->rs.f_hi, a->rs.nfreq, a->rs.h_p);
   printf("Sperling: weighting-filter method (W) and GB/T 5599 line method (W_gb); wd_rms: ISO "
          "2631-1 Wd\n");
-  printf("%9s %9s %12s %9s %9s %12s\n", "conicity", "x_m", "rms_m/s2", "W", "W_gb", "wd_rms_m/s2");
+  printf("%9s %9s %12s %9s %9s %12s  %s\n", "conicity", "x_m", "rms_m/s2", "W", "W_gb",
+         "wd_rms_m/s2", "verdict");
   for (int k = 0; k < a->ncon; k++)
     for (int q = 0; q < np; q++) {
       const ride_point *p = &rr->pts[k * np + q];
-      printf("%9.4g %9.4g %12.5g %9.4f %9.4f %12.5g\n", a->conicities[k], p->x, p->rms, p->sperling,
-             p->sperling_gb, p->wd_rms);
+      char b[4][32];
+      printf("%9.4g %9.4g %12s %9s %9s %12s  %s\n", a->conicities[k], p->x,
+             ride_num(b[0], 32, "%.5g", p->rms, p->stable),
+             ride_num(b[1], 32, "%.4f", p->sperling, p->stable),
+             ride_num(b[2], 32, "%.4f", p->sperling_gb, p->stable),
+             ride_num(b[3], 32, "%.5g", p->wd_rms, p->stable),
+             p->stable == 0 ? "UNSTABLE" : "stable");
     }
 }
 
@@ -538,9 +552,12 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
     } else if (a->csv) {
       cmp_csv_row(stdout, base->name, lam, zc, zs, wcmax, wsmax, nc, ns);
     } else {
-      char b1[32], b2[32];
-      printf("%9.4f %12s %12s %10.4f %10.4f %9.4f %9.4f\n", lam, cli_num_or_none(b1, sizeof b1, zc),
-             cli_num_or_none(b2, sizeof b2, zs), wcmax, wsmax, nc, ns);
+      char b1[32], b2[32], b3[32], b4[32], b5[32], b6[32];
+      int uc = pc[0].lat.stable, us = ps[0].lat.stable;
+      printf("%9.4f %12s %12s %10s %10s %9s %9s\n", lam, cli_num_or_none(b1, sizeof b1, zc),
+             cli_num_or_none(b2, sizeof b2, zs), ride_num(b3, 32, "%.4f", wcmax, uc),
+             ride_num(b4, 32, "%.4f", wsmax, us), ride_num(b5, 32, "%.4f", nc, uc),
+             ride_num(b6, 32, "%.4f", ns, us));
     }
     if (a->pd) cmp_csv_row(a->pd, base->name, lam, zc, zs, wcmax, wsmax, nc, ns);
   }

@@ -193,7 +193,7 @@ static void modes_json(const cli_common *c, const rr_model *m, const rr_modal_re
   cJSON_AddNumberToObject(root, "speed_kmh", c->speed_kmh);
   cJSON_AddNumberToObject(root, "conicity", c->conicity);
   cJSON_AddStringToObject(root, "conicity_source", c->conicity_source);
-  cJSON_AddNumberToObject(root, "fmax_hz", c->mo.fmax_hz);
+  cli_band_json(root, &c->mo, res->fmax_hz);
   cJSON_AddNumberToObject(root, "w_min", c->mo.w_min);
   cJSON_AddNumberToObject(root, "r_max", c->mo.r_max);
   cJSON *arr = cJSON_AddArrayToObject(root, "modes");
@@ -226,7 +226,8 @@ static void modes_table(const cli_common *c, const rr_modal_result *res, int pap
   }
   char buf[256];
   cli_index_text(buf, sizeof buf, res->stability_index, res->index_source,
-                 res->index_mode >= 0 ? &res->modes[res->index_mode] : NULL, NAN, c->mo.fmax_hz);
+                 res->index_mode >= 0 ? &res->modes[res->index_mode] : NULL, NAN, &c->mo,
+                 res->fmax_hz);
   printf("vehicle stability index: %s\n", buf);
   print_verdict(res);
 }
@@ -421,6 +422,8 @@ int cmd_robust(int argc, char **argv)
   rr_robust rb;
   int st = rr_modal_ws_new(m, &ws, &e);
   if (!st) st = rr_robust_indices(m, &c.mo, &a.ro, ws, &rb, &e);
+  double edge_low = rr_modal_band_edge_at(m, &c.mo, a.ro.v_low_ms, a.ro.conicity_low),
+         edge_high = rr_modal_band_edge_at(m, &c.mo, a.ro.v_high_ms, a.ro.conicity_high);
   rr_modal_ws_free(ws);
   rr_model_free(m);
   if (st) return cli_fail(&e, st);
@@ -434,6 +437,9 @@ int cmd_robust(int argc, char **argv)
     cJSON_AddBoolToObject(root, "stable", stable);
     cJSON_AddNumberToObject(root, "zeta_max", rb.zeta_max);
     cJSON_AddNumberToObject(root, "n_unstable_points", rb.n_unstable);
+    cJSON_AddNumberToObject(root, "fmax_low_hz", edge_low);
+    cJSON_AddNumberToObject(root, "fmax_high_hz", edge_high);
+    cJSON_AddStringToObject(root, "fmax_rule", c.mo.fmax_hz > 0 ? "fixed" : "kinematic");
     cli_json_print(root);
   } else {
     char b1[32], b2[32], b3[32];
@@ -447,6 +453,8 @@ int cmd_robust(int argc, char **argv)
     printf("  std_zeta  (%g km/h, %d conicities %g-%g): %10s\n", a.ro.v_high_ms * RR_KMH,
            a.ro.n_conicity, a.ro.conicity_min, a.ro.conicity_max,
            cli_num_or_none(b3, sizeof b3, rb.std_zeta));
+    printf("  index band edge: %.2f Hz at zeta_low's point, %.2f Hz at zeta_high's (%s)\n",
+           edge_low, edge_high, cli_band_rule(&c.mo));
     if (stable)
       printf("verdict: stable at every point (largest zeta of any mode %.6f)\n", rb.zeta_max);
     else
@@ -868,7 +876,8 @@ typedef struct map_cell {
   rr_stability z;
   double hunt_freq_hz, e[RR_NGROUPS];
 } map_cell;
-#define MAP_COLUMNS "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source"
+#define MAP_COLUMNS                                                                                \
+  "speed_kmh,conicity,stability_index,index_freq_hz,zeta_max,stable,index_source,fmax_hz"
 #define MAP_SHARE_COLUMNS ",hunting_freq_hz,hunting_e_carbody,hunting_e_frames,hunting_e_wheelsets"
 
 static void map_point(cJSON *arr, double v, double l, const map_cell *cell, int shares)
@@ -879,7 +888,7 @@ static void map_point(cJSON *arr, double v, double l, const map_cell *cell, int 
     printf("%.10g,%.10g,", v, l);
     cli_csv_num(stdout, z->index, ',');
     cli_csv_num(stdout, z->index_freq_hz, ',');
-    printf("%.10g,%d,%s%s", z->zeta_max, stable, cli_index_source_key(z->source),
+    printf("%.10g,%d,%s,%.10g%s", z->zeta_max, stable, cli_index_source_key(z->source), z->fmax_hz,
            shares ? "," : "\n");
     for (int g = -1; shares && g < RR_NGROUPS; g++)
       cli_csv_num(stdout, g < 0 ? cell->hunt_freq_hz : cell->e[g], g + 1 < RR_NGROUPS ? ',' : '\n');
@@ -896,6 +905,7 @@ static void map_point(cJSON *arr, double v, double l, const map_cell *cell, int 
   cJSON_AddStringToObject(o, "index_source", cli_index_source_key(z->source));
   cJSON_AddNumberToObject(o, "zeta_max", z->zeta_max);
   cJSON_AddBoolToObject(o, "stable", stable);
+  cJSON_AddNumberToObject(o, "fmax_hz", z->fmax_hz);
   if (shares && isfinite(cell->hunt_freq_hz)) {
     cJSON_AddNumberToObject(o, "hunting_freq_hz", cell->hunt_freq_hz);
     cJSON_AddItemToObject(o, "hunting_energy", cJSON_CreateDoubleArray(cell->e, RR_NGROUPS));
@@ -933,7 +943,8 @@ static int map_point_shares(map_rows *w, double v_ms, double l, map_cell *cell)
                            .source = r->index_source,
                            .hunting_index = r->hunting_index,
                            .zeta_max = r->zeta_max,
-                           .max_freq_hz = r->max_mode >= 0 ? r->modes[r->max_mode].freq_hz : NAN};
+                           .max_freq_hz = r->max_mode >= 0 ? r->modes[r->max_mode].freq_hz : NAN,
+                           .fmax_hz = r->fmax_hz};
   cell->hunt_freq_hz = hmd ? hmd->freq_hz : NAN;
   for (int g = 0; g < RR_NGROUPS; g++) cell->e[g] = hmd ? hmd->energy[g] : NAN;
   return 0;

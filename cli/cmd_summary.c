@@ -120,6 +120,7 @@ static void summary_json(const cli_common *c, const summary *s)
   cJSON_AddStringToObject(root, "index_source", cli_index_source_key(s->res.index_source));
   cJSON_AddBoolToObject(root, "stable", rr_modal_stable(s->res.zeta_max));
   cJSON_AddNumberToObject(root, "zeta_max", s->res.zeta_max);
+  cli_band_json(root, &c->mo, s->res.fmax_hz);
   if (s->res.index_mode >= 0)
     cJSON_AddItemToObject(root, "index_mode",
                           cli_mode_json(&s->res.modes[s->res.index_mode], paper));
@@ -151,6 +152,7 @@ static void summary_json(const cli_common *c, const summary *s)
         cJSON_AddNumberToObject(po, "sperling", s->rp[k][i][q].sperling);
         cJSON_AddNumberToObject(po, "sperling_gb", s->rp[k][i][q].sperling_gb);
         cJSON_AddNumberToObject(po, "wd_rms", s->rp[k][i][q].wd_rms);
+        cJSON_AddBoolToObject(po, "stable", s->rp[k][i][q].stable == 1);
         cJSON_AddItemToArray(pa, po);
       }
       cJSON_AddItemToArray(ride, o);
@@ -161,9 +163,10 @@ static void summary_json(const cli_common *c, const summary *s)
 
 static void modes_text(const cli_common *c, const rr_modal_result *res)
 {
-  printf("Hunting-related modes at %g km/h, conicity %g (%s; f <= %g Hz, wheelset share >= %g, "
-         "frame-roll share < %g):\n",
-         c->speed_kmh, c->conicity, c->conicity_source, c->mo.fmax_hz, c->mo.w_min, c->mo.r_max);
+  printf("Hunting-related modes at %g km/h, conicity %g (%s; f <= %.2f Hz, %s; wheelset share "
+         ">= %g, frame-roll share < %g):\n",
+         c->speed_kmh, c->conicity, c->conicity_source, res->fmax_hz, cli_band_rule(&c->mo),
+         c->mo.w_min, c->mo.r_max);
   printf("  %9s %10s %9s %9s %9s %9s  %s\n", "freq_hz", "zeta", "E_car", "E_frame", "E_wheel",
          "fr_roll", "mode");
   for (int i = 0; i < res->n; i++) {
@@ -175,7 +178,8 @@ static void modes_text(const cli_common *c, const rr_modal_result *res)
   }
   char buf[256];
   cli_index_text(buf, sizeof buf, res->stability_index, res->index_source,
-                 res->index_mode >= 0 ? &res->modes[res->index_mode] : NULL, NAN, c->mo.fmax_hz);
+                 res->index_mode >= 0 ? &res->modes[res->index_mode] : NULL, NAN, &c->mo,
+                 res->fmax_hz);
   printf("  vehicle stability index: %s (negative is stable)\n", buf);
   if (res->max_mode >= 0)
     printf("  verdict: %s (least damped of all modes: %s at %.4f Hz, zeta %.6f)\n\n",
@@ -225,8 +229,13 @@ static void ride_text(const cli_common *c, const summary *s)
         snprintf(lab, sizeof lab, "SDF (%s mode)", sdf_name(s->vr[1].sdf_mode));
       else
         snprintf(lab, sizeof lab, "constant %g MN/m", c->veh.yaw_series_stiffness / 1e6);
-      printf("  %8.2f  %-26s %7.3f %7.3f %7.3f %12.5f\n", lams[i], lab, p[0].sperling,
-             p[1].sperling, p[2].sperling, fmax(p[0].wd_rms, fmax(p[1].wd_rms, p[2].wd_rms)));
+      char b[4][32];
+      printf("  %8.2f  %-26s %7s %7s %7s %12s\n", lams[i], lab,
+             ride_num(b[0], 32, "%.3f", p[0].sperling, p[0].stable),
+             ride_num(b[1], 32, "%.3f", p[1].sperling, p[1].stable),
+             ride_num(b[2], 32, "%.3f", p[2].sperling, p[2].stable),
+             ride_num(b[3], 32, "%.5f", fmax(p[0].wd_rms, fmax(p[1].wd_rms, p[2].wd_rms)),
+                      p[0].stable));
     }
 }
 

@@ -111,6 +111,11 @@ static int lateral_side(vertical_run *r, const rr_vehicle *veh, double speed_kmh
   }
   int st = ride_eval(veh, speed_kmh, conicity, rs, r->lat, r->lat_psd, r->lat_f, e);
   if (st) return st;
+  if (r->lat[0].stable == 0 && rs->when_unstable != RR_RIDE_LINEAR) {
+    /* unstable: the lateral side, and with it EN 12299, is undefined */
+    for (int q = 0; q < r->np; q++) r->wd[q] = (rr_window_stats){NAN, NAN, NAN, NAN, NAN, NAN};
+    return RR_OK;
+  }
   const double *f = rr_vertical_freqs(r->plan);
   for (int k = 0; k < r->nf; k++)
     if (fabs(r->lat_f[k] - f[k]) > 1e-12 * f[k]) {
@@ -149,6 +154,7 @@ static void combine(vertical_run *r, const vertical_setup *vs)
                             .az50 = r->pt[q].wb_5s.p50,
                             .az95 = r->pt[q].wb_5s.p95};
     r->en[q] = rr_en12299_indices(&in);
+    if (isnan(in.ay95)) r->en[q] = (rr_en12299){NAN, NAN, NAN}; /* the lateral side undefined */
   }
   r->have_en = 1;
 }
@@ -270,7 +276,11 @@ static cJSON *lateral_json(const vertical_run *r, int q, const vertical_setup *v
   cJSON_AddNumberToObject(l, "wd_rms", r->wd[q].rms); /* NaN (not known): null */
   cJSON_AddNumberToObject(l, "wd_p50", r->wd[q].p50);
   cJSON_AddNumberToObject(l, "wd_p95", r->wd[q].p95);
-  if (!vs->lateral_given) cJSON_AddNumberToObject(l, "sperling", r->lat[q].sperling);
+  if (!vs->lateral_given) {
+    cJSON_AddNumberToObject(l, "sperling", r->lat[q].sperling);
+    cJSON_AddBoolToObject(l, "stable", r->lat[q].stable == 1);
+    cJSON_AddNumberToObject(l, "zeta_max", r->lat[q].zeta_max);
+  }
   return l;
 }
 
@@ -299,7 +309,10 @@ static cJSON *point_json(const vertical_run *r, int q, const vertical_setup *vs)
   cJSON_AddNumberToObject(o, "n_mv", r->en[q].n_mv);
   cJSON_AddNumberToObject(o, "n_vd", r->en[q].n_vd);
   cJSON_AddNumberToObject(o, "n_va_rigid_seat", r->en[q].n_va_rigid_seat);
-  cJSON_AddStringToObject(o, "comfort", rr_en12299_scale(r->en[q].n_mv));
+  if (isnan(r->en[q].n_mv))
+    cJSON_AddNullToObject(o, "comfort");
+  else
+    cJSON_AddStringToObject(o, "comfort", rr_en12299_scale(r->en[q].n_mv));
   return o;
 }
 
@@ -369,10 +382,18 @@ static void ride_text_out(const cli_common *c, const ride_setup *rs, const verti
   printf("\nEN 12299 mean comfort: %s, %s, rigid seat\n", lat, lon);
   printf("%9s %11s %11s %11s %11s %7s %7s %7s  %s\n", "x_m", "ay_p50", "ay_p95", "az_p50", "az_p95",
          "N_MV", "N_VD", "N_VA", "comfort (N_MV)");
-  for (int q = 0; q < r->np; q++)
-    printf("%9.4g %11.5g %11.5g %11.5g %11.5g %7.3f %7.3f %7.3f  %s\n", r->pt[q].x, r->wd[q].p50,
-           r->wd[q].p95, r->pt[q].wb_5s.p50, r->pt[q].wb_5s.p95, r->en[q].n_mv, r->en[q].n_vd,
-           r->en[q].n_va_rigid_seat, rr_en12299_scale(r->en[q].n_mv));
+  for (int q = 0; q < r->np; q++) {
+    int stable = vs->lateral_given ? 1 : r->lat[q].stable;
+    char b[5][32];
+    printf("%9.4g %11s %11s %11.5g %11.5g %7s %7s %7s  %s\n", r->pt[q].x,
+           ride_num(b[0], 32, "%.5g", r->wd[q].p50, stable),
+           ride_num(b[1], 32, "%.5g", r->wd[q].p95, stable), r->pt[q].wb_5s.p50, r->pt[q].wb_5s.p95,
+           ride_num(b[2], 32, "%.3f", r->en[q].n_mv, stable),
+           ride_num(b[3], 32, "%.3f", r->en[q].n_vd, stable),
+           ride_num(b[4], 32, "%.3f", r->en[q].n_va_rigid_seat, stable),
+           isnan(r->en[q].n_mv) ? "undefined: the lateral model is unstable"
+                                : rr_en12299_scale(r->en[q].n_mv));
+  }
   printf("scale: < 1 very comfortable, 1-2 comfortable, 2-4 medium, 4-5 uncomfortable, >= 5 very "
          "uncomfortable\n");
 }

@@ -309,7 +309,9 @@ static const common_row common_rows[] = {
       "file's)"},
      CLI_READS_PROFILES,
      0},
-    {{"fmax", OPT_FMAX, "HZ", "highest frequency counted in the stability index (default 10)"},
+    {{"fmax", OPT_FMAX, "HZ",
+      "the stability index's band edge, fixed (default: max(10 Hz, f_K) at each operating "
+      "point, f_K the free wheelset's kinematic frequency)"},
      CLI_READS_INDEX,
      0},
     {{"wmin", OPT_WMIN, "W", "least wheelset energy share of a hunting mode (default 1e-3)"},
@@ -645,17 +647,31 @@ const char *cli_index_source_key(rr_index_source s)
                                   : "none";
 }
 
-void cli_index_text(char *buf, size_t len, double index, rr_index_source src, const rr_mode *mode,
-                    double freq_hz, double fmax_hz)
+const char *cli_band_rule(const rr_modal_opts *o)
 {
+  return o->fmax_hz > 0 ? "fixed" : "max(10 Hz, f_K)";
+}
+
+void cli_band_json(cJSON *obj, const rr_modal_opts *o, double fmax_used)
+{
+  cJSON_AddNumberToObject(obj, "fmax_hz", fmax_used);
+  cJSON_AddStringToObject(obj, "fmax_rule", o->fmax_hz > 0 ? "fixed" : "kinematic");
+}
+
+void cli_index_text(char *buf, size_t len, double index, rr_index_source src, const rr_mode *mode,
+                    double freq_hz, const rr_modal_opts *o, double fmax_used)
+{
+  char band[64];
+  snprintf(band, sizeof band, "band edge %.2f Hz, %s", fmax_used, cli_band_rule(o));
   if (src == RR_INDEX_NONE) {
-    snprintf(buf, len, "none (undefined: no hunting-related mode below %g Hz; all modes stable)",
-             fmax_hz);
+    snprintf(buf, len,
+             "none (undefined: no hunting-related mode below %.4g Hz; all modes stable; %s)",
+             fmax_used, band);
     return;
   }
   if (mode)
-    snprintf(buf, len, "%.6f (%s: %s at %.4f Hz)", index, rr_index_source_name(src), mode->name,
-             mode->freq_hz);
+    snprintf(buf, len, "%.6f (%s: %s at %.4f Hz; %s)", index, rr_index_source_name(src), mode->name,
+             mode->freq_hz, band);
   else
-    snprintf(buf, len, "%.6f (%s at %.4f Hz)", index, rr_index_source_name(src), freq_hz);
+    snprintf(buf, len, "%.6f (%s at %.4f Hz; %s)", index, rr_index_source_name(src), freq_hz, band);
 }

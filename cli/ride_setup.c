@@ -22,7 +22,8 @@ void ride_setup_default(ride_setup *r, const rr_vehicle *veh)
                     .f_lo = o.f_lo_hz,
                     .f_hi = o.f_hi_hz,
                     .nfreq = o.nfreq,
-                    .method = o.method};
+                    .method = o.method,
+                    .when_unstable = o.when_unstable};
   ride_default_points(r, veh);
 }
 
@@ -37,6 +38,7 @@ rr_ride_opts ride_opts(const ride_setup *r)
   o.floor_height_m = r->h_p;
   o.roll_gravity = r->roll_gravity;
   o.method = r->method;
+  o.when_unstable = r->when_unstable;
   return o;
 }
 
@@ -64,20 +66,26 @@ cJSON *ride_methods_json(void)
   return m;
 }
 
-/* PEM is a steady-state method: say so when the operating point is unstable
-   (some oscillatory mode, of any frequency and shape, with zeta >= 0). */
-static void warn_if_unstable(rr_model *m, double speed_kmh, double conicity)
+const char *ride_num(char *buf, size_t len, const char *fmt, double x, int stable)
 {
-  rr_modal_ws *ws;
-  rr_stability s;
-  if (rr_modal_ws_new(m, &ws, NULL)) return;
-  if (!rr_modal_stability(m, NULL, ws, &s, NULL) && !rr_modal_stable(s.zeta_max))
-    fprintf(stderr,
-            "railride: warning: unstable at %g km/h, conicity %g (a mode at %.4g Hz has zeta "
-            "%.4g): the PEM "
-            "response is not a steady state\n",
-            speed_kmh, conicity, s.max_freq_hz, s.zeta_max);
-  rr_modal_ws_free(ws);
+  if (isnan(x)) return stable == 0 ? "unstable" : "none";
+  snprintf(buf, len, fmt, x);
+  return buf;
+}
+
+/* PEM is a steady-state method: an unstable operating point's indices are
+   undefined (the library's rule), or with --linear-when-unstable the linear
+   response's; either way the reader is told once. */
+static void warn_if_unstable(const ride_setup *r, const ride_point *p, double speed_kmh,
+                             double conicity)
+{
+  if (p->stable != 0) return;
+  fprintf(stderr, "railride: warning: unstable at %g km/h, conicity %g (zeta_max %.4g): %s\n",
+          speed_kmh, conicity, p->zeta_max,
+          r->when_unstable == RR_RIDE_LINEAR
+              ? "the indices are the linear response's, not a steady-state ride comfort"
+              : "the ride indices are undefined (--linear-when-unstable gives the linear "
+                "response's)");
 }
 
 int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r,
@@ -91,9 +99,9 @@ int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ri
   if (!st) st = rr_spectrum_require(&sp, "lateral", "--spectrum: the lateral track input", err);
   if (!st) st = rr_model_from_vehicle(veh, &m, err);
   if (!st) st = rr_model_set_operating(m, speed_kmh / RR_KMH, conicity, err);
-  if (!st) warn_if_unstable(m, speed_kmh, conicity);
   if (!st) st = rr_ride_plan_new(m, veh, &o, &plan, err);
   if (!st) st = rr_ride_execute(plan, m, &sp, out, err);
+  if (!st) warn_if_unstable(r, out, speed_kmh, conicity);
   size_t nf = st ? 0 : (size_t)rr_ride_nfreq(plan);
   if (!st && psd) memcpy(psd, rr_ride_psd(plan), sizeof(double) * nf * (size_t)r->npoints);
   if (!st && freqs) memcpy(freqs, rr_ride_freqs(plan), sizeof(double) * nf);
@@ -117,6 +125,7 @@ int ride_setup_option(ride_setup *r, int opt, const char *arg)
   case OPT_HEIGHT:
     return cli_number_in("floor-height", arg, "m", 0, CLI_FLOOR_H_MAX, &r->h_p) ? 1 : 0;
   case OPT_ROLLG: r->roll_gravity = 1; return 0;
+  case OPT_LINEAR_UNSTABLE: r->when_unstable = RR_RIDE_LINEAR; return 0;
   }
   return -1;
 }

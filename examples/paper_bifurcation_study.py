@@ -9,11 +9,16 @@ type of the hunting bifurcation.
 1. NSGA-II over examples/paper-optimisation.ini (population 1000, 100
    generations, seed 1) gives the front.
 2. The designs: A the front's best zeta_high, B its best zeta_low, C its best
-   std_zeta, D the balanced one: the least distance to the ideal point with
-   each objective scaled to 0..1 over the front.
-3. Each is written as examples/paper-design-X.ini (base = type1) and run
-   through `railride bifurcation --profile new|worn --json` (100-600 km/h).
+   std_zeta among the designs stable at both robust points (zeta_low < 0 and
+   zeta_high < 0: the paper's C is robust, poorly damped, but stable), D the
+   balanced one: the least distance to the ideal point with each objective
+   scaled to 0..1 over the front.
+3. Each is written as DIR/paper-design-X.ini (base = type1; DIR the folder
+   --designs-dir names, never the shipped examples) and run through
+   `railride bifurcation --profile new|worn --json` (100-600 km/h).
 Prints the README's table (Markdown).
+
+    python3 examples/paper_bifurcation_study.py --designs-dir /tmp/designs
 """
 import argparse
 import csv
@@ -48,14 +53,16 @@ def choose(rows):
     hi = {o: max(r[o] for r in rows) for o in objs}
     scaled = lambda r: sum(((r[o] - lo[o]) / (hi[o] - lo[o])) ** 2 for o in objs)
     return {"A": min(rows, key=lambda r: r["zeta_high"]), "B": min(rows, key=lambda r: r["zeta_low"]),
-            "C": min(rows, key=lambda r: r["std_zeta"]), "D": min(rows, key=scaled)}
+            "C": min((r for r in rows if r["zeta_low"] < 0 and r["zeta_high"] < 0), key=lambda r: r["std_zeta"]),
+            "D": min(rows, key=scaled)}
 
 
 def write_design(name, r, why, where):
     path = os.path.join(where, f"paper-design-{name}.ini")
     lines = [f"# Design {name} of the paper's study ({why}), from the Pareto front of",
              "# examples/paper-optimisation.ini (population 1000, 100 generations, seed 1;",
-             "# examples/paper_bifurcation_study.py). Objectives on the front:",
+             "# examples/paper_bifurcation_study.py; the index's band edge max(10 Hz, f_K)).",
+             "# Objectives on the front:",
              f"#   zeta_low {r['zeta_low']:.4f}, zeta_high {r['zeta_high']:.4f}, std_zeta {r['std_zeta']:.4f}",
              "[vehicle]", "base = type1", f"name = paper-design-{name}"]
     by_section = {}
@@ -97,9 +104,13 @@ def main():
     ap.add_argument("--population", type=int, default=1000)
     ap.add_argument("--generations", type=int, default=100)
     ap.add_argument("--treads", default="new,worn", help="the treads to study, comma separated")
-    ap.add_argument("--designs-dir", default=HERE, help="where paper-design-{A,B,C,D}.ini are written")
+    ap.add_argument("--designs-dir", required=True,
+                    help="where paper-design-{A,B,C,D}.ini are written (not the shipped examples/)")
     a = ap.parse_args()
-    why = {"A": "best zeta_high", "B": "best zeta_low", "C": "best std_zeta", "D": "balanced"}
+    if os.path.realpath(a.designs_dir) == os.path.realpath(HERE):
+        ap.error("--designs-dir: name a folder of your own; the shipped designs in examples/ are not rewritten")
+    os.makedirs(a.designs_dir, exist_ok=True)
+    why = {"A": "best zeta_high", "B": "best zeta_low", "C": "best std_zeta, stable", "D": "balanced"}
     designs = choose(front(a.railride, a.population, a.generations))
     print("| design | k_px (kN/mm) | c_sy (kN s/m) | c_yaw (kN s/m) | k_yaw (MN/m) | tread "
           "| linear critical (km/h) | nonlinear critical (km/h) | bifurcation |")

@@ -71,8 +71,11 @@ amp = np.array([e["amplitude"] for e in js]) * np.exp(1j * np.radians([e["phase_
 check(np.allclose(amp, sh[k], atol=1e-9) and [e["dof"] for e in js] == md["dofs"], "the index mode's shape as --json")
 check(md["index_source"] == "hunting" and md["frame_roll_share"].shape == md["roll_share"].shape, "index source")
 v2 = railride.Vehicle("type1")
-check(v2.modes(430, 0.6)["index_source"] == "unstable_outside_hunting" and v2.stability_index(430, 0.6) > 0,
-      "an unstable mode above the band sets a positive index")
+check(v2.modes(430, 0.6, fmax=10)["index_source"] == "unstable_outside_hunting" and
+      v2.stability_index(430, 0.6, fmax=10) > 0, "an unstable mode above a fixed band sets a positive index")
+m430 = v2.modes(430, 0.6)
+check(m430["index_source"] == "hunting" and abs(m430["fmax_hz"] - 25.13) < 0.01 and v2.stability_index(430, 0.6) > 0,
+      "the band edge at f_K (25.13 Hz) takes in the 10.1 Hz bogie mode: %s" % m430["fmax_hz"])
 check(np.isnan(v2.stability_index(350, 0.17, fmax=0.1)), "an undefined index is NaN")
 rb = v.robust()
 check(all(abs(rb[k] - ref[k]) < 1e-12 for k in ("zeta_low", "zeta_high", "std_zeta")), "Vehicle.robust equals robust --json")
@@ -81,10 +84,25 @@ mp = v.map([250, 350], [0.05, 0.4])
 check(abs(mp[0, 0] - ref["zeta_low"]) < 1e-12 and abs(mp[1, 1] - ref["zeta_high"]) < 1e-12, "Vehicle.map at the robust points")
 L = 17.375 / 2
 rj = json.loads(subprocess.run([cli, "ride", "--speed", "350", "--conicity", "0.17", "--json"], capture_output=True, check=True, text=True).stdout)
-rd = v.ride(350, 0.17, points=(L, 0, -L))
+rd = v.ride(350, 0.17)  # the library's default floor points, +L, 0, -L, as the CLI's
 pts = rj["results"][0]["points"]
-check(all(abs(rd["sperling"][i] - pts[i]["sperling"]) < 1e-12 and abs(rd["wd_rms"][i] - pts[i]["wd_rms"]) < 1e-15 for i in range(3)),
-      "Vehicle.ride equals ride --json")
+check(len(rd["x"]) == 3 and all(abs(rd["x"][i] - pts[i]["x"]) == 0 for i in range(3)), "Vehicle.ride's default points")
+check(all(abs(rd[k][i] - pts[i][k]) <= 1e-12 * abs(pts[i][k]) for k in ("rms", "sperling", "sperling_gb", "wd_rms")
+          for i in range(3)) and rd["stable"] is True and rj["results"][0]["stable"] is True,
+      "Vehicle.ride equals ride --json to 1e-12")
+# an unstable operating point: no ride comfort, unless asked for the linear response
+ru = v.ride(450, 0.6)
+rl = v.ride(450, 0.6, when_unstable="linear")
+uj = json.loads(subprocess.run([cli, "ride", "--speed", "450", "--conicity", "0.6", "--json"], capture_output=True,
+                               check=True, text=True).stdout)["results"][0]
+check(not ru["stable"] and np.all(np.isnan(ru["sperling"])) and ru["zeta_max"] >= 0 and np.all(np.isfinite(rl["sperling"]))
+      and uj["stable"] is False and all(p["sperling"] is None for p in uj["points"]),
+      "unstable at 450 km/h, 0.6: the ride undefined in Python and the CLI alike")
+try:
+    v.ride(350, 0.17, spectrum="tbt3352-vertical")
+    check(False, "Python's ride refuses a vertical spectrum as the lateral input")
+except railride.RailrideError as ex:
+    check("lateral" in str(ex), "Python's ride refuses a vertical spectrum as the CLI does: %s" % ex)
 f, H = v.frf(350, 0.17, points=(0.0,))
 check(H.shape == (400, 1, 4) and H.dtype == np.complex128 and np.all(np.isfinite(H)), "Vehicle.frf shape")
 # the vertical model: ride, modes, FRF and matrices as the CLI gives them; the PSD integrates to the RMS

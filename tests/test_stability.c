@@ -77,6 +77,8 @@ static void check_robust(const char *name, int sdf, double lo, double hi, double
   rr_model_free(m);
 }
 
+/* index_modes: 0 any mode; 1 the index's modes with the default band edge;
+   2 the same with the paper's fixed 10 Hz */
 static double critical(const char *name, double lam, int index_modes, rr_mode *md)
 {
   rr_model *m = model_of(name, -1);
@@ -84,9 +86,11 @@ static double critical(const char *name, double lam, int index_modes, rr_mode *m
   rr_critical cr;
   rr_error e;
   rr_critical_opts co = rr_critical_opts_default();
-  co.index_modes = index_modes;
+  rr_modal_opts mo = rr_modal_opts_default();
+  co.index_modes = index_modes != 0;
+  if (index_modes == 2) mo.fmax_hz = 10;
   CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
-  CHECK_OK(rr_critical_speed(m, lam, NULL, &co, ws, &cr, &e), e);
+  CHECK_OK(rr_critical_speed(m, lam, &mo, &co, ws, &cr, &e), e);
   if (md) *md = cr.mode;
   rr_modal_ws_free(ws);
   rr_model_free(m);
@@ -111,8 +115,11 @@ static void test_headline(void)
   critical("type1", 0.6, 0, &md);
   CHECK(md.freq_hz > 10 && md.freq_hz < 10.2 && md.hunting,
         "type1 at 0.6: unstable mode %g Hz (hunting %d)", md.freq_hz, md.hunting);
-  CHECK(isinf(critical("type1", 0.6, 1, NULL)),
-        "type1 at 0.6 with the index's modes: stable to 600 km/h");
+  CHECK(isinf(critical("type1", 0.6, 2, NULL)),
+        "type1 at 0.6 with the index's modes below a fixed 10 Hz: stable to 600 km/h");
+  /* revision 4: the band reaches f_K (25 Hz there), so the 10.1 Hz bogie mode counts */
+  CHECK_CLOSE(critical("type1", 0.6, 1, NULL), 422.1, 0, 0.05,
+              "type1 at 0.6 with the index's modes, band edge max(10 Hz, f_K)");
 }
 
 /* At conicity 2 the hunting modes of the bogies are above 10 Hz and unstable:
@@ -217,12 +224,17 @@ static void test_objective_modifiers(void)
 {
   rr_vehicle v;
   rr_vehicle_default(&v);
-  const char *objs[4] = {"index@350,0.17;fmax=20;wmin=0;rmax=1", "index@350,0.17",
-                         "critical_speed@0.6", "critical_speed@0.6;index_modes"};
+  const char *objs[7] = {"index@350,0.17;fmax=20;wmin=0;rmax=1",
+                         "index@350,0.17",
+                         "critical_speed@0.6",
+                         "critical_speed@0.6;index_modes;fmax=10",
+                         "critical_speed@0.6;index_modes",
+                         "critical_speed@0.6;index_modes;fmax=10;vmax=900",
+                         "critical_speed@0.4;vmax=900"};
   rr_design *d;
   rr_error e;
-  double f[4];
-  CHECK_OK(rr_design_new(&v, 0, NULL, 4, objs, &d, &e), e);
+  double f[7];
+  CHECK_OK(rr_design_new(&v, 0, NULL, 7, objs, &d, &e), e);
   CHECK_OK(rr_design_evaluate(d, NULL, f, &e), e);
   rr_model *m = model_of("type1", -1);
   rr_modal_ws *ws;
@@ -234,12 +246,18 @@ static void test_objective_modifiers(void)
   CHECK_CLOSE(f[0], s.index, 0, 1e-14, "index with modifiers");
   CHECK(fabs(f[0] - f[1]) > 1e-3, "modifiers change the index (%g vs %g)", f[0], f[1]);
   CHECK_CLOSE(f[2], 422.1, 0, 0.05, "critical_speed@0.6");
-  CHECK_CLOSE(f[3], 600, 0, 0, "critical_speed@0.6;index_modes");
+  CHECK_CLOSE(f[3], 600, 0, 0, "critical_speed@0.6;index_modes;fmax=10");
+  CHECK(rr_design_at_bound(d, 3) && !rr_design_at_bound(d, 2), "a value at vmax is flagged");
+  CHECK_CLOSE(f[4], f[2], 0, 0, "critical_speed@0.6;index_modes: the any-mode speed (revision 4)");
+  CHECK(f[5] == 900 && rr_design_at_bound(d, 5), "vmax=900 raises the range's end (%g)", f[5]);
+  CHECK_CLOSE(f[6], 524.7, 0, 0.05, "critical_speed@0.4;vmax=900");
+  CHECK(!rr_design_at_bound(d, 6), "a critical speed found is not a bound");
   CHECK(fabs(rr_design_mode_freq(d, 2) - 10.09) < 0.05, "critical mode frequency %g",
         rr_design_mode_freq(d, 2));
-  const char *bad[3] = {"index@350,0.17;rmax=2", "zeta_low;index_modes",
-                        "sperling@350,0.17;fmax=20"};
-  for (int i = 0; i < 3; i++) {
+  const char *bad[5] = {"index@350,0.17;rmax=2", "zeta_low;index_modes",
+                        "sperling@350,0.17;fmax=20", "critical_speed@0.4;vmax=5",
+                        "index@350,0.17;vmax=900"};
+  for (int i = 0; i < 5; i++) {
     rr_design *db = NULL;
     CHECK(rr_design_new(&v, 0, NULL, 1, &bad[i], &db, &e) == RR_EINVAL, "objective '%s' accepted",
           bad[i]);
@@ -324,7 +342,7 @@ static void test_sdf_fast_vs_reference(void)
    below fmax, zeta_max over every oscillatory mode, the index zeta_max when
    that is >= 0, else the hunting one, else undefined. */
 static double independent_index(const rr_model *m, const rr_modal_result *r, const rr_modal_opts *o,
-                                double *zmax)
+                                double fmax_hz, double *zmax)
 {
   const double *M = rr_model_M(m);
   int n = rr_model_ndof(m);
@@ -345,7 +363,7 @@ static double independent_index(const rr_model *m, const rr_modal_result *r, con
     }
     double z = md->re / l;
     *zmax = fmax(*zmax, z);
-    if (md->im / (2 * RR_PI) <= o->fmax_hz && wheel / tot >= o->w_min && froll / tot < o->r_max &&
+    if (md->im / (2 * RR_PI) <= fmax_hz && wheel / tot >= o->w_min && froll / tot < o->r_max &&
         !(z <= hunt))
       hunt = z;
   }
@@ -382,29 +400,40 @@ static void test_sign_is_verdict(void)
         sp[i * NC + j] = (100 + 50.0 * i) / RR_KMH;
         lam[i * NC + j] = 0.02 + (0.6 - 0.02) * j / (NC - 1);
       }
-    CHECK_OK(rr_modal_stability_batch(m, NULL, ws, NS * NC, sp, lam, z, &e), e);
-    rr_modal_opts o = rr_modal_opts_default();
-    int bad_sign = 0, minus1 = 0, bad_full = 0, bad_indep = 0;
-    for (int p = 0; p < NS * NC; p++) {
-      int stable = rr_modal_stable(z[p].zeta_max);
-      if (isnan(z[p].index))
-        bad_sign += !(stable && z[p].source == RR_INDEX_NONE);
-      else
-        bad_sign += (z[p].index < 0) != stable;
-      minus1 += z[p].index == -1;
-      outside += z[p].source == RR_INDEX_UNSTABLE;
-      CHECK_OK(rr_model_set_operating(m, sp[p], lam[p], &e), e);
-      CHECK_OK(rr_modal_solve(m, &o, ws, &r, &e), e);
-      double zmax, ind = independent_index(m, &r, &o, &zmax);
-      bad_full += !(fabs(r.stability_index - z[p].index) <= 1e-9 ||
-                    (isnan(r.stability_index) && isnan(z[p].index)));
-      bad_indep += !(fabs(ind - z[p].index) <= 1e-6 || (isnan(ind) && isnan(z[p].index)));
+    for (int rule = 0; rule < 2; rule++) { /* revision 4's band edge, and a fixed 10 Hz */
+      rr_modal_opts o = rr_modal_opts_default();
+      if (rule) o.fmax_hz = 10;
+      CHECK_OK(rr_modal_stability_batch(m, &o, ws, NS * NC, sp, lam, z, &e), e);
+      int bad_sign = 0, minus1 = 0, bad_full = 0, bad_indep = 0, bad_edge = 0;
+      for (int p = 0; p < NS * NC; p++) {
+        int stable = rr_modal_stable(z[p].zeta_max);
+        if (isnan(z[p].index))
+          bad_sign += !(stable && z[p].source == RR_INDEX_NONE);
+        else
+          bad_sign += (z[p].index < 0) != stable;
+        minus1 += z[p].index == -1;
+        outside += rule && z[p].source == RR_INDEX_UNSTABLE;
+        /* MODEL.md section 5: f_K = (v / 2 pi) sqrt(lambda / (r0 l0)), 10 Hz at the least */
+        double fk =
+            sp[p] / (2 * RR_PI) * sqrt(lam[p] / (v.rolling_radius * v.contact_half_spacing));
+        double edge = rule ? 10 : fmax(10, fk);
+        bad_edge += fabs(z[p].fmax_hz - edge) > 1e-12 * edge;
+        CHECK_OK(rr_model_set_operating(m, sp[p], lam[p], &e), e);
+        CHECK_OK(rr_modal_solve(m, &o, ws, &r, &e), e);
+        double zmax, ind = independent_index(m, &r, &o, edge, &zmax);
+        bad_full += !(fabs(r.stability_index - z[p].index) <= 1e-9 ||
+                      (isnan(r.stability_index) && isnan(z[p].index)));
+        bad_indep += !(fabs(ind - z[p].index) <= 1e-6 || (isnan(ind) && isnan(z[p].index)));
+      }
+      CHECK(bad_sign == 0, "%s: %d points where the index's sign is not the verdict", veh[k],
+            bad_sign);
+      CHECK(minus1 == 0, "%s: %d points with index -1", veh[k], minus1);
+      CHECK(bad_full == 0, "%s: fast route and full solve disagree at %d points", veh[k], bad_full);
+      CHECK(bad_indep == 0, "%s (rule %d): %d points differ from the independent rule", veh[k],
+            rule, bad_indep);
+      CHECK(bad_edge == 0, "%s (rule %d): %d points with another band edge", veh[k], rule,
+            bad_edge);
     }
-    CHECK(bad_sign == 0, "%s: %d points where the index's sign is not the verdict", veh[k],
-          bad_sign);
-    CHECK(minus1 == 0, "%s: %d points with index -1", veh[k], minus1);
-    CHECK(bad_full == 0, "%s: fast route and full solve disagree at %d points", veh[k], bad_full);
-    CHECK(bad_indep == 0, "%s: %d points differ from the independent rule", veh[k], bad_indep);
     rr_modal_result_free(&r);
     rr_modal_ws_free(ws);
     rr_model_free(m);
@@ -417,12 +446,20 @@ static void test_sign_is_verdict(void)
   rr_stability s;
   rr_error e;
   CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  rr_modal_opts ten = rr_modal_opts_default();
+  ten.fmax_hz = 10;
   CHECK_OK(rr_model_set_operating(m, 430 / RR_KMH, 0.6, &e), e);
-  CHECK_OK(rr_modal_stability(m, NULL, ws, &s, &e), e);
+  CHECK_OK(rr_modal_stability(m, &ten, ws, &s, &e), e);
   CHECK(s.source == RR_INDEX_UNSTABLE && s.index > 0 && fabs(s.index_freq_hz - 10.11) < 0.01 &&
             s.hunting_index < 0,
-        "430 km/h, 0.6: index %g (source %d) at %g Hz, hunting modes %g", s.index, s.source,
-        s.index_freq_hz, s.hunting_index);
+        "430 km/h, 0.6, fmax 10: index %g (source %d) at %g Hz, hunting modes %g", s.index,
+        s.source, s.index_freq_hz, s.hunting_index);
+  /* revision 4: the band edge there is f_K = 25.13 Hz, the mode is a hunting one */
+  CHECK_OK(rr_modal_stability(m, NULL, ws, &s, &e), e);
+  CHECK(s.source == RR_INDEX_HUNTING && s.index > 0 && fabs(s.index_freq_hz - 10.11) < 0.01 &&
+            fabs(s.fmax_hz - 25.13) < 0.01,
+        "430 km/h, 0.6: index %g (source %d) at %g Hz, band edge %g Hz", s.index, s.source,
+        s.index_freq_hz, s.fmax_hz);
   /* no mode below fmax = 0.1 Hz and all stable: undefined */
   rr_modal_opts lo = rr_modal_opts_default();
   lo.fmax_hz = 0.1;
@@ -446,6 +483,46 @@ static void test_sign_is_verdict(void)
   CHECK_OK(rr_design_evaluate(d, x, f, &e), e);
   CHECK(f[0] > 0, "index@430,0.6 as an objective: %g (unstable: positive)", f[0]);
   rr_design_free(d);
+}
+
+/* Revision 4: a design whose bogie hunting modes sit just above 10 Hz
+   (10.0004 and 10.0478 Hz at 350 km/h, 0.4) keeps them in the index; the
+   paper's fixed 10 Hz dropped them and the index jumped to a well-damped
+   1.72 Hz carbody mode (-0.5466 instead of -0.1252). */
+static void test_band_edge_keeps_hunting(void)
+{
+  rr_vehicle v;
+  rr_error e;
+  rr_model *m;
+  rr_modal_ws *ws;
+  rr_stability s, s10;
+  rr_vehicle_default(&v);
+  v.primary_kx = 10.0026e6;
+  v.lateral_damping = 59.9409e3;
+  v.yaw_damping = 1361.72e3;
+  v.yaw_series_stiffness = 27.6832e6;
+  CHECK_OK(rr_model_from_vehicle(&v, &m, &e), e);
+  CHECK_OK(rr_modal_ws_new(m, &ws, &e), e);
+  CHECK_OK(rr_model_set_operating(m, 350 / RR_KMH, 0.4, &e), e);
+  rr_modal_opts ten = rr_modal_opts_default();
+  ten.fmax_hz = 10;
+  CHECK_OK(rr_modal_stability(m, NULL, ws, &s, &e), e);
+  CHECK_OK(rr_modal_stability(m, &ten, ws, &s10, &e), e);
+  double fk = 350 / RR_KMH / (2 * RR_PI) * sqrt(0.4 / (v.rolling_radius * v.contact_half_spacing));
+  CHECK_CLOSE(s.fmax_hz, fk, 1e-13, 0, "the band edge is f_K");
+  CHECK_CLOSE(rr_modal_band_edge(m, NULL), fk, 1e-13, 0, "rr_modal_band_edge");
+  CHECK(s.source == RR_INDEX_HUNTING && s.index_freq_hz > 10 && s.index_freq_hz < fk,
+        "the bogie mode above 10 Hz sets the index: %g Hz", s.index_freq_hz);
+  CHECK_CLOSE(s.index, -0.12519, 0, 5e-5, "index with the band edge at f_K");
+  CHECK_CLOSE(s10.index, -0.54661, 0, 5e-5, "index with the paper's fixed 10 Hz");
+  CHECK(s10.index_freq_hz < 2, "the fixed edge's index from the carbody mode (%g Hz)",
+        s10.index_freq_hz);
+  /* at 250 km/h, 0.05 f_K is 4.2 Hz: the floor of 10 Hz holds */
+  CHECK_OK(rr_model_set_operating(m, 250 / RR_KMH, 0.05, &e), e);
+  CHECK_CLOSE(rr_modal_band_edge(m, NULL), 10, 0, 0, "the 10 Hz floor");
+  CHECK_CLOSE(rr_model_kinematic_hz(m, 250 / RR_KMH, 0.05), 4.2, 0, 0.05, "f_K at 250, 0.05");
+  rr_modal_ws_free(ws);
+  rr_model_free(m);
 }
 
 /* Revision 3's frame-roll rule: with a typical carbody roll inertia,
@@ -621,6 +698,7 @@ int main(void)
   test_sdf_fast_vs_reference();
   test_sdf_steep_table();
   test_sign_is_verdict();
+  test_band_edge_keeps_hunting();
   test_typical_inertias();
   test_locus_every_mode();
   return check_done("stability");

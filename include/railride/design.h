@@ -32,6 +32,7 @@ extern "C" {
  *   spectrum=NAME                   ride indices: track spectrum (default wuhan-guangzhou)
  *   fmax=HZ, wmin=W, rmax=R         stability objectives: the index's rule
  *   index_modes                     critical_speed: only the index's modes count
+ *   vmax=KMH                        critical_speed: the range's end (default 600)
  * e.g. "index@350,0.17;fmax=20;wmin=0;rmax=1". The full list: docs/cli.md
  * (railride objectives), installed under share/doc/railride. */
 /* clang-format on */
@@ -57,6 +58,9 @@ RR_API int rr_design_set_modal_opts(rr_design *d, const rr_modal_opts *o, rr_err
  * value (index: the index mode; critical_speed: the mode that goes unstable),
  * NaN for other objectives or when there is none. */
 RR_API double rr_design_mode_freq(const rr_design *d, int i);
+/* 1 when objective i's last value is its range's end rather than a result
+ * (critical_speed stable to its vmax), else 0. */
+RR_API int rr_design_at_bound(const rr_design *d, int i);
 RR_API int rr_design_nvar(const rr_design *d);
 RR_API int rr_design_nobj(const rr_design *d);
 /* Fills f[nobj] for variables x[nvar]. On an invalid design (e.g. a negative

@@ -18,8 +18,15 @@ extern "C" {
  * root of h(k) by a safeguarded secant. */
 typedef enum rr_sdf_tracking { RR_TRACK_FAST = 0, RR_TRACK_REFERENCE = 1 } rr_sdf_tracking;
 
+/* The index's band edge (docs/model.md, "Modes and stability"): by default
+ * (fmax_hz = RR_FMAX_AUTO) max(RR_FMAX_FLOOR_HZ, f_K) at each operating point,
+ * f_K the free wheelset's kinematic frequency (rr_model_kinematic_hz); a
+ * positive fmax_hz fixes it (the paper's band: 10). */
+#define RR_FMAX_AUTO 0.0
+#define RR_FMAX_FLOOR_HZ 10.0
+
 typedef struct rr_modal_opts {
-  double fmax_hz;           /* modes above are left out of the index (default 10 Hz) */
+  double fmax_hz;           /* band edge of the index (Hz); RR_FMAX_AUTO (default) or fixed */
   double w_min;             /* least wheelset kinetic-energy share of a hunting mode (1e-3) */
   double r_max;             /* frame-roll kinetic-energy share a hunting mode stays below (0.5) */
   rr_sdf_tracking tracking; /* paper-mode SDF method (RR_TRACK_FAST) */
@@ -67,7 +74,15 @@ typedef struct rr_modal_result {
   double zeta_max;      /* max zeta over every oscillatory mode (any frequency, shape); -1
                            when there is none */
   int max_mode;         /* which mode gave it, -1 when none */
+  double fmax_hz;       /* the band edge used (Hz) */
 } rr_modal_result;
+
+/* The index's band edge at m's operating point under o (NULL: defaults):
+ * o->fmax_hz when positive, else max(RR_FMAX_FLOOR_HZ, f_K). */
+RR_API double rr_modal_band_edge(const rr_model *m, const rr_modal_opts *o);
+/* The same at speed_ms, conicity (the model's own operating point unused). */
+RR_API double rr_modal_band_edge_at(const rr_model *m, const rr_modal_opts *o, double speed_ms,
+                                    double conicity);
 
 /* The verdict rule: a vehicle is stable at an operating point when every
  * oscillatory mode, of any frequency and shape, has zeta < 0. */
@@ -94,6 +109,7 @@ typedef struct rr_stability {
   double hunting_index;   /* the hunting-related modes' own largest zeta; NaN when none */
   double zeta_max;        /* largest zeta over every oscillatory mode; -1 when none */
   double max_freq_hz;     /* frequency of that mode; NaN when none */
+  double fmax_hz;         /* the index's band edge used (Hz) */
 } rr_stability;
 
 /* The index from its two parts, the one home of the rule: the hunting

@@ -31,6 +31,10 @@ RR_API int rr_model_clone(const rr_model *m, rr_model **out, rr_error *err);
 RR_API int rr_model_set_operating(rr_model *m, double speed_ms, double conicity, rr_error *err);
 RR_API double rr_model_speed(const rr_model *m);
 RR_API double rr_model_conicity(const rr_model *m);
+/* The free wheelset's kinematic (Klingel) frequency f_K = (v / 2 pi)
+ * sqrt(lambda / (r0 l0)) in Hz at speed_ms and conicity, the largest over
+ * the model's contacts (0 without contacts or at conicity <= 0). */
+RR_API double rr_model_kinematic_hz(const rr_model *m, double speed_ms, double conicity);
 /* Gravitational stiffness option (docs/model.md section 3); the operating
  * point's contact terms are rebuilt with it. */
 RR_API int rr_model_set_gravity_stiffness(rr_model *m, int on, rr_error *err);

@@ -8,6 +8,7 @@
 #define RAILRIDE_RIDE_H
 #include "railride/comfort.h"
 #include "railride/common.h"
+#include "railride/modal.h"
 #include "railride/model.h"
 #include "railride/pem.h"
 #include "railride/spectrum.h"
@@ -17,6 +18,15 @@ extern "C" {
 #endif
 #define RR_RIDE_POINTS_MAX 16
 #define RR_RIDE_SPECTRUM_DEFAULT "wuhan-guangzhou" /* the paper's lateral alignment PSD */
+/* What a ride evaluation gives at an operating point where some mode is
+ * unstable (zeta >= 0, any frequency and shape): a linear response of an
+ * unstable vehicle is not a ride comfort. */
+typedef enum rr_ride_unstable {
+  RR_RIDE_UNDEFINED = 0, /* every index NaN, the verdict given (the default) */
+  RR_RIDE_LINEAR = 1,    /* the linear response's indices all the same, the verdict given */
+  RR_RIDE_UNCHECKED = 2  /* no verdict taken (stable = -1): for callers that judge it apart */
+} rr_ride_unstable;
+
 /* The lateral ride's settings; rr_ride_opts_default() gives the paper's. */
 typedef struct rr_ride_opts {
   int nfreq;               /* RR_FRF_NFREQ_DEFAULT (400) */
@@ -27,6 +37,7 @@ typedef struct rr_ride_opts {
   double floor_height_m;               /* RR_FLOOR_HEIGHT_DEFAULT (1.2 m above the rail) */
   int roll_gravity;                    /* 1: the accelerometer senses a_y + g phi_c (default 0) */
   enum rr_frf_method method;           /* RR_FRF_SPARSE */
+  rr_ride_unstable when_unstable;      /* RR_RIDE_UNDEFINED */
 } rr_ride_opts;
 RR_API rr_ride_opts rr_ride_opts_default(void);
 /* The paper's floor points for a vehicle: x = +L, 0, -L into x[3]; returns 3. */
@@ -40,6 +51,8 @@ typedef struct rr_ride_point {
   double sperling_gb; /* GB/T 5599 line method */
   double wd_rms;      /* ISO 2631-1 / EN 12299 Wd */
   double n_mv;        /* EN 12299 6 a_wd from the lateral axis alone (rr_en12299_comfort) */
+  int stable;         /* verdict at the operating point: 1 stable, 0 unstable, -1 not taken */
+  double zeta_max;    /* largest zeta of any oscillatory mode there (NaN: not taken) */
 } rr_ride_point;
 
 typedef struct rr_ride_plan rr_ride_plan;

@@ -52,7 +52,8 @@ def _check_layout(lib, mirrors=None):
                "rr_modal_result": _model._ModalResult, "rr_stability": _model._Stability,
                "rr_robust_opts": _model._RobustOpts, "rr_robust": _model._Robust,
                "rr_critical_opts": _model._CriticalOpts, "rr_critical": _model._Critical,
-               "rr_frf_opts": _model._FrfOpts, "rr_comfort": _model._Comfort, "rr_polyline": _contact._Polyline,
+               "rr_frf_opts": _model._FrfOpts, "rr_comfort": _model._Comfort,
+               "rr_ride_opts": _model._RideOpts, "rr_ride_point": _model._RidePoint, "rr_polyline": _contact._Polyline,
                "rr_contact_opts": _contact._ContactOpts, "rr_contact_side": _contact._Side,
                "rr_contact_state": _contact._State, "rr_conicity": _contact._Conicity}
     lib.rr_layout.restype = ctypes.c_int

@@ -11,6 +11,7 @@ from . import _close_guarded, _locked  # noqa: E402  (defined before this module
 KMH = 3.6
 MODE_NAME_MAX = 48
 NGROUPS = 3
+RIDE_POINTS_MAX = 16
 c_double_p = ctypes.POINTER(ctypes.c_double)
 _INDEX_SOURCE = {0: "none", 1: "hunting", 2: "unstable_outside_hunting"}
 
@@ -35,12 +36,13 @@ class _ModalResult(ctypes.Structure):
     _fields_ = [("n", ctypes.c_int), ("cap", ctypes.c_int), ("modes", ctypes.POINTER(_Mode)), ("ndof", ctypes.c_int),
                 ("shapes", ctypes.c_void_p), ("stability_index", ctypes.c_double), ("index_mode", ctypes.c_int),
                 ("index_source", ctypes.c_int), ("hunting_index", ctypes.c_double), ("hunting_mode", ctypes.c_int),
-                ("zeta_max", ctypes.c_double), ("max_mode", ctypes.c_int)]
+                ("zeta_max", ctypes.c_double), ("max_mode", ctypes.c_int), ("fmax_hz", ctypes.c_double)]
 
 
 class _Stability(ctypes.Structure):
     _fields_ = [("index", ctypes.c_double), ("index_freq_hz", ctypes.c_double), ("source", ctypes.c_int),
-                ("hunting_index", ctypes.c_double), ("zeta_max", ctypes.c_double), ("max_freq_hz", ctypes.c_double)]
+                ("hunting_index", ctypes.c_double), ("zeta_max", ctypes.c_double), ("max_freq_hz", ctypes.c_double),
+                ("fmax_hz", ctypes.c_double)]
 
 
 class _RobustOpts(ctypes.Structure):
@@ -73,6 +75,23 @@ class _FrfOpts(ctypes.Structure):
 class _Comfort(ctypes.Structure):
     _fields_ = [("rms", ctypes.c_double), ("sperling", ctypes.c_double), ("sperling_gb", ctypes.c_double),
                 ("wd_rms", ctypes.c_double)]
+
+
+class _RideOpts(ctypes.Structure):
+    _fields_ = [("nfreq", ctypes.c_int), ("f_lo_hz", ctypes.c_double), ("f_hi_hz", ctypes.c_double),
+                ("freqs_hz", c_double_p), ("npoints", ctypes.c_int), ("x_points", ctypes.c_double * RIDE_POINTS_MAX),
+                ("floor_height_m", ctypes.c_double), ("roll_gravity", ctypes.c_int), ("method", ctypes.c_int),
+                ("when_unstable", ctypes.c_int)]
+
+
+class _RidePoint(ctypes.Structure):
+    _fields_ = [("x", ctypes.c_double), ("rms", ctypes.c_double), ("sperling", ctypes.c_double),
+                ("sperling_gb", ctypes.c_double), ("wd_rms", ctypes.c_double), ("n_mv", ctypes.c_double),
+                ("stable", ctypes.c_int), ("zeta_max", ctypes.c_double)]
+
+
+# rr_ride_unstable: what a ride gives where some mode is unstable
+_WHEN_UNSTABLE = {"undefined": 0, "linear": 1}
 
 
 def declare(lib):
@@ -109,6 +128,14 @@ def declare(lib):
         "rr_comfort_plan_free": (None, [P]),
         "rr_model_dof_name": (ctypes.c_char_p, [P, ctypes.c_int]),
         "rr_comfort_execute": (ctypes.c_int, [P, c_double_p, ctypes.c_int, ctypes.POINTER(_Comfort), E]),
+        "rr_spectrum_require": (ctypes.c_int, [P, ctypes.c_char_p, ctypes.c_char_p, E]),
+        "rr_ride_opts_default": (_RideOpts, []),
+        "rr_ride_plan_new": (ctypes.c_int, [P, P, ctypes.POINTER(_RideOpts), ctypes.POINTER(P), E]),
+        "rr_ride_plan_free": (None, [P]),
+        "rr_ride_execute": (ctypes.c_int, [P, P, P, ctypes.POINTER(_RidePoint), E]),
+        "rr_ride_nfreq": (ctypes.c_int, [P]), "rr_ride_npoints": (ctypes.c_int, [P]),
+        "rr_ride_freqs": (c_double_p, [P]), "rr_ride_psd": (c_double_p, [P]),
+        "rr_ride_points": (c_double_p, [P]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)
@@ -157,11 +184,12 @@ class Vehicle:
 
     def _opts(self, fmax, wmin, rmax):
         o = self._lib.rr_modal_opts_default()
-        o.fmax_hz, o.w_min, o.r_max = fmax, wmin, rmax
+        # fmax None: the library's band edge, max(10 Hz, f_K) at each operating point
+        o.fmax_hz, o.w_min, o.r_max = (0.0 if fmax is None else float(fmax)), wmin, rmax
         return o
 
     @_locked
-    def modes(self, speed_kmh, conicity, fmax=10.0, wmin=1e-3, rmax=0.5):
+    def modes(self, speed_kmh, conicity, fmax=None, wmin=1e-3, rmax=0.5):
         """Every mode: arrays freq_hz, real, imag, zeta, energy (n x 3: carbody,
         frames, wheelsets), roll_share, frame_roll_share, oscillatory (False for
         real roots, whose freq_hz and zeta mean nothing), hunting, in_index, name
@@ -188,7 +216,7 @@ class Vehicle:
                    "name": [m.name.decode() for m in ms],
                    "stability_index": res.stability_index if res.index_mode >= 0 else float("nan"),
                    "index_source": _INDEX_SOURCE[res.index_source], "index_mode": res.index_mode,
-                   "zeta_max": res.zeta_max}
+                   "zeta_max": res.zeta_max, "fmax_hz": res.fmax_hz}
             ndof = res.ndof
             buf = (ctypes.c_double * (2 * res.n * ndof)).from_address(res.shapes)
             out["shape"] = np.frombuffer(buf, dtype=np.float64).copy().view(np.complex128).reshape(res.n, ndof)
@@ -198,7 +226,7 @@ class Vehicle:
         return out
 
     @_locked
-    def map(self, speeds_kmh, conicities, fmax=10.0, wmin=1e-3, rmax=0.5, what="index"):
+    def map(self, speeds_kmh, conicities, fmax=None, wmin=1e-3, rmax=0.5, what="index"):
         """The stability index (or what="zeta_max") over speeds x conicities:
         an array (len(speeds), len(conicities)). The index's sign is the verdict;
         NaN where it is undefined (no hunting-related mode, all stable)."""
@@ -224,7 +252,7 @@ class Vehicle:
         return float(self.map([speed_kmh], [conicity], **kw)[0, 0])
 
     @_locked
-    def robust(self, fmax=10.0, wmin=1e-3, rmax=0.5):
+    def robust(self, fmax=None, wmin=1e-3, rmax=0.5):
         """zeta_low, zeta_high, std_zeta (the paper's Table 1), zeta_max, n_unstable."""
         self._live()
         o, r, out = self._opts(fmax, wmin, rmax), self._lib.rr_robust_opts_default(), _Robust()
@@ -233,7 +261,7 @@ class Vehicle:
                 "zeta_max": out.zeta_max, "n_unstable": out.n_unstable}
 
     @_locked
-    def critical_speed(self, conicity, vmin=10.0, vmax=600.0, index_modes=False, fmax=10.0, wmin=1e-3, rmax=0.5):
+    def critical_speed(self, conicity, vmin=10.0, vmax=600.0, index_modes=False, fmax=None, wmin=1e-3, rmax=0.5):
         """The lowest speed (km/h) at which an oscillatory mode has zeta >= 0; NaN when stable to vmax."""
         self._live()
         co = self._lib.rr_critical_opts_default()
@@ -269,46 +297,61 @@ class Vehicle:
             self._lib.rr_frf_plan_free(plan)
         return f, H.view(np.complex128).reshape(nf, x.size, ni)
 
-    @_locked
-    def psd(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=(0.0,), height=1.2, nfreq=400,
-            f_lo=0.3, f_hi=30.0):
-        """Frequencies (Hz) and the floor's lateral acceleration PSD G (nfreq x
-        points, (m/s^2)^2/Hz) by the pseudo-excitation method."""
+    def _ride_run(self, speed_kmh, conicity, spectrum, points, height, nfreq, f_lo, f_hi, when_unstable):
+        """The library's ride plan (rr_ride_plan) executed once: the same
+        composition, checks and defaults as the CLI's."""
+        if when_unstable not in _WHEN_UNSTABLE:
+            raise self._Err("when_unstable: 'undefined' or 'linear' (got %r)" % (when_unstable,))
         self._at(speed_kmh, conicity)
-        err, sp = _Error(), ctypes.c_void_p()
-        if self._lib.rr_spectrum_new(spectrum.encode(), ctypes.byref(sp), ctypes.byref(err)):
-            raise self._Err(err.msg.decode())
-        plan, rows, x = self._plan(points, height, nfreq, f_lo, f_hi)
+        o = self._lib.rr_ride_opts_default()
+        o.nfreq, o.f_lo_hz, o.f_hi_hz, o.floor_height_m = int(nfreq), float(f_lo), float(f_hi), float(height)
+        o.when_unstable = _WHEN_UNSTABLE[when_unstable]
+        if points is not None:
+            x = np.atleast_1d(np.asarray(points, dtype=np.float64))
+            if not 1 <= x.size <= RIDE_POINTS_MAX:
+                raise self._Err("points: 1 to %d floor points (got %d)" % (RIDE_POINTS_MAX, x.size))
+            o.npoints = x.size
+            for i, xi in enumerate(x):
+                o.x_points[i] = xi
+        sp, plan = ctypes.c_void_p(), ctypes.c_void_p()
+        self._call("rr_spectrum_new", str(spectrum).encode(), ctypes.byref(sp))
         try:
-            self._call("rr_frf_plan_execute", plan, self._m)
-            nf = self._lib.rr_frf_nfreq(plan)
-            G = np.empty(nf * x.size)
-            self._call("rr_pem_psd", plan, self._m, sp, _ptr(G))
-            f = np.ctypeslib.as_array(self._lib.rr_frf_freqs(plan), shape=(nf,)).copy()
+            self._call("rr_spectrum_require", sp, b"lateral", b"the lateral track input")
+            self._call("rr_ride_plan_new", self._m, self._veh, ctypes.byref(o), ctypes.byref(plan))
+            npt = self._lib.rr_ride_npoints(plan)
+            pts = (_RidePoint * npt)()
+            self._call("rr_ride_execute", plan, self._m, sp, pts)
+            nf = self._lib.rr_ride_nfreq(plan)
+            f = np.ctypeslib.as_array(self._lib.rr_ride_freqs(plan), shape=(nf,)).copy()
+            G = np.ctypeslib.as_array(self._lib.rr_ride_psd(plan), shape=(nf * npt,)).copy().reshape(nf, npt)
         finally:
-            self._lib.rr_frf_plan_free(plan)
+            self._lib.rr_ride_plan_free(plan)
             self._lib.rr_spectrum_delete(sp)
-        return f, G.reshape(nf, x.size)
+        return f, G, list(pts)
 
     @_locked
-    def ride(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=(0.0,), height=1.2):
-        """Ride indices at each floor point: arrays rms (m/s^2), sperling (filter
-        method), sperling_gb (GB/T 5599), wd_rms (ISO 2631-1 Wd, m/s^2)."""
-        f, G = self.psd(speed_kmh, conicity, spectrum, points, height)
-        plan = ctypes.c_void_p()
-        f = np.ascontiguousarray(f)
-        self._call("rr_comfort_plan_new", _ptr(f), f.size, 0, ctypes.byref(plan))
-        out = {k: np.empty(G.shape[1]) for k in ("rms", "sperling", "sperling_gb", "wd_rms")}
-        try:
-            Gc = np.ascontiguousarray(G)
-            for p in range(G.shape[1]):
-                c = _Comfort()
-                col = Gc[:, p:].ctypes.data_as(c_double_p)
-                self._call("rr_comfort_execute", plan, col, G.shape[1], ctypes.byref(c))
-                for k in out:
-                    out[k][p] = getattr(c, k)
-        finally:
-            self._lib.rr_comfort_plan_free(plan)
+    def psd(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=None, height=1.2, nfreq=400,
+            f_lo=0.3, f_hi=30.0):
+        """Frequencies (Hz) and the floor's lateral acceleration PSD G (nfreq x
+        points, (m/s^2)^2/Hz) by the pseudo-excitation method; points None:
+        the library's floor points x = +L, 0, -L (m from the carbody centre)."""
+        f, G, _ = self._ride_run(speed_kmh, conicity, spectrum, points, height, nfreq, f_lo, f_hi, "linear")
+        return f, G
+
+    @_locked
+    def ride(self, speed_kmh, conicity, spectrum="wuhan-guangzhou", points=None, height=1.2,
+             when_unstable="undefined"):
+        """Ride indices at each floor point (points None: the library's x = +L,
+        0, -L): arrays x (m), rms (m/s^2), sperling (filter method),
+        sperling_gb (GB/T 5599), wd_rms (ISO 2631-1 Wd, m/s^2), and the
+        verdict stable (bool) with zeta_max (any oscillatory mode). Where some
+        mode is unstable the indices are NaN (a linear response of an unstable
+        vehicle is not a ride comfort) unless when_unstable="linear"."""
+        _, _, pts = self._ride_run(speed_kmh, conicity, spectrum, points, height, 400, 0.3, 30.0,
+                                   when_unstable)
+        out = {k: np.array([getattr(p, k) for p in pts]) for k in ("x", "rms", "sperling", "sperling_gb", "wd_rms")}
+        out["stable"] = bool(pts[0].stable == 1)
+        out["zeta_max"] = pts[0].zeta_max
         return out
 
     def vertical_matrices(self):

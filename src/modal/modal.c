@@ -19,7 +19,8 @@
 
 rr_modal_opts rr_modal_opts_default(void)
 {
-  return (rr_modal_opts){.fmax_hz = 10.0, .w_min = 1e-3, .r_max = 0.5, .tracking = RR_TRACK_FAST};
+  return (rr_modal_opts){
+      .fmax_hz = RR_FMAX_AUTO, .w_min = 1e-3, .r_max = 0.5, .tracking = RR_TRACK_FAST};
 }
 
 static int result_init(rr_modal_result *res, int cap, int n)
@@ -148,7 +149,7 @@ int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, r
   int N, st = rr_modal_eig(m, 0, 1, ws, &N, err);
   if (st) return st;
   rr_modal_collect(m, N, ws, res);
-  rr_modal_finish(res, o, ws->branch);
+  rr_modal_finish(res, o, rr_modal_band_edge(m, o), ws->branch);
   return RR_OK;
 }
 
@@ -194,13 +195,18 @@ static int needs_shape(const rr_modal_opts *o) { return o->w_min > 0 || o->r_max
 
 /* zeta_max over every oscillatory mode of the eigenvalues (wr, wi) into out
    (whose other fields it starts), and the index candidates, the modes below
-   fmax, by decreasing zeta into cand and candz; returns their count. */
-static int index_candidates(const rr_modal_opts *o, int N, const double *wr, const double *wi,
-                            double anorm, int *cand, double *candz, rr_stability *out)
+   the band edge fmax (Hz), by decreasing zeta into cand and candz; returns
+   their count. */
+static int index_candidates(double fmax, int N, const double *wr, const double *wi, double anorm,
+                            int *cand, double *candz, rr_stability *out)
 {
   int nc = 0;
-  *out = (rr_stability){
-      .index = NAN, .index_freq_hz = NAN, .hunting_index = NAN, .zeta_max = -1, .max_freq_hz = NAN};
+  *out = (rr_stability){.index = NAN,
+                        .index_freq_hz = NAN,
+                        .hunting_index = NAN,
+                        .zeta_max = -1,
+                        .max_freq_hz = NAN,
+                        .fmax_hz = fmax};
   for (int j = 0; j < N; j++) {
     double re = wr[j], im = wi[j];
     if (im <= 0 || !rr_modal_is_osc(re, im, anorm)) continue;
@@ -209,7 +215,7 @@ static int index_candidates(const rr_modal_opts *o, int N, const double *wr, con
       out->zeta_max = z;
       out->max_freq_hz = im / (2 * RR_PI);
     }
-    if (im / (2 * RR_PI) > o->fmax_hz) continue;
+    if (im / (2 * RR_PI) > fmax) continue;
     int k = nc++;
     while (k > 0 && candz[k - 1] < z) {
       cand[k] = cand[k - 1];
@@ -254,7 +260,7 @@ static void test_candidates(const rr_model *m, const rr_modal_opts *o, rr_modal_
 static void stability_from_eigs(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, int N,
                                 const double *wr, const double *wi, double anorm, rr_stability *out)
 {
-  int nc = index_candidates(o, N, wr, wi, anorm, ws->cand, ws->candz, out);
+  int nc = index_candidates(rr_modal_band_edge(m, o), N, wr, wi, anorm, ws->cand, ws->candz, out);
   if (nc > 0 && !needs_shape(o))
     take_candidate(wi, ws->cand, ws->candz, 0, out);
   else if (nc > 0) {
@@ -272,6 +278,7 @@ static void stability_from_result(const rr_modal_result *r, rr_stability *out)
   out->hunting_index = r->hunting_index;
   out->zeta_max = r->zeta_max;
   out->max_freq_hz = r->max_mode >= 0 ? r->modes[r->max_mode].freq_hz : NAN;
+  out->fmax_hz = r->fmax_hz;
 }
 
 /* Eigenvalues of the merged state matrix by our QR (in place: *anorm keeps
@@ -387,7 +394,8 @@ static int lanes_start(lane_group *g, int nb, const rr_modal_opts *o, rr_modal_w
   for (int c = 0; c < nb; c++) {
     size_t off = (size_t)c * (size_t)g->N;
     if (fail[c]) continue;
-    g->nc[c] = index_candidates(o, g->N, ws->wrb + off, ws->wib + off, anorm[c], ws->candb + off,
+    double fmax = rr_modal_band_edge_at(g->mods[c], o, g->v[c], g->lam[c]);
+    g->nc[c] = index_candidates(fmax, g->N, ws->wrb + off, ws->wib + off, anorm[c], ws->candb + off,
                                 ws->candzb + off, &out[c]);
     if (g->nc[c] > 0 && !needs_shape(o))
       take_candidate(ws->wib + off, ws->candb + off, ws->candzb + off, 0, &out[c]);

@@ -53,6 +53,21 @@ void rr_mode_fill(rr_mode *md, double re, double im, double anorm)
   md->self_consistent = 1;
 }
 
+/* The index's band edge (docs/model.md, revision 4): a fixed fmax, or the
+   free wheelset's kinematic frequency with a 10 Hz floor. */
+double rr_modal_band_edge_at(const rr_model *m, const rr_modal_opts *o, double speed_ms,
+                             double conicity)
+{
+  if (o && o->fmax_hz > 0) return o->fmax_hz;
+  double fk = rr_model_kinematic_hz(m, speed_ms, conicity);
+  return fk > RR_FMAX_FLOOR_HZ ? fk : RR_FMAX_FLOOR_HZ;
+}
+
+double rr_modal_band_edge(const rr_model *m, const rr_modal_opts *o)
+{
+  return rr_modal_band_edge_at(m, o, m->speed, m->conicity);
+}
+
 /* Hunting-related (docs/model.md): the wheelsets move, and not a roll mode
    of the frames (carbody roll is part of body hunting); r_max >= 1 lets
    every shape through. */
@@ -92,10 +107,10 @@ const char *rr_index_source_name(rr_index_source s)
   return "none";
 }
 
-static void classify(rr_mode *md, const rr_modal_opts *o)
+static void classify(rr_mode *md, const rr_modal_opts *o, double fmax)
 {
   md->hunting = rr_modal_hunting_related(md, o);
-  md->in_index = md->oscillatory && md->self_consistent && md->hunting && md->freq_hz <= o->fmax_hz;
+  md->in_index = md->oscillatory && md->self_consistent && md->hunting && md->freq_hz <= fmax;
 }
 
 static int cmp_mode(const rr_mode *x, const rr_mode *y)
@@ -171,7 +186,8 @@ static void unique_names(rr_modal_result *res)
   }
 }
 
-void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double complex *scratch)
+void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double fmax,
+                     double complex *scratch)
 {
   sort_result(res, scratch);
   unique_names(res);
@@ -179,9 +195,10 @@ void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double comple
   res->hunting_mode = -1;
   res->zeta_max = -1;
   res->max_mode = -1;
+  res->fmax_hz = fmax;
   for (int i = 0; i < res->n; i++) {
     rr_mode *md = &res->modes[i];
-    classify(md, o);
+    classify(md, o, fmax);
     if (md->in_index && (res->hunting_mode < 0 || md->zeta > res->hunting_index)) {
       res->hunting_index = md->zeta;
       res->hunting_mode = i;

@@ -116,7 +116,8 @@ static int robust_block(rr_model *const *models, int nm, const rr_modal_opts *o,
     }
     double mean = sum[i] / nc;
     double var = sum2[i] / nc - mean * mean;
-    out[i].std_zeta = sqrt(var > 0 ? var : 0);
+    /* an undefined index at any conicity leaves the spread undefined */
+    out[i].std_zeta = isnan(var) ? NAN : sqrt(var > 0 ? var : 0);
   }
   return RR_OK;
 }

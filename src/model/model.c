@@ -148,6 +148,18 @@ int rr_model_set_operating(rr_model *m, double v, double lambda, rr_error *err)
 double rr_model_speed(const rr_model *m) { return m->speed; }
 double rr_model_conicity(const rr_model *m) { return m->conicity; }
 
+double rr_model_kinematic_hz(const rr_model *m, double speed_ms, double conicity)
+{
+  double f = 0;
+  if (!(conicity > 0) || !(speed_ms > 0)) return 0;
+  for (int i = 0; i < m->ni; i++) {
+    const rr_contact_spec *s = &m->contacts[i].spec;
+    double fk = speed_ms / (2 * RR_PI) * sqrt(conicity / (s->r0 * s->l0));
+    if (fk > f) f = fk;
+  }
+  return f;
+}
+
 int rr_model_set_gravity_stiffness(rr_model *m, int on, rr_error *err)
 {
   m->gravity = on != 0;

@@ -55,6 +55,8 @@ typedef struct objective {
   rr_modal_opts mo; /* the index's rule; fields set by modifiers flagged in mo_set */
   unsigned mo_set;
   int index_modes; /* critical_speed: only the index's modes count */
+  double vmax_ms;  /* critical_speed: the range's end (vmax=KMH; default the library's) */
+  int at_bound;    /* critical_speed: stable to vmax_ms, the value is that bound */
   double freq_hz;  /* frequency of the mode behind the last value (NaN if none) */
   int model;       /* index into the design's models */
   /* ride resources */
@@ -261,6 +263,16 @@ static int parse_option(const char *t, objective *o, rr_error *err)
     o->index_modes = 1;
     return RR_OK;
   }
+  if (!strncmp(t, "vmax=", 5) && o->kind == OBJ_CRITICAL) {
+    double v;
+    rr_critical_opts co = rr_critical_opts_default();
+    if (number(t + 5, &v) || !(v / RR_KMH > co.v_min_ms && v / RR_KMH <= RR_SPEED_MAX_MS))
+      return rr_seterr(err, RR_EINVAL,
+                       "objective '%s': vmax must be a speed in km/h within (%g, %g]", o->text,
+                       co.v_min_ms * RR_KMH, RR_SPEED_MAX_MS * RR_KMH);
+    o->vmax_ms = v / RR_KMH;
+    return RR_OK;
+  }
   if (is_stability(o->kind) &&
       (!strncmp(t, "fmax=", 5) || !strncmp(t, "wmin=", 5) || !strncmp(t, "rmax=", 5)))
     return parse_rule(t, o, err);
@@ -285,7 +297,10 @@ static const struct objective_name *split_objective(const char *text, char *buf,
 
 static int parse_objective(const char *text, objective *o, rr_error *err)
 {
-  *o = (objective){.sdf = -1, .mo = rr_modal_opts_default(), .freq_hz = NAN};
+  *o = (objective){.sdf = -1,
+                   .mo = rr_modal_opts_default(),
+                   .freq_hz = NAN,
+                   .vmax_ms = rr_critical_opts_default().v_max_ms};
   snprintf(o->text, sizeof o->text, "%s", text);
   snprintf(o->spectrum, sizeof o->spectrum, "wuhan-guangzhou");
   snprintf(o->vspectrum, sizeof o->vspectrum, "%s", RR_VERTICAL_SPECTRUM_DEFAULT);
@@ -536,8 +551,9 @@ int rr_design_clone(const rr_design *d, rr_design **out, rr_error *err)
 
 int rr_design_set_modal_opts(rr_design *d, const rr_modal_opts *o, rr_error *err)
 {
-  if (!(o->fmax_hz > 0 && o->w_min >= 0 && o->w_min <= 1 && o->r_max >= 0 && o->r_max <= 1))
-    return rr_seterr(err, RR_EINVAL, "design: fmax must be > 0, w_min and r_max within 0..1");
+  if (!(o->fmax_hz >= 0 && o->w_min >= 0 && o->w_min <= 1 && o->r_max >= 0 && o->r_max <= 1))
+    return rr_seterr(err, RR_EINVAL,
+                     "design: fmax must be > 0 (or RR_FMAX_AUTO), w_min and r_max within 0..1");
   d->mo = *o;
   for (int i = 0; i < d->nclones; i++) d->clones[i]->mo = *o;
   return RR_OK;
@@ -549,6 +565,11 @@ int rr_design_nobj(const rr_design *d) { return d->nobj; }
 double rr_design_mode_freq(const rr_design *d, int i)
 {
   return i >= 0 && i < d->nobj ? d->obj[i].freq_hz : NAN;
+}
+
+int rr_design_at_bound(const rr_design *d, int i)
+{
+  return i >= 0 && i < d->nobj ? d->obj[i].at_bound : 0;
 }
 
 /* The rule an objective uses: the context's, with its own modifiers. */
@@ -631,8 +652,13 @@ static int vertical_value(rr_design *d, objective *o, rr_model *m, double *f, rr
   default: break;
   }
   rr_window_stats wd;
+  rr_ride_point lat[RR_RIDE_POINTS_MAX];
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
-  if ((st = rr_ride_design(o->plan, m, NULL, err))) return st;
+  if ((st = rr_ride_design(o->plan, m, lat, err))) return st;
+  if (lat[0].stable == 0) { /* the lateral side undefined, and N_MV with it */
+    *f = NAN;
+    return RR_OK;
+  }
   const double *G = rr_ride_psd(o->plan);
   if ((st = rr_vertical_window_stats(o->vplan, G, 1, 1, RR_ISO_WD, &wd, err))) return st;
   rr_en12299_inputs in = {.ay50 = wd.p50, .ay95 = wd.p95, .az50 = p.wb_5s.p50, .az95 = p.wb_5s.p95};
@@ -648,6 +674,7 @@ static int objective_value(rr_design *d, rr_model *const *models, objective *o, 
   rr_modal_opts mo = rule_of(d, o);
   int st;
   o->freq_hz = NAN;
+  o->at_bound = 0;
   switch (o->kind) {
   case OBJ_ZETA_LOW:
   case OBJ_ZETA_HIGH:
@@ -664,8 +691,10 @@ static int objective_value(rr_design *d, rr_model *const *models, objective *o, 
     rr_critical_opts co = rr_critical_opts_default();
     rr_critical cr;
     co.index_modes = o->index_modes;
+    co.v_max_ms = o->vmax_ms;
     if ((st = rr_critical_speed(m, o->conicity, &mo, &co, ws, &cr, err))) return st;
-    *f = cr.found ? cr.speed_ms * RR_KMH : co.v_max_ms * RR_KMH;
+    *f = cr.found ? cr.speed_ms * RR_KMH : co.v_max_ms * RR_KMH; /* a bound: at_bound says so */
+    o->at_bound = !cr.found;
     o->freq_hz = cr.found ? cr.mode.freq_hz : NAN;
     return RR_OK;
   }
@@ -705,6 +734,11 @@ static int design_objectives(rr_design *d, rr_model *const *models, robust_cache
       st = rr_seterr(err, RR_EUNDEF,
                      "objective '%s' is undefined: no hunting-related mode below fmax, and every "
                      "mode stable",
+                     d->obj[i].text);
+    else if (isnan(f[i]) && is_lateral_ride(d->obj[i].kind))
+      st = rr_seterr(err, RR_EUNDEF,
+                     "objective '%s' is undefined: some mode is unstable at its operating point "
+                     "(a linear response of an unstable vehicle is not a ride comfort)",
                      d->obj[i].text);
     else if (!isfinite(f[i]))
       st = rr_seterr(err, RR_ENOCONV, "objective '%s' is not finite", d->obj[i].text);

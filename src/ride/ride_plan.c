@@ -2,6 +2,7 @@
  * PSDs and comfort plan (include/railride/ride.h). The one place that
  * assembles these stages; the CLI, the design objectives and validation
  * all take it from here. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "railride/ride.h"
@@ -17,6 +18,8 @@ struct rr_ride_plan {
   double track_v; /* the speed it is for, m/s (0: none yet) */
   rr_frf_plan *frf;
   rr_comfort_plan *comfort;
+  rr_ride_unstable when_unstable;
+  rr_modal_ws *mws; /* the verdict's eigenvalues */
 };
 
 rr_ride_opts rr_ride_opts_default(void)
@@ -26,7 +29,8 @@ rr_ride_opts rr_ride_opts_default(void)
                         .f_lo_hz = fo.f_lo_hz,
                         .f_hi_hz = fo.f_hi_hz,
                         .floor_height_m = RR_FLOOR_HEIGHT_DEFAULT,
-                        .method = fo.method};
+                        .method = fo.method,
+                        .when_unstable = RR_RIDE_UNDEFINED};
 }
 
 int rr_ride_points_default(const rr_vehicle *veh, double *x)
@@ -42,6 +46,7 @@ void rr_ride_plan_free(rr_ride_plan *p)
   if (!p) return;
   rr_comfort_plan_free(p->comfort);
   rr_frf_plan_free(p->frf);
+  rr_modal_ws_free(p->mws);
   free(p->rows);
   free(p->rows0);
   free(p->G);
@@ -75,6 +80,11 @@ int rr_ride_plan_new(const rr_model *m, const rr_vehicle *veh, const rr_ride_opt
   rr_ride_plan *p = calloc(1, sizeof *p);
   if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
   int st = plan_points(p, m, veh, o, err);
+  p->when_unstable = o->when_unstable;
+  if (!st && (unsigned)o->when_unstable > RR_RIDE_UNCHECKED)
+    st = rr_seterr(err, RR_EINVAL, "ride: when_unstable %d is none of rr_ride_unstable",
+                   (int)o->when_unstable);
+  if (!st && o->when_unstable != RR_RIDE_UNCHECKED) st = rr_modal_ws_new(m, &p->mws, err);
   rr_frf_opts fo = {.nfreq = o->nfreq,
                     .freqs_hz = o->freqs_hz,
                     .f_lo_hz = o->f_lo_hz,
@@ -108,6 +118,25 @@ int rr_ride_plan_set_track(rr_ride_plan *p, const rr_spectrum *sp, double v_ms, 
   return st;
 }
 
+/* The verdict at m's operating point: zeta_max over every oscillatory mode
+   (no shapes: the hunting rule does not enter it). */
+static int ride_verdict(rr_ride_plan *p, const rr_model *m, int *stable, double *zeta_max,
+                        rr_error *err)
+{
+  *stable = -1;
+  *zeta_max = NAN;
+  if (p->when_unstable == RR_RIDE_UNCHECKED) return RR_OK;
+  rr_modal_opts mo = rr_modal_opts_default();
+  mo.w_min = 0;
+  mo.r_max = 1;
+  rr_stability s;
+  int st = rr_modal_stability(m, &mo, p->mws, &s, err);
+  if (st) return st;
+  *zeta_max = s.zeta_max;
+  *stable = rr_modal_stable(s.zeta_max);
+  return RR_OK;
+}
+
 int rr_ride_design(rr_ride_plan *p, const rr_model *m, rr_ride_point *out, rr_error *err)
 {
   if (!(p->track_v > 0))
@@ -116,7 +145,11 @@ int rr_ride_design(rr_ride_plan *p, const rr_model *m, rr_ride_point *out, rr_er
     return rr_seterr(err, RR_EINVAL,
                      "ride: the model runs at %g km/h, the track was set for %g km/h",
                      rr_model_speed(m) * RR_KMH, p->track_v * RR_KMH);
-  int st = rr_pem_design(p->frf, m, p->Gt, p->G, err);
+  int stable;
+  double zmax;
+  int st = ride_verdict(p, m, &stable, &zmax, err);
+  if (!st) st = rr_pem_design(p->frf, m, p->Gt, p->G, err);
+  int undefined = stable == 0 && p->when_unstable == RR_RIDE_UNDEFINED;
   for (int q = 0; q < p->np && out && !st; q++) {
     rr_comfort c;
     if ((st = rr_comfort_execute(p->comfort, p->G + q, p->np, &c, err))) break;
@@ -125,7 +158,11 @@ int rr_ride_design(rr_ride_plan *p, const rr_model *m, rr_ride_point *out, rr_er
                              .sperling = c.sperling,
                              .sperling_gb = c.sperling_gb,
                              .wd_rms = c.wd_rms,
-                             .n_mv = rr_en12299_comfort(c.wd_rms)};
+                             .n_mv = rr_en12299_comfort(c.wd_rms),
+                             .stable = stable,
+                             .zeta_max = zmax};
+    if (undefined)
+      out[q].rms = out[q].sperling = out[q].sperling_gb = out[q].wd_rms = out[q].n_mv = NAN;
   }
   return st;
 }
