@@ -189,6 +189,14 @@ enum cli_pareto_col cli_pareto_column(const char *name);
    refused with a message (EXIT_BADINPUT), else 0. */
 int cli_file_arg(const char *opt, const char *arg);
 
+/* The paper problem's cluster letters (pareto_letters.c): with objectives
+   zeta_low, zeta_high, std_zeta and k = 4, relabels the k-means result
+   (label[n] over the n rows x, n x m; centre k x m) so that the cluster of
+   the study's design A is 0 (A), B's 1, C's 2, D's 3; otherwise, or when two
+   designs share a cluster, leaves it as it is. */
+void cli_paper_letters(int n, int m, const double *x, const char *const *names, int k, int *label,
+                       double *centre);
+
 /* The vehicle stability index as text: "-0.118200 (hunting mode: carbody
    lateral-yaw at 1.0500 Hz)", "+0.0064 (unstable mode outside the hunting
    band: ...)", or "none (no hunting-related mode below F Hz; all stable)".

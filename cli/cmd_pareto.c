@@ -128,69 +128,6 @@ static int counts(const pareto_set *ps, int i)
   return ps->feasible_col < 0 || ps->v[(size_t)i * ps->ncol + ps->feasible_col] != 0;
 }
 
-/* The paper's problem (objectives zeta_low, zeta_high, std_zeta; four
-   clusters): its designs as examples/paper_bifurcation_study.py picks them
-   from the set, row indices into d[4]: A the best zeta_high, B the best
-   zeta_low, C the best std_zeta stable at both robust points (zeta_low and
-   zeta_high < 0), D the nearest the ideal point (each objective scaled to
-   0..1 over the set). Returns 0 when the set is not the paper's problem. */
-static int paper_designs(const pareto_set *ps, const pareto_clusters *pc, int d[4])
-{
-  static const char *const want[3] = {"zeta_low", "zeta_high", "std_zeta"};
-  int col[3] = {-1, -1, -1};
-  if (pc->k != 4 || ps->nobj != 3) return 0;
-  for (int w = 0; w < 3; w++)
-    for (int j = 0; j < 3; j++)
-      if (!strcmp(ps->name[ps->obj[j]], want[w])) col[w] = ps->obj[j];
-  if (col[0] < 0 || col[1] < 0 || col[2] < 0) return 0;
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int i = 0; i < ps->nrow; i++)
-    for (int w = 0; w < 3 && pc->label[i] >= 0; w++) {
-      lo[w] = fmin(lo[w], ps->v[(size_t)i * ps->ncol + col[w]]);
-      hi[w] = fmax(hi[w], ps->v[(size_t)i * ps->ncol + col[w]]);
-    }
-  double best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
-  d[0] = d[1] = d[2] = d[3] = -1;
-  for (int i = 0; i < ps->nrow; i++) {
-    if (pc->label[i] < 0) continue;
-    const double *r = ps->v + (size_t)i * ps->ncol;
-    double dist = 0;
-    for (int w = 0; w < 3; w++) {
-      double t = hi[w] > lo[w] ? (r[col[w]] - lo[w]) / (hi[w] - lo[w]) : 0;
-      dist += t * t;
-    }
-    double score[4] = {r[col[1]], r[col[0]], r[col[0]] < 0 && r[col[1]] < 0 ? r[col[2]] : INFINITY,
-                       dist};
-    for (int q = 0; q < 4; q++)
-      if (score[q] < best[q]) best[q] = score[q], d[q] = i;
-  }
-  return d[0] >= 0 && d[1] >= 0 && d[2] >= 0 && d[3] >= 0;
-}
-
-/* Names the paper problem's clusters by the designs they hold (the cluster
-   of design A is A, ...), when the four fall in four clusters; otherwise
-   the clusters keep their order (ascending first objective). */
-static void paper_letters(const pareto_set *ps, pareto_clusters *pc)
-{
-  int d[4], perm[4] = {-1, -1, -1, -1}; /* old label -> new */
-  if (!paper_designs(ps, pc, d)) return;
-  for (int q = 0; q < 4; q++) {
-    int old = pc->label[d[q]];
-    if (perm[old] >= 0) return; /* two designs in one cluster */
-    perm[old] = q;
-  }
-  double centre[4 * 3];
-  int count[4];
-  for (int q = 0; q < 4; q++) {
-    memcpy(centre + 3 * perm[q], pc->centre + 3 * q, sizeof(double) * 3);
-    count[perm[q]] = pc->count[q];
-  }
-  memcpy(pc->centre, centre, sizeof centre);
-  memcpy(pc->count, count, sizeof count);
-  for (int i = 0; i < ps->nrow; i++)
-    if (pc->label[i] >= 0) pc->label[i] = perm[pc->label[i]];
-}
-
 static int pareto_cluster(const pareto_set *ps, int k, pareto_clusters *pc)
 {
   int n = ps->nrow, m = ps->nobj, r = 0;
@@ -211,11 +148,13 @@ static int pareto_cluster(const pareto_set *ps, int k, pareto_clusters *pc)
   rr_error e;
   int st = r ? 0 : rr_kmeans(pc->nuse, m, x, k, 1, lab, pc->centre, &pc->passes, &e);
   if (st) r = cli_fail(&e, st);
+  const char *names[PARETO_K_MAX];
+  for (int j = 0; j < m && j < PARETO_K_MAX; j++) names[j] = ps->name[ps->obj[j]];
+  if (!r && m <= PARETO_K_MAX) cli_paper_letters(pc->nuse, m, x, names, k, lab, pc->centre);
   for (int i = 0, u = 0; !r && i < n; i++) {
     pc->label[i] = counts(ps, i) ? lab[u++] : -1;
     if (pc->label[i] >= 0) pc->count[pc->label[i]]++;
   }
-  if (!r) paper_letters(ps, pc);
   free(x);
   free(lab);
   return r;

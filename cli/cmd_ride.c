@@ -482,7 +482,10 @@ static void cmp_csv_row(FILE *fp, const char *vehicle, double lam, double zc, do
   fprintf(fp, "%.10g,", lam);
   cli_csv_num(fp, zc, ',');
   cli_csv_num(fp, zs, ',');
-  fprintf(fp, "%.10g,%.10g,%.10g,%.10g\n", wc, ws, nc, ns);
+  cli_csv_num(fp, wc, ','); /* undefined (unstable): an empty cell */
+  cli_csv_num(fp, ws, ',');
+  cli_csv_num(fp, nc, ',');
+  cli_csv_num(fp, ns, '\n');
 }
 
 static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_args *a, int sdf_mode,

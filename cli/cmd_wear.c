@@ -138,15 +138,18 @@ static void wear_text(const cli_common *c, const wear_row *w, int n, int nonline
   char b1[32], b2[32];
   printf("%s at %g km/h: wheel profiles on their rail (tan gamma_e by EN 15302 at 3 mm)\n",
          c->veh.name, c->speed_kmh);
-  printf("  %-28s %9s %10s %-9s %13s %7s %7s %7s\n", "wheel", "tan_ge_3", "index", "verdict",
+  printf("  %-28s %9s %10s %-9s %13s %8s %8s %8s\n", "wheel", "tan_ge_3", "index", "verdict",
          "critical_kmh", "W(+L)", "W(0)", "W(-L)");
   for (int i = 0; i < n; i++) {
-    printf("  %-28s %9.5f %10s %-9s %13s %7.3f %7.3f %7.3f\n", base_name(w[i].wheel), w[i].tg3,
+    char bw[3][32];
+    printf("  %-28s %9.5f %10s %-9s %13s %8s %8s %8s\n", base_name(w[i].wheel), w[i].tg3,
            cli_num_or_none(b1, sizeof b1, w[i].s.index),
            rr_modal_stable(w[i].s.zeta_max) ? "stable" : "UNSTABLE",
            w[i].cr.found ? (snprintf(b2, sizeof b2, "%.3f", w[i].cr.speed_ms * RR_KMH), b2)
                          : "> " RR_STR(WEAR_VMAX_KMH),
-           w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
+           ride_num(bw[0], 32, "%.3f", w[i].rp[0].sperling, w[i].rp[0].stable),
+           ride_num(bw[1], 32, "%.3f", w[i].rp[1].sperling, w[i].rp[1].stable),
+           ride_num(bw[2], 32, "%.3f", w[i].rp[2].sperling, w[i].rp[2].stable));
   }
   if (!nonlinear) return;
   printf(
@@ -176,7 +179,9 @@ static void wear_csv(const wear_row *w, int n, int nonlinear)
     cli_csv_num(stdout, w[i].s.index, ',');
     printf("%.10g,%d,", w[i].s.zeta_max, rr_modal_stable(w[i].s.zeta_max));
     cli_csv_num(stdout, w[i].cr.found ? w[i].cr.speed_ms * RR_KMH : NAN, ',');
-    printf("%.10g,%.10g,%.10g", w[i].rp[0].sperling, w[i].rp[1].sperling, w[i].rp[2].sperling);
+    cli_csv_num(stdout, w[i].rp[0].sperling, ',');
+    cli_csv_num(stdout, w[i].rp[1].sperling, ',');
+    if (isfinite(w[i].rp[2].sperling)) printf("%.10g", w[i].rp[2].sperling);
     if (nonlinear) {
       double x[4] = {w[i].hopf_kmh, w[i].hopf_hz, w[i].onset_kmh, w[i].lowest_kmh};
       for (int k = 0; k < 4; k++) isfinite(x[k]) ? printf(",%.10g", x[k]) : printf(",");

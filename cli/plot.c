@@ -630,6 +630,9 @@ static int front_clusters(const char *d, const pareto_plot *pp, int k, double *c
   rr_error e;
   if (n >= k && (lab = malloc(sizeof(int) * (size_t)n)) &&
       !rr_kmeans(n, m, x, k, 1, lab, ctr, NULL, &e)) {
+    const char *names[PP_MAX];
+    for (int j = 0; j < m; j++) names[j] = pp->name[pp->obj[j]];
+    cli_paper_letters(n, m, x, names, k, lab, ctr);
     for (int q = 0; q < k; q++)
       c[2 * q] = ctr[(size_t)q * m], c[2 * q + 1] = ctr[(size_t)q * m + 1];
     r = 0;
