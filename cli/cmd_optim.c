@@ -86,7 +86,11 @@ static int write_front(FILE *fp, FILE *fj, const rr_problem *p, const double *X,
   for (int k = 0; k < p->nobj; k++)
     cli_csv_field(fp, p->objs[k], k + 1 < p->nobj || p->ncon ? ',' : '\n');
   if (p->ncon) fprintf(fp, "feasible,violation\n");
-  cJSON *root = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(root, "front");
+  cJSON *root = cJSON_CreateObject();
+  cJSON_AddStringToObject(root, "index_band_edge",
+                          "max(10 Hz, f_K) at each stability objective's operating point, unless "
+                          "the objective's fmax= fixes it");
+  cJSON *arr = cJSON_AddArrayToObject(root, "front");
   int nfront = 0;
   for (int k = 0; k < p->nobj; k++) {
     best[k] = INFINITY;
@@ -601,7 +605,9 @@ typedef struct sweep_run {
   const sweep_args *a;
   const cli_common *c;
   int nax, nkeys, key_of[2], op_axes, has_freq, damp_axis;
-  int has_bound; /* a critical speed: a value at the range's end is flagged */
+  int has_bound;   /* a critical speed: a value at the range's end is flagged */
+  int has_edge;    /* an index: the band edge of each point */
+  int has_verdict; /* a lateral ride objective: the verdict at each point */
   const char *keys[2];
   rr_design *d;
   char obj[160];
@@ -611,7 +617,11 @@ typedef struct sweep_run {
 typedef struct sweep_val {
   double f, freq_hz;
   double at_bound; /* 1: f is the critical speed range's end (stable to it), not a result */
+  double fmax_hz;  /* an index's band edge */
+  double stable;   /* a ride objective's verdict: 1, 0, or NaN not taken */
 } sweep_val;
+
+static double verdict_value(int v) { return v < 0 ? NAN : v; }
 
 static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *e)
 {
@@ -639,23 +649,29 @@ static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *
   if (st == RR_EUNDEF) { /* an undefined index: an empty cell, the sweep goes on */
     out->f = out->freq_hz = NAN;
     out->at_bound = 0;
+    out->fmax_hz = rr_design_band_edge(r->d, 0);
+    out->stable = verdict_value(rr_design_verdict(r->d, 0));
     return 0;
   }
   if (st) return cli_fail(e, st);
   out->freq_hz = rr_design_mode_freq(r->d, 0);
   out->at_bound = rr_design_at_bound(r->d, 0);
+  out->fmax_hz = rr_design_band_edge(r->d, 0);
+  out->stable = verdict_value(rr_design_verdict(r->d, 0));
   return 0;
 }
 
 static void sweep_row(const sweep_run *r, const double *v, const sweep_val *p)
 {
   for (int ax = 0; ax < r->nax; ax++) printf("%.10g,", v[ax]);
-  cli_csv_num(stdout, p->f, r->has_freq ? ',' : '\n');
-  char tail = r->has_bound ? ',' : '\n';
+  cli_csv_num(stdout, p->f, r->has_freq || r->has_verdict ? ',' : '\n');
+  if (r->has_verdict) cli_csv_num(stdout, p->stable, '\n');
+  char tail = r->has_bound || r->has_edge ? ',' : '\n';
   if (r->has_freq) cli_csv_num(stdout, p->freq_hz, r->damp_axis >= 0 ? ',' : tail);
   if (r->has_freq && r->damp_axis >= 0)
     cli_csv_num(stdout, v[r->damp_axis] * 2 * RR_PI * p->freq_hz, tail);
   if (r->has_bound) printf("%d\n", p->at_bound != 0);
+  if (r->has_edge) cli_csv_num(stdout, p->fmax_hz, '\n');
 }
 
 /* Grid points lo..hi-1 (row-major over --x, --y). */
@@ -683,10 +699,13 @@ static void sweep_header(const sweep_run *run)
     else
       cli_csv_field(stdout, a->kind[ax] == AXIS_SPEED ? "speed_kmh" : a->key[ax], ',');
   }
-  cli_csv_field(stdout, a->objective, run->has_freq ? ',' : '\n');
+  cli_csv_field(stdout, a->objective, run->has_freq || run->has_verdict ? ',' : '\n');
+  if (run->has_verdict) printf("stable\n");
   if (run->has_freq)
     printf("mode_freq_hz%s%s\n", run->damp_axis >= 0 ? ",k_opt_n_per_m" : "",
-           run->has_bound ? ",at_range_end" : "");
+           run->has_bound  ? ",at_range_end"
+           : run->has_edge ? ",fmax_hz"
+                           : "");
 }
 
 /* The grid's points (over MPI ranks under mpirun), then its rows: those done
@@ -762,6 +781,9 @@ int cmd_sweep(int argc, char **argv)
      optimal-dissipation stiffness k = c 2 pi f of that mode (paper Fig. 10) */
   run.has_freq = !strncmp(a.objective, "index", 5) || !strncmp(a.objective, "critical_speed@", 15);
   run.has_bound = !strncmp(a.objective, "critical_speed@", 15);
+  run.has_edge = !strncmp(a.objective, "index", 5);
+  static const char *const rides[] = {"sperling@", "sperling_gb@", "wd_rms@", "rms@", "n_mv@"};
+  for (int i = 0; i < 5; i++) run.has_verdict |= !strncmp(a.objective, rides[i], strlen(rides[i]));
   if (run.op_axes) { /* the objective checked before any output */
     char probe[160];
     double v0[2] = {a.from[0], a.from[1]};

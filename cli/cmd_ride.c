@@ -19,7 +19,7 @@ enum { OPT_BAND = 3100, OPT_PSD, OPT_METHOD, OPT_CMP_CON, OPT_CMP_CSV, OPT_CMP_P
 
 #define CMP_CSV_COLUMNS                                                                            \
   "vehicle,conicity,stability_index_const,stability_index_sdf,sperling_const,sperling_sdf,"        \
-  "n_mv_const,n_mv_sdf"
+  "n_mv_const,n_mv_sdf,fmax_hz"
 #define CMP_CSV_HEADER CMP_CSV_COLUMNS "\n"
 /* The vertical side's options (ride, frf). */
 enum {
@@ -476,7 +476,7 @@ static int cmp_cb(int opt, const char *arg, void *u)
 
 /* One CSV row (an undefined index: an empty cell). */
 static void cmp_csv_row(FILE *fp, const char *vehicle, double lam, double zc, double zs, double wc,
-                        double ws, double nc, double ns)
+                        double ws, double nc, double ns, double fmax)
 {
   cli_csv_field(fp, vehicle, ',');
   fprintf(fp, "%.10g,", lam);
@@ -485,7 +485,8 @@ static void cmp_csv_row(FILE *fp, const char *vehicle, double lam, double zc, do
   cli_csv_num(fp, wc, ','); /* undefined (unstable): an empty cell */
   cli_csv_num(fp, ws, ',');
   cli_csv_num(fp, nc, ',');
-  cli_csv_num(fp, ns, '\n');
+  cli_csv_num(fp, ns, ',');
+  fprintf(fp, "%.10g\n", fmax);
 }
 
 static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_args *a, int sdf_mode,
@@ -521,22 +522,26 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
            c->speed_kmh, rs.spectrum);
     printf("N_MV: EN 12299 mean comfort with the vertical model (tbt3352-vertical), max over the "
            "points\n");
-    printf("%9s %12s %12s %10s %10s %9s %9s\n", "conicity", "zeta_const", "zeta_sdf", "W_const",
-           "W_sdf", "NMV_const", "NMV_sdf");
+    printf("index band edge: %s\n", cli_band_rule(&c->mo));
+    printf("%9s %12s %12s %10s %10s %9s %9s %9s\n", "conicity", "zeta_const", "zeta_sdf", "W_const",
+           "W_sdf", "NMV_const", "NMV_sdf", "fmax_hz");
   }
   for (int i = 0; i < a->c_n && !st; i++) {
     double lam = a->c_n == 1 ? a->c_from : a->c_from + (a->c_to - a->c_from) * i / (a->c_n - 1);
     double zc, zs;
+    rr_stability sc, ss;
     vertical_both pc[3], ps[3]; /* the lateral ride and EN 12299 with the vertical model */
     vertical_setup vdef;
     vertical_setup_default(&vdef);
     st = rr_model_set_operating(mc, c->speed_kmh / RR_KMH, lam, &e);
     if (!st) st = rr_model_set_operating(ms, c->speed_kmh / RR_KMH, lam, &e);
-    if (!st) st = rr_modal_stability_index(mc, &c->mo, wc, &zc, &e);
-    if (!st) st = rr_modal_stability_index(ms, &c->mo, wsd, &zs, &e);
+    if (!st) st = rr_modal_stability(mc, &c->mo, wc, &sc, &e);
+    if (!st) st = rr_modal_stability(ms, &c->mo, wsd, &ss, &e);
     if (!st) st = vertical_eval(&vc, c->speed_kmh, &rs, &vdef, lam, pc, &e);
     if (!st) st = vertical_eval(&vs, c->speed_kmh, &rs, &vdef, lam, ps, &e);
     if (st) break;
+    zc = sc.index;
+    zs = ss.index;
     double wcmax = fmax(pc[0].lat.sperling, fmax(pc[1].lat.sperling, pc[2].lat.sperling));
     double wsmax = fmax(ps[0].lat.sperling, fmax(ps[1].lat.sperling, ps[2].lat.sperling));
     double nc = fmax(pc[0].en.n_mv, fmax(pc[1].en.n_mv, pc[2].en.n_mv));
@@ -551,18 +556,19 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
       cJSON_AddNumberToObject(o, "sperling_sdf", wsmax);
       cJSON_AddNumberToObject(o, "n_mv_const", nc);
       cJSON_AddNumberToObject(o, "n_mv_sdf", ns);
+      cli_band_json(o, &c->mo, sc.fmax_hz);
       cJSON_AddItemToArray(jarr, o);
     } else if (a->csv) {
-      cmp_csv_row(stdout, base->name, lam, zc, zs, wcmax, wsmax, nc, ns);
+      cmp_csv_row(stdout, base->name, lam, zc, zs, wcmax, wsmax, nc, ns, sc.fmax_hz);
     } else {
       char b1[32], b2[32], b3[32], b4[32], b5[32], b6[32];
       int uc = pc[0].lat.stable, us = ps[0].lat.stable;
-      printf("%9.4f %12s %12s %10s %10s %9s %9s\n", lam, cli_num_or_none(b1, sizeof b1, zc),
+      printf("%9.4f %12s %12s %10s %10s %9s %9s %9.2f\n", lam, cli_num_or_none(b1, sizeof b1, zc),
              cli_num_or_none(b2, sizeof b2, zs), ride_num(b3, 32, "%.4f", wcmax, uc),
              ride_num(b4, 32, "%.4f", wsmax, us), ride_num(b5, 32, "%.4f", nc, uc),
-             ride_num(b6, 32, "%.4f", ns, us));
+             ride_num(b6, 32, "%.4f", ns, us), sc.fmax_hz);
     }
-    if (a->pd) cmp_csv_row(a->pd, base->name, lam, zc, zs, wcmax, wsmax, nc, ns);
+    if (a->pd) cmp_csv_row(a->pd, base->name, lam, zc, zs, wcmax, wsmax, nc, ns, sc.fmax_hz);
   }
   rr_modal_ws_free(wc);
   rr_modal_ws_free(wsd);

@@ -502,6 +502,8 @@ static cJSON *critical_json(const cli_common *c, double conicity, const crit_arg
   cJSON_AddNumberToObject(root, "conicity", conicity);
   cJSON_AddStringToObject(root, "conicity_source", c->conicity_source);
   cJSON_AddStringToObject(root, "rule", a->index_modes ? "index modes" : "any oscillatory mode");
+  if (a->index_modes) /* the index's band edge, taken at each speed tried */
+    cJSON_AddStringToObject(root, "fmax_rule", c->mo.fmax_hz > 0 ? "fixed" : "kinematic");
   double range[2] = {a->vmin, a->vmax};
   cJSON_AddItemToObject(root, "range_kmh", cJSON_CreateDoubleArray(range, 2));
   if (cr->found)
@@ -515,13 +517,18 @@ static void critical_text(const cli_common *c, double conicity, const crit_args 
                           const rr_critical *cr)
 {
   const rr_mode *md = &cr->mode;
+  char rule[96] = "";
+  if (a->index_modes && c->mo.fmax_hz > 0)
+    snprintf(rule, sizeof rule, " (the index's modes below a fixed %g Hz)", c->mo.fmax_hz);
+  else if (a->index_modes)
+    snprintf(rule, sizeof rule, " (the index's modes, band edge max(10 Hz, f_K) at each speed)");
   if (!cr->found) {
-    printf("%s at conicity %g: stable to the range's end (%g km/h)\n", c->veh.name, conicity,
-           a->vmax);
+    printf("%s at conicity %g: stable to the range's end (%g km/h)%s\n", c->veh.name, conicity,
+           a->vmax, rule);
     return;
   }
-  printf("%s critical speed at conicity %g (%s): %.3f km/h\n", c->veh.name, conicity,
-         c->conicity_source, cr->speed_ms * RR_KMH);
+  printf("%s critical speed at conicity %g (%s): %.3f km/h%s\n", c->veh.name, conicity,
+         c->conicity_source, cr->speed_ms * RR_KMH, rule);
   printf("  unstable mode: %s at %.4f Hz (energy carbody %.3f, frames %.3f, wheelsets %.3f; roll "
          "%.3f, frame roll %.3f; %s)\n",
          md->name, md->freq_hz, md->energy[0], md->energy[1], md->energy[2], md->roll_share,

@@ -136,8 +136,9 @@ static const char *base_name(const char *path)
 static void wear_text(const cli_common *c, const wear_row *w, int n, int nonlinear)
 {
   char b1[32], b2[32];
-  printf("%s at %g km/h: wheel profiles on their rail (tan gamma_e by EN 15302 at 3 mm)\n",
-         c->veh.name, c->speed_kmh);
+  printf("%s at %g km/h: wheel profiles on their rail (tan gamma_e by EN 15302 at 3 mm; the "
+         "index's band edge %s at each profile's conicity)\n",
+         c->veh.name, c->speed_kmh, cli_band_rule(&c->mo));
   printf("  %-28s %9s %10s %-9s %13s %8s %8s %8s\n", "wheel", "tan_ge_3", "index", "verdict",
          "critical_kmh", "W(+L)", "W(0)", "W(-L)");
   for (int i = 0; i < n; i++) {
@@ -170,7 +171,7 @@ static void wear_text(const cli_common *c, const wear_row *w, int n, int nonline
 static void wear_csv(const wear_row *w, int n, int nonlinear)
 {
   printf("wheel,tan_gamma_e_3mm,stability_index,zeta_max,stable,critical_speed_kmh,"
-         "sperling_front,sperling_centre,sperling_rear%s\n",
+         "sperling_front,sperling_centre,sperling_rear,fmax_hz%s\n",
          nonlinear ? ",hopf_speed_kmh,hopf_freq_hz,onset_kmh,nonlinear_critical_kmh,bifurcation"
                    : "");
   for (int i = 0; i < n; i++) {
@@ -181,7 +182,8 @@ static void wear_csv(const wear_row *w, int n, int nonlinear)
     cli_csv_num(stdout, w[i].cr.found ? w[i].cr.speed_ms * RR_KMH : NAN, ',');
     cli_csv_num(stdout, w[i].rp[0].sperling, ',');
     cli_csv_num(stdout, w[i].rp[1].sperling, ',');
-    if (isfinite(w[i].rp[2].sperling)) printf("%.10g", w[i].rp[2].sperling);
+    cli_csv_num(stdout, w[i].rp[2].sperling, ',');
+    printf("%.10g", w[i].s.fmax_hz);
     if (nonlinear) {
       double x[4] = {w[i].hopf_kmh, w[i].hopf_hz, w[i].onset_kmh, w[i].lowest_kmh};
       for (int k = 0; k < 4; k++) isfinite(x[k]) ? printf(",%.10g", x[k]) : printf(",");
@@ -224,6 +226,7 @@ static void wear_json(const cli_common *c, const wear_row *w, int n, int nonline
     cJSON_AddStringToObject(o, "index_source", cli_index_source_key(w[i].s.source));
     cJSON_AddNumberToObject(o, "zeta_max", w[i].s.zeta_max);
     cJSON_AddBoolToObject(o, "stable", rr_modal_stable(w[i].s.zeta_max));
+    cli_band_json(o, &c->mo, w[i].s.fmax_hz);
     if (w[i].cr.found)
       cJSON_AddNumberToObject(o, "critical_speed_kmh", w[i].cr.speed_ms * RR_KMH);
     else

@@ -282,8 +282,8 @@ static void script_map(FILE *gp, const char *d, int argc, char **argv)
   /* paper Fig. 14: where the hunting mode's energy sits, carbody or bogies */
   fprintf(gp, "set multiplot layout 1,2 title 'Hunting mode: kinetic-energy shares'" GP_CTX "\n"
               "set cbrange [0:1]\n");
-  map_script(gp, d, 9, "speed (km/h)", "conicity", "", "carbody", 0, "", 1, 1, 1);
-  map_script(gp, d, 10, "speed (km/h)", "conicity", "share", "bogie frames", 0, "", 1, 1, 1);
+  map_script(gp, d, 10, "speed (km/h)", "conicity", "", "carbody", 0, "", 1, 1, 1);
+  map_script(gp, d, 11, "speed (km/h)", "conicity", "share", "bogie frames", 0, "", 1, 1, 1);
   fprintf(gp, "unset multiplot\n");
 }
 
@@ -330,14 +330,21 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
   char xk[128] = "x", yk[128] = "y", xl[160], yl[160], title[256];
   if (x) snprintf(xk, sizeof xk, "%.*s", (int)strcspn(x, "="), x);
   double sx = axis_label(xk, xl, sizeof xl), sy = 1;
+  int bound = o && !strncmp(o, "critical_speed@", 15); /* values at the range's end flagged */
   if (!y) { /* one axis: the objective (and its mode's frequency) along it */
     char t[300], a[200], b[200];
     snprintf(title, sizeof title, "%s along %s", o ? o : "objective", xk);
     fprintf(gp,
             "set title %s" GP_CTX "\nset xlabel %s; set ylabel %s\n"
-            "plot '%s' u ($1/%.17g):2 w lp pt 7 ps 0.6 lw 2 notitle\n",
+            "plot '%s' u ($1/%.17g):2 w lp pt 7 ps 0.6 lw 2 notitle",
             gp_str(t, sizeof t, title), gp_str(a, sizeof a, xl),
             gp_str(b, sizeof b, o ? o : "objective"), d, sx);
+    if (bound) /* the sweep's last column, at_range_end: a value that is the range's end */
+      fprintf(gp,
+              ", '' u ($1/%.17g):($%d > 0 ? $2 : NaN) w p pt 6 ps 1.6 lw 2 lc 'red' "
+              "t 'stable to the range end (a bound, not a critical speed)'",
+              sx, 4 + !strcmp(xk, "yaw_damper.damping"));
+    fputc('\n', gp);
     return;
   }
   snprintf(yk, sizeof yk, "%.*s", (int)strcspn(y, "="), y);
@@ -347,7 +354,7 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
   /* yaw damping against series stiffness with an index objective: the sweep
      writes k_opt = c 2 pi f (column 5) of the mode that sets the index; the
      line k = c w is where the stiffness axis equals it (paper Fig. 10) */
-  char overlay[160] = "";
+  char overlay[400] = "";
   int kx = !strcmp(xk, "yaw_damper.series_stiffness"),
       ky = !strcmp(yk, "yaw_damper.series_stiffness");
   int cx = !strcmp(xk, "yaw_damper.damping"), cy = !strcmp(yk, "yaw_damper.damping");
@@ -356,6 +363,11 @@ static void script_sweep(FILE *gp, const char *d, int argc, char **argv)
              ", '' skip 1 u ($1/sx):($2/sy):($%d - $5) w l nosurface lw 2 dt 2 lc 'dark-green' "
              "t 'k = c w'", /* skip: the header's quoted comma would break the grid */
              kx ? 1 : 2);
+  if (bound) /* a plateau at the range's end is a bound, not a value: its points marked */
+    snprintf(overlay + strlen(overlay), sizeof overlay - strlen(overlay),
+             ", '' skip 1 u ($1/sx):($2/sy):($%d > 0 ? $3 : NaN) w p pt 7 ps 1 lc 'black' "
+             "t 'stable to the range end (a bound, not a critical speed)'",
+             5 + (cx || cy));
   map_script(gp, d, 3, xl, yl, o ? o : "objective", title, centred, overlay, sx, sy, 0);
 }
 

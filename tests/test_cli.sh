@@ -60,6 +60,12 @@ json_check "critical keys" "'critical_speed_kmh' in d and (d['critical_speed_kmh
 "$RR" critical-speed --conicity 0.05 --vmax 300 --json > "$tmp/c2.json" || bad "critical exit 2"
 json_check "stable to range end" "d['critical_speed_kmh'] is None and d['stable_to_range_end']" < "$tmp/c2.json"
 
+"$RR" sweep --x conicity=0.2:0.6:3 --objective sperling@600 > "$tmp/sws.csv" 2> /dev/null || bad "sweep ride exit"
+[ "$(cat "$tmp/sws.csv" | tr '\n' ' ')" = "conicity,sperling@600,stable 0.2,1.799415917,1 0.4,,0 0.6,,0 " ] && ok ||
+  bad "sweep: a ride objective undefined where unstable, with the verdict: $(cat "$tmp/sws.csv" | tr '\n' ' ')"
+"$RR" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --objective "critical_speed@0.17;vmax=700" > "$tmp/swc.csv" || bad "sweep critical exit"
+head -1 "$tmp/swc.csv" | grep -q ',at_range_end$' && awk -F, 'NR > 1 && $2 == 700 && $NF != 1 {b++} END {exit b}' "$tmp/swc.csv" &&
+  grep -q ',700,.*,1$' "$tmp/swc.csv" && ok || bad "sweep: a critical speed at vmax flagged at_range_end"
 "$RR" locus --over speed --range 100:400:4 > "$tmp/l.csv" || bad "locus exit"
 head -1 "$tmp/l.csv" | grep -qx 'branch,speed_kmh,conicity,freq_hz,real_per_s,imag_rad_per_s,stability_index,mac,e_carbody,e_frames,e_wheelsets,roll_share,hunting_related,frame_roll_share' && ok || bad "locus header"
 "$RR" map --speeds 200:300:2 --conicities 0.1:0.2:2 > "$tmp/map.csv" || bad "map exit"
@@ -198,7 +204,7 @@ ok = ok and not any(dom(a, b) for a in F for b in F)
 sys.exit(0 if ok else 1)
 PY
 "$RR" sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:2" --objective index@350,0.17 > "$tmp/sw.csv" || bad "sweep exit"
-[ "$(head -1 "$tmp/sw.csv")" = 'yaw_damper.damping_n_s_per_m,yaw_damper.series_stiffness_n_per_m,"index@350,0.17",mode_freq_hz,k_opt_n_per_m' ] && [ "$(wc -l < "$tmp/sw.csv")" -eq 7 ] && ok || bad "sweep csv"
+[ "$(head -1 "$tmp/sw.csv")" = 'yaw_damper.damping_n_s_per_m,yaw_damper.series_stiffness_n_per_m,"index@350,0.17",mode_freq_hz,k_opt_n_per_m,fmax_hz' ] && [ "$(wc -l < "$tmp/sw.csv")" -eq 7 ] && ok || bad "sweep csv"
 printf '[problem]\npopulation = 7\n[variables]\nprimary.longitudinal_stiffness = 10 kN/mm .. 120 kN/mm\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p1.ini"
 expect2 "odd population" "p1.ini:2: \[problem\] population" "$RR" optimise "$tmp/p1.ini"
 printf '[problem]\n[variables]\nprimary.stiffness = 1 .. 2\n[objectives]\nobjective = zeta_low minimize\n' > "$tmp/p2.ini"

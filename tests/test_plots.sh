@@ -36,6 +36,30 @@ png bifurcation bifurcation --profile worn --speeds 100:560
 png optimise optimise "$SRC/examples/paper-optimisation.ini" --population 40 --generations 5 --output "$tmp/po"
 png scan bifurcation --profile worn --method scan --speeds 530:560 --step 15 --settle 4
 png sweepkc sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:5" --y "yaw_damper.series_stiffness=1 MN/m:30 MN/m:5" --objective "index@350,0.17"
+# the columns a script plots, read back against the data's header: a wrong column cannot come back
+cols_check() {  # cols_check WHAT PATTERN NAME ARGS...: the script's $N matched by PATTERN is column NAME
+  local what=$1 pat=$2 name=$3; shift 3
+  mkdir -p "$tmp/cc" && rm -f "$tmp/cc"/*
+  (cd "$tmp/cc" && "$RR" "$@" --plot p.svg --plot-script p.gp > out.csv 2> /dev/null) || { bad "$what: exit"; return; }
+  python3 - "$tmp/cc/p.gp" "$tmp/cc/out.csv" "$pat" "$name" <<'PY' && ok || bad "$what"
+import re, sys
+gp, csv, pat, name = sys.argv[1:]
+cols = re.findall(pat, open(gp).read())
+head = open(csv).readline().strip().split(",")
+assert cols and all(head[int(c) - 1] == name for c in cols), (cols, head, name)
+PY
+}
+cols_check "sweep: the range-end points from at_range_end" '\(\$(\d+) > 0 \? \$2' at_range_end \
+  sweep --x "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:5" --objective "critical_speed@0.17"
+cols_check "sweep 2-D: the range-end points from at_range_end" '\(\$(\d+) > 0 \? \$3' at_range_end \
+  sweep --x "primary.longitudinal_stiffness=10 kN/mm:120 kN/mm:3" --y "yaw_damper.damping=100 kN.s/m:4000 kN.s/m:3" --objective "critical_speed@0.17"
+cols_check "map --shares: the carbody panel draws hunting_e_carbody" 'u \(\$1/sx\):\(\$2/sy\):(10) w pm3d' hunting_e_carbody \
+  map --speeds 200:600:3 --conicities 0.05:0.5:3 --shares
+cols_check "map --shares: the frames panel draws hunting_e_frames" 'u \(\$1/sx\):\(\$2/sy\):(11) w pm3d' hunting_e_frames \
+  map --speeds 200:600:3 --conicities 0.05:0.5:3 --shares
+# compare at unstable conicities: the undefined ride is an empty cell the picture leaves out
+"$RR" compare --speed 450 --conicities 0.2:0.6:3 --csv 2> /dev/null | awk -F, 'NR > 1 && $5 == "" {n++} END {exit !(n >= 2)}' && ok ||
+  bad "compare: an unstable point's Sperling is an empty cell"
 # what each picture must show besides its curves (gnuplot's SVG keeps legend texts)
 svg_has() {  # svg_has WHAT TEXT ARGS...: railride ARGS --plot F.svg shows TEXT
   local what=$1 text=$2; shift 2

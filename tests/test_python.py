@@ -98,6 +98,9 @@ uj = json.loads(subprocess.run([cli, "ride", "--speed", "450", "--conicity", "0.
 check(not ru["stable"] and np.all(np.isnan(ru["sperling"])) and ru["zeta_max"] >= 0 and np.all(np.isfinite(rl["sperling"]))
       and uj["stable"] is False and all(p["sperling"] is None for p in uj["points"]),
       "unstable at 450 km/h, 0.6: the ride undefined in Python and the CLI alike")
+vu = v.vertical_ride(450, lateral=0.6)
+check(not vu["lateral_stable"] and np.all(np.isnan(vu["n_mv"])) and np.all(np.isfinite(vu["wb_p95"])),
+      "vertical_ride at an unstable lateral point: EN 12299 undefined, the vertical side given")
 try:
     v.ride(350, 0.17, spectrum="tbt3352-vertical")
     check(False, "Python's ride refuses a vertical spectrum as the lateral input")

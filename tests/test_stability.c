@@ -252,6 +252,23 @@ static void test_objective_modifiers(void)
   CHECK(f[5] == 900 && rr_design_at_bound(d, 5), "vmax=900 raises the range's end (%g)", f[5]);
   CHECK_CLOSE(f[6], 524.7, 0, 0.05, "critical_speed@0.4;vmax=900");
   CHECK(!rr_design_at_bound(d, 6), "a critical speed found is not a bound");
+  CHECK(fabs(rr_design_band_edge(d, 1) - rr_modal_band_edge_at(m, NULL, 350 / RR_KMH, 0.17)) <
+                1e-12 &&
+            rr_design_band_edge(d, 0) == 20 && isnan(rr_design_band_edge(d, 2)),
+        "the band edge behind index objectives: %g, %g", rr_design_band_edge(d, 1),
+        rr_design_band_edge(d, 0));
+  CHECK(rr_design_verdict(d, 1) == 1 && rr_design_verdict(d, 2) == -1, "index objective verdicts");
+  {
+    /* a ride objective at an unstable point: undefined, the verdict says why */
+    const char *ro[1] = {"sperling@450,0.6"};
+    rr_design *dr;
+    double fr;
+    CHECK_OK(rr_design_new(&v, 0, NULL, 1, ro, &dr, &e), e);
+    CHECK(rr_design_evaluate(dr, NULL, &fr, &e) == RR_EUNDEF && isnan(fr) &&
+              rr_design_verdict(dr, 0) == 0,
+          "sperling@450,0.6: undefined (%g), verdict %d", fr, rr_design_verdict(dr, 0));
+    rr_design_free(dr);
+  }
   CHECK(fabs(rr_design_mode_freq(d, 2) - 10.09) < 0.05, "critical mode frequency %g",
         rr_design_mode_freq(d, 2));
   const char *bad[5] = {"index@350,0.17;rmax=2", "zeta_low;index_modes",

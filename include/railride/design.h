@@ -61,6 +61,13 @@ RR_API double rr_design_mode_freq(const rr_design *d, int i);
 /* 1 when objective i's last value is its range's end rather than a result
  * (critical_speed stable to its vmax), else 0. */
 RR_API int rr_design_at_bound(const rr_design *d, int i);
+/* The band edge (Hz) behind objective i's last value when it is an index@
+ * objective, else NaN. */
+RR_API double rr_design_band_edge(const rr_design *d, int i);
+/* The verdict at objective i's operating point behind its last value (an
+ * index@ or lateral ride objective): 1 stable, 0 unstable (a ride objective
+ * is then undefined), -1 for the others. */
+RR_API int rr_design_verdict(const rr_design *d, int i);
 RR_API int rr_design_nvar(const rr_design *d);
 RR_API int rr_design_nobj(const rr_design *d);
 /* Fills f[nobj] for variables x[nvar]. On an invalid design (e.g. a negative

@@ -181,7 +181,7 @@ def ride(veh, speed_kmh, spectrum="tbt3352-vertical", points=None, window=5.0, l
 
 def _lateral(veh, pl, out, speed_kmh, lateral):
     conicity, spectrum = lateral if isinstance(lateral, tuple) else (lateral, "wuhan-guangzhou")
-    f, G = veh.psd(speed_kmh, conicity, spectrum, tuple(out["x"]))
+    f, G, pts = veh._ride_run(speed_kmh, conicity, spectrum, tuple(out["x"]), 1.2, 400, 0.3, 30.0, "undefined")
     if f.size != out["f"].size or not np.allclose(f, out["f"], rtol=1e-12, atol=0):
         raise veh._Err("the lateral and vertical grids differ")
     G = np.ascontiguousarray(G)
@@ -193,3 +193,7 @@ def _lateral(veh, pl, out, speed_kmh, lateral):
           for w, a, b in zip(ws, out["wb_p50"], out["wb_p95"])]  # longitudinal 0, rigid seat
     for k in ("n_mv", "n_vd", "n_va_rigid_seat"):
         out[k] = np.array([getattr(e, k) for e in en])
+    out["lateral_stable"] = bool(pts[0].stable == 1)
+    if pts[0].stable == 0:  # the lateral model unstable: its side, and EN 12299 with it, undefined
+        for k in ("wd_p50", "wd_p95", "n_mv", "n_vd", "n_va_rigid_seat"):
+            out[k] = np.full(len(pts), np.nan)

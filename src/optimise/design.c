@@ -57,6 +57,8 @@ typedef struct objective {
   int index_modes; /* critical_speed: only the index's modes count */
   double vmax_ms;  /* critical_speed: the range's end (vmax=KMH; default the library's) */
   int at_bound;    /* critical_speed: stable to vmax_ms, the value is that bound */
+  double fmax_hz;  /* index: the band edge of the last value (NaN for the others) */
+  int verdict;     /* index, lateral ride: 1 stable, 0 unstable at its point; -1 not taken */
   double freq_hz;  /* frequency of the mode behind the last value (NaN if none) */
   int model;       /* index into the design's models */
   /* ride resources */
@@ -572,6 +574,16 @@ int rr_design_at_bound(const rr_design *d, int i)
   return i >= 0 && i < d->nobj ? d->obj[i].at_bound : 0;
 }
 
+double rr_design_band_edge(const rr_design *d, int i)
+{
+  return i >= 0 && i < d->nobj ? d->obj[i].fmax_hz : NAN;
+}
+
+int rr_design_verdict(const rr_design *d, int i)
+{
+  return i >= 0 && i < d->nobj ? d->obj[i].verdict : -1;
+}
+
 /* The rule an objective uses: the context's, with its own modifiers. */
 static rr_modal_opts rule_of(const rr_design *d, const objective *o)
 {
@@ -626,6 +638,7 @@ static int ride_value(objective *o, rr_model *m, double *f, rr_error *err)
   rr_ride_point c;
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
   if ((st = rr_ride_design(o->plan, m, &c, err))) return st;
+  o->verdict = c.stable;
   *f = o->kind == OBJ_SPERLING      ? c.sperling
        : o->kind == OBJ_SPERLING_GB ? c.sperling_gb
        : o->kind == OBJ_WD_RMS      ? c.wd_rms
@@ -655,6 +668,7 @@ static int vertical_value(rr_design *d, objective *o, rr_model *m, double *f, rr
   rr_ride_point lat[RR_RIDE_POINTS_MAX];
   if ((st = rr_model_set_operating(m, o->speed_ms, o->conicity, err))) return st;
   if ((st = rr_ride_design(o->plan, m, lat, err))) return st;
+  o->verdict = lat[0].stable;
   if (lat[0].stable == 0) { /* the lateral side undefined, and N_MV with it */
     *f = NAN;
     return RR_OK;
@@ -675,6 +689,8 @@ static int objective_value(rr_design *d, rr_model *const *models, objective *o, 
   int st;
   o->freq_hz = NAN;
   o->at_bound = 0;
+  o->fmax_hz = NAN;
+  o->verdict = -1;
   switch (o->kind) {
   case OBJ_ZETA_LOW:
   case OBJ_ZETA_HIGH:
@@ -685,6 +701,8 @@ static int objective_value(rr_design *d, rr_model *const *models, objective *o, 
     if ((st = rr_modal_stability(m, &mo, ws, &s, err))) return st;
     *f = s.index; /* NaN when undefined: the design fails (never counts as good) */
     o->freq_hz = s.index_freq_hz;
+    o->fmax_hz = s.fmax_hz;
+    o->verdict = rr_modal_stable(s.zeta_max);
     return RR_OK;
   }
   case OBJ_CRITICAL: {
