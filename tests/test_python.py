@@ -77,6 +77,8 @@ m430 = v2.modes(430, 0.6)
 check(m430["index_source"] == "hunting" and abs(m430["fmax_hz"] - 25.13) < 0.01 and v2.stability_index(430, 0.6) > 0,
       "the band edge at f_K (25.13 Hz) takes in the 10.1 Hz bogie mode: %s" % m430["fmax_hz"])
 check(np.isnan(v2.stability_index(350, 0.17, fmax=0.1)), "an undefined index is NaN")
+check(abs(v2.band_edge(350, 0.4) - 16.700206797433935) < 1e-9 and v2.band_edge(250, 0.05) == 10 and
+      v2.band_edge(350, 0.4, fmax=10) == 10, "Vehicle.band_edge: max(10 Hz, f_K), or the fixed fmax")
 rb = v.robust()
 check(all(abs(rb[k] - ref[k]) < 1e-12 for k in ("zeta_low", "zeta_high", "std_zeta")), "Vehicle.robust equals robust --json")
 check(abs(v.critical_speed(0.4) - 524.7) < 0.05 and np.isnan(v.critical_speed(0.05)), "Vehicle.critical_speed")

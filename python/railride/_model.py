@@ -110,6 +110,7 @@ def declare(lib):
         "rr_modal_solve": (ctypes.c_int, [P, ctypes.POINTER(_ModalOpts), P, ctypes.POINTER(_ModalResult), E]),
         "rr_modal_stability_batch": (ctypes.c_int, [P, ctypes.POINTER(_ModalOpts), P, ctypes.c_int, c_double_p,
                                                     c_double_p, ctypes.POINTER(_Stability), E]),
+        "rr_modal_band_edge_at": (ctypes.c_double, [P, ctypes.POINTER(_ModalOpts), ctypes.c_double, ctypes.c_double]),
         "rr_robust_opts_default": (_RobustOpts, []),
         "rr_robust_indices": (ctypes.c_int, [P, ctypes.POINTER(_ModalOpts), ctypes.POINTER(_RobustOpts), P,
                                              ctypes.POINTER(_Robust), E]),
@@ -245,6 +246,15 @@ class Vehicle:
                 else:  # NaN where no mode is oscillatory
                     out[i, j] = res[j].zeta_max if np.isfinite(res[j].max_freq_hz) else float("nan")
         return out
+
+    @_locked
+    def band_edge(self, speed_kmh, conicity, fmax=None):
+        """The stability index's band edge (Hz) at an operating point:
+        max(10 Hz, f_K), f_K the free wheelset's kinematic frequency, or
+        fmax when given (as every index of this Vehicle takes it)."""
+        self._live()
+        o = self._opts(fmax, 1e-3, 0.5)
+        return self._lib.rr_modal_band_edge_at(self._m, ctypes.byref(o), speed_kmh / KMH, float(conicity))
 
     @_locked
     def stability_index(self, speed_kmh, conicity, **kw):
