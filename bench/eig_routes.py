@@ -1,6 +1,6 @@
 """Two eigenvalue routes other than the Francis QR, measured on railride's state matrices.
 
-Measurement only (the thirty-second session's, docs/design-notes.md): would either
+Measurement only (2026-12-06, docs/design-notes.md, "Tried and not kept"): would either
 give the speed issue 26 asks of the eigen-solve? Neither does; this keeps the figures
 reproducible.
 
