@@ -112,7 +112,7 @@ static int lateral_side(vertical_run *r, const rr_vehicle *veh, double speed_kmh
   int st = ride_eval(veh, speed_kmh, conicity, rs, r->lat, r->lat_psd, r->lat_f, e);
   if (st) return st;
   if (r->lat[0].stable == 0 && rs->when_unstable != RR_RIDE_LINEAR) {
-    /* unstable: the lateral side, and with it EN 12299, is undefined */
+    /* unstable: the lateral side is undefined, and EN 12299 with it (NaN carries through) */
     for (int q = 0; q < r->np; q++) r->wd[q] = (rr_window_stats){NAN, NAN, NAN, NAN, NAN, NAN};
     return RR_OK;
   }
@@ -154,7 +154,6 @@ static void combine(vertical_run *r, const vertical_setup *vs)
                             .az50 = r->pt[q].wb_5s.p50,
                             .az95 = r->pt[q].wb_5s.p95};
     r->en[q] = rr_en12299_indices(&in);
-    if (isnan(in.ay95)) r->en[q] = (rr_en12299){NAN, NAN, NAN}; /* the lateral side undefined */
   }
   r->have_en = 1;
 }
@@ -391,8 +390,7 @@ static void ride_text_out(const cli_common *c, const ride_setup *rs, const verti
            ride_num(b[2], 32, "%.3f", r->en[q].n_mv, stable),
            ride_num(b[3], 32, "%.3f", r->en[q].n_vd, stable),
            ride_num(b[4], 32, "%.3f", r->en[q].n_va_rigid_seat, stable),
-           isnan(r->en[q].n_mv) ? "undefined: the lateral model is unstable"
-                                : rr_en12299_scale(r->en[q].n_mv));
+           rr_en12299_scale(r->en[q].n_mv));
   }
   printf("scale: < 1 very comfortable, 1-2 comfortable, 2-4 medium, 4-5 uncomfortable, >= 5 very "
          "uncomfortable\n");

@@ -113,7 +113,8 @@ typedef struct rr_en12299 {
   double n_mv, n_vd, n_va_rigid_seat;
 } rr_en12299;
 RR_API rr_en12299 rr_en12299_indices(const rr_en12299_inputs *a);
-/* The comfort scale's words for N: "very comfortable" (< 1) .. "very uncomfortable" (>= 5). */
+/* The comfort scale's words for N: "very comfortable" (< 1) .. "very uncomfortable" (>= 5);
+ * "undefined" for NaN (an unstable vehicle's ride). */
 RR_API const char *rr_en12299_scale(double n);
 
 #ifdef __cplusplus

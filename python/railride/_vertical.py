@@ -187,13 +187,13 @@ def _lateral(veh, pl, out, speed_kmh, lateral):
     G = np.ascontiguousarray(G)
     ws = (_WindowStats * G.shape[1])()
     veh._call("rr_vertical_window_stats", pl.p, _ptr(G), G.shape[1], G.shape[1], WD, ws)
+    out["lateral_stable"] = bool(pts[0].stable == 1)
+    if pts[0].stable == 0:  # the lateral model unstable: its side undefined, EN 12299 with it
+        for w in ws:
+            w.p50 = w.p95 = float("nan")
     out["lateral_psd"] = G
     out["wd_p50"], out["wd_p95"] = np.array([w.p50 for w in ws]), np.array([w.p95 for w in ws])
     en = [veh._lib.rr_en12299_indices(ctypes.byref(_ENInputs(0, 0, w.p50, w.p95, a, b)))
           for w, a, b in zip(ws, out["wb_p50"], out["wb_p95"])]  # longitudinal 0, rigid seat
     for k in ("n_mv", "n_vd", "n_va_rigid_seat"):
         out[k] = np.array([getattr(e, k) for e in en])
-    out["lateral_stable"] = bool(pts[0].stable == 1)
-    if pts[0].stable == 0:  # the lateral model unstable: its side, and EN 12299 with it, undefined
-        for k in ("wd_p50", "wd_p95", "n_mv", "n_vd", "n_va_rigid_seat"):
-            out[k] = np.full(len(pts), np.nan)

@@ -149,7 +149,7 @@ int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, r
   int N, st = rr_modal_eig(m, 0, 1, ws, &N, err);
   if (st) return st;
   rr_modal_collect(m, N, ws, res);
-  rr_modal_finish(res, o, rr_modal_band_edge(m, o), ws->branch);
+  rr_modal_finish(m, res, o, ws->branch);
   return RR_OK;
 }
 

@@ -186,9 +186,10 @@ static void unique_names(rr_modal_result *res)
   }
 }
 
-void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double fmax,
+void rr_modal_finish(const rr_model *m, rr_modal_result *res, const rr_modal_opts *o,
                      double complex *scratch)
 {
+  double fmax = rr_modal_band_edge(m, o);
   sort_result(res, scratch);
   unique_names(res);
   res->hunting_index = NAN;

@@ -61,9 +61,9 @@ void rr_mode_shares(const rr_model *m, const double complex *phi, rr_mode *md);
 void rr_mode_energy(const rr_model *m, const double complex *phi, rr_mode *md);
 /* Unit norm, largest component real and positive. */
 void rr_shape_normalise(double complex *phi, int n);
-/* Sorts, classifies against o with the band edge fmax (Hz), and sets the
-   index and zeta_max. */
-void rr_modal_finish(rr_modal_result *res, const rr_modal_opts *o, double fmax,
+/* Sorts, classifies against o with the band edge at m's operating point,
+   and sets the index and zeta_max. */
+void rr_modal_finish(const rr_model *m, rr_modal_result *res, const rr_modal_opts *o,
                      double complex *scratch);
 /* Null vector of D(s) by one inverse-iteration step (q part of a mode). */
 void rr_modal_null_vector(const rr_model *m, double complex s, rr_modal_ws *ws,

@@ -173,7 +173,7 @@ static int ref_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws,
   }
   res->n = r0->n;
   res->ndof = n;
-  rr_modal_finish(res, o, rr_modal_band_edge(m, o), ws->branch);
+  rr_modal_finish(m, res, o, ws->branch);
   return RR_OK;
 }
 
@@ -526,7 +526,7 @@ static int fast_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws
   rr_modal_collect(m, N, ws, r0);
   tr.anorm = rr_max_abs((size_t)N * (size_t)N, ws->A);
   if ((st = fast_track(&tr, r0, res, err))) return st;
-  rr_modal_finish(res, o, rr_modal_band_edge(m, o), ws->branch);
+  rr_modal_finish(m, res, o, ws->branch);
   return RR_OK;
 }
 
@@ -571,6 +571,6 @@ int rr_sdf_modes_fast_osc(const rr_model *m, const rr_modal_opts *o, rr_modal_ws
   rr_modal_result *r0 = res == &ws->trk[0] ? &ws->trk[1] : &ws->trk[0];
   osc_start(&tr, N, r0);
   if ((st = fast_track(&tr, r0, res, err))) return st;
-  rr_modal_finish(res, o, rr_modal_band_edge(m, o), ws->branch);
+  rr_modal_finish(m, res, o, ws->branch);
   return RR_OK;
 }

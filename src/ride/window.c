@@ -246,6 +246,7 @@ rr_en12299 rr_en12299_indices(const rr_en12299_inputs *a)
 
 const char *rr_en12299_scale(double n)
 {
+  if (isnan(n)) return "undefined";
   if (n < 1) return "very comfortable";
   if (n < 2) return "comfortable";
   if (n < 4) return "medium";
