@@ -197,6 +197,12 @@ int cli_file_arg(const char *opt, const char *arg);
 void cli_paper_letters(int n, int m, const double *x, const char *const *names, int k, int *label,
                        double *centre);
 
+/* Row-major index i * stride + j of ints, as the size_t an array takes. */
+static inline size_t cli_at(int i, int stride, int j)
+{
+  return (size_t)i * (size_t)stride + (size_t)j;
+}
+
 /* The vehicle stability index as text: "-0.118200 (hunting mode: carbody
    lateral-yaw at 1.0500 Hz)", "+0.0064 (unstable mode outside the hunting
    band: ...)", or "none (no hunting-related mode below F Hz; all stable)".
@@ -328,9 +334,10 @@ void ride_setup_points(ride_setup *r, const rr_vehicle *veh, int argc, char **ar
 int ride_eval(const rr_vehicle *veh, double speed_kmh, double conicity, const ride_setup *r,
               ride_point *out, double *psd, double *freqs, rr_error *err);
 cJSON *ride_methods_json(void);
-/* A ride index as text: "%.3f", "unstable" where the operating point is
-   unstable and the index undefined, "none" for another NaN. */
-const char *ride_num(char *buf, size_t len, const char *fmt, double x, int stable);
+/* A ride index as text with its digits after the point, "unstable" where
+   the operating point is unstable and the index undefined, "none" for
+   another NaN. */
+const char *ride_num(char *buf, size_t len, int digits, double x, int stable);
 
 int cmd_ride(int argc, char **argv);
 int cmd_frf(int argc, char **argv);

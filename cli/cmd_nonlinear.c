@@ -252,11 +252,12 @@ static int sim_columns_all(const rr_model *m, int nw, int accel, sim_col *c)
     c[k] = (sim_col){.kind = COL_ACC, .i = i};
     snprintf(c[k++].name, sizeof c->name, "%s_acc_%s", nm, nm[0] == 'y' ? "m_s2" : "rad_s2");
   }
-  static const char *const fmt[4] = {"yt_w%d_m", "Fy_w%d_N", "Mz_w%d_Nm", "flange_w%d_N"};
+  static const char *const quantity[4] = {"yt", "Fy", "Mz", "flange"}, *const unit[4] = {"m", "N",
+                                                                                         "Nm", "N"};
   for (int w = 0; w < nw; w++)
     for (int f = 0; f < 4; f++) {
       c[k] = (sim_col){.kind = COL_YT + f, .i = w};
-      snprintf(c[k++].name, sizeof c->name, fmt[f], w + 1);
+      snprintf(c[k++].name, sizeof c->name, "%s_w%d_%s", quantity[f], w + 1, unit[f]);
     }
   return k;
 }

@@ -46,7 +46,7 @@ static int eval_items(void *user, long lo, long hi, void *out)
   for (int s0 = 0; s0 < n; s0 += EVAL_SLICE) {
     int ns = n - s0 < EVAL_SLICE ? n - s0 : EVAL_SLICE;
     if (cli_stopped()) return RR_ESTOPPED;
-    int st = rr_design_evaluate_batch(c->d, ns, c->x + (lo + s0) * p->nvar, f + (size_t)s0 * w,
+    int st = rr_design_evaluate_batch(c->d, ns, c->x + (lo + s0) * p->nvar, f + cli_at(s0, w, 0),
                                       c->threads, NULL, &e);
     if (st) return cli_fail(&e, st);
   }
@@ -154,7 +154,7 @@ static int progress(void *user, int gen, long evals, double secs, int front, dou
   if (l->show) {
     double eta = secs / gen * (l->total - gen);
     fprintf(stderr, "\rgen %4d/%d  evals %9ld  %8.0f evals/s  front %5d", gen, l->total, evals,
-            evals / secs, front);
+            (double)evals / secs, front);
     if (!isnan(hv)) fprintf(stderr, "  hypervolume %.6g", hv);
     fprintf(stderr, "  ETA %.0f s   %s", eta, gen == l->total ? "\n" : "");
   }
@@ -469,7 +469,7 @@ static int run_report(optim_run *r, const rr_problem *p, const char *problem)
            "generation's\n",
            r->done_gens, p->generations);
   printf("  %ld designs in %.1f s (%.0f designs/s); %ld evaluated%s\n", evals, r->seconds,
-         evals / r->seconds, r->evaluated,
+         (double)evals / r->seconds, r->evaluated,
          r->resumed ? " after the resume" : ", the others unchanged copies of a parent");
   printf("  Pareto front: %d designs, written to %s (also %s; history: %s)\n", nfront, r->path,
          r->jpath, r->hpath);
@@ -621,7 +621,7 @@ typedef struct sweep_val {
   double stable;   /* a ride objective's verdict: 1, 0, or NaN not taken */
 } sweep_val;
 
-static double verdict_value(int v) { return v < 0 ? NAN : v; }
+static double verdict_value(int v) { return v < 0 ? NAN : (double)v; }
 
 static int sweep_point(sweep_run *r, const double *v, sweep_val *out, rr_error *e)
 {

@@ -58,7 +58,7 @@ static int read_row(pareto_set *ps, char *line, int ln)
   int n = cli_csv_split(line, f, PARETO_COLS_MAX + 1);
   if (n != ps->ncol)
     return cli_bad("%s:%d: %d fields, the header has %d", ps->path, ln, n, ps->ncol);
-  double *row = ps->v + (size_t)ps->nrow * ps->ncol;
+  double *row = ps->v + cli_at(ps->nrow, ps->ncol, 0);
   for (int j = 0; j < n; j++) {
     char *end;
     errno = 0;
@@ -99,7 +99,7 @@ static int pareto_read(pareto_set *ps)
       r = cli_bad("%s:%d: more than %d designs", ps->path, ln, PARETO_ROWS_MAX);
     if (!r && ps->nrow == cap) {
       cap = cap ? 2 * cap : 256;
-      double *v = realloc(ps->v, sizeof(double) * (size_t)cap * ps->ncol);
+      double *v = realloc(ps->v, sizeof(double) * cli_at(cap, ps->ncol, 0));
       char **l = realloc(ps->line, sizeof(char *) * (size_t)cap);
       if (v) ps->v = v;
       if (l) ps->line = l;
@@ -125,22 +125,21 @@ typedef struct pareto_clusters {
 /* 1 when row i counts: feasible, or no feasibility column. */
 static int counts(const pareto_set *ps, int i)
 {
-  return ps->feasible_col < 0 || ps->v[(size_t)i * ps->ncol + ps->feasible_col] != 0;
+  return ps->feasible_col < 0 || ps->v[cli_at(i, ps->ncol, ps->feasible_col)] != 0;
 }
 
 static int pareto_cluster(const pareto_set *ps, int k, pareto_clusters *pc)
 {
   int n = ps->nrow, m = ps->nobj, r = 0;
-  double *x = malloc(sizeof(double) * (size_t)n * m);
+  double *x = malloc(sizeof(double) * cli_at(n, m, 0));
   int *lab = malloc(sizeof(int) * (size_t)n);
   pc->label = malloc(sizeof(int) * (size_t)n);
-  pc->centre = malloc(sizeof(double) * (size_t)k * m);
+  pc->centre = malloc(sizeof(double) * cli_at(k, m, 0));
   pc->k = k;
   if (!x || !lab || !pc->label || !pc->centre) r = cli_bad("out of memory");
   for (int i = 0; !r && i < n; i++) {
     if (!counts(ps, i)) continue;
-    for (int j = 0; j < m; j++)
-      x[(size_t)pc->nuse * m + j] = ps->v[(size_t)i * ps->ncol + ps->obj[j]];
+    for (int j = 0; j < m; j++) x[cli_at(pc->nuse, m, j)] = ps->v[cli_at(i, ps->ncol, ps->obj[j])];
     pc->nuse++;
   }
   if (!r && pc->nuse < k)
@@ -167,7 +166,7 @@ static void var_stats(const pareto_set *ps, const pareto_clusters *pc, int q, in
   out[0] = 0, out[1] = INFINITY, out[2] = -INFINITY;
   for (int i = 0; i < ps->nrow; i++)
     if (pc->label[i] == q) {
-      double v = ps->v[(size_t)i * ps->ncol + col];
+      double v = ps->v[cli_at(i, ps->ncol, col)];
       out[0] += v / pc->count[q];
       out[1] = fmin(out[1], v);
       out[2] = fmax(out[2], v);
@@ -182,7 +181,7 @@ static void pareto_text(const pareto_set *ps, const pareto_clusters *pc)
   for (int q = 0; q < pc->k; q++) {
     printf("\ncluster %c: %d designs\n", 'A' + q, pc->count[q]);
     for (int j = 0; j < ps->nobj; j++)
-      printf("  %-44s centre %.6g\n", ps->name[ps->obj[j]], pc->centre[(size_t)q * ps->nobj + j]);
+      printf("  %-44s centre %.6g\n", ps->name[ps->obj[j]], pc->centre[cli_at(q, ps->nobj, j)]);
     for (int j = 0; j < ps->nvar; j++) {
       double s[3];
       var_stats(ps, pc, q, ps->var[j], s);
@@ -216,7 +215,7 @@ static void pareto_json(const pareto_set *ps, const pareto_clusters *pc)
     cJSON_AddStringToObject(c, "name", nm);
     cJSON_AddNumberToObject(c, "designs", pc->count[q]);
     for (int j = 0; j < ps->nobj; j++)
-      cJSON_AddNumberToObject(o, ps->name[ps->obj[j]], pc->centre[(size_t)q * ps->nobj + j]);
+      cJSON_AddNumberToObject(o, ps->name[ps->obj[j]], pc->centre[cli_at(q, ps->nobj, j)]);
     for (int j = 0; j < ps->nvar; j++) {
       double s[3];
       var_stats(ps, pc, q, ps->var[j], s);

@@ -295,11 +295,10 @@ static void ride_text(const cli_common *c, const ride_args *a, const ride_result
       const ride_point *p = &rr->pts[k * np + q];
       char b[4][32];
       printf("%9.4g %9.4g %12s %9s %9s %12s  %s\n", a->conicities[k], p->x,
-             ride_num(b[0], 32, "%.5g", p->rms, p->stable),
-             ride_num(b[1], 32, "%.4f", p->sperling, p->stable),
-             ride_num(b[2], 32, "%.4f", p->sperling_gb, p->stable),
-             ride_num(b[3], 32, "%.5g", p->wd_rms, p->stable),
-             p->stable == 0 ? "UNSTABLE" : "stable");
+             ride_num(b[0], 32, 5, p->rms, p->stable),
+             ride_num(b[1], 32, 4, p->sperling, p->stable),
+             ride_num(b[2], 32, 4, p->sperling_gb, p->stable),
+             ride_num(b[3], 32, 5, p->wd_rms, p->stable), p->stable == 0 ? "UNSTABLE" : "stable");
     }
 }
 
@@ -564,9 +563,9 @@ static int compare_one(const rr_vehicle *base, const cli_common *c, const cmp_ar
       char b1[32], b2[32], b3[32], b4[32], b5[32], b6[32];
       int uc = pc[0].lat.stable, us = ps[0].lat.stable;
       printf("%9.4f %12s %12s %10s %10s %9s %9s %9.2f\n", lam, cli_num_or_none(b1, sizeof b1, zc),
-             cli_num_or_none(b2, sizeof b2, zs), ride_num(b3, 32, "%.4f", wcmax, uc),
-             ride_num(b4, 32, "%.4f", wsmax, us), ride_num(b5, 32, "%.4f", nc, uc),
-             ride_num(b6, 32, "%.4f", ns, us), sc.fmax_hz);
+             cli_num_or_none(b2, sizeof b2, zs), ride_num(b3, 32, 4, wcmax, uc),
+             ride_num(b4, 32, 4, wsmax, us), ride_num(b5, 32, 4, nc, uc),
+             ride_num(b6, 32, 4, ns, us), sc.fmax_hz);
     }
     if (a->pd) cmp_csv_row(a->pd, base->name, lam, zc, zs, wcmax, wsmax, nc, ns, sc.fmax_hz);
   }

@@ -231,11 +231,10 @@ static void ride_text(const cli_common *c, const summary *s)
         snprintf(lab, sizeof lab, "constant %g MN/m", c->veh.yaw_series_stiffness / 1e6);
       char b[4][32];
       printf("  %8.2f  %-26s %7s %7s %7s %12s\n", lams[i], lab,
-             ride_num(b[0], 32, "%.3f", p[0].sperling, p[0].stable),
-             ride_num(b[1], 32, "%.3f", p[1].sperling, p[1].stable),
-             ride_num(b[2], 32, "%.3f", p[2].sperling, p[2].stable),
-             ride_num(b[3], 32, "%.5f", fmax(p[0].wd_rms, fmax(p[1].wd_rms, p[2].wd_rms)),
-                      p[0].stable));
+             ride_num(b[0], 32, 3, p[0].sperling, p[0].stable),
+             ride_num(b[1], 32, 3, p[1].sperling, p[1].stable),
+             ride_num(b[2], 32, 3, p[2].sperling, p[2].stable),
+             ride_num(b[3], 32, 5, fmax(p[0].wd_rms, fmax(p[1].wd_rms, p[2].wd_rms)), p[0].stable));
     }
 }
 

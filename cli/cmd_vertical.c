@@ -385,11 +385,10 @@ static void ride_text_out(const cli_common *c, const ride_setup *rs, const verti
     int stable = vs->lateral_given ? 1 : r->lat[q].stable;
     char b[5][32];
     printf("%9.4g %11s %11s %11.5g %11.5g %7s %7s %7s  %s\n", r->pt[q].x,
-           ride_num(b[0], 32, "%.5g", r->wd[q].p50, stable),
-           ride_num(b[1], 32, "%.5g", r->wd[q].p95, stable), r->pt[q].wb_5s.p50, r->pt[q].wb_5s.p95,
-           ride_num(b[2], 32, "%.3f", r->en[q].n_mv, stable),
-           ride_num(b[3], 32, "%.3f", r->en[q].n_vd, stable),
-           ride_num(b[4], 32, "%.3f", r->en[q].n_va_rigid_seat, stable),
+           ride_num(b[0], 32, 5, r->wd[q].p50, stable), ride_num(b[1], 32, 5, r->wd[q].p95, stable),
+           r->pt[q].wb_5s.p50, r->pt[q].wb_5s.p95, ride_num(b[2], 32, 3, r->en[q].n_mv, stable),
+           ride_num(b[3], 32, 3, r->en[q].n_vd, stable),
+           ride_num(b[4], 32, 3, r->en[q].n_va_rigid_seat, stable),
            rr_en12299_scale(r->en[q].n_mv));
   }
   printf("scale: < 1 very comfortable, 1-2 comfortable, 2-4 medium, 4-5 uncomfortable, >= 5 very "

@@ -148,9 +148,9 @@ static void wear_text(const cli_common *c, const wear_row *w, int n, int nonline
            rr_modal_stable(w[i].s.zeta_max) ? "stable" : "UNSTABLE",
            w[i].cr.found ? (snprintf(b2, sizeof b2, "%.3f", w[i].cr.speed_ms * RR_KMH), b2)
                          : "> " RR_STR(WEAR_VMAX_KMH),
-           ride_num(bw[0], 32, "%.3f", w[i].rp[0].sperling, w[i].rp[0].stable),
-           ride_num(bw[1], 32, "%.3f", w[i].rp[1].sperling, w[i].rp[1].stable),
-           ride_num(bw[2], 32, "%.3f", w[i].rp[2].sperling, w[i].rp[2].stable));
+           ride_num(bw[0], 32, 3, w[i].rp[0].sperling, w[i].rp[0].stable),
+           ride_num(bw[1], 32, 3, w[i].rp[1].sperling, w[i].rp[1].stable),
+           ride_num(bw[2], 32, 3, w[i].rp[2].sperling, w[i].rp[2].stable));
   }
   if (!nonlinear) return;
   printf(

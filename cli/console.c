@@ -60,7 +60,7 @@ double cli_now_s(void)
 {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 void cli_progress_start(cli_progress *p, const char *what, long total, int force)
@@ -82,10 +82,11 @@ void cli_progress_step(cli_progress *p, long n)
   double every = p->tty ? CONSOLE_REDRAW_S : CONSOLE_FILE_LINE_S;
   if (!p->show || (now - p->last < every && p->done < p->total)) return;
   p->last = now;
-  double eta = p->done ? (now - p->t0) / p->done * (p->total - p->done) : 0;
+  double done = (double)p->done, total = (double)p->total;
+  double eta = p->done ? (now - p->t0) / done * (total - done) : 0;
   fprintf(stderr,
           p->tty ? "\r%s: %ld/%ld (%.0f%%)  ETA %.0f s   " : "%s: %ld/%ld (%.0f%%)  ETA %.0f s\n",
-          p->what, p->done, p->total, 100.0 * p->done / p->total, eta);
+          p->what, p->done, p->total, 100.0 * done / total, eta);
 }
 
 static int progress_hook(void *user, long done, long total)

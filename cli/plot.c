@@ -623,7 +623,7 @@ static int front_clusters(const char *d, const pareto_plot *pp, int k, double *c
 {
   FILE *f = fopen(d, "r");
   int n = 0, cap = 0, m = pp->nobj, r = -1;
-  double *x = NULL, row[PP_MAX * 2], *ctr = malloc(sizeof(double) * (size_t)k * m);
+  double *x = NULL, row[PP_MAX * 2], *ctr = malloc(sizeof(double) * cli_at(k, m, 0));
   int *lab = NULL;
   char line[8192];
   if (!f || !ctr || !fgets(line, sizeof line, f)) goto done;
@@ -632,11 +632,11 @@ static int front_clusters(const char *d, const pareto_plot *pp, int k, double *c
     for (int j = 0; j < pp->ncol; j++, p += *p == ',') row[j] = strtod(p, &p);
     if (pp->col_feasible >= 0 && row[pp->col_feasible] == 0) continue;
     if (n == cap) {
-      double *nx = realloc(x, sizeof(double) * (size_t)(cap = cap ? 2 * cap : 256) * m);
+      double *nx = realloc(x, sizeof(double) * cli_at(cap = cap ? 2 * cap : 256, m, 0));
       if (!nx) goto done;
       x = nx;
     }
-    for (int j = 0; j < m; j++) x[(size_t)n * m + j] = row[pp->obj[j]];
+    for (int j = 0; j < m; j++) x[cli_at(n, m, j)] = row[pp->obj[j]];
     n++;
   }
   rr_error e;
@@ -646,7 +646,7 @@ static int front_clusters(const char *d, const pareto_plot *pp, int k, double *c
     for (int j = 0; j < m; j++) names[j] = pp->name[pp->obj[j]];
     cli_paper_letters(n, m, x, names, k, lab, ctr);
     for (int q = 0; q < k; q++)
-      c[2 * q] = ctr[(size_t)q * m], c[2 * q + 1] = ctr[(size_t)q * m + 1];
+      c[2 * q] = ctr[cli_at(q, m, 0)], c[2 * q + 1] = ctr[cli_at(q, m, 1)];
     r = 0;
   }
 done:
@@ -991,7 +991,9 @@ static int have_gnuplot(void)
 static int run_gnuplot(const char *script, const char *err)
 {
   posix_spawn_file_actions_t fa;
-  char *const av[] = {"gnuplot", (char *)script, NULL};
+  char path[PATH_MAX]; /* argv's strings are writable in the spawn's interface */
+  snprintf(path, sizeof path, "%s", script);
+  char *const av[] = {"gnuplot", path, NULL};
   pid_t pid;
   int st = -1;
   if (posix_spawn_file_actions_init(&fa)) return -1;
@@ -1289,12 +1291,15 @@ int cli_plot_run(const char *cmd, int (*fn)(int, char **), int argc, char **argv
   for (int i = 0; i < argc; i++)
     if (i != at && i != at + 1 && (sat < 0 || (i != sat && i != sat + 1))) av[n++] = argv[i];
   const char *file_data = k->file_option ? arg_after(n, av, k->file_option) : NULL;
+  char opt_file[64], opt_extra[64]; /* the kind's option names, writable as argv's are */
+  snprintf(opt_file, sizeof opt_file, "%s", k->file_option ? k->file_option : "");
+  snprintf(opt_extra, sizeof opt_extra, "%s", k->extra ? k->extra : "");
   if (k->file_option && !file_data) {
-    av[n++] = (char *)k->file_option;
+    av[n++] = opt_file;
     av[n++] = data;
     file_data = data;
   }
-  if (k->extra && !has_arg(n, av, k->extra)) av[n++] = (char *)k->extra;
+  if (k->extra && !has_arg(n, av, k->extra)) av[n++] = opt_extra;
   char ctx[300]; /* before the command runs: getopt_long reorders av */
   context(n, av, ctx, sizeof ctx);
   int r;

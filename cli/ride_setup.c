@@ -66,10 +66,10 @@ cJSON *ride_methods_json(void)
   return m;
 }
 
-const char *ride_num(char *buf, size_t len, const char *fmt, double x, int stable)
+const char *ride_num(char *buf, size_t len, int digits, double x, int stable)
 {
   if (isnan(x)) return stable == 0 ? "unstable" : "none";
-  snprintf(buf, len, fmt, x);
+  snprintf(buf, len, "%.*f", digits, x);
   return buf;
 }
 

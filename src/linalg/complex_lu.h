@@ -9,10 +9,6 @@
  * Pivots smaller than tiny are replaced by tiny (inverse iteration wants a
  * nearly singular matrix to stay solvable). Returns the number replaced. */
 int rr_clu_factor(double complex *A, int n, int *piv, double tiny);
-/* The same for sparse A (n <= RR_CLU_MAX): work only where the pivot row and
- * column have nonzeros. Same factors, to rounding. */
-#define RR_CLU_MAX 64
-int rr_clu_factor_sparse(double complex *A, int n, int *piv, double tiny);
 /* Solves A x = b in place with the factors. */
 void rr_clu_solve(const double complex *LU, int n, const int *piv, double complex *b);
 #endif

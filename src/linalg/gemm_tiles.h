@@ -56,8 +56,8 @@ GT_TARGET static inline __attribute__((always_inline)) void gt_rows(int mr, int 
     for (int i = 0; i < mr; i++) {
       double s = 0;
       for (int p = 0; p < k; p++)
-        s = __builtin_fma(a[(size_t)i * (size_t)lda + (size_t)p], b[(size_t)p * (size_t)ldb + j],
-                          s);
+        s = __builtin_fma(a[(size_t)i * (size_t)lda + (size_t)p],
+                          b[(size_t)p * (size_t)ldb + (size_t)j], s);
       c[(size_t)i * (size_t)ldc + (size_t)j] = s;
     }
 }

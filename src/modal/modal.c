@@ -11,7 +11,6 @@
 #include <string.h>
 #include "modal/modal_impl.h"
 #include "linalg/max_abs.h"
-#include "linalg/complex_lu.h"
 #include "model/dynamic_stiffness.h"
 #include "linalg/hessenberg_qr.h"
 #include "util/internal.h"
@@ -151,20 +150,6 @@ int rr_modal_solve(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, r
   rr_modal_collect(m, N, ws, res);
   rr_modal_finish(m, res, o, ws->branch);
   return RR_OK;
-}
-
-/* Eigenvector (q part) of D(s) phi = 0 by inverse iteration: with s accurate
-   to ~1e-14 one step leaves the null vector accurate to ~1e-8, far finer
-   than the energy-share thresholds need. */
-void rr_modal_null_vector(const rr_model *m, double complex s, rr_modal_ws *ws, double complex *phi)
-{
-  int n = m->n;
-  rr_model_dynamic_stiffness(m, s, 0, ws->D);
-  double nrm = 0;
-  for (int i = 0; i < n * n; i++) nrm += fabs(creal(ws->D[i])) + fabs(cimag(ws->D[i]));
-  rr_clu_factor(ws->D, n, ws->piv, 1e-15 * nrm / n);
-  for (int i = 0; i < n; i++) phi[i] = rr_dsolver_start(i);
-  rr_clu_solve(ws->D, n, ws->piv, phi);
 }
 
 /* The q shape of eigenvalue s by one inverse-iteration step on D(s) (the

@@ -65,9 +65,6 @@ void rr_shape_normalise(double complex *phi, int n);
    and sets the index and zeta_max. */
 void rr_modal_finish(const rr_model *m, rr_modal_result *res, const rr_modal_opts *o,
                      double complex *scratch);
-/* Null vector of D(s) by one inverse-iteration step (q part of a mode). */
-void rr_modal_null_vector(const rr_model *m, double complex s, rr_modal_ws *ws,
-                          double complex *phi);
 
 /* Paper-mode SDF: the self-consistent modes of m into res (o->tracking). */
 int rr_sdf_modes(const rr_model *m, const rr_modal_opts *o, rr_modal_ws *ws, rr_modal_result *res,

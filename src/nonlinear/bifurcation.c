@@ -8,18 +8,9 @@
 #include <lapacke.h>
 #include "railride/nonlinear.h"
 #include "railride/stability.h"
+#include "nonlinear/nonlinear_impl.h"
 #include "nonlinear/orbit.h"
 #include "util/internal.h"
-
-void rr_nonlinear_rhs_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
-                         double *dz);
-void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
-                              double *J);
-void rr_nonlinear_jvp_at(const rr_nonlinear *nl, double v, const double *z, const double *X, int m,
-                         int dfdv, double *out);
-int rr_nonlinear_kinks_at(const rr_nonlinear *nl, double v, const double *z, double *g);
-void rr_nonlinear_jacobian_harmonic_at(const rr_nonlinear *nl, double v, double amp, double *J);
-int rr_nonlinear_is_odd(const rr_nonlinear *nl);
 
 #define AMP_UNIT 1e-3            /* arclength: 1 mm of amplitude ... */
 #define SPEED_UNIT (10 / RR_KMH) /* ... weighs as 10 km/h */

@@ -10,11 +10,9 @@
 #include <string.h>
 #include "railride/nonlinear.h"
 #include "model/model_impl.h"
+#include "nonlinear/nonlinear_impl.h"
 #include "util/internal.h"
-
-double rr_profile_eval(const rr_profile *p, double a_m, double *dlam_da);
-void rr_nonlinear_jacobian_at(const rr_nonlinear *nl, double v, const double *z, const double *yt,
-                              double *J);
+#include "vehicle/profile_impl.h"
 
 #define RR_NL_MAX_STATES (2 * RR_SYS_MAX_DOF + 4 * RR_SYS_MAX_BODIES)
 

@@ -19,7 +19,7 @@ rr_sim_opts rr_sim_opts_default(void)
 }
 
 typedef struct sim_ctx {
-  rr_nonlinear *nl;
+  const rr_nonlinear *nl;
   const rr_sim_opts *o;
 } sim_ctx;
 
@@ -94,7 +94,7 @@ int rr_simulate(const rr_nonlinear *nl, const double *z0, const rr_sim_opts *o, 
   if (rr_nonlinear_ninputs(nl) > RR_NL_MAX_INPUTS)
     return rr_seterr(err, RR_EINVAL, "simulate: too many inputs");
   int N = rr_nonlinear_size(nl), st;
-  sim_ctx s = {.nl = (rr_nonlinear *)nl, .o = o};
+  sim_ctx s = {.nl = nl, .o = o};
   rr_ode ode = {.n = N, .rhs = sim_rhs, .jac = sim_jac, .user = &s};
   double *atol = malloc(sizeof(double) * (size_t)N);
   if (!atol) return rr_seterr(err, RR_ENOMEM, "out of memory");

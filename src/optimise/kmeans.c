@@ -8,20 +8,21 @@
 
 #define KMEANS_MAX_ITER 1000 /* Lloyd passes; each lowers the sum of squares, so it ends first */
 
-static double dist2(const double *a, const double *b, int m)
+/* Sizes are size_t inside: n points of m coordinates, k groups. */
+static double dist2(const double *a, const double *b, size_t m)
 {
   double s = 0;
-  for (int j = 0; j < m; j++) s += (a[j] - b[j]) * (a[j] - b[j]);
+  for (size_t j = 0; j < m; j++) s += (a[j] - b[j]) * (a[j] - b[j]);
   return s;
 }
 
 /* The index of the centre nearest to p (ties to the lower index). */
-static int nearest(const double *p, const double *c, int k, int m)
+static size_t nearest(const double *p, const double *c, size_t k, size_t m)
 {
-  int best = 0;
+  size_t best = 0;
   double bd = dist2(p, c, m);
-  for (int i = 1; i < k; i++) {
-    double d = dist2(p, c + (size_t)i * m, m);
+  for (size_t i = 1; i < k; i++) {
+    double d = dist2(p, c + i * m, m);
     if (d < bd) bd = d, best = i;
   }
   return best;
@@ -29,65 +30,82 @@ static int nearest(const double *p, const double *c, int k, int m)
 
 /* The farthest-point start: y's smallest first coordinate, then each point
    farthest from the centres chosen so far. */
-static void start(const double *y, int n, int m, int k, double *c)
+static void start(const double *y, size_t n, size_t m, size_t k, double *c)
 {
-  int first = 0;
-  for (int i = 1; i < n; i++)
-    if (y[(size_t)i * m] < y[(size_t)first * m]) first = i;
-  memcpy(c, y + (size_t)first * m, sizeof(double) * (size_t)m);
-  for (int q = 1; q < k; q++) {
-    int far = 0;
+  size_t first = 0;
+  for (size_t i = 1; i < n; i++)
+    if (y[i * m] < y[first * m]) first = i;
+  memcpy(c, y + first * m, sizeof(double) * m);
+  for (size_t q = 1; q < k; q++) {
+    size_t far = 0;
     double fd = -1;
-    for (int i = 0; i < n; i++) {
-      const double *p = y + (size_t)i * m;
-      double d = dist2(p, c + (size_t)nearest(p, c, q, m) * m, m);
+    for (size_t i = 0; i < n; i++) {
+      const double *p = y + i * m;
+      double d = dist2(p, c + nearest(p, c, q, m) * m, m);
       if (d > fd) fd = d, far = i;
     }
-    memcpy(c + (size_t)q * m, y + (size_t)far * m, sizeof(double) * (size_t)m);
+    memcpy(c + q * m, y + far * m, sizeof(double) * m);
   }
 }
 
 /* Lloyd's passes until no label changes: the labels and the passes made. An
    empty group keeps its centre. */
-static int lloyd(const double *y, int n, int m, int k, double *c, int *label, int *cnt)
+static int lloyd(const double *y, size_t n, size_t m, size_t k, double *c, size_t *label,
+                 size_t *cnt)
 {
-  for (int i = 0; i < n; i++) label[i] = -1;
+  for (size_t i = 0; i < n; i++) label[i] = k; /* none yet */
   for (int it = 1; it <= KMEANS_MAX_ITER; it++) {
     int changed = 0;
-    for (int i = 0; i < n; i++) {
-      int l = nearest(y + (size_t)i * m, c, k, m);
+    for (size_t i = 0; i < n; i++) {
+      size_t l = nearest(y + i * m, c, k, m);
       changed |= l != label[i];
       label[i] = l;
     }
     if (!changed) return it;
-    memset(cnt, 0, sizeof(int) * (size_t)k);
-    for (int i = 0; i < n; i++) cnt[label[i]]++;
-    for (int q = 0; q < k; q++)
-      if (cnt[q]) memset(c + (size_t)q * m, 0, sizeof(double) * (size_t)m);
-    for (int i = 0; i < n; i++)
-      for (int j = 0; j < m; j++) c[(size_t)label[i] * m + j] += y[(size_t)i * m + j];
-    for (int q = 0; q < k; q++)
-      for (int j = 0; cnt[q] && j < m; j++) c[(size_t)q * m + j] /= cnt[q];
+    memset(cnt, 0, sizeof(size_t) * k);
+    for (size_t i = 0; i < n; i++) cnt[label[i]]++;
+    for (size_t q = 0; q < k; q++)
+      if (cnt[q]) memset(c + q * m, 0, sizeof(double) * m);
+    for (size_t i = 0; i < n; i++)
+      for (size_t j = 0; j < m; j++) c[label[i] * m + j] += y[i * m + j];
+    for (size_t q = 0; q < k; q++)
+      for (size_t j = 0; cnt[q] && j < m; j++) c[q * m + j] /= (double)cnt[q];
   }
   return KMEANS_MAX_ITER;
 }
 
 /* Renumbers the groups by ascending first coordinate of their centres
-   (ties to the lower old number); order, rank: k ints, tmp: k x m doubles. */
-static void renumber(int n, int m, int k, double *c, int *label, int *order, int *rank, double *tmp)
+   (ties to the lower old number); order, rank: k entries, tmp: k x m doubles. */
+static void renumber(size_t n, size_t m, size_t k, double *c, size_t *label, size_t *order,
+                     size_t *rank, double *tmp)
 {
-  for (int q = 0; q < k; q++) order[q] = q;
-  for (int a = 1; a < k; a++) /* insertion sort: k is small */
-    for (int b = a; b > 0 && c[(size_t)order[b] * m] < c[(size_t)order[b - 1] * m]; b--) {
-      int t = order[b];
+  for (size_t q = 0; q < k; q++) order[q] = q;
+  for (size_t a = 1; a < k; a++) /* insertion sort: k is small */
+    for (size_t b = a; b > 0 && c[order[b] * m] < c[order[b - 1] * m]; b--) {
+      size_t t = order[b];
       order[b] = order[b - 1];
       order[b - 1] = t;
     }
-  for (int q = 0; q < k; q++) rank[order[q]] = q;
-  for (int i = 0; i < n; i++) label[i] = rank[label[i]];
-  memcpy(tmp, c, sizeof(double) * (size_t)k * m);
-  for (int q = 0; q < k; q++)
-    memcpy(c + (size_t)q * m, tmp + (size_t)order[q] * m, sizeof(double) * (size_t)m);
+  for (size_t q = 0; q < k; q++) rank[order[q]] = q;
+  for (size_t i = 0; i < n; i++) label[i] = rank[label[i]];
+  memcpy(tmp, c, sizeof(double) * k * m);
+  for (size_t q = 0; q < k; q++) memcpy(c + q * m, tmp + order[q] * m, sizeof(double) * m);
+}
+
+/* The scaling of each coordinate over the points, [lo, lo + w] -> [0, 1]
+   (scale 0: lo 0, w 1), and the scaled points into y. */
+static void scale_points(const double *x, size_t n, size_t m, int scale, double *lo, double *w,
+                         double *y)
+{
+  for (size_t j = 0; j < m; j++) {
+    lo[j] = INFINITY;
+    double hi = -INFINITY;
+    for (size_t i = 0; i < n; i++) lo[j] = fmin(lo[j], x[i * m + j]), hi = fmax(hi, x[i * m + j]);
+    w[j] = scale && hi > lo[j] ? hi - lo[j] : 1;
+    if (!scale) lo[j] = 0;
+  }
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < m; j++) y[i * m + j] = (x[i * m + j] - lo[j]) / w[j];
 }
 
 int rr_kmeans(int n, int m, const double *x, int k, int scale, int *label, double *centre,
@@ -95,34 +113,28 @@ int rr_kmeans(int n, int m, const double *x, int k, int scale, int *label, doubl
 {
   if (n < 1 || m < 1 || k < 1 || k > n || k > 1000)
     return rr_seterr(err, RR_EINVAL, "k-means: need 1 <= k <= n (and k <= 1000): n %d, k %d", n, k);
-  for (size_t i = 0; i < (size_t)n * m; i++)
+  size_t N = (size_t)n, M = (size_t)m, K = (size_t)k;
+  for (size_t i = 0; i < N * M; i++)
     if (!isfinite(x[i]))
-      return rr_seterr(err, RR_EINVAL, "k-means: point %zu is not finite", i / m);
-  double *y = malloc(sizeof(double) * ((size_t)n * m + 2 * (size_t)k * m + 2 * (size_t)m));
-  int *cnt = malloc(sizeof(int) * 3 * (size_t)k); /* counts, then renumber's order and rank */
-  if (!y || !cnt) {
+      return rr_seterr(err, RR_EINVAL, "k-means: point %zu is not finite", i / M);
+  double *y = malloc(sizeof(double) * (N * M + 2 * K * M + 2 * M));
+  size_t *lab = malloc(sizeof(size_t) * (N + 3 * K)); /* labels, counts, renumber's order, rank */
+  if (!y || !lab) {
     free(y);
-    free(cnt);
+    free(lab);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
-  double *c = y + (size_t)n * m, *tmp = c + (size_t)k * m, *lo = tmp + (size_t)k * m, *w = lo + m;
-  for (int j = 0; j < m; j++) { /* the scaling: [lo, lo + w] -> [0, 1] */
-    lo[j] = INFINITY;
-    double hi = -INFINITY;
-    for (int i = 0; i < n; i++)
-      lo[j] = fmin(lo[j], x[(size_t)i * m + j]), hi = fmax(hi, x[(size_t)i * m + j]);
-    w[j] = scale && hi > lo[j] ? hi - lo[j] : 1;
-    if (!scale) lo[j] = 0;
-  }
-  for (int i = 0; i < n; i++)
-    for (int j = 0; j < m; j++) y[(size_t)i * m + j] = (x[(size_t)i * m + j] - lo[j]) / w[j];
-  start(y, n, m, k, c);
-  int it = lloyd(y, n, m, k, c, label, cnt);
-  renumber(n, m, k, c, label, cnt + k, cnt + 2 * k, tmp);
-  for (size_t q = 0; centre && q < (size_t)k; q++)
-    for (int j = 0; j < m; j++) centre[q * m + j] = lo[j] + w[j] * c[q * m + j];
+  double *c = y + N * M, *tmp = c + K * M, *lo = tmp + K * M, *w = lo + M;
+  size_t *cnt = lab + N;
+  scale_points(x, N, M, scale, lo, w, y);
+  start(y, N, M, K, c);
+  int it = lloyd(y, N, M, K, c, lab, cnt);
+  renumber(N, M, K, c, lab, cnt + K, cnt + 2 * K, tmp);
+  for (size_t i = 0; i < N; i++) label[i] = (int)lab[i];
+  for (size_t q = 0; centre && q < K; q++)
+    for (size_t j = 0; j < M; j++) centre[q * M + j] = lo[j] + w[j] * c[q * M + j];
   if (iterations) *iterations = it;
   free(y);
-  free(cnt);
+  free(lab);
   return RR_OK;
 }

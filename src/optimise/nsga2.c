@@ -259,7 +259,7 @@ static double hypervolume(int n, int m, const double *f, const double *ref)
       *tmp = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
   double *s1 = malloc(sizeof(double) * (size_t)(n + 1)),
          *s2 = malloc(sizeof(double) * (size_t)(n + 1)),
-         *key = calloc(n > 0 ? n : 1, sizeof(double));
+         *key = calloc((size_t)(n > 0 ? n : 1), sizeof(double));
   if (!idx || !tmp || !s1 || !s2 || !key) {
     free(idx);
     free(tmp);
@@ -386,7 +386,7 @@ static double now_s(void)
 {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 static void sanitize(double *f, int n)
@@ -768,7 +768,7 @@ static void make_offspring(nsga_work *w, const double *lo, const double *hi, rr_
   int N = w->N, d = w->d;
   double pm = o->p_mutation > 0 ? o->p_mutation : 1.0 / d;
   for (int i = 0; i < N; i++) {
-    int a = (int)(rr_rng_next(rng) % N), b = (int)(rr_rng_next(rng) % N);
+    int a = (int)(rr_rng_next(rng) % (uint64_t)N), b = (int)(rr_rng_next(rng) % (uint64_t)N);
     w->sel[i] = better(a, b, w->rank, w->cd) ? a : b;
   }
   for (int i = 0; i < N; i += 2) {

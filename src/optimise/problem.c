@@ -4,6 +4,7 @@
 #include <math.h>
 #include <errno.h>
 #include <ini.h>
+#include <stdarg.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,11 +25,17 @@ typedef struct pr_ctx {
   int known; /* a problem-file section was met: the file is one, its text may be quoted */
 } pr_ctx;
 
-static int pr_fail(pr_ctx *c, const char *sec, const char *key, const char *fmt, const char *a)
+/* The first failure, "FILE:LINE: [SECTION] KEY: message"; returns 0 (inih: stop). */
+static int pr_fail(pr_ctx *c, const char *sec, const char *key, const char *fmt, ...)
+    RR_PRINTF(4, 5);
+static int pr_fail(pr_ctx *c, const char *sec, const char *key, const char *fmt, ...)
 {
   if (c->status) return 0;
   char msg[RR_ERROR_MSG_MAX];
-  snprintf(msg, sizeof msg, fmt, a);
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
   c->status =
       rr_seterr(c->err, RR_EPARSE, "%s:%d: [%s] %s: %s", c->path, c->rl.line, sec, key, msg);
   return 0;

@@ -137,7 +137,7 @@ int rr_frf_plan_new(const rr_model *m, const rr_frf_opts *o, rr_frf_plan **out, 
   p->np = o->npoints;
   p->ni = m->ni;
   p->nf = nf;
-  p->method = o->method == RR_FRF_MODAL_LAPACK ? RR_FRF_MODAL : o->method;
+  p->method = o->method == RR_FRF_MODAL_LAPACK ? (int)RR_FRF_MODAL : (int)o->method;
   p->use_dgeev = o->method == RR_FRF_MODAL_LAPACK;
   int N = 2 * m->n + m->nmx + m->nsdf + 2;
   for (int i = 0; i < m->nmx; i++) N += m->mx[i].sdf; /* room for physical mode */
@@ -576,7 +576,8 @@ RR_CLONES_V4 static void modal_weights(const double *la, const double *lb, int n
     }
   }
   for (int t = 0; t < nt + npair; t++)
-    for (int k = nk; k < nkp; k++) W[(size_t)t * ld + (size_t)k] = W[(size_t)t * ld + nkp + k] = 0;
+    for (int k = nk; k < nkp; k++)
+      W[(size_t)t * ld + (size_t)k] = W[(size_t)t * ld + (size_t)(nkp + k)] = 0;
 }
 
 /* The state matrix with the SMW elements held at the reference stiffness

@@ -66,7 +66,7 @@ RR_INLINE int rr_all_finite(size_t n, const double *x)
   double z[8] = {0}; /* eight sums, one vector: no chain through one register */
   size_t i = 0;
   for (; i + 7 < n; i += 8)
-    for (int e = 0; e < 8; e++) z[e] += x[i + e] * 0;
+    for (size_t e = 0; e < 8; e++) z[e] += x[i + e] * 0;
   for (; i < n; i++) z[0] += x[i] * 0;
   return ((z[0] + z[1]) + (z[2] + z[3])) + ((z[4] + z[5]) + (z[6] + z[7])) == 0;
 }

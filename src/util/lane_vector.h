@@ -21,11 +21,13 @@ typedef long long vl __attribute__((vector_size(8 * L)));
 /* a b + c rounded once in each lane: one FMA instruction where the target
    has FMA (GCC's and Clang's vectorisers make the lane loop one), libm's
    fma where it has not, so the same bits on every target. */
-#define VFMA(a, b, c)                                                                              \
+#define VFMA(a, b, c) VFMA_N(a, b, c, __COUNTER__) /* locals named apart: VFMAs nest */
+#define VFMA_N(a, b, c, n) VFMA_(a, b, c, n)
+#define VFMA_(a, b, c, n)                                                                          \
   __extension__({                                                                                  \
-    vd a_ = (a), b_ = (b), c_ = (c), r_;                                                           \
-    for (int l_ = 0; l_ < L; l_++) r_[l_] = __builtin_fma(a_[l_], b_[l_], c_[l_]);                 \
-    r_;                                                                                            \
+    vd a_##n = (a), b_##n = (b), c_##n = (c), r_##n;                                               \
+    for (int l_ = 0; l_ < L; l_++) r_##n[l_] = __builtin_fma(a_##n[l_], b_##n[l_], c_##n[l_]);     \
+    r_##n;                                                                                         \
   })
 
 #endif

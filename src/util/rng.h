@@ -36,5 +36,8 @@ static inline uint64_t rr_rng_next(rr_rng *r)
 }
 
 /* Uniform on [0, 1). */
-static inline double rr_rng_uniform(rr_rng *r) { return (rr_rng_next(r) >> 11) * 0x1.0p-53; }
+static inline double rr_rng_uniform(rr_rng *r)
+{
+  return (double)(rr_rng_next(r) >> 11) * 0x1.0p-53; /* 53 bits: exact */
+}
 #endif

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "vehicle/profile_impl.h"
 #include "railride/vehicle.h"
 #include "util/internal.h"
 #include "util/textfile.h"

@@ -4,6 +4,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <ini.h>
+#include <stdarg.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -36,12 +37,16 @@ typedef struct parse_ctx {
   int known; /* a vehicle-file section was met: the file is one, its text may be quoted */
 } parse_ctx;
 
-static int fail(parse_ctx *c, int code, const char *fmt, const char *a, const char *b,
-                const char *msg)
+/* The first failure, "FILE:LINE: message"; returns 0 (inih: stop). */
+static int fail(parse_ctx *c, int code, const char *fmt, ...) RR_PRINTF(3, 4);
+static int fail(parse_ctx *c, int code, const char *fmt, ...)
 {
   if (c->status == RR_OK) {
     char buf[RR_ERROR_MSG_MAX];
-    snprintf(buf, sizeof buf, fmt, a, b, msg);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
     c->status = rr_seterr(c->err, code, "%s:%d: %s", c->path, c->rs.line, buf);
   }
   return 0;
