@@ -21,6 +21,7 @@ struct rr_vertical_plan {
   double track_v;                      /* the speed Gt is for (0: no track set) */
   rr_comfort_plan *comfort;
   rr_window_plan *window;
+  void *block; /* every array above, one allocation (plan_layout) */
 };
 
 /* Sets the floor points of the plan for model m (the default +L, 0, -L). */

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "railride/pem.h"
 #include "railride/vertical.h"
+#include "util/block.h"
 #include "util/internal.h"
 #include "vertical/vertical_impl.h"
 
@@ -23,21 +24,7 @@ rr_vertical_opts rr_vertical_opts_default(void)
 void rr_vertical_plan_free(rr_vertical_plan *p)
 {
   if (!p) return;
-  free(p->f);
-  free(p->wk2);
-  free(p->wb2);
-  free(p->wd2);
-  free(p->wc2);
-  free(p->wbi2);
-  free(p->bs2);
-  free(p->trap);
-  free(p->H);
-  free(p->Q);
-  free(p->G);
-  free(p->Gt);
-  free(p->Gx);
-  free(p->Er);
-  free(p->Qr);
+  free(p->block);
   rr_comfort_plan_free(p->comfort);
   rr_window_plan_free(p->window);
   free(p);
@@ -97,6 +84,29 @@ static int plan_weights(rr_vertical_plan *p, rr_error *err)
   return st;
 }
 
+/* The plan's arrays (block.h: called to size, then to carve). */
+static void plan_layout(rr_vertical_plan *p, rr_block *b)
+{
+  size_t n = (size_t)p->n, pm = RR_VERTICAL_POINTS_MAX, d = sizeof(double), z = sizeof(rr_complex);
+  p->f = rr_block_take(b, n, d);
+  p->wk2 = rr_block_take(b, n, d);
+  p->wb2 = rr_block_take(b, n, d);
+  p->wd2 = rr_block_take(b, n, d);
+  p->wc2 = rr_block_take(b, n, d);
+  p->wbi2 = rr_block_take(b, n, d);
+  p->bs2 = rr_block_take(b, n, d);
+  p->trap = rr_block_take(b, n, d);
+  p->Gt = rr_block_take(b, n, d);
+  p->Gx = rr_block_take(b, n, d);
+  p->G = rr_block_take(b, n * pm, d);
+  p->H = rr_block_take(b, n * pm, z);
+  p->Q = rr_block_take(b, n * RR_VDOF, z);
+  p->Er = rr_block_take(b, n * 2 * RR_VINPUTS, d);
+  p->Ei = p->Er ? p->Er + n * RR_VINPUTS : NULL;
+  p->Qr = rr_block_take(b, n * 2 * RR_VDOF, d);
+  p->Qi = p->Qr ? p->Qr + n * RR_VDOF : NULL;
+}
+
 int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_error *err)
 {
   *out = NULL;
@@ -104,31 +114,16 @@ int rr_vertical_plan_new(const rr_vertical_opts *o, rr_vertical_plan **out, rr_e
   if (st) return st;
   rr_vertical_plan *p = calloc(1, sizeof *p);
   if (!p) return rr_seterr(err, RR_ENOMEM, "out of memory");
-  size_t n = (size_t)o->nfreq, pm = RR_VERTICAL_POINTS_MAX;
   p->o = *o;
   p->n = o->nfreq;
-  p->f = malloc(sizeof(double) * n);
-  p->wk2 = malloc(sizeof(double) * n);
-  p->wb2 = malloc(sizeof(double) * n);
-  p->wd2 = malloc(sizeof(double) * n);
-  p->wc2 = malloc(sizeof(double) * n);
-  p->wbi2 = malloc(sizeof(double) * n);
-  p->bs2 = malloc(sizeof(double) * n);
-  p->trap = malloc(sizeof(double) * n);
-  p->Gt = malloc(sizeof(double) * n);
-  p->Gx = malloc(sizeof(double) * n);
-  p->G = malloc(sizeof(double) * n * pm);
-  p->H = malloc(sizeof(rr_complex) * n * pm);
-  p->Q = malloc(sizeof(rr_complex) * n * RR_VDOF);
-  p->Er = malloc(sizeof(double) * n * 2 * RR_VINPUTS);
-  p->Ei = p->Er ? p->Er + n * RR_VINPUTS : NULL;
-  p->Qr = malloc(sizeof(double) * n * 2 * RR_VDOF);
-  p->Qi = p->Qr ? p->Qr + n * RR_VDOF : NULL;
-  if (!p->Er || !p->Qr || !p->Gx || !p->wbi2 || !p->bs2 || !p->f || !p->wk2 || !p->wb2 || !p->wd2 ||
-      !p->wc2 || !p->trap || !p->Gt || !p->G || !p->H || !p->Q) {
+  rr_block b = {0};
+  plan_layout(p, &b);
+  if (rr_block_alloc(&b)) {
     rr_vertical_plan_free(p);
     return rr_seterr(err, RR_ENOMEM, "out of memory");
   }
+  plan_layout(p, &b);
+  p->block = b.base;
   for (int i = 0; i < p->n; i++) /* given, or log-spaced with both ends exact */
     p->f[i] = o->freqs_hz     ? o->freqs_hz[i]
               : i == p->n - 1 ? o->f_hi_hz
