@@ -317,7 +317,7 @@ static const common_row common_rows[] = {
     {{"wmin", OPT_WMIN, "W", "least wheelset energy share of a hunting mode (default 1e-3)"},
      CLI_READS_INDEX,
      0},
-    {{"rmax", OPT_RMAX, "R", "roll energy share a hunting mode stays below (default 0.5)"},
+    {{"rmax", OPT_RMAX, "R", "frame-roll energy share a hunting mode stays below (default 0.5)"},
      CLI_READS_INDEX,
      0},
     {{"sdf", OPT_SDF, "MODE", "override the yaw damper SDF: none, paper, physical"}, 0, 0},

@@ -22,7 +22,7 @@ static const struct {
     {"matrices", cmd_matrices, "M, C, K, B, Maxwell rows and the state matrix A", ONE_RANK},
     {"modes", cmd_modes, "eigenvalues, stability indices, energy shares", ONE_RANK},
     {"robust", cmd_robust, "robust stability indices zeta_low, zeta_high, std(zeta)", ONE_RANK},
-    {"critical-speed", cmd_critical, "lowest speed where the stability index reaches 0",
+    {"critical-speed", cmd_critical, "lowest speed where any oscillatory mode reaches zeta = 0",
      DISTRIBUTED},
     {"locus", cmd_locus, "root locus over speed or conicity (CSV)", DISTRIBUTED},
     {"map", cmd_map, "stability index over a (speed, conicity) grid (CSV)", DISTRIBUTED},
