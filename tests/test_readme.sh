@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's examples run, so that none can go stale silently: every
+# The README's and the guide's (docs/guide.md) examples run, so that none can go stale silently: every
 # railride command of its shell blocks (the long ones with a short setting,
 # an MPI launcher's command on one process), each figure its comment quotes
 # ("# 422.1 km/h") found in the output, and its Python block.
@@ -41,9 +41,9 @@ while IFS= read -r line; do
   else
     bad "README: '$cmd' exits $? ($(head -1 "err$n.txt"))"
   fi
-done < <(awk '/^```sh/ {inb = 1; next} /^```/ {inb = 0} inb' "$SRC/README.md" |
+done < <(cat "$SRC/README.md" "$SRC/docs/guide.md" | awk '/^```sh/ {inb = 1; next} /^```/ {inb = 0} inb' |
          sed -e ':a' -e '/\\$/{N;s/\\\n *//;ba}' | grep -E '^(build/railride|mpirun|srun) ')
-[ "$n" -ge 10 ] && ok || bad "README: only $n railride commands found"
+[ "$n" -ge 20 ] && ok || bad "README and the guide: only $n railride commands found"
 
 # the examples: each vehicle file loads and solves, each problem file runs (briefly), and
 # each command an example's comment gives ("#   railride ...") runs
@@ -68,7 +68,7 @@ build/railride bifurcation examples/type1-rising-tread.ini --speeds 100:620 > ri
 # library cannot load into a plain interpreter)
 if [ -n "${RAILRIDE_LIB:-}" ] && ! ldd "$RAILRIDE_LIB" 2> /dev/null | grep -q 'libasan\|libtsan' &&
    /usr/bin/python3 -c "import numpy" 2> /dev/null; then
-  awk '/^```python/ {inb = 1; next} /^```/ {inb = 0} inb' "$SRC/README.md" > readme.py
+  cat "$SRC/README.md" "$SRC/docs/guide.md" | awk '/^```python/ {inb = 1; next} /^```/ {inb = 0} inb' > readme.py
   [ -s readme.py ] && PYTHONPATH="$SRC/python" /usr/bin/python3 readme.py > py.txt 2>&1 && ok ||
     bad "README: the Python block fails ($(tail -1 py.txt))"
 fi
