@@ -34,11 +34,11 @@ fig fig2 "Fig. 2, the yaw damper as a Maxwell element: its characteristics over 
   damper --k "2.5 MN/m,5 MN/m,10 MN/m,20 MN/m"
 fig fig3 "Fig. 3, the Pareto front of the NSGA-II optimisation: zeta_low against zeta_high, coloured by std_zeta, clusters A-D marked." \
   "the same front from examples/paper-optimisation.ini with 200 designs over 30 generations (the paper: 5000 over 100), coloured by std_zeta; the letters A-D sit at the centres of the clusters of railride pareto (fig4)." \
-  "a smaller run, so a sparser front; the clusters come from k-means, named by ascending zeta_low, so their letters need not be the paper's." \
+  "a smaller run, so a sparser front; the clusters come from k-means and are named by the designs they hold, as examples/paper-design-A.ini to D.ini are chosen (A the best zeta_high, B the best zeta_low, C the best std_zeta stable at both robust points, D the nearest the ideal point)." \
   optimise "$HERE/examples/paper-optimisation.ini" --population 200 --generations 30 --output fig3
 fig fig4 "Figs. 3, 4 and 6: the front's clusters A-D, the distribution of each cluster's suspension parameters, and the optimal yaw damping and series stiffness." \
   "fig3's front in four clusters by k-means over the three objectives (each scaled to [0, 1]): the front coloured by cluster (zeta_low against zeta_high, and zeta_high against std_zeta), each parameter over its range on the front per cluster, and the designs' yaw damping against series stiffness." \
-  "the paper's clustering method is not stated in our sources; k-means from a farthest-point start is deterministic, and its clusters are named by ascending zeta_low, not by the paper's letters (examples/paper-design-A.ini to D.ini hold the paper's four designs)." \
+  "the paper's clustering method is not stated in our sources; k-means from a farthest-point start is deterministic; the clusters are named by the designs they hold, by the rules that chose examples/paper-design-A.ini to D.ini (when the four fall in four clusters)." \
   pareto fig3.csv --csv
 fig fig5 "Fig. 5a, the stability index over the primary longitudinal stiffness and the yaw damper's series stiffness." \
   "the same map for Type 1 at 350 km/h, conicity 0.17; the solid black line is index 0, the dashed one index -0.3." \
